@@ -1,0 +1,94 @@
+#include "config/yaml_reader.h"
+
+#include <algorithm>
+#include <fstream>
+#include <sstream>
+
+namespace sedbridge::config {
+
+SourceLocation LocationOf(const YAML::Node& node, const std::string& file) {
+  SourceLocation loc{file, 0, 0};
+  if (node) {
+    const YAML::Mark m = node.Mark();
+    if (m.line >= 0) {
+      loc.line = m.line + 1;
+      loc.column = m.column + 1;
+    }
+  }
+  return loc;
+}
+
+YamlDocument LoadYamlString(const std::string& text, const std::string& file) {
+  try {
+    return {file, YAML::Load(text)};
+  } catch (const YAML::ParserException& e) {
+    throw ConfigError({file, e.mark.line + 1, e.mark.column + 1}, e.msg);
+  }
+}
+
+YamlDocument LoadYamlFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ConfigError({path, 0, 0}, "cannot open file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return LoadYamlString(ss.str(), path);
+}
+
+MapReader::MapReader(const YAML::Node& node, std::string file)
+    : node_(node), file_(std::move(file)) {
+  if (!node_ || !node_.IsMap()) {
+    throw ConfigError(LocationOf(node_, file_), "expected a mapping (key: value pairs)");
+  }
+}
+
+bool MapReader::Has(const std::string& key) const { return bool(node_[key]); }
+
+YAML::Node MapReader::Get(const std::string& key, bool required) {
+  used_.insert(key);
+  YAML::Node v = node_[key];
+  if (!v && required) Fail("missing required key '" + key + "'");
+  return v;
+}
+
+YAML::Node MapReader::Node(const std::string& key) { return Get(key, true); }
+
+MapReader MapReader::Child(const std::string& key) { return MapReader(Get(key, true), file_); }
+
+std::string MapReader::RequiredChoice(const std::string& key,
+                                      const std::vector<std::string>& choices) {
+  YAML::Node v = Get(key, true);
+  std::string s = Convert<std::string>(v, key);
+  if (std::find(choices.begin(), choices.end(), s) == choices.end()) {
+    std::string list;
+    for (const auto& c : choices) list += (list.empty() ? "" : ", ") + c;
+    Fail(v, "'" + key + "' must be one of: " + list + " (got '" + s + "')");
+  }
+  return s;
+}
+
+std::string MapReader::OptionalChoice(const std::string& key,
+                                      const std::vector<std::string>& choices,
+                                      const std::string& fallback) {
+  if (!Has(key)) {
+    used_.insert(key);
+    return fallback;
+  }
+  return RequiredChoice(key, choices);
+}
+
+void MapReader::Finish() const {
+  for (auto it = node_.begin(); it != node_.end(); ++it) {
+    const std::string key = it->first.Scalar();
+    if (!used_.count(key)) {
+      throw ConfigError(LocationOf(it->first, file_), "unknown key '" + key + "'");
+    }
+  }
+}
+
+void MapReader::Fail(const YAML::Node& node, const std::string& message) const {
+  throw ConfigError(LocationOf(node, file_), message);
+}
+
+void MapReader::Fail(const std::string& message) const { Fail(node_, message); }
+
+}  // namespace sedbridge::config
