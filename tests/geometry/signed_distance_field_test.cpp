@@ -1,0 +1,80 @@
+#include "geometry/signed_distance_field.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace sedbridge::geometry {
+namespace {
+
+// The normal must be the gradient of the distance: check by finite differences.
+void ExpectNormalIsGradient(const SignedDistanceField& f, const Eigen::Vector3d& p, double tol) {
+  const double h = 1e-7;
+  Eigen::Vector3d g;
+  for (int a = 0; a < 3; ++a) {
+    Eigen::Vector3d e = Eigen::Vector3d::Zero();
+    e[a] = h;
+    g[a] = (f.Evaluate(p + e).distance_m - f.Evaluate(p - e).distance_m) / (2 * h);
+  }
+  EXPECT_NEAR((g - f.Evaluate(p).normal).norm(), 0.0, tol) << f.Describe() << " at " << p.transpose();
+}
+
+TEST(SignedDistanceField, SphereDistanceAndNormal) {
+  SphereSdf s(0.005);
+  EXPECT_NEAR(s.Evaluate({0, 0, 0.007}).distance_m, 0.002, 1e-15);
+  EXPECT_NEAR(s.Evaluate({0, 0, 0.001}).distance_m, -0.004, 1e-15);
+  EXPECT_TRUE(s.Evaluate({0, 0, 0}).normal.allFinite());
+  ExpectNormalIsGradient(s, {0.001, 0.002, 0.006}, 1e-6);
+}
+
+TEST(SignedDistanceField, PlaneIsHalfSpace) {
+  PlaneSdf p;
+  EXPECT_DOUBLE_EQ(p.Evaluate({1, 2, -0.003}).distance_m, -0.003);
+  EXPECT_EQ(p.Evaluate({1, 2, 3}).normal, Eigen::Vector3d::UnitZ());
+}
+
+TEST(SignedDistanceField, CylinderAndCaps) {
+  CylinderSdf inf(0.001, 0);
+  EXPECT_NEAR(inf.Evaluate({5, 0, 0.003}).distance_m, 0.002, 1e-15);
+  CylinderSdf fin(0.001, 0.01);
+  EXPECT_NEAR(fin.Evaluate({0.012, 0, 0}).distance_m, 0.002, 1e-15);
+  EXPECT_NEAR(fin.Evaluate({0.013, 0, 0.005}).distance_m, 0.005, 1e-12);  // 3-4-5 corner
+  ExpectNormalIsGradient(fin, {0.004, 0.0005, 0.002}, 1e-6);
+}
+
+TEST(SignedDistanceField, BoxInsideOutsideRounded) {
+  BoxSdf b({0.01, 0.01, 0.01}, 0.0);
+  EXPECT_NEAR(b.Evaluate({0, 0, 0.012}).distance_m, 0.002, 1e-15);
+  EXPECT_NEAR(b.Evaluate({0, 0, 0.009}).distance_m, -0.001, 1e-15);
+  EXPECT_EQ(b.Evaluate({0, 0, 0.009}).normal, Eigen::Vector3d::UnitZ());
+  BoxSdf r({0.01, 0.01, 0.01}, 0.002);
+  EXPECT_NEAR(r.Evaluate({0, 0, 0.012}).distance_m, 0.002, 1e-15);
+  ExpectNormalIsGradient(r, {0.0105, 0.0, 0.0103}, 1e-6);
+}
+
+TEST(SignedDistanceField, GratingRidgesAndGrooves) {
+  GratingSdf g(0.002, 0.001, 0.0005);
+  EXPECT_NEAR(g.Evaluate({0, 0, 0.0001}).distance_m, 0.0001, 1e-12);        // above a ridge
+  EXPECT_NEAR(g.Evaluate({0.001, 0, 0.0001}).distance_m, 0.0001 + 0.0, 1e-3);
+  EXPECT_NEAR(g.Evaluate({0.001, 0, -0.0004}).distance_m, 0.0001, 1e-12);   // in a groove
+  EXPECT_NEAR(g.Evaluate({0.004, 0, 0.0001}).distance_m, 0.0001, 1e-12);    // periodic
+  EXPECT_LT(g.Evaluate({-0.004, 0, -0.0001}).distance_m, 0.0);
+}
+
+TEST(SignedDistanceField, GridMatchesSampledSphere) {
+  SphereSdf s(0.004);
+  GridSdf g = GridSdf::Sample(s, {41, 41, 41}, {-0.01, -0.01, -0.01}, 0.0005);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-0.009, 0.009);
+  for (int i = 0; i < 200; ++i) {
+    Eigen::Vector3d p(u(rng), u(rng), u(rng));
+    if (p.norm() < 0.001) continue;
+    EXPECT_NEAR(g.Evaluate(p).distance_m, s.Evaluate(p).distance_m, 5e-5);
+    EXPECT_GT(g.Evaluate(p).normal.dot(s.Evaluate(p).normal), 0.98);
+  }
+  // Outside the grid the distance keeps growing.
+  EXPECT_GT(g.Evaluate({0, 0, 0.02}).distance_m, 0.015);
+}
+
+}  // namespace
+}  // namespace sedbridge::geometry
