@@ -1,0 +1,45 @@
+#include "display/display_controller.h"
+
+namespace sedbridge::display {
+
+DisplayController::DisplayController(DisplayProfile profile)
+    : profile_(std::move(profile)),
+      mapping_(profile_),
+      limiter_(SafetyLimits::FromProfile(profile_)) {}
+
+DisplayCommand DisplayController::OnSedField(const SedField& field, int64_t now_utime) {
+  last_mapping_ = mapping_.Map(field);
+  const bool was_fresh_candidate = !limiter_.is_shut_down();
+  const LimitedOutput& out = limiter_.Apply(now_utime, field.utime, last_mapping_.requested);
+  if (was_fresh_candidate && field.utime > source_sed_utime_) {
+    source_sed_utime_ = field.utime;
+    source_scan_utime_ = field.source_scan_utime;
+  }
+  return Make(out, now_utime);
+}
+
+DisplayCommand DisplayController::Tick(int64_t now_utime) {
+  return Make(limiter_.Tick(now_utime), now_utime);
+}
+
+DisplayCommand DisplayController::Shutdown(int64_t now_utime) {
+  return Make(limiter_.Shutdown(now_utime), now_utime);
+}
+
+DisplayCommand DisplayController::Make(const LimitedOutput& out, int64_t now_utime) {
+  DisplayCommand c;
+  c.utime = now_utime;
+  c.sequence = sequence_++;
+  c.source_scan_utime = source_scan_utime_;
+  c.source_sed_utime = source_sed_utime_;
+  c.display_id = profile_.name;
+  c.unit = profile_.unit;
+  c.value = out.value;
+  c.clamped = out.clamped;
+  c.stale = out.stale;
+  c.fault = out.fault;
+  c.shutdown = out.shutdown;
+  return c;
+}
+
+}  // namespace sedbridge::display

@@ -1,0 +1,51 @@
+#pragma once
+// The display stage in one object: SedField -> mapping -> SafetyLimiter -> DisplayCommand.
+// This is what the bridge calls; it does no I/O (see DisplaySession for LCM output).
+
+#include <cstdint>
+
+#include "display/display_command.h"
+#include "display/display_profile.h"
+#include "display/safety_limiter.h"
+#include "display/sed_field.h"
+#include "display/sed_to_command_mapping.h"
+
+namespace sedbridge::display {
+
+/// Not thread-safe; call from the one thread that owns the display output.
+///
+///   DisplayController display(LoadDisplayProfile("config/displays/suction_4x4.yaml"));
+///   DisplayCommand c = display.OnSedField(field, now_utime);  // after each FE step
+///   DisplayCommand c = display.Tick(now_utime);              // at the command rate otherwise
+///   DisplayCommand c = display.Shutdown(now_utime);          // all zero, for good
+class DisplayController {
+ public:
+  /// Throws std::invalid_argument when the profile's limits or mapping are invalid.
+  explicit DisplayController(DisplayProfile profile);
+
+  /// Maps a fresh SED field and limits the result. `now_utime` [us] is the caller's clock.
+  DisplayCommand OnSedField(const SedField& field, int64_t now_utime);
+  /// No new field: the limiter holds, or ramps to zero once the watchdog expires.
+  DisplayCommand Tick(int64_t now_utime);
+  /// Zero now and for every later call.
+  DisplayCommand Shutdown(int64_t now_utime);
+
+  const DisplayProfile& profile() const { return profile_; }
+  const SedToCommandMapping& mapping() const { return mapping_; }
+  const SafetyLimiter& limiter() const { return limiter_; }
+  /// Mapping result of the last field (sampled SED per site, requests, field check).
+  const SedToCommandMapping::Result& last_mapping() const { return last_mapping_; }
+
+ private:
+  DisplayCommand Make(const LimitedOutput& out, int64_t now_utime);
+
+  DisplayProfile profile_;
+  SedToCommandMapping mapping_;
+  SafetyLimiter limiter_;
+  SedToCommandMapping::Result last_mapping_;
+  int64_t sequence_ = 0;
+  int64_t source_scan_utime_ = 0;
+  int64_t source_sed_utime_ = 0;
+};
+
+}  // namespace sedbridge::display

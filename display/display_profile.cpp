@@ -1,0 +1,199 @@
+#include "display/display_profile.h"
+
+#include <cmath>
+
+#include "config/resource_path.h"
+
+namespace sedbridge::display {
+namespace {
+
+using config::As;
+using config::MapReader;
+
+// Reads a number that must be finite and satisfy `ok`; fails at the value's location.
+template <typename Pred>
+double ReadNumber(MapReader& r, const std::string& key, Pred ok, const std::string& rule) {
+  YAML::Node v = r.Node(key);
+  const double x = As<double>(v, r.file(), key);
+  if (!std::isfinite(x) || !ok(x)) r.Fail(v, "'" + key + "' " + rule);
+  return x;
+}
+
+template <typename Pred>
+double ReadOptionalNumber(MapReader& r, const std::string& key, double fallback, Pred ok,
+                          const std::string& rule) {
+  if (!r.Has(key)) {
+    r.Optional<double>(key, fallback);  // marks the key as known
+    return fallback;
+  }
+  return ReadNumber(r, key, ok, rule);
+}
+
+// A sequence of exactly `n` finite numbers.
+std::vector<double> ReadVector(MapReader& r, const std::string& key, std::size_t n) {
+  YAML::Node v = r.Node(key);
+  if (!v.IsSequence() || v.size() != n)
+    r.Fail(v, "'" + key + "' must be a list of " + std::to_string(n) + " numbers");
+  std::vector<double> out;
+  for (const auto& e : v) {
+    const double x = As<double>(e, r.file(), key);
+    if (!std::isfinite(x)) r.Fail(e, "'" + key + "' entries must be finite");
+    out.push_back(x);
+  }
+  return out;
+}
+
+void ReadActuators(MapReader& r, DisplayProfile& p) {
+  const bool has_grid = r.Has("grid"), has_list = r.Has("positions_mm");
+  if (has_grid == has_list) r.Fail("'actuators' needs exactly one of 'grid' or 'positions_mm'");
+  if (has_grid) {
+    MapReader g = r.Child("grid");
+    YAML::Node rows_node = g.Node("rows"), cols_node = g.Node("cols");
+    const int rows = As<int>(rows_node, g.file(), "rows");
+    const int cols = As<int>(cols_node, g.file(), "cols");
+    if (rows < 1 || rows > 256) g.Fail(rows_node, "'rows' must be in [1, 256]");
+    if (cols < 1 || cols > 256) g.Fail(cols_node, "'cols' must be in [1, 256]");
+    const std::vector<double> pitch = ReadVector(g, "pitch_mm", 2);
+    if (pitch[0] <= 0 || pitch[1] <= 0) g.Fail(g.Node("pitch_mm"), "'pitch_mm' must be > 0");
+    const std::vector<double> center = ReadVector(g, "center_mm", 2);
+    g.Finish();
+    // Row-major, row 0 nearest the tip (largest y), column 0 at the smallest x: the order a
+    // person reads the array looking at the pad with the tip up.
+    for (int row = 0; row < rows; ++row) {
+      for (int col = 0; col < cols; ++col) {
+        p.x_mm.push_back(center[0] + (col - (cols - 1) / 2.0) * pitch[0]);
+        p.y_mm.push_back(center[1] + ((rows - 1) / 2.0 - row) * pitch[1]);
+      }
+    }
+  } else {
+    YAML::Node list = r.Node("positions_mm");
+    if (!list.IsSequence() || list.size() == 0)
+      r.Fail(list, "'positions_mm' must be a non-empty list of [x, y] pairs");
+    for (const auto& e : list) {
+      if (!e.IsSequence() || e.size() != 2) r.Fail(e, "each position must be [x_mm, y_mm]");
+      const double x = As<double>(e[0], r.file(), "positions_mm");
+      const double y = As<double>(e[1], r.file(), "positions_mm");
+      if (!std::isfinite(x) || !std::isfinite(y)) r.Fail(e, "positions must be finite");
+      p.x_mm.push_back(x);
+      p.y_mm.push_back(y);
+    }
+  }
+  r.Finish();
+}
+
+void ReadSafety(MapReader& r, DisplayProfile& p) {
+  auto positive = [](double x) { return x > 0; };
+  p.safety.max = ReadNumber(r, "max", positive, "must be > 0");
+  if (p.safety.max > p.range_max)
+    r.Fail(r.Node("max"), "'max' (" + std::to_string(p.safety.max) +
+                              ") exceeds the device range maximum " +
+                              std::to_string(p.range_max));
+  p.safety.max_per_actuator.assign(p.size(), p.safety.max);
+  if (r.Has("max_per_actuator")) {
+    std::vector<double> per = ReadVector(r, "max_per_actuator", p.size());
+    for (std::size_t i = 0; i < per.size(); ++i) {
+      if (per[i] < 0 || per[i] > p.safety.max)
+        r.Fail(r.Node("max_per_actuator")[i], "'max_per_actuator' entries must be in [0, max]");
+      p.safety.max_per_actuator[i] = per[i];
+    }
+  }
+  p.safety.slew_rate_per_s = ReadNumber(r, "slew_rate_per_s", positive, "must be > 0");
+  p.safety.watchdog_timeout_s = ReadNumber(
+      r, "watchdog_timeout_s", [](double x) { return x > 0 && x <= kMaxWatchdogTimeout_s; },
+      "must be in (0, " + std::to_string(kMaxWatchdogTimeout_s) + "] s");
+  r.Finish();
+}
+
+void ReadMapping(MapReader& r, DisplayProfile& p) {
+  MappingParams& m = p.mapping;
+  const std::string sampling = r.RequiredChoice(
+      "sampling", {"interpolate", "max_within_radius", "mean_within_radius"});
+  m.sampling = sampling == "interpolate"         ? SamplingMethod::kInterpolate
+               : sampling == "max_within_radius" ? SamplingMethod::kMaxWithinRadius
+                                                 : SamplingMethod::kMeanWithinRadius;
+  auto positive = [](double x) { return x > 0; };
+  m.radius_mm = ReadNumber(r, "radius_mm", positive, "must be > 0");
+  if (r.Has("z_window_mm")) {
+    std::vector<double> z = ReadVector(r, "z_window_mm", 2);
+    if (!(z[0] < z[1])) r.Fail(r.Node("z_window_mm"), "'z_window_mm' must be [min, max], min < max");
+    m.z_min_mm = z[0];
+    m.z_max_mm = z[1];
+  }
+  m.threshold_Pa = ReadOptionalNumber(r, "threshold_Pa", 0.0, [](double x) { return x >= 0; },
+                                      "must be >= 0");
+  m.reference_Pa = ReadNumber(r, "reference_Pa", positive, "must be > 0");
+  m.gain = ReadNumber(r, "gain", positive, "must be > 0");
+  m.exponent = ReadOptionalNumber(r, "exponent", 1.0,
+                                  [](double x) { return x >= 0.1 && x <= 10; },
+                                  "must be in [0.1, 10]");
+  m.saturation = ReadOptionalNumber(r, "saturation", p.safety.max, positive, "must be > 0");
+  if (r.Has("calibration")) {
+    MapReader c = r.Child("calibration");
+    if (c.Has("gain")) {
+      m.calibration_gain = ReadVector(c, "gain", p.size());
+      for (std::size_t i = 0; i < p.size(); ++i)
+        if (m.calibration_gain[i] <= 0) c.Fail(c.Node("gain")[i], "calibration gains must be > 0");
+    }
+    if (c.Has("offset")) m.calibration_offset = ReadVector(c, "offset", p.size());
+    c.Finish();
+  }
+  r.Finish();
+}
+
+}  // namespace
+
+std::string ToString(DisplayKind kind) {
+  switch (kind) {
+    case DisplayKind::kSuction: return "suction";
+    case DisplayKind::kPin: return "pin";
+    case DisplayKind::kElectrotactile: return "electrotactile";
+  }
+  return "?";
+}
+
+std::string UnitOf(DisplayKind kind) {
+  switch (kind) {
+    case DisplayKind::kSuction: return "kPa";
+    case DisplayKind::kPin: return "mm";
+    case DisplayKind::kElectrotactile: return "mA";
+  }
+  return "?";
+}
+
+DisplayProfile ParseDisplayProfile(const config::YamlDocument& doc) {
+  MapReader r(doc.root, doc.file);
+  DisplayProfile p;
+  p.file = doc.file;
+  p.name = r.Required<std::string>("name");
+  p.description = r.Optional<std::string>("description", "");
+  const std::string kind = r.RequiredChoice("kind", {"suction", "pin", "electrotactile"});
+  p.kind = kind == "suction" ? DisplayKind::kSuction
+           : kind == "pin"   ? DisplayKind::kPin
+                             : DisplayKind::kElectrotactile;
+  YAML::Node unit_node = r.Node("unit");
+  p.unit = As<std::string>(unit_node, r.file(), "unit");
+  if (p.unit != UnitOf(p.kind))
+    r.Fail(unit_node, "a " + kind + " display takes '" + UnitOf(p.kind) + "' (got '" + p.unit + "')");
+
+  MapReader actuators = r.Child("actuators");
+  ReadActuators(actuators, p);
+
+  std::vector<double> range = ReadVector(r, "range", 2);
+  if (!(range[0] >= 0 && range[0] < range[1]))
+    r.Fail(r.Node("range"), "'range' must be [min, max] with 0 <= min < max");
+  p.range_min = range[0];
+  p.range_max = range[1];
+
+  MapReader safety = r.Child("safety");
+  ReadSafety(safety, p);
+  MapReader mapping = r.Child("mapping");
+  ReadMapping(mapping, p);
+  r.Finish();
+  return p;
+}
+
+DisplayProfile LoadDisplayProfile(const std::string& path) {
+  return ParseDisplayProfile(config::LoadYamlFile(config::ResolveResource(path)));
+}
+
+}  // namespace sedbridge::display

@@ -1,0 +1,90 @@
+#pragma once
+// A haptic distribution display worn on the leader's finger: where its actuators sit on the
+// pad, what unit they take, the hard safety limits, and how Merkel-layer SED maps to them.
+// Loaded from config/displays/*.yaml (keys documented in config/displays/README.md).
+
+#include <cstddef>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "config/yaml_reader.h"
+
+namespace sedbridge::display {
+
+enum class DisplayKind {
+  kSuction,         ///< suction-pressure array; unit kPa of suction below ambient
+  kPin,             ///< pin array; unit mm of pin height above the rest plane
+  kElectrotactile,  ///< electrode array; unit mA of stimulation current
+};
+
+/// How the SED field is sampled at an actuator site (all within `radius_mm` in x-y).
+enum class SamplingMethod {
+  kInterpolate,       ///< inverse-distance (Shepard, power 2) interpolation at the site
+  kMaxWithinRadius,   ///< largest vertex SED within the radius
+  kMeanWithinRadius,  ///< mean vertex SED within the radius
+};
+
+/// SED [Pa] -> actuator value [display unit]:
+///   s = sample(SED) at the site;  x = max(0, s - threshold_Pa)
+///   y = min(saturation, gain * (x / reference_Pa)^exponent)
+///   y = calibration_gain[i] * y + calibration_offset[i]   (only where y > 0)
+struct MappingParams {
+  SamplingMethod sampling = SamplingMethod::kMaxWithinRadius;
+  double radius_mm = 1.0;  ///< sampling radius in the pad's x-y plane [mm]
+  /// Only vertices with z in [z_min_mm, z_max_mm] are sampled (keeps the Merkel layer under
+  /// the pad and drops its far side under the nail, which projects onto the same x-y).
+  double z_min_mm = -std::numeric_limits<double>::infinity();
+  double z_max_mm = std::numeric_limits<double>::infinity();
+  double threshold_Pa = 0;       ///< SED below this gives 0 [Pa]
+  double reference_Pa = 1000;    ///< SED above threshold at which y == gain [Pa]
+  double gain = 1;               ///< output at (s - threshold) == reference_Pa [unit]
+  double exponent = 1;           ///< power law exponent [-]
+  double saturation = 1;         ///< transfer output cap [unit]
+  std::vector<double> calibration_gain;    ///< per actuator [-]; empty = all 1
+  std::vector<double> calibration_offset;  ///< per actuator [unit]; empty = all 0
+};
+
+/// Limits the SafetyLimiter enforces. These are not switchable: every field is required to be
+/// finite and positive, and the watchdog timeout is capped at kMaxWatchdogTimeout_s.
+struct SafetyParams {
+  double max = 0;                         ///< hard limit for every actuator [unit]
+  std::vector<double> max_per_actuator;   ///< filled: min(max, per-actuator override) [unit]
+  double slew_rate_per_s = 0;             ///< largest rise (and normal fall) rate [unit/s]
+  double watchdog_timeout_s = 0;          ///< no fresh input this long -> ramp to zero [s]
+};
+
+/// Upper bound on any profile's watchdog timeout [s]: a config cannot turn the watchdog off
+/// by making it very long.
+inline constexpr double kMaxWatchdogTimeout_s = 1.0;
+
+struct DisplayProfile {
+  std::string name;         ///< e.g. "suction_4x4"; published as display_id
+  std::string description;
+  DisplayKind kind = DisplayKind::kSuction;
+  std::string unit;         ///< "kPa", "mm" or "mA" (must match kind)
+  /// Actuator sites on the leader's pad, pad frame [mm]; one entry per actuator, in the
+  /// order of the command's value[] array.
+  std::vector<double> x_mm, y_mm;
+  double range_min = 0, range_max = 0;  ///< what the device accepts [unit]
+  SafetyParams safety;
+  MappingParams mapping;
+  std::string file;         ///< where it was loaded from (for messages)
+
+  std::size_t size() const { return x_mm.size(); }
+};
+
+/// Loads a profile; `path` is resolved with config::ResolveResource, so
+/// "config/displays/suction_4x4.yaml" works from any directory.
+/// Throws config::ConfigError (file:line:column) on any bad, missing or unknown key.
+DisplayProfile LoadDisplayProfile(const std::string& path);
+
+/// Parses an already loaded document (tests, embedded profiles). Throws config::ConfigError.
+DisplayProfile ParseDisplayProfile(const config::YamlDocument& doc);
+
+/// "suction", "pin", "electrotactile".
+std::string ToString(DisplayKind kind);
+/// The unit every profile of that kind must use.
+std::string UnitOf(DisplayKind kind);
+
+}  // namespace sedbridge::display

@@ -1,0 +1,53 @@
+#pragma once
+// Merkel-layer SED field -> requested actuator values (before the safety limiter).
+
+#include <cstddef>
+#include <vector>
+
+#include "display/display_profile.h"
+#include "display/sed_field.h"
+
+namespace sedbridge::display {
+
+/// Samples the SED field at each actuator site and passes it through the profile's transfer
+/// function (see MappingParams). Stateless and const: safe to share between threads.
+///
+/// Untrusted input: a negative vertex SED is read as 0; a vertex with a NaN/Inf coordinate is
+/// ignored; a NaN/Inf SED inside an actuator's sampling disc makes that actuator's request
+/// NaN, and a field whose vector lengths disagree makes every request NaN — the
+/// SafetyLimiter turns NaN into 0 with the fault flag, so a bad field is never silently
+/// rendered as "no touch". Huge finite SED saturates.
+class SedToCommandMapping {
+ public:
+  struct Result {
+    std::vector<double> sed_at_site_Pa;  ///< sampled SED per actuator [Pa] (NaN = bad input)
+    std::vector<double> requested;       ///< transfer output per actuator [display unit]
+    SedFieldCheck check;                 ///< problems found in the field
+  };
+
+  /// @param[in] site_x_mm, site_y_mm  actuator sites in the pad frame [mm], same length
+  /// @param[in] params                sampling + transfer; throws std::invalid_argument when a
+  ///                                  parameter is out of range or calibration has the wrong length
+  SedToCommandMapping(std::vector<double> site_x_mm, std::vector<double> site_y_mm,
+                      MappingParams params);
+  explicit SedToCommandMapping(const DisplayProfile& profile);
+
+  /// Maps one field. O(#vertices x #actuators); ~1 µs per 100 vertex-site pairs.
+  Result Map(const SedField& field) const;
+
+  /// Samples SED at actuator `site` [Pa]: 0 when no usable vertex lies within the radius,
+  /// NaN when a non-finite SED does.
+  double Sample(const SedField& field, std::size_t site) const;
+
+  /// Transfer function for actuator `site`: SED [Pa] -> value [unit]; NaN in -> NaN out.
+  double Transfer(double sed_Pa, std::size_t site) const;
+
+  std::size_t size() const { return site_x_mm_.size(); }
+  const MappingParams& params() const { return params_; }
+
+ private:
+  std::vector<double> site_x_mm_, site_y_mm_;
+  MappingParams params_;
+};
+
+}  // namespace sedbridge::display
