@@ -6,10 +6,13 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <cstddef>
 #include <string>
 #include <vector>
 
 #include "fem/tet_mesh.h"
+#include "model/model_description.h"
+#include "model/msh_reader.h"
 
 namespace sedbridge::model {
 
@@ -65,8 +68,38 @@ struct FingertipModel {
 
   PadFrame pad_frame;
 
+  // ---- Additions (beyond the first sketch of this header) ----
+
+  /// Gmsh node tag of each soft node and Gmsh element tag of each soft tet, to relate
+  /// results back to the .msh (export, error messages).
+  std::vector<std::size_t> soft_node_tags;
+  std::vector<std::size_t> soft_tet_tags;
+  /// Gmsh element tag of each rigid tet.
+  std::vector<std::size_t> rigid_tet_tags;
+  /// Bone and nail materials (SI), for reference solvers that model them as elastic.
+  std::vector<fem::LinearElasticMaterial> rigid_materials;
+  /// Stratum corneum shell (model A): Table II material and thickness [m]; thickness 0
+  /// when the model has no shell.
+  fem::LinearElasticMaterial stratum_corneum_material;
+  double stratum_corneum_thickness_m = 0.0;
+  /// What the model YAML said (geometry parameters in mm, materials, ...); defaults for a
+  /// bare .msh.
+  ModelDescription description;
+
   int num_soft_nodes() const { return soft.num_nodes(); }
+  /// Index of the soft material named `tissue`, or -1 if that tissue is not in the model.
+  int MaterialIndex(const std::string& tissue) const;
 };
+
+/// Builds a model from an already read .msh and its description. Throws config::ConfigError
+/// naming the element (Gmsh tag, file line) or group at fault.
+FingertipModel BuildFingertipModel(const MshFile& msh, const ModelDescription& description);
+
+/// Pad frame for tilt `tilt_deg`: z_pad = (0, sin t, cos t), y_pad = (0, cos t, -sin t),
+/// x_pad = (1, 0, 0) in the model frame; origin = the skin node with the largest z_pad . p
+/// (where the tilted plane first touches). `skin_nodes` index columns of `positions_m`.
+PadFrame ComputePadFrame(const Eigen::Matrix3Xd& positions_m, const std::vector<int>& skin_nodes,
+                         double tilt_deg);
 
 /// Loads a model from a model YAML or a .msh. Relative paths are resolved with
 /// config::ResolveResource; a bare name "B" means config/models/B.yaml.

@@ -1,0 +1,77 @@
+#pragma once
+// Parameters of the parametric fingertip (model YAML keys `geometry`, `layers`, `mesh_size`).
+// All lengths in mm, model frame: x lateral, y along the finger axis from the DIP crease
+// (y = 0) toward the tip, z toward the pad (palmar +z, nail/dorsal -z).
+//
+// The generator (tools/fingertip_generator) builds the mesh from these; the loader reads
+// them too so that a typo in a model YAML is an error even when only loading.
+
+#include "config/yaml_reader.h"
+
+namespace sedbridge::model {
+
+/// Outer skin: an elliptic cylinder along y (semi-axes width/2 in x, depth/2 in z) from
+/// y = 0, capped by a half ellipsoid (semi-axes width/2, tip_cap_length, depth/2) whose
+/// far end is the tip at y = length. Inner layer surfaces are the same shape with every
+/// semi-axis reduced by the cumulative layer thickness, so layers follow the outer skin.
+struct OuterShapeParams {
+  double width_mm = 16.0;          ///< lateral (x) extent
+  double depth_mm = 14.0;          ///< dorsal-palmar (z) extent
+  double length_mm = 22.0;         ///< DIP crease (y = 0) to tip
+  double tip_cap_length_mm = 8.0;  ///< y semi-axis of the tip cap; < length_mm
+};
+
+/// Distal phalanx: a tapered elliptic cone along y from the crease to `length_mm`, ending
+/// in an ellipsoidal tuft, its axis shifted toward the dorsal side.
+struct BoneParams {
+  double length_mm = 17.0;            ///< y where the tapered shaft ends
+  double base_half_width_mm = 3.5;    ///< x semi-axis at y = 0
+  double base_half_height_mm = 2.5;   ///< z semi-axis at y = 0
+  double taper_ratio = 0.6;           ///< distal / proximal section size, (0, 1]
+  double tuft_scale = 1.15;           ///< tuft radius / distal shaft radius (> 1: no shared edge)
+  double center_z_mm = -1.5;          ///< z of the bone axis (negative: dorsal)
+};
+
+/// Nail plate: the outer `thickness_mm` of the skin shape inside the box
+/// |x| < half_width_mm, start_y_mm < y < end_y_mm, z < max_z_mm (dorsal side).
+struct NailParams {
+  double thickness_mm = 0.5;
+  double start_y_mm = 10.0;
+  double end_y_mm = 20.5;
+  double half_width_mm = 5.5;
+  double max_z_mm = -3.0;
+};
+
+/// Soft-tissue layer thicknesses measured inward from the outer skin (Table I).
+struct LayerParams {
+  double stratum_corneum_mm = 0.0;  ///< > 0: a `stratum_corneum` shell group on the skin (model A)
+  double epidermis_mm = 1.5;
+  double dermis_mm = 3.0;           ///< the rest of the soft tissue is subcutaneous
+};
+
+/// Target tetrahedron edge lengths. Size is `skin_mm` within epidermis + dermis depth of the
+/// outer skin and grows linearly to `core_mm` over `transition_mm` further in.
+struct MeshSizeParams {
+  double skin_mm = 1.5;
+  double core_mm = 1.5;
+  double transition_mm = 2.0;
+};
+
+struct FingertipGeometry {
+  OuterShapeParams outer;
+  BoneParams bone;
+  NailParams nail;
+  LayerParams layers;
+  MeshSizeParams mesh_size;
+};
+
+/// Reads the `geometry`, `layers` and `mesh_size` mappings of a model YAML. Each mapping is
+/// optional as a whole (a YAML for a user's own CT mesh has none), but a mapping that is
+/// present must give every key (a generated model is fully described by its YAML). Unknown
+/// keys and inconsistent values (layers thicker than the finger, bone outside the skin,
+/// ...) are ConfigErrors naming file:line:column. Marks the three keys used in
+/// `model_yaml`; does not call model_yaml.Finish().
+/// @param[out] complete  true when all three mappings are present (the generator needs it).
+FingertipGeometry ReadFingertipGeometry(config::MapReader& model_yaml, bool* complete = nullptr);
+
+}  // namespace sedbridge::model

@@ -1,0 +1,405 @@
+#include "model/fingertip_model.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <unordered_map>
+#include <unordered_set>
+
+#include "config/config_error.h"
+#include "config/resource_path.h"
+
+namespace sedbridge::model {
+namespace {
+
+using config::ConfigError;
+
+enum Tissue { kEpi, kDerm, kSub, kSoft, kBoneT, kNailT, kNumTissues };
+const char* const kTissueNames[kNumTissues] = {kEpidermis, kDermis,  kSubcutaneous,
+                                               kSoftTissue, kBone,   kNail};
+bool IsSoft(int t) { return t <= kSoft; }
+
+// A tetrahedron face: the three vertices opposite vertex i, ordered so that the normal of a
+// positively oriented tet points out of it.
+constexpr int kFaceVertices[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+using FaceKey = std::array<std::size_t, 3>;  // sorted vertex ids
+FaceKey Key(std::size_t a, std::size_t b, std::size_t c) {
+  FaceKey k{a, b, c};
+  std::sort(k.begin(), k.end());
+  return k;
+}
+struct FaceKeyHash {
+  std::size_t operator()(const FaceKey& k) const {
+    std::size_t h = k[0];
+    h = h * 1000003u ^ k[1];
+    h = h * 1000003u ^ k[2];
+    return h;
+  }
+};
+
+struct RawTet {
+  const MshElement* element;
+  int tissue;
+  std::array<std::size_t, 4> nodes;  // Gmsh node tags, positively oriented after Orient()
+};
+
+std::string Where(const MshElement& e) {
+  return "element " + std::to_string(e.tag);
+}
+
+[[noreturn]] void FailAt(const MshFile& msh, const MshElement& e, const std::string& message) {
+  throw ConfigError({msh.file, e.line, 0}, message);
+}
+
+double SignedVolume(const MshFile& msh, const std::array<std::size_t, 4>& n, double* max_edge) {
+  Eigen::Vector3d x[4];
+  for (int i = 0; i < 4; ++i) x[i] = msh.node_positions.col(msh.node_index.at(n[i]));
+  double e = 0;
+  for (int i = 0; i < 4; ++i)
+    for (int j = i + 1; j < 4; ++j) e = std::max(e, (x[i] - x[j]).norm());
+  *max_edge = e;
+  return (x[1] - x[0]).cross(x[2] - x[0]).dot(x[3] - x[0]) / 6.0;
+}
+
+// Sorts every volume element into its tissue; rejects what the model cannot use.
+std::vector<RawTet> ClassifyTets(const MshFile& msh) {
+  std::vector<RawTet> tets;
+  for (const MshElement& e : msh.elements) {
+    if (e.entity_dim != 3) continue;
+    const std::vector<int>& phys = msh.PhysicalTagsOf(e);
+    int tissue = -1;
+    for (int p : phys) {
+      const std::string name = msh.PhysicalName(3, p);
+      int t = -1;
+      for (int k = 0; k < kNumTissues; ++k) {
+        if (name == kTissueNames[k]) t = k;
+      }
+      if (t < 0) {
+        FailAt(msh, e, "volume group '" + (name.empty() ? "#" + std::to_string(p) : name) +
+                           "' (" + Where(e) + ") is not a tissue; expected epidermis, dermis, "
+                           "subcutaneous, soft_tissue, bone or nail");
+      }
+      if (tissue >= 0 && tissue != t) {
+        FailAt(msh, e, Where(e) + " is in two tissue groups, '" + kTissueNames[tissue] +
+                           "' and '" + kTissueNames[t] + "'");
+      }
+      tissue = t;
+    }
+    if (tissue < 0) FailAt(msh, e, Where(e) + " belongs to no tissue group");
+    if (e.type != 4) {
+      FailAt(msh, e, Where(e) + " in '" + kTissueNames[tissue] + "' has Gmsh type " +
+                         std::to_string(e.type) + "; only 4-node tetrahedra (type 4) are supported");
+    }
+    tets.push_back({&e, tissue, {e.node_tags[0], e.node_tags[1], e.node_tags[2], e.node_tags[3]}});
+  }
+  return tets;
+}
+
+// Gmsh tets are positive in our convention. A file whose tets are all (mostly) negative
+// uses the mirrored convention and is flipped as a whole; a tet that still is not positive
+// is inverted or degenerate.
+void Orient(const MshFile& msh, std::vector<RawTet>* tets) {
+  std::vector<double> volume(tets->size()), edge(tets->size());
+  int negative = 0;
+  for (std::size_t i = 0; i < tets->size(); ++i) {
+    volume[i] = SignedVolume(msh, (*tets)[i].nodes, &edge[i]);
+    if (volume[i] < 0) ++negative;
+  }
+  const bool flip = 2 * negative > static_cast<int>(tets->size());
+  for (std::size_t i = 0; i < tets->size(); ++i) {
+    RawTet& t = (*tets)[i];
+    if (flip) {
+      std::swap(t.nodes[1], t.nodes[2]);
+      volume[i] = -volume[i];
+    }
+    // Relative to the cube of the longest edge: a regular tet has 0.118.
+    if (volume[i] <= 1e-10 * edge[i] * edge[i] * edge[i]) {
+      const std::string what = volume[i] < 0 ? "is inverted" : "has zero volume";
+      FailAt(msh, *t.element,
+             "tetrahedron " + std::to_string(t.element->tag) + " in '" + kTissueNames[t.tissue] +
+                 "' " + what + " (signed volume " + std::to_string(volume[i]) + " in file units^3" +
+                 (flip ? ", after flipping the file's mirrored orientation" : "") + ")");
+    }
+  }
+}
+
+int AddMaterial(FingertipModel* m, const ModelDescription& d, const std::string& tissue) {
+  const auto it = d.materials.find(tissue);
+  if (it == d.materials.end()) {
+    throw ConfigError(d.materials_location,
+                      "the mesh has a '" + tissue + "' group but 'materials' has no '" + tissue + "' entry");
+  }
+  fem::LinearElasticMaterial mat = it->second;
+  mat.name = tissue;
+  m->soft.materials.push_back(mat);
+  return static_cast<int>(m->soft.materials.size()) - 1;
+}
+
+struct FaceUse {
+  int tet;   // soft tet index
+  int face;  // 0..3, opposite vertex
+};
+
+}  // namespace
+
+int FingertipModel::MaterialIndex(const std::string& tissue) const {
+  for (std::size_t i = 0; i < soft.materials.size(); ++i) {
+    if (soft.materials[i].name == tissue) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+PadFrame ComputePadFrame(const Eigen::Matrix3Xd& positions_m, const std::vector<int>& skin_nodes,
+                         double tilt_deg) {
+  PadFrame f;
+  f.tilt_deg = tilt_deg;
+  const double t = tilt_deg * M_PI / 180.0;
+  const Eigen::Vector3d x_pad(1, 0, 0), y_pad(0, std::cos(t), -std::sin(t)),
+      z_pad(0, std::sin(t), std::cos(t));
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  double best = -std::numeric_limits<double>::infinity();
+  for (int n : skin_nodes) {
+    const double h = z_pad.dot(positions_m.col(n));
+    if (h > best) {
+      best = h;
+      origin = positions_m.col(n);
+    }
+  }
+  Eigen::Matrix3d r;
+  r << x_pad, y_pad, z_pad;
+  f.model_from_pad = Eigen::Isometry3d::Identity();
+  f.model_from_pad.linear() = r;
+  f.model_from_pad.translation() = origin;
+  return f;
+}
+
+FingertipModel BuildFingertipModel(const MshFile& msh, const ModelDescription& d) {
+  FingertipModel m;
+  m.name = d.name;
+  m.source_file = d.source_file;
+  m.description = d;
+  const config::SourceLocation file_loc{msh.file, 0, 0};
+
+  std::vector<RawTet> tets = ClassifyTets(msh);
+  Orient(msh, &tets);
+
+  int count[kNumTissues] = {0, 0, 0, 0, 0, 0};
+  for (const RawTet& t : tets) ++count[t.tissue];
+  if (count[kEpi] + count[kDerm] + count[kSub] + count[kSoft] == 0) {
+    throw ConfigError(file_loc, "no soft tissue: the mesh needs volume groups epidermis + dermis "
+                                "(+ subcutaneous) or soft_tissue");
+  }
+  if ((count[kEpi] > 0) != (count[kDerm] > 0)) {
+    throw ConfigError(file_loc, std::string("layered model without a Merkel layer: group '") +
+                                    (count[kEpi] ? kDermis : kEpidermis) +
+                                    "' is missing (the Merkel layer is the epidermis-dermis interface)");
+  }
+  if (count[kBoneT] + count[kNailT] == 0) {
+    throw ConfigError(file_loc, "no rigid body: the mesh needs a 'bone' and/or 'nail' volume group");
+  }
+
+  // Soft nodes: used by soft tets, numbered in ascending Gmsh tag order.
+  std::vector<std::size_t> soft_tags;
+  std::unordered_set<std::size_t> rigid_node_tags;
+  for (const RawTet& t : tets) {
+    if (IsSoft(t.tissue)) {
+      soft_tags.insert(soft_tags.end(), t.nodes.begin(), t.nodes.end());
+    } else {
+      rigid_node_tags.insert(t.nodes.begin(), t.nodes.end());
+    }
+  }
+  std::sort(soft_tags.begin(), soft_tags.end());
+  soft_tags.erase(std::unique(soft_tags.begin(), soft_tags.end()), soft_tags.end());
+  std::unordered_map<std::size_t, int> soft_index;
+  m.soft.rest_positions_m.resize(3, soft_tags.size());
+  for (std::size_t i = 0; i < soft_tags.size(); ++i) {
+    soft_index[soft_tags[i]] = static_cast<int>(i);
+    m.soft.rest_positions_m.col(i) = msh.node_positions.col(msh.node_index.at(soft_tags[i])) * d.mesh_unit_m;
+  }
+  m.soft_node_tags = soft_tags;
+
+  int material_of[kNumTissues] = {-1, -1, -1, -1, -1, -1};
+  for (int k = kEpi; k <= kSoft; ++k) {
+    if (count[k] > 0) material_of[k] = AddMaterial(&m, d, kTissueNames[k]);
+  }
+  for (int k : {kBoneT, kNailT}) {
+    if (count[k] > 0) {
+      fem::LinearElasticMaterial mat = d.materials.count(kTissueNames[k])
+                                           ? d.materials.at(kTissueNames[k])
+                                           : TableIIMaterial(kTissueNames[k]);
+      mat.name = kTissueNames[k];
+      m.rigid_materials.push_back(mat);
+    }
+  }
+
+  // Rigid body: its own node numbering, ascending Gmsh tags.
+  std::vector<std::size_t> rigid_tags(rigid_node_tags.begin(), rigid_node_tags.end());
+  std::sort(rigid_tags.begin(), rigid_tags.end());
+  std::unordered_map<std::size_t, int> rigid_index;
+  m.rigid_positions_m.resize(3, rigid_tags.size());
+  for (std::size_t i = 0; i < rigid_tags.size(); ++i) {
+    rigid_index[rigid_tags[i]] = static_cast<int>(i);
+    m.rigid_positions_m.col(i) = msh.node_positions.col(msh.node_index.at(rigid_tags[i])) * d.mesh_unit_m;
+  }
+
+  std::unordered_set<FaceKey, FaceKeyHash> rigid_faces;  // keys in Gmsh node tags
+  for (const RawTet& t : tets) {
+    if (IsSoft(t.tissue)) {
+      fem::Tet tet;
+      for (int i = 0; i < 4; ++i) tet[i] = soft_index.at(t.nodes[i]);
+      m.soft.tets.push_back(tet);
+      m.soft.tet_material.push_back(material_of[t.tissue]);
+      m.soft_tet_tags.push_back(t.element->tag);
+    } else {
+      fem::Tet tet;
+      for (int i = 0; i < 4; ++i) tet[i] = rigid_index.at(t.nodes[i]);
+      m.rigid_tets.push_back(tet);
+      m.rigid_tet_is_nail.push_back(t.tissue == kNailT ? 1 : 0);
+      m.rigid_tet_tags.push_back(t.element->tag);
+      for (const auto& f : kFaceVertices) {
+        rigid_faces.insert(Key(t.nodes[f[0]], t.nodes[f[1]], t.nodes[f[2]]));
+      }
+    }
+  }
+
+  for (std::size_t i = 0; i < soft_tags.size(); ++i) {
+    if (rigid_node_tags.count(soft_tags[i])) m.attached_nodes.push_back(static_cast<int>(i));
+  }
+
+  // Faces of the soft mesh: boundary (one tet) or interior (two tets).
+  std::unordered_map<FaceKey, std::vector<FaceUse>, FaceKeyHash> faces;
+  faces.reserve(m.soft.tets.size() * 3);
+  for (int t = 0; t < m.soft.num_tets(); ++t) {
+    const fem::Tet& tet = m.soft.tets[t];
+    for (int f = 0; f < 4; ++f) {
+      const auto& v = kFaceVertices[f];
+      faces[Key(tet[v[0]], tet[v[1]], tet[v[2]])].push_back({t, f});
+    }
+  }
+  auto oriented = [&](const FaceUse& u) {
+    const fem::Tet& tet = m.soft.tets[u.tet];
+    const auto& v = kFaceVertices[u.face];
+    return fem::Triangle{tet[v[0]], tet[v[1]], tet[v[2]]};
+  };
+  std::map<FaceKey, fem::Triangle> skin;  // ordered: deterministic output
+  std::map<FaceKey, fem::Triangle> merkel;
+  const int epi_mat = material_of[kEpi], derm_mat = material_of[kDerm];
+  for (const auto& [key, uses] : faces) {
+    if (uses.size() > 2) {
+      std::string list;
+      for (const auto& u : uses) list += " " + std::to_string(m.soft_tet_tags[u.tet]);
+      throw ConfigError(file_loc, "non-manifold mesh: a face is shared by " + std::to_string(uses.size()) +
+                                      " tetrahedra (elements" + list + ")");
+    }
+    if (uses.size() == 1) {
+      const FaceKey tag_key = Key(soft_tags[key[0]], soft_tags[key[1]], soft_tags[key[2]]);
+      if (!rigid_faces.count(tag_key)) skin[key] = oriented(uses[0]);
+      continue;
+    }
+    const int a = m.soft.tet_material[uses[0].tet], b = m.soft.tet_material[uses[1].tet];
+    if (epi_mat >= 0 && ((a == epi_mat && b == derm_mat) || (a == derm_mat && b == epi_mat))) {
+      merkel[key] = oriented(a == derm_mat ? uses[0] : uses[1]);  // normal dermis -> epidermis
+    }
+  }
+  if (epi_mat >= 0 && merkel.empty()) {
+    throw ConfigError(file_loc, "groups 'epidermis' and 'dermis' share no faces: the Merkel "
+                                "interface is broken (meshes must be conforming, e.g. Gmsh "
+                                "boolean fragments)");
+  }
+  if (skin.empty()) throw ConfigError(file_loc, "the soft tissue has no free surface (no skin)");
+
+  auto collect = [](const std::map<FaceKey, fem::Triangle>& tris, std::vector<fem::Triangle>* out,
+                    std::vector<int>* nodes) {
+    for (const auto& [key, tri] : tris) {
+      out->push_back(tri);
+      nodes->insert(nodes->end(), tri.begin(), tri.end());
+    }
+    std::sort(nodes->begin(), nodes->end());
+    nodes->erase(std::unique(nodes->begin(), nodes->end()), nodes->end());
+  };
+  collect(skin, &m.skin_triangles, &m.skin_nodes);
+  collect(merkel, &m.merkel_triangles, &m.merkel_nodes);
+
+  // Stratum corneum shell: triangles of the 2-D group, oriented like the skin under them.
+  int sc_group = -1;
+  for (const auto& p : msh.physical_names) {
+    if (p.dim == 2 && p.name == kStratumCorneum) sc_group = p.tag;
+  }
+  if (sc_group >= 0) {
+    for (const MshElement& e : msh.elements) {
+      if (e.entity_dim != 2) continue;
+      const auto& phys = msh.PhysicalTagsOf(e);
+      if (std::find(phys.begin(), phys.end(), sc_group) == phys.end()) continue;
+      if (e.type != 2) {
+        FailAt(msh, e, Where(e) + " in 'stratum_corneum' has Gmsh type " + std::to_string(e.type) +
+                           "; only 3-node triangles (type 2) are supported");
+      }
+      FaceKey key;
+      for (int i = 0; i < 3; ++i) {
+        const auto it = soft_index.find(e.node_tags[i]);
+        if (it == soft_index.end()) {
+          FailAt(msh, e, "stratum_corneum " + Where(e) + " uses node " +
+                             std::to_string(e.node_tags[i]) + ", which is not a soft-tissue node");
+        }
+        key[i] = it->second;
+      }
+      std::sort(key.begin(), key.end());
+      const auto s = skin.find(key);
+      if (s == skin.end()) {
+        FailAt(msh, e, "stratum_corneum " + Where(e) + " is not a face of the skin surface");
+      }
+      m.stratum_corneum_triangles.push_back(s->second);
+    }
+    if (m.stratum_corneum_triangles.empty()) {
+      throw ConfigError(file_loc, "group 'stratum_corneum' has no triangles");
+    }
+    m.stratum_corneum_material = d.materials.count(kStratumCorneum)
+                                     ? d.materials.at(kStratumCorneum)
+                                     : TableIIMaterial(kStratumCorneum);
+    m.stratum_corneum_material.name = kStratumCorneum;
+    m.stratum_corneum_thickness_m =
+        d.has_geometry ? d.geometry.layers.stratum_corneum_mm * 1e-3 : 0.02e-3;
+  }
+
+  m.pad_frame = ComputePadFrame(m.soft.rest_positions_m, m.skin_nodes, d.pad_tilt_deg);
+  return m;
+}
+
+FingertipModel LoadFingertipModel(const std::string& name_or_path) {
+  namespace fs = std::filesystem;
+  std::string path = name_or_path;
+  const fs::path p(name_or_path);
+  if (!p.has_extension() && !p.has_parent_path()) {
+    path = "config/models/" + name_or_path + ".yaml";  // a bare model name
+  }
+  path = config::ResolveResource(path);
+  const std::string ext = fs::path(path).extension().string();
+  ModelDescription d;
+  if (ext == ".yaml" || ext == ".yml") {
+    d = ReadModelDescription(path);
+  } else if (ext == ".msh") {
+    d = DefaultModelDescription(path);
+  } else {
+    throw ConfigError({name_or_path, 0, 0}, "expected a model name (A, B, ...), a model YAML "
+                                            "or a Gmsh .msh file");
+  }
+  if (!fs::exists(d.mesh_path)) {
+    throw ConfigError({d.source_file, 0, 0}, "mesh file '" + d.mesh_path + "' does not exist");
+  }
+  const MshFile msh = ReadMshFile(d.mesh_path);
+  if (d.has_geometry && d.geometry.layers.stratum_corneum_mm > 0.0) {
+    bool has_sc = false;
+    for (const auto& pn : msh.physical_names) has_sc |= (pn.dim == 2 && pn.name == kStratumCorneum);
+    if (!has_sc) {
+      throw ConfigError({d.source_file, 0, 0}, "layers.stratum_corneum_mm > 0 but '" + d.mesh_path +
+                                                   "' has no 'stratum_corneum' surface group");
+    }
+  }
+  return BuildFingertipModel(msh, d);
+}
+
+}  // namespace sedbridge::model
