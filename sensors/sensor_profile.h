@@ -1,0 +1,122 @@
+#pragma once
+// A tactile sensor profile (config/sensors/*.yaml): which CAN frames carry which taxel
+// readings, where the taxels sit on the sensor pad, and how raw counts become pressure.
+// The decoder and the encoder (taxel_codec.h) are both built from this one description.
+//
+// Conventions
+//   - A "channel" is one raw reading: channel = taxel * axes + axis. With axes == 3 the
+//     axis order is x, y (shear, in the pad plane) and z (normal, pressing into the pad
+//     is positive); with axes == 1 the only axis is the normal one.
+//   - Pad frame: x, y in the pad surface, z along the outward pad normal; taxel positions
+//     are the taxel centres in mm.
+//   - One scan is `frame_count` frame slots; slot k carries channels
+//     [k * samples_per_frame, (k + 1) * samples_per_frame); trailing samples past the last
+//     channel are padding (encoded 0, ignored when decoding).
+//   - A slot is identified by its CAN id (ids[k]) or, when `frame_index` is present, by
+//     that field in the payload (all slots then share ids[0]).
+//   - Bit numbering: byte_order "big" counts bit 0 as the MSB of byte 0 and packs each
+//     sample MSB first (Motorola); "little" counts bit 0 as the LSB of byte 0 and packs LSB
+//     first (Intel). The same numbering is used for frame_index and scan_counter.
+// The YAML keys are documented in config/sensors/README.md.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "config/yaml_reader.h"
+#include "sensors/can_frame.h"
+
+namespace sedbridge::sensors {
+
+enum class ByteOrder { kBig, kLittle };
+
+/// A bit field inside a frame payload; bits == 0 means "absent".
+struct BitField {
+  int first_bit = 0;
+  int bits = 0;
+  bool present() const { return bits > 0; }
+};
+
+struct FrameLayout {
+  std::vector<uint32_t> ids;  ///< one per slot, or a single shared id with frame_index
+  bool extended_ids = false;  ///< 29-bit identifiers
+  bool fd = false;            ///< CAN FD frames
+  uint8_t fd_flags = 0;       ///< CanFdFlags the encoder sets (BRS usually)
+  int frame_count = 0;        ///< slots per scan
+  int length = 8;             ///< payload bytes every frame must have
+  int samples_per_frame = 0;
+  int sample_bits = 16;       ///< 1..24
+  bool sample_signed = false;
+  ByteOrder byte_order = ByteOrder::kBig;
+  int first_sample_bit = 0;   ///< samples are contiguous from here
+  BitField frame_index;       ///< slot number in the payload (libbarrett's group nibble)
+  BitField scan_counter;      ///< rolling scan counter, wraps at 2^bits
+};
+
+/// Calibrated unit of (raw - offset) * scale.
+enum class CalibrationUnit { kPascal, kKiloPascal, kNewton };
+
+struct Calibration {
+  CalibrationUnit unit = CalibrationUnit::kKiloPascal;
+  std::vector<double> scale_per_count;   ///< per axis [unit/count]
+  std::vector<double> offset_counts;     ///< per axis [count], zero-load reading before tare
+  std::vector<double> taxel_gain;        ///< per taxel [-], all 1 by default
+  /// Readings <= saturation_low or >= saturation_high are saturated (invalid).
+  int64_t saturation_low_counts = 0;
+  int64_t saturation_high_counts = 0;
+};
+
+struct TaxelPosition {
+  double x_mm = 0;
+  double y_mm = 0;
+};
+
+struct SensorProfile {
+  std::string name;         ///< e.g. "uskin_4x4"
+  std::string description;  ///< free text (model, which public driver it follows)
+  std::string file;         ///< where it was loaded from ("" if built in code)
+
+  int taxel_count = 0;
+  int axes = 1;  ///< 1 (normal only) or 3 (x, y shear + z normal)
+  std::vector<TaxelPosition> taxels;  ///< taxel centres on the pad [mm]
+  double taxel_width_mm = 0;   ///< sensing element size along x
+  double taxel_height_mm = 0;  ///< sensing element size along y
+  double taxel_area_mm2() const { return taxel_width_mm * taxel_height_mm; }
+
+  FrameLayout layout;
+  Calibration calibration;
+
+  double scan_rate_Hz = 100;   ///< expected scans per second
+  /// A scan still incomplete this long after its first frame is emitted as partial [us].
+  int64_t partial_timeout_us = 0;
+  /// A taxel whose raw reading is bit-identical for this many scans is stale (0 = off).
+  int stale_after_scans = 0;
+
+  std::vector<Frame> start_frames;  ///< sent to start streaming (may be empty)
+  std::vector<Frame> stop_frames;   ///< sent to stop streaming
+
+  int channel_count() const { return taxel_count * axes; }
+  /// Range a sample can hold.
+  int64_t RawMin() const;
+  int64_t RawMax() const;
+  /// Normal-axis index inside a taxel's channels (2 for 3-axis, 0 otherwise).
+  int NormalAxis() const { return axes == 3 ? 2 : 0; }
+};
+
+/// Loads and checks a profile; errors are config::ConfigError naming file:line:column.
+SensorProfile LoadSensorProfile(const std::string& path);
+/// Same, from YAML text (`file` used in messages).
+SensorProfile ParseSensorProfileString(const std::string& yaml, const std::string& file);
+/// Parses a profile mapping.
+SensorProfile ParseSensorProfile(config::MapReader& reader);
+
+/// Resolves a profile argument: a path to a YAML file, or a shipped profile name
+/// ("uskin_4x4" -> config/sensors/uskin_4x4.yaml).
+std::string ResolveProfilePath(const std::string& name_or_path);
+
+/// Checks internal consistency (bit fields inside the payload and not overlapping, enough
+/// slots for every channel, ...). Throws std::invalid_argument. Called by the loaders;
+/// call it yourself for profiles built in code.
+void ValidateProfile(const SensorProfile& profile);
+
+}  // namespace sedbridge::sensors
