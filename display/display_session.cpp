@@ -1,0 +1,65 @@
+#include "display/display_session.h"
+
+#include <chrono>
+
+#include "display/lcm_conversions.h"
+
+namespace sedbridge::display {
+
+int64_t WallClockUtime() {
+  using namespace std::chrono;
+  return duration_cast<microseconds>(system_clock::now().time_since_epoch()).count();
+}
+
+DisplaySession::DisplaySession(DisplayProfile profile, const LcmSettings& settings,
+                               DisplaySessionOptions options)
+    : controller_(std::move(profile)),
+      publisher_(settings.url, settings.channels),
+      options_(options) {
+  if (!settings.log_path.empty()) publisher_.OpenLog(settings.log_path);
+}
+
+DisplaySession::~DisplaySession() {
+  if (shut_down_) return;
+  try {
+    Shutdown(WallClockUtime());
+  } catch (...) {
+    // Destructors must not throw; the display's own watchdog takes over from here.
+  }
+}
+
+const DisplayCommand& DisplaySession::OnSedField(const SedField& field, int64_t now_utime) {
+  if (options_.publish_sed) publisher_.PublishSed(field);
+  last_ = controller_.OnSedField(field, now_utime);
+  publisher_.PublishCommand(last_);
+  if (options_.publish_sa1_rate) {
+    const auto& sed = controller_.last_mapping().sed_at_site_Pa;
+    const std::vector<double> rate = EstimateSa1Rates(sed, options_.sa1);
+    lcmt_sa1_rate_estimate m;
+    m.utime = field.utime;
+    m.display_id = controller_.profile().name;
+    m.num_sites = static_cast<int32_t>(sed.size());
+    for (std::size_t i = 0; i < sed.size(); ++i) {
+      m.sed_Pa.push_back(ToLcmFloat(sed[i]));
+      m.rate_Hz.push_back(ToLcmFloat(rate[i]));
+    }
+    publisher_.PublishSa1Rate(m);
+  }
+  return last_;
+}
+
+const DisplayCommand& DisplaySession::Tick(int64_t now_utime) {
+  last_ = controller_.Tick(now_utime);
+  publisher_.PublishCommand(last_);
+  return last_;
+}
+
+const DisplayCommand& DisplaySession::Shutdown(int64_t now_utime) {
+  shut_down_ = true;
+  last_ = controller_.Shutdown(now_utime);
+  publisher_.PublishCommand(last_);
+  if (publisher_.log()) publisher_.log()->Flush();
+  return last_;
+}
+
+}  // namespace sedbridge::display

@@ -1,0 +1,54 @@
+#pragma once
+// DisplayController wired to LCM: what the bridge's real-time loop owns on the leader side.
+// Guarantees a zero command on the way out (Shutdown() or destruction).
+
+#include <cstdint>
+
+#include "display/display_controller.h"
+#include "display/lcm_channels.h"
+#include "display/lcm_publisher.h"
+#include "display/sa1_rate_estimate.h"
+
+namespace sedbridge::display {
+
+struct DisplaySessionOptions {
+  bool publish_sed = true;        ///< also publish each field on channels.sed (for viewers)
+  bool publish_sa1_rate = false;  ///< also publish the SA1 rate ESTIMATE on channels.sa1_rate
+  Sa1RateParams sa1;
+};
+
+/// Wall-clock time [us since the Unix epoch], LCM's utime.
+int64_t WallClockUtime();
+
+///   DisplaySession display(LoadDisplayProfile(path), settings);   // settings from `lcm:` YAML
+///   each FE step:          display.OnSedField(field, WallClockUtime());
+///   each idle period:      display.Tick(WallClockUtime());          // keeps the watchdog honest
+///   on exit (or by dtor):  display.Shutdown(WallClockUtime());      // publishes all zeros
+class DisplaySession {
+ public:
+  /// Throws std::runtime_error (LCM/log cannot open), std::invalid_argument (bad limits or
+  /// channel names).
+  DisplaySession(DisplayProfile profile, const LcmSettings& settings,
+                 DisplaySessionOptions options = {});
+  ~DisplaySession();  ///< Shutdown(WallClockUtime()) unless already shut down; never throws
+  DisplaySession(const DisplaySession&) = delete;
+  DisplaySession& operator=(const DisplaySession&) = delete;
+
+  const DisplayCommand& OnSedField(const SedField& field, int64_t now_utime);
+  const DisplayCommand& Tick(int64_t now_utime);
+  /// Publishes the all-zero shutdown command (again, if called twice).
+  const DisplayCommand& Shutdown(int64_t now_utime);
+
+  DisplayController& controller() { return controller_; }
+  LcmPublisher& publisher() { return publisher_; }
+  const DisplayCommand& last_command() const { return last_; }
+
+ private:
+  DisplayController controller_;
+  LcmPublisher publisher_;
+  DisplaySessionOptions options_;
+  DisplayCommand last_;
+  bool shut_down_ = false;
+};
+
+}  // namespace sedbridge::display

@@ -1,0 +1,47 @@
+#pragma once
+// Reads LCM event logs (from lcm-logger or LcmLogWriter) event by event.
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+namespace lcm {
+class LogFile;
+struct LogEvent;
+}
+
+namespace sedbridge::display {
+
+class LcmLogReader {
+ public:
+  /// Throws std::runtime_error if `path` cannot be opened as an LCM log.
+  explicit LcmLogReader(const std::string& path);
+  ~LcmLogReader();
+  LcmLogReader(const LcmLogReader&) = delete;
+  LcmLogReader& operator=(const LcmLogReader&) = delete;
+
+  /// Next event, or nullptr at the end (or at a truncated/corrupt tail). The event is valid
+  /// until the next call.
+  const lcm::LogEvent* Next();
+
+  /// Decodes `event` as Msg; false when the bytes are not a Msg (wrong type fingerprint,
+  /// truncated). Use on events of the channel you expect.
+  template <typename Msg>
+  static bool Decode(const lcm::LogEvent& event, Msg* msg);
+
+ private:
+  std::unique_ptr<lcm::LogFile> log_;
+};
+
+}  // namespace sedbridge::display
+
+#include <lcm/lcm-cpp.hpp>
+
+namespace sedbridge::display {
+
+template <typename Msg>
+bool LcmLogReader::Decode(const lcm::LogEvent& event, Msg* msg) {
+  return msg->decode(event.data, 0, event.datalen) == event.datalen;
+}
+
+}  // namespace sedbridge::display
