@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <set>
 
 #include "model/fingertip_model.h"
 #include "tests/model/mesh_geometry_util.h"
@@ -174,7 +176,8 @@ TEST_P(CommittedModel, PadFrameOriginIsTheSkinNodeTheTiltedPlaneTouchesFirst) {
   EXPECT_NEAR(m.pad_frame.tilt_deg, 15.0, 1e-12);
 }
 
-INSTANTIATE_TEST_SUITE_P(Models, CommittedModel, ::testing::Values("B"));
+INSTANTIATE_TEST_SUITE_P(Models, CommittedModel,
+                         ::testing::Values("A", "B", "C", "B_coarse", "B_fine", "B_x4"));
 
 TEST(ModelB, SizeMatchesThePaperWithin20Percent) {
   const FingertipModel& m = Model("B");
@@ -187,6 +190,50 @@ TEST(ModelB, SizeMatchesThePaperWithin20Percent) {
   EXPECT_GT(TissueVolume_mm3(m, kDermis), TissueVolume_mm3(m, kEpidermis));
   EXPECT_GT(TissueVolume_mm3(m, kEpidermis), TissueVolume_mm3(m, kSubcutaneous));
   EXPECT_TRUE(m.stratum_corneum_triangles.empty());
+}
+
+TEST(ModelA, LayersAndStratumCorneumShell) {
+  const FingertipModel& m = Model("A");
+  // Thin skin over a large core: subcutaneous > epidermis (1 mm) > dermis (0.75 mm).
+  EXPECT_GT(TissueVolume_mm3(m, kSubcutaneous), TissueVolume_mm3(m, kEpidermis));
+  EXPECT_GT(TissueVolume_mm3(m, kEpidermis), TissueVolume_mm3(m, kDermis));
+  EXPECT_DOUBLE_EQ(m.soft.materials[m.MaterialIndex(kEpidermis)].youngs_modulus_Pa, 1.36e5);
+  // The shell covers the skin except the crease cut and the nail: each shell triangle is a
+  // skin triangle with the same orientation.
+  ASSERT_GT(m.stratum_corneum_triangles.size(), m.skin_triangles.size() / 2);
+  EXPECT_LT(m.stratum_corneum_triangles.size(), m.skin_triangles.size());
+  std::set<fem::Triangle> skin(m.skin_triangles.begin(), m.skin_triangles.end());
+  for (const auto& t : m.stratum_corneum_triangles) ASSERT_TRUE(skin.count(t));
+  EXPECT_NEAR(m.stratum_corneum_thickness_m, 0.02e-3, 1e-12);
+  EXPECT_DOUBLE_EQ(m.stratum_corneum_material.youngs_modulus_Pa, 1.993e6);
+}
+
+TEST(ModelC, HomogeneousMaterialsOnModelAsGeometry) {
+  const FingertipModel& a = Model("A");
+  const FingertipModel& c = Model("C");
+  for (const auto& mat : c.soft.materials) {
+    EXPECT_DOUBLE_EQ(mat.youngs_modulus_Pa, 3.4e4) << mat.name;
+    EXPECT_DOUBLE_EQ(mat.poisson_ratio, 0.48) << mat.name;
+    EXPECT_DOUBLE_EQ(mat.density_kg_m3, 1000.0) << mat.name;
+  }
+  EXPECT_EQ(c.num_soft_nodes(), a.num_soft_nodes());
+  EXPECT_EQ(c.soft.num_tets(), a.soft.num_tets());
+  EXPECT_EQ(c.merkel_nodes, a.merkel_nodes);
+  EXPECT_TRUE(c.stratum_corneum_triangles.empty());
+}
+
+TEST(ModelBVariants, ResolutionLadder) {
+  const double b = Model("B").soft.num_tets();
+  EXPECT_NEAR(Model("B_coarse").soft.num_tets() / b, 0.5, 0.15);
+  EXPECT_NEAR(Model("B_fine").soft.num_tets() / b, 2.0, 0.4);
+  EXPECT_NEAR(Model("B_x4").soft.num_tets() / b, 4.0, 0.8);
+  // Same geometry and materials as B.
+  for (const char* name : {"B_coarse", "B_fine", "B_x4"}) {
+    const FingertipModel& v = Model(name);
+    EXPECT_EQ(v.description.geometry.layers.epidermis_mm, 1.5) << name;
+    EXPECT_EQ(v.description.geometry.layers.dermis_mm, 3.0) << name;
+    EXPECT_DOUBLE_EQ(v.soft.materials[v.MaterialIndex(kDermis)].youngs_modulus_Pa, 8e4) << name;
+  }
 }
 
 }  // namespace

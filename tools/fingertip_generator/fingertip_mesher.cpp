@@ -213,6 +213,7 @@ MeshStats MeshFingertip(const FingertipGeometry& g, const std::string& model_nam
     }
   }
   stats.soft_nodes = static_cast<int>(soft_nodes.size());
+  if (g.layers.stratum_corneum_mm <= 0.0) stratum_corneum_surfaces.clear();  // no group written
   for (int s : stratum_corneum_surfaces) {
     std::vector<int> types;
     std::vector<std::vector<std::size_t>> tags, nodes;
