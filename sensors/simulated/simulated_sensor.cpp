@@ -1,0 +1,274 @@
+#include "sensors/simulated/simulated_sensor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
+#include "config/config_error.h"
+#include "config/yaml_reader.h"
+
+namespace sedbridge::sensors {
+
+double PadModel::EffectiveModulus_Pa() const {
+  const double nu = poisson_ratio;
+  return youngs_modulus_Pa * (1 - nu) / ((1 + nu) * (1 - 2 * nu));
+}
+
+namespace {
+
+Eigen::Vector3d Vec3(config::MapReader& r, const std::string& key) {
+  if (!r.Has(key)) return Eigen::Vector3d::Zero();
+  auto v = r.Required<std::vector<double>>(key);
+  if (v.size() != 3) r.Fail(r.Node(key), "'" + key + "' needs 3 numbers");
+  return {v[0], v[1], v[2]};
+}
+
+double Positive(config::MapReader& r, const std::string& key, double fallback) {
+  const double v = r.Optional<double>(key, fallback);
+  if (!(v > 0)) r.Fail(r.Node(key), "'" + key + "' must be > 0");
+  return v;
+}
+
+double Probability(config::MapReader& r, const std::string& key) {
+  const double v = r.Optional<double>(key, 0.0);
+  if (!(v >= 0 && v <= 1)) r.Fail(r.Node(key), "'" + key + "' must be in [0, 1]");
+  return v;
+}
+
+}  // namespace
+
+double PenetrationAlong(const geometry::RigidObject& object, const Eigen::Vector3d& q_m,
+                        const Eigen::Vector3d& inward, double t_s) {
+  // Sphere tracing inside the solid: a step of |sdf| never crosses the boundary, so the
+  // distance marched until the SDF turns non-negative is the depth of the object's surface
+  // below q along `inward` (overshoot at most kMinStep for grazing walls).
+  constexpr double kMinStep = 1e-5;
+  constexpr int kMaxSteps = 200;
+  double sdf = object.Evaluate(q_m, t_s).distance_m;
+  if (!(sdf < 0)) return 0.0;
+  double travelled = 0;
+  for (int i = 0; i < kMaxSteps && sdf < 0; ++i) {
+    travelled += std::max(-sdf, kMinStep);
+    sdf = object.Evaluate(q_m + travelled * inward, t_s).distance_m;
+  }
+  return travelled;
+}
+
+SimulatedSensorConfig LoadSimulatedSensorScene(const std::string& path,
+                                               const std::string& profile_override) {
+  auto doc = config::LoadYamlFile(path);
+  config::MapReader root(doc.root, doc.file);
+  SimulatedSensorConfig c;
+  config::MapReader s = root.Child("sensor");
+  std::string profile = profile_override;
+  if (s.Has("profile")) {
+    const std::string in_file = s.Required<std::string>("profile");
+    if (profile.empty()) {
+      // A relative path is tried next to the scene first, then as a shipped name/path.
+      const auto beside = std::filesystem::path(path).parent_path() / in_file;
+      profile = std::filesystem::exists(beside) && in_file.find('/') != std::string::npos
+                    ? beside.string()
+                    : ResolveProfilePath(in_file);
+    }
+  }
+  if (profile.empty()) s.Fail("missing 'profile' (or pass --profile)");
+  c.profile = LoadSensorProfile(ResolveProfilePath(profile));
+  c.interface = s.Optional<std::string>("interface", "can0");
+  if (c.interface.empty() || c.interface.size() >= kInterfaceNameMax)
+    s.Fail(s.Node("interface"), "'interface' must have 1..15 characters");
+  c.start_utime = s.Optional<int64_t>("start_utime", c.start_utime);
+  c.duration_s = Positive(s, "duration_s", 1.0);
+  if (s.Has("pad")) {
+    config::MapReader p = s.Child("pad");
+    c.pad.thickness_m = Positive(p, "thickness_mm", 3.0) * 1e-3;
+    c.pad.youngs_modulus_Pa = Positive(p, "youngs_modulus_kPa", 300.0) * 1e3;
+    c.pad.poisson_ratio = p.Optional<double>("poisson_ratio", 0.0);
+    if (!(c.pad.poisson_ratio >= 0 && c.pad.poisson_ratio < 0.5))
+      p.Fail(p.Node("poisson_ratio"), "'poisson_ratio' must be in [0, 0.5)");
+    c.pad.friction_coefficient = p.Optional<double>("friction_coefficient", 0.0);
+    if (c.pad.friction_coefficient < 0)
+      p.Fail(p.Node("friction_coefficient"), "'friction_coefficient' must be >= 0");
+    c.pad.subsamples = p.Optional<int>("subsamples", 3);
+    if (c.pad.subsamples < 1 || c.pad.subsamples > 16) p.Fail(p.Node("subsamples"), "'subsamples' must be 1..16");
+    c.pad.smoothing_m = p.Optional<double>("smoothing_mm", 0.0) * 1e-3;
+    if (c.pad.smoothing_m < 0) p.Fail(p.Node("smoothing_mm"), "'smoothing_mm' must be >= 0");
+    c.pad.scene_from_pad.translation() = Vec3(p, "position_mm") * 1e-3;
+    c.pad.scene_from_pad.linear() = geometry::RotationFromRpyDeg(Vec3(p, "rpy_deg"));
+    p.Finish();
+  }
+  if (s.Has("noise")) {
+    config::MapReader n = s.Child("noise");
+    c.noise.seed = n.Optional<uint64_t>("seed", 1);
+    c.noise.stddev_counts = n.Optional<double>("stddev_counts", 0.0);
+    if (!(c.noise.stddev_counts >= 0)) n.Fail(n.Node("stddev_counts"), "'stddev_counts' must be >= 0");
+    c.noise.dropout_probability = Probability(n, "dropout_probability");
+    c.noise.bit_error_probability = Probability(n, "bit_error_probability");
+    n.Finish();
+  }
+  c.frame_spacing_us = s.Optional<int64_t>("frame_spacing_us", 130);
+  if (c.frame_spacing_us < 0) s.Fail(s.Node("frame_spacing_us"), "'frame_spacing_us' must be >= 0");
+  s.Finish();
+  c.objects = geometry::ParseRigidObjects(root.Node("objects"), doc.file);
+  root.Finish();
+  return c;
+}
+
+SimulatedSensor::SimulatedSensor(SimulatedSensorConfig config)
+    : config_(std::move(config)), codec_(config_.profile), rng_(config_.noise.seed) {
+  const SensorProfile& p = config_.profile;
+  const int n = config_.pad.subsamples;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      sub_offsets_m_.push_back({((i + 0.5) / n - 0.5) * p.taxel_width_mm * 1e-3,
+                                ((j + 0.5) / n - 0.5) * p.taxel_height_mm * 1e-3});
+  if (config_.pad.smoothing_m > 0) {
+    const int t = p.taxel_count;
+    smoothing_.assign(static_cast<size_t>(t) * t, 0.0);
+    const double s2 = config_.pad.smoothing_m * config_.pad.smoothing_m * 1e6;  // mm^2
+    for (int a = 0; a < t; ++a) {
+      double sum = 0;
+      for (int b = 0; b < t; ++b) {
+        const double dx = p.taxels[a].x_mm - p.taxels[b].x_mm, dy = p.taxels[a].y_mm - p.taxels[b].y_mm;
+        const double w = std::exp(-0.5 * (dx * dx + dy * dy) / s2);
+        smoothing_[a * t + b] = w;
+        sum += w;
+      }
+      for (int b = 0; b < t; ++b) smoothing_[a * t + b] /= sum;
+    }
+  }
+}
+
+TaxelTractions SimulatedSensor::Evaluate(double t_s) const {
+  const SensorProfile& p = config_.profile;
+  const PadModel& pad = config_.pad;
+  const int taxels = p.taxel_count;
+  const double stiffness = pad.EffectiveModulus_Pa() / pad.thickness_m;  // Pa per m
+  const Eigen::Matrix3d pad_from_scene = pad.scene_from_pad.linear().transpose();
+  const Eigen::Vector3d inward = -pad.scene_from_pad.linear().col(2);  // into the pad
+  TaxelTractions out;
+  out.pressure_Pa.assign(taxels, 0.0);
+  out.shear_x_Pa.assign(taxels, 0.0);
+  out.shear_y_Pa.assign(taxels, 0.0);
+  for (int i = 0; i < taxels; ++i) {
+    double p_sum = 0, tx_sum = 0, ty_sum = 0;
+    for (const Eigen::Vector2d& o : sub_offsets_m_) {
+      const Eigen::Vector3d q_pad(p.taxels[i].x_mm * 1e-3 + o.x(), p.taxels[i].y_mm * 1e-3 + o.y(), 0);
+      const Eigen::Vector3d q = pad.scene_from_pad * q_pad;
+      double depth = 0;
+      const geometry::RigidObject* deepest = nullptr;
+      for (const auto& obj : config_.objects) {
+        const double d = PenetrationAlong(obj, q, inward, t_s);
+        if (d > depth) depth = d, deepest = &obj;
+      }
+      if (!deepest) continue;
+      const double pressure = stiffness * depth;
+      p_sum += pressure;
+      if (pad.friction_coefficient > 0) {
+        const Eigen::Vector3d v = pad_from_scene * deepest->trajectory.PointVelocity(q, t_s);
+        const double speed = std::hypot(v.x(), v.y());
+        if (speed > 1e-6) {
+          tx_sum += pad.friction_coefficient * pressure * v.x() / speed;
+          ty_sum += pad.friction_coefficient * pressure * v.y() / speed;
+        }
+      }
+    }
+    const double n = static_cast<double>(sub_offsets_m_.size());
+    out.pressure_Pa[i] = p_sum / n;
+    out.shear_x_Pa[i] = tx_sum / n;
+    out.shear_y_Pa[i] = ty_sum / n;
+  }
+  if (!smoothing_.empty()) {
+    auto blur = [&](std::vector<double>& v) {
+      std::vector<double> r(taxels, 0.0);
+      for (int a = 0; a < taxels; ++a)
+        for (int b = 0; b < taxels; ++b) r[a] += smoothing_[a * taxels + b] * v[b];
+      v.swap(r);
+    };
+    blur(out.pressure_Pa);
+    blur(out.shear_x_Pa);
+    blur(out.shear_y_Pa);
+  }
+  return out;
+}
+
+std::vector<int32_t> SimulatedSensor::ToRawCounts(const TaxelTractions& tr) const {
+  const SensorProfile& p = config_.profile;
+  const Calibration& cal = p.calibration;
+  const double area_m2 = p.taxel_area_mm2() * 1e-6;
+  double from_Pa = 1.0;  // profile unit per Pa
+  if (cal.unit == CalibrationUnit::kKiloPascal) from_Pa = 1e-3;
+  if (cal.unit == CalibrationUnit::kNewton) from_Pa = area_m2;
+  std::vector<int32_t> raw(p.channel_count());
+  for (int i = 0; i < p.taxel_count; ++i) {
+    for (int a = 0; a < p.axes; ++a) {
+      double value_Pa = tr.pressure_Pa[i];
+      if (p.axes == 3 && a == 0) value_Pa = tr.shear_x_Pa[i];
+      if (p.axes == 3 && a == 1) value_Pa = tr.shear_y_Pa[i];
+      const double counts =
+          cal.offset_counts[a] + value_Pa * from_Pa / (cal.scale_per_count[a] * cal.taxel_gain[i]);
+      const double limited = std::clamp(counts, -2e9, 2e9);  // NaN-safe below
+      raw[i * p.axes + a] = std::isfinite(limited) ? static_cast<int32_t>(std::lround(limited)) : 0;
+    }
+  }
+  return raw;
+}
+
+int64_t SimulatedSensor::scan_count() const {
+  return static_cast<int64_t>(std::floor(config_.duration_s * config_.profile.scan_rate_Hz + 1e-9));
+}
+
+void SimulatedSensor::ScanFrames(int64_t k, std::vector<Frame>* out) {
+  const double t = ScanTime_s(k);
+  std::vector<int32_t> raw = ToRawCounts(Evaluate(t));
+  const SimulationNoise& noise = config_.noise;
+  if (noise.stddev_counts > 0) {
+    std::normal_distribution<double> gauss(0.0, noise.stddev_counts);
+    for (auto& r : raw) r = static_cast<int32_t>(std::lround(r + gauss(rng_)));
+  }
+  const int64_t period_us = static_cast<int64_t>(1e6 / config_.profile.scan_rate_Hz);
+  const int64_t spacing =
+      std::min<int64_t>(config_.frame_spacing_us, period_us / (codec_.frame_count() + 1));
+  const int64_t t0 = config_.start_utime + static_cast<int64_t>(std::llround(t * 1e6));
+  std::uniform_real_distribution<double> uniform(0.0, 1.0);
+  for (int slot = 0; slot < codec_.frame_count(); ++slot) {
+    Frame f = codec_.EncodeSlot(slot, raw, k, t0 + slot * spacing);
+    f.SetInterface(config_.interface);
+    if (noise.dropout_probability > 0 && uniform(rng_) < noise.dropout_probability) {
+      ++frames_dropped_;
+      continue;
+    }
+    if (noise.bit_error_probability > 0) {
+      for (int bit = 0; bit < f.len * 8; ++bit)
+        if (uniform(rng_) < noise.bit_error_probability) {
+          f.data[bit / 8] ^= static_cast<uint8_t>(1u << (bit % 8));
+          ++bits_flipped_;
+        }
+    }
+    out->push_back(f);
+  }
+}
+
+SimulatedSensorSource::SimulatedSensorSource(SimulatedSensorConfig config)
+    : sensor_(std::move(config)) {}
+
+std::optional<Frame> SimulatedSensorSource::Next(int64_t /*timeout_us*/) {
+  while (!done_ && next_ >= pending_.size()) {
+    if (scan_ >= sensor_.scan_count()) {
+      done_ = true;
+      break;
+    }
+    pending_.clear();
+    next_ = 0;
+    sensor_.ScanFrames(scan_++, &pending_);
+  }
+  if (done_) return std::nullopt;
+  ++stats_.frames;
+  return pending_[next_++];
+}
+
+std::string SimulatedSensorSource::Describe() const {
+  return "simulated " + sensor_.config().profile.name;
+}
+
+}  // namespace sedbridge::sensors

@@ -1,0 +1,152 @@
+#pragma once
+// Simulated follower sensor: a taxel grid on an elastomer pad touching rigid scene objects
+// (geometry::RigidObject: plane, sphere, edge, grating, ... on trajectories), encoded into
+// CAN frames with the same profile the decoder uses, plus optional noise, dropouts and bit
+// errors (seeded, deterministic).
+//
+// Contact model (elastic foundation / Winkler layer, Johnson "Contact Mechanics" §5.8):
+// the pad is an elastomer layer of thickness h on a rigid base; its surface is the pad-frame
+// plane z = 0 with outward normal +z. Each surface point q is an independent spring:
+//     penetration  d(q) = how far below q (along -z) the deepest object's surface lies,
+//                         0 outside every object (found by sphere tracing the SDF)  [m]
+//     pressure     p(q) = E_eff * d(q) / h                     [Pa]
+//     E_eff = E (1 - nu) / ((1 + nu)(1 - 2 nu))   (confined layer; nu = 0 gives E_eff = E)
+// A taxel reports the mean of p over its sensing area (subsamples x subsamples points),
+// optionally blurred with a Gaussian of `smoothing_mm` over the taxel centres (the skin
+// spreads load over neighbours). Shear (3-axis profiles): sliding friction
+//     tau = mu * p * (tangential velocity of the object at q) / |velocity|,
+// zero when the object does not slide. The model ignores lateral coupling in the layer
+// and large-deformation effects; it is a plausible, documented signal source, not a
+// replacement for the FE model.
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "geometry/rigid_object.h"
+#include "sensors/can_frame.h"
+#include "sensors/frame_source.h"
+#include "sensors/sensor_profile.h"
+#include "sensors/taxel_codec.h"
+
+namespace sedbridge::sensors {
+
+struct PadModel {
+  double thickness_m = 3e-3;         ///< elastomer layer thickness h
+  double youngs_modulus_Pa = 300e3;  ///< E of the elastomer
+  double poisson_ratio = 0.0;        ///< nu, in [0, 0.5)
+  double friction_coefficient = 0;   ///< mu for shear (3-axis profiles)
+  int subsamples = 3;                ///< per taxel edge, for area averaging
+  double smoothing_m = 0;            ///< Gaussian sigma over taxel centres (0 = off)
+  /// Pose of the pad frame in the scene frame (objects live in the scene frame).
+  Eigen::Isometry3d scene_from_pad = Eigen::Isometry3d::Identity();
+
+  /// E_eff of the layer [Pa].
+  double EffectiveModulus_Pa() const;
+};
+
+struct SimulationNoise {
+  uint64_t seed = 1;
+  double stddev_counts = 0;          ///< Gaussian noise added to every raw reading
+  double dropout_probability = 0;    ///< a frame is not sent
+  double bit_error_probability = 0;  ///< each payload bit flips independently
+};
+
+/// Everything a simulated-sensor scene file (config/scenes/sensor_*.yaml) describes.
+struct SimulatedSensorConfig {
+  SensorProfile profile;
+  PadModel pad;
+  SimulationNoise noise;
+  std::vector<geometry::RigidObject> objects;
+  double duration_s = 1.0;
+  int64_t start_utime = 1700000000000000;  ///< time stamp of scan 0 [us]
+  std::string interface = "can0";
+  /// Spacing of consecutive frames of one scan on the bus [us] (about one classic 8-byte
+  /// frame at 1 Mbit/s); squeezed if the scan period is shorter.
+  int64_t frame_spacing_us = 130;
+};
+
+/// Loads a scene:
+///   sensor:
+///     profile: uskin_4x4            # shipped name or path (optional if given in code/CLI)
+///     interface: can0               # optional
+///     start_utime: 1700000000000000 # optional
+///     duration_s: 2.0
+///     pad: {thickness_mm: 3, youngs_modulus_kPa: 300, poisson_ratio: 0.0,
+///           friction_coefficient: 0.5, subsamples: 3, smoothing_mm: 0,
+///           position_mm: [0, 0, 0], rpy_deg: [0, 0, 0]}
+///     noise: {seed: 1, stddev_counts: 2, dropout_probability: 0.0, bit_error_probability: 0.0}
+///   objects: [...]                  # geometry::ParseRigidObjects
+/// `profile_override` (non-empty) replaces sensor.profile. Throws config::ConfigError.
+SimulatedSensorConfig LoadSimulatedSensorScene(const std::string& path,
+                                               const std::string& profile_override = "");
+
+/// Depth of `object`'s surface below the point `q_m` along the unit direction `inward`
+/// (into the pad) at time t; 0 when q is outside the object. Scene frame, metres.
+double PenetrationAlong(const geometry::RigidObject& object, const Eigen::Vector3d& q_m,
+                        const Eigen::Vector3d& inward, double t_s);
+
+/// Pad tractions at the taxels, before any encoding: the simulation's ground truth.
+struct TaxelTractions {
+  std::vector<double> pressure_Pa;  ///< per taxel, compression positive
+  std::vector<double> shear_x_Pa;   ///< per taxel, pad frame
+  std::vector<double> shear_y_Pa;
+};
+
+class SimulatedSensor {
+ public:
+  explicit SimulatedSensor(SimulatedSensorConfig config);
+
+  /// Taxel tractions at time t (no noise).
+  TaxelTractions Evaluate(double t_s) const;
+  /// Ideal raw readings for `tractions` (inverse of the profile calibration, rounded).
+  std::vector<int32_t> ToRawCounts(const TaxelTractions& tractions) const;
+
+  /// Number of scans in the configured duration.
+  int64_t scan_count() const;
+  /// Time of scan k relative to the start [s].
+  double ScanTime_s(int64_t k) const { return static_cast<double>(k) / config_.profile.scan_rate_Hz; }
+  /// Appends the frames of scan k (noise, dropouts and bit errors applied) to `out`.
+  /// Call with k = 0, 1, 2, ... in order for reproducible noise.
+  void ScanFrames(int64_t k, std::vector<Frame>* out);
+
+  const SimulatedSensorConfig& config() const { return config_; }
+  /// Frames dropped and bits flipped so far.
+  int64_t frames_dropped() const { return frames_dropped_; }
+  int64_t bits_flipped() const { return bits_flipped_; }
+
+ private:
+  SimulatedSensorConfig config_;
+  TaxelCodec codec_;
+  std::mt19937_64 rng_;
+  int64_t frames_dropped_ = 0, bits_flipped_ = 0;
+  // Sub-sample offsets inside a taxel [m], pad frame.
+  std::vector<Eigen::Vector2d> sub_offsets_m_;
+  // Row-normalised Gaussian smoothing weights between taxels (empty = off).
+  std::vector<double> smoothing_;
+};
+
+/// The simulated sensor as a FrameSource (as fast as possible; frames carry simulated
+/// utimes). Done after the configured duration.
+class SimulatedSensorSource final : public FrameSource {
+ public:
+  explicit SimulatedSensorSource(SimulatedSensorConfig config);
+  std::optional<Frame> Next(int64_t timeout_us) override;
+  bool Done() const override { return done_; }
+  void Close() override { done_ = true; }
+  FrameSourceStats Stats() const override { return stats_; }
+  std::string Describe() const override;
+  const SimulatedSensor& sensor() const { return sensor_; }
+
+ private:
+  SimulatedSensor sensor_;
+  std::vector<Frame> pending_;
+  size_t next_ = 0;
+  int64_t scan_ = 0;
+  bool done_ = false;
+  FrameSourceStats stats_;
+};
+
+}  // namespace sedbridge::sensors

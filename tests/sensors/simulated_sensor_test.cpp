@@ -1,0 +1,164 @@
+#include "sensors/simulated/simulated_sensor.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "config/config_error.h"
+#include "config/resource_path.h"
+#include "sensors/scan_assembler.h"
+
+namespace sedbridge::sensors {
+namespace {
+
+SensorProfile Shipped(const std::string& name) { return LoadSensorProfile(ResolveProfilePath(name)); }
+
+geometry::RigidObject Parse(const std::string& yaml) {
+  auto doc = config::LoadYamlString(yaml, "objects.yaml");
+  return geometry::ParseRigidObjects(doc.root, doc.file).at(0);
+}
+
+// A flat plate 0.5 mm into the pad everywhere: every taxel reads E_eff * d / h.
+TEST(SimulatedSensorTest, FlatPlateGivesTheWinklerPressureOnEveryTaxel) {
+  SimulatedSensorConfig c;
+  c.profile = Shipped("cyskin_16");
+  c.pad.thickness_m = 2e-3;
+  c.pad.youngs_modulus_Pa = 400e3;
+  c.pad.poisson_ratio = 0.25;
+  c.objects.push_back(Parse("- shape: plane\n  rpy_deg: [180, 0, 0]\n  position_mm: [0, 0, -0.5]\n"));
+  SimulatedSensor sim(c);
+  const double e_eff = 400e3 * 0.75 / (1.25 * 0.5);
+  EXPECT_NEAR(c.pad.EffectiveModulus_Pa(), e_eff, 1e-6);
+  const TaxelTractions t = sim.Evaluate(0);
+  for (double p : t.pressure_Pa) EXPECT_NEAR(p, e_eff * 0.5e-3 / 2e-3, 1e-6);
+}
+
+TEST(SimulatedSensorTest, PenetrationIsMeasuredAlongThePadNormal) {
+  // Grating ridge 2 mm wide pressed 1 mm deep: near the ridge wall the vertical depth is
+  // still 1 mm (the nearest surface, the wall, is much closer).
+  const auto grating = Parse(
+      "- shape: grating\n  period_mm: 4\n  ridge_width_mm: 2\n  depth_mm: 1.5\n"
+      "  rpy_deg: [180, 0, 0]\n  position_mm: [0, 0, -1]\n");
+  const Eigen::Vector3d down(0, 0, -1);
+  EXPECT_NEAR(PenetrationAlong(grating, {0.0, 0, 0}, down, 0), 1e-3, 2e-5);
+  EXPECT_NEAR(PenetrationAlong(grating, {0.9e-3, 0, 0}, down, 0), 1e-3, 2e-5);
+  EXPECT_EQ(PenetrationAlong(grating, {2.0e-3, 0, 0}, down, 0), 0.0);  // groove
+}
+
+TEST(SimulatedSensorTest, SpherePressIsSymmetricAndPeaksInTheMiddle) {
+  SimulatedSensorConfig c;
+  c.profile = Shipped("uskin_4x4");
+  c.objects.push_back(Parse("- shape: sphere\n  radius_mm: 10\n  position_mm: [0, 0, 9]\n"));
+  const TaxelTractions t = SimulatedSensor(c).Evaluate(0);
+  // 4x4 grid: the four inner taxels 5, 6, 9, 10 carry the same, highest pressure.
+  EXPECT_GT(t.pressure_Pa[5], 0);
+  EXPECT_NEAR(t.pressure_Pa[5], t.pressure_Pa[10], 1e-6 * t.pressure_Pa[5]);
+  EXPECT_NEAR(t.pressure_Pa[0], t.pressure_Pa[15], 1e-6 * t.pressure_Pa[5] + 1e-9);
+  EXPECT_GT(t.pressure_Pa[5], t.pressure_Pa[0]);
+  for (double s : t.shear_x_Pa) EXPECT_EQ(s, 0.0);  // no sliding, no friction
+}
+
+TEST(SimulatedSensorTest, SlidingWithFrictionGivesShearAlongTheMotion) {
+  SimulatedSensorConfig c;
+  c.profile = Shipped("uskin_4x4");
+  c.pad.friction_coefficient = 0.5;
+  c.objects.push_back(Parse(
+      "- shape: plane\n  rpy_deg: [180, 0, 0]\n  position_mm: [0, 0, -0.3]\n"
+      "  motion:\n    keyframes: [{t_s: 0, offset_mm: [0, 0, 0]}, {t_s: 1, offset_mm: [0, 5, 0]}]\n"));
+  const TaxelTractions t = SimulatedSensor(c).Evaluate(0.5);
+  EXPECT_NEAR(t.shear_y_Pa[3], 0.5 * t.pressure_Pa[3], 1e-6 * t.pressure_Pa[3]);
+  EXPECT_NEAR(t.shear_x_Pa[3], 0.0, 1e-6 * t.pressure_Pa[3]);
+}
+
+// Simulation -> CAN frames -> scan assembler gives back the simulated pressure to within
+// one count of quantisation, for every shipped profile.
+class SimulatedPipelineTest : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(SimulatedPipelineTest, DecodedPressureMatchesTheSimulation) {
+  SimulatedSensorConfig c;
+  c.profile = Shipped(GetParam());
+  c.duration_s = 0.2;
+  c.objects.push_back(Parse("- shape: sphere\n  radius_mm: 12\n  position_mm: [0, 0, 11.2]\n"));
+  SimulatedSensor sim(c);
+  ScanAssembler assembler(c.profile);
+  std::vector<Scan> scans;
+  std::vector<Frame> frames;
+  for (int64_t k = 0; k < sim.scan_count(); ++k) {
+    frames.clear();
+    sim.ScanFrames(k, &frames);
+    for (const Frame& f : frames) assembler.Push(f, &scans);
+  }
+  ASSERT_EQ(static_cast<int64_t>(scans.size()), sim.scan_count());
+  const TaxelTractions truth = sim.Evaluate(sim.ScanTime_s(3));
+  const Scan& s = scans[3];
+  EXPECT_TRUE(s.complete);
+  EXPECT_EQ(s.ValidCount(), c.profile.taxel_count);
+  const double one_count_Pa =
+      c.profile.calibration.scale_per_count[c.profile.NormalAxis()] *
+      (c.profile.calibration.unit == CalibrationUnit::kKiloPascal ? 1e3
+       : c.profile.calibration.unit == CalibrationUnit::kNewton ? 1.0 / (c.profile.taxel_area_mm2() * 1e-6)
+                                                                 : 1.0);
+  double max_pressure = 0;
+  for (int i = 0; i < c.profile.taxel_count; ++i) {
+    EXPECT_NEAR(s.pressure_Pa[i], truth.pressure_Pa[i], 0.51 * one_count_Pa) << "taxel " << i;
+    max_pressure = std::max(max_pressure, s.pressure_Pa[i]);
+  }
+  EXPECT_GT(max_pressure, 20e3);  // the sphere really pressed
+  EXPECT_EQ(assembler.counters().rejected(), 0);
+}
+
+INSTANTIATE_TEST_SUITE_P(Shipped, SimulatedPipelineTest,
+                         ::testing::Values("uskin_4x4", "cyskin_16", "barrett_bh8_pad"));
+
+TEST(SimulatedSensorTest, SameSeedSameFramesAndFaultsShowUpInTheCounters) {
+  SimulatedSensorConfig c = LoadSimulatedSensorScene(
+      config::ResolveResource("config/scenes/sensor_sphere_press.yaml"), "cyskin_16");
+  c.noise.dropout_probability = 0.05;
+  c.noise.bit_error_probability = 0.001;
+  c.noise.seed = 99;
+  auto run = [&](SimulatedSensorConfig cfg) {
+    SimulatedSensorSource source(cfg);
+    std::vector<Frame> all;
+    while (auto f = source.Next(0)) all.push_back(*f);
+    return all;
+  };
+  const auto a = run(c), b = run(c);
+  ASSERT_EQ(a.size(), b.size());
+  for (size_t i = 0; i < a.size(); ++i) ASSERT_TRUE(a[i].SamePayload(b[i]) && a[i].utime == b[i].utime);
+  c.noise.seed = 100;
+  const auto other = run(c);
+  bool differs = other.size() != a.size();
+  for (size_t i = 0; !differs && i < a.size(); ++i) differs = !a[i].SamePayload(other[i]);
+  EXPECT_TRUE(differs);
+
+  // 2 s at 250 scans/s, 4 frames each, about 5% dropped.
+  const int64_t sent = 500 * 4;
+  EXPECT_LT(static_cast<int64_t>(a.size()), sent);
+  EXPECT_GT(static_cast<int64_t>(a.size()), sent * 90 / 100);
+  ScanAssembler assembler(c.profile);
+  std::vector<Scan> scans;
+  for (const Frame& f : a) assembler.Push(f, &scans);
+  assembler.Flush(&scans);
+  EXPECT_GT(assembler.counters().scans_partial, 0);
+  EXPECT_GT(assembler.counters().missing_frames, 0);
+}
+
+TEST(SimulatedSensorTest, ShippedScenesLoadAndUnknownKeysAreErrors) {
+  for (const char* scene : {"sensor_sphere_press", "sensor_edge_slide", "sensor_grating_press"}) {
+    const auto c = LoadSimulatedSensorScene(config::ResolveResource(std::string("config/scenes/") + scene + ".yaml"));
+    EXPECT_FALSE(c.objects.empty()) << scene;
+    EXPECT_GT(SimulatedSensor(c).scan_count(), 10) << scene;
+  }
+  const std::string path = ::testing::TempDir() + "/bad_sensor_scene.yaml";
+  std::ofstream(path) << "sensor:\n  profile: cyskin_16\n  pad: {thicknes_mm: 2}\nobjects: []\n";
+  try {
+    LoadSimulatedSensorScene(path);
+    FAIL() << "typo accepted";
+  } catch (const config::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("thicknes_mm"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace sedbridge::sensors
