@@ -1,0 +1,68 @@
+#pragma once
+// The one small interface every FE effect implements: add your force, and (when asked)
+// your stiffness K = -df/dx and damping D = -df/dv into the system matrix. A scene builds
+// only the terms it lists, so an unused effect costs nothing.
+
+#include <Eigen/Core>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "fem/system_matrix.h"
+
+namespace sedbridge::fem {
+
+/// Positions and velocities of all nodes, stacked (3 * #nodes), SI.
+struct SystemState {
+  const Eigen::VectorXd& x_m;
+  const Eigen::VectorXd& v_m_s;
+  double t_s;
+  /// False for quasi-static solves: velocity-dependent (damping) forces are left out.
+  bool dynamic = true;
+};
+
+/// Receives Jacobian blocks. The integrator sets the scales: backward Euler assembles
+/// M + h D + h^2 K (stiffness_scale = h^2, damping_scale = h); quasi-static assembles K.
+struct JacobianSink {
+  SystemMatrix* matrix = nullptr;
+  double stiffness_scale = 1.0;
+  double damping_scale = 0.0;
+
+  /// Block (i, j) of K = -df/dx and, if given, of D = -df/dv. Callers writing distinct
+  /// block rows may call this concurrently.
+  void Add(int slot, int i, int j, const Eigen::Matrix3d& K, const Eigen::Matrix3d* D = nullptr) {
+    (void)i;
+    (void)j;
+    matrix->AddBlock(slot, K, stiffness_scale);
+    if (D && damping_scale != 0) matrix->AddBlock(slot, *D, damping_scale);
+  }
+};
+
+class ForceTerm {
+ public:
+  virtual ~ForceTerm() = default;
+  virtual std::string name() const = 0;
+
+  /// Node pairs (i, j), i != j, whose blocks this term writes (diagonals always exist).
+  virtual void AppendCoupledNodes(std::vector<std::pair<int, int>>& pairs) const {}
+  /// Called once the pattern exists, to cache slots.
+  virtual void BindMatrix(const SystemMatrix& matrix) {}
+
+  /// Adds this term's force [N] at `state` into `force_N` (3 * #nodes) and, if `sink` is
+  /// non-null, its Jacobian blocks.
+  virtual void AddForce(const SystemState& state, Eigen::VectorXd& force_N, JacobianSink* sink) = 0;
+
+  /// True when this term's K and D never change (linear elasticity, fixed springs, dead
+  /// loads): if every term says so, the integrator assembles and factorizes once.
+  virtual bool JacobianIsConstant() const { return false; }
+
+  /// Called once after each accepted step (not per Newton iteration): stateful terms
+  /// (friction anchors) update here.
+  virtual void EndStep(const SystemState& state) {}
+
+  /// Total work-conjugate energy of the term where defined (elastic, springs) [J];
+  /// used by stability tests to bound energy. 0 if not meaningful.
+  virtual double PotentialEnergy(const SystemState& state) const { return 0.0; }
+};
+
+}  // namespace sedbridge::fem

@@ -1,0 +1,140 @@
+#include "fem/linear_solver.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <stdexcept>
+
+namespace sedbridge::fem {
+namespace {
+
+// The CSR arrays of a symmetric matrix read as CSC describe the same matrix.
+Eigen::Map<const Eigen::SparseMatrix<double>> AsColumnMajor(const SystemMatrix& A) {
+  const auto& m = A.csr();
+  return Eigen::Map<const Eigen::SparseMatrix<double>>(m.rows(), m.cols(), m.nonZeros(), m.outerIndexPtr(),
+                                                       m.innerIndexPtr(), m.valuePtr());
+}
+
+}  // namespace
+
+void DirectLdltSolver::Prepare(const SystemMatrix& A) {
+  const Eigen::SparseMatrix<double> a = AsColumnMajor(A);
+  if (!analyzed_) {
+    ldlt_.analyzePattern(a);
+    analyzed_ = true;
+  }
+  ldlt_.factorize(a);
+  ok_ = ldlt_.info() == Eigen::Success;
+}
+
+LinearSolveReport DirectLdltSolver::Solve(const SystemMatrix&, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  LinearSolveReport report;
+  if (!ok_) {
+    report.converged = false;
+    return report;
+  }
+  x = ldlt_.solve(b);
+  report.converged = x.allFinite();
+  return report;
+}
+
+PcgSolver::PcgSolver(PcgSettings settings) : settings_(settings) {}
+
+std::string PcgSolver::name() const {
+  return settings_.preconditioner == PreconditionerKind::kBlockJacobi ? "pcg_jacobi" : "pcg_warp";
+}
+
+void PcgSolver::SetReferenceMatrix(const SystemMatrix& A0) {
+  const Eigen::SparseMatrix<double> a = AsColumnMajor(A0);
+  rest_factor_.compute(a);
+  has_rest_factor_ = rest_factor_.info() == Eigen::Success;
+}
+
+void PcgSolver::Prepare(const SystemMatrix& A) {
+  if (settings_.preconditioner == PreconditionerKind::kBlockJacobi || !has_rest_factor_) {
+    block_inverse_.resize(size_t(A.num_nodes()));
+    for (int i = 0; i < A.num_nodes(); ++i) {
+      const Eigen::Matrix3d d = A.Block(A.DiagonalSlot(i));
+      const Eigen::Matrix3d inv = d.inverse();
+      block_inverse_[size_t(i)] = inv.allFinite() ? inv : Eigen::Matrix3d::Identity();
+    }
+  }
+}
+
+void PcgSolver::ApplyPreconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+  const int n = int(r.size() / 3);
+  if (settings_.preconditioner == PreconditionerKind::kWarpedRestFactor && has_rest_factor_) {
+    if (rotations_) {
+      tmp_.resize(r.size());
+      for (int i = 0; i < n; ++i) tmp_.segment<3>(3 * i) = (*rotations_)[size_t(i)].transpose() * r.segment<3>(3 * i);
+      z = rest_factor_.solve(tmp_);
+      for (int i = 0; i < n; ++i) z.segment<3>(3 * i) = (*rotations_)[size_t(i)] * z.segment<3>(3 * i).eval();
+    } else {
+      z = rest_factor_.solve(r);
+    }
+    return;
+  }
+  z.resize(r.size());
+  for (int i = 0; i < n; ++i) z.segment<3>(3 * i) = block_inverse_[size_t(i)] * r.segment<3>(3 * i);
+}
+
+LinearSolveReport PcgSolver::Solve(const SystemMatrix& A, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  LinearSolveReport report;
+  const double b_norm = b.norm();
+  if (x.size() != b.size() || !x.allFinite()) x.setZero(b.size());
+  if (b_norm == 0) {
+    x.setZero();
+    return report;
+  }
+  A.Multiply(x, q_);
+  r_ = b - q_;
+  ApplyPreconditioner(r_, z_);
+  p_ = z_;
+  double rz = r_.dot(z_);
+  const double target = settings_.relative_tolerance * b_norm;
+  double r_norm = r_.norm();
+  int it = 0;
+  while (r_norm > target && it < settings_.max_iterations) {
+    A.Multiply(p_, q_);
+    const double pq = p_.dot(q_);
+    if (!(pq > 0)) break;  // not SPD along p (or NaN): let the fallback decide
+    const double alpha = rz / pq;
+    x += alpha * p_;
+    r_ -= alpha * q_;
+    r_norm = r_.norm();
+    ++it;
+    if (r_norm <= target) break;
+    ApplyPreconditioner(r_, z_);
+    const double rz_new = r_.dot(z_);
+    p_ = z_ + (rz_new / rz) * p_;
+    rz = rz_new;
+  }
+  report.iterations = it;
+  report.relative_residual = r_norm / b_norm;
+  report.converged = r_norm <= target && x.allFinite();
+  if (!report.converged && settings_.fallback_to_direct) {
+    ++fallbacks_;
+    fallback_.Prepare(A);
+    const LinearSolveReport direct = fallback_.Solve(A, b, x);
+    report.used_fallback = true;
+    report.converged = direct.converged;
+    A.Multiply(x, q_);
+    report.relative_residual = (b - q_).norm() / b_norm;
+  }
+  return report;
+}
+
+std::unique_ptr<LinearSolver> MakeLinearSolver(const std::string& name, const PcgSettings& pcg) {
+  if (name == "ldlt") return std::make_unique<DirectLdltSolver>();
+  PcgSettings s = pcg;
+  if (name == "pcg_jacobi") {
+    s.preconditioner = PreconditionerKind::kBlockJacobi;
+    return std::make_unique<PcgSolver>(s);
+  }
+  if (name == "pcg_warp") {
+    s.preconditioner = PreconditionerKind::kWarpedRestFactor;
+    return std::make_unique<PcgSolver>(s);
+  }
+  throw std::invalid_argument("unknown linear solver '" + name + "' (ldlt, pcg_jacobi, pcg_warp)");
+}
+
+}  // namespace sedbridge::fem

@@ -1,0 +1,23 @@
+#pragma once
+// Rotation part of a deformation gradient for corotational FEM.
+//
+// Always returns a proper rotation (det = +1), also for inverted or degenerate F: that is
+// what keeps corotational elements stable when a hard press inverts a tet (the same
+// concern SOFA and Vega FEM address with their "invertible" polar decompositions).
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+namespace sedbridge::fem {
+
+/// Iterative rotation extraction (maximises tr(R^T F) over rotations, warm-started from
+/// `q`, which is updated in place). Converges in 1-3 iterations when F changes little
+/// between steps. Returns R.
+Eigen::Matrix3d ExtractRotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q,
+                                int max_iterations = 20);
+
+/// Reference: SVD-based polar rotation with the smallest singular direction flipped for
+/// inverted F (det F < 0). Slower; used in tests and as a cross-check.
+Eigen::Matrix3d PolarRotationSvd(const Eigen::Matrix3d& F);
+
+}  // namespace sedbridge::fem

@@ -1,0 +1,41 @@
+#pragma once
+// Strain energy density (paper eq. 1): element SED = 1/2 sigma:epsilon with the small
+// strain measured in the element's corotated frame (so a rigid rotation gives zero);
+// vertex SED = mean of the SED of the elements around the vertex.
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "fem/elastic_tet_force.h"
+
+namespace sedbridge::fem {
+
+/// SED [J/m^3 = Pa] of one element given F and its rotation R (R = I for linear FEM).
+double ElementSed(const TetElement& e, const Eigen::Matrix3d& F, const Eigen::Matrix3d& R);
+
+/// Evaluates vertex SED on a chosen vertex set, touching only the elements around it
+/// (e.g. the Merkel layer: a few hundred vertices of a mesh of thousands of elements).
+class VertexSedEvaluator {
+ public:
+  /// @param elastic   the scene's elastic term (mesh, elements, formulation, warm starts)
+  /// @param vertices  node indices where SED is wanted
+  VertexSedEvaluator(const ElasticTetForce& elastic, std::vector<int> vertices);
+
+  /// Vertex SED [Pa] for positions x (3 * #nodes), in the order of vertices().
+  void Evaluate(const Eigen::VectorXd& x_m, Eigen::VectorXd& vertex_sed_Pa);
+  /// Element SED [Pa] of elements() from the last Evaluate.
+  const Eigen::VectorXd& element_sed_Pa() const { return element_sed_; }
+
+  const std::vector<int>& vertices() const { return vertices_; }
+  const std::vector<int>& elements() const { return elements_; }
+
+ private:
+  const ElasticTetForce& elastic_;
+  std::vector<int> vertices_;
+  std::vector<int> elements_;                  // union of elements around vertices_
+  std::vector<std::vector<int>> vertex_local_; // per vertex: indices into elements_
+  std::vector<Eigen::Quaterniond> warm_;
+  Eigen::VectorXd element_sed_;
+};
+
+}  // namespace sedbridge::fem

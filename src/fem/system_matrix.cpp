@@ -1,0 +1,85 @@
+#include "fem/system_matrix.h"
+
+#include <algorithm>
+
+namespace sedbridge::fem {
+
+void SystemMatrix::Build(int n, const std::vector<std::pair<int, int>>& pairs) {
+  num_nodes_ = n;
+  std::vector<std::vector<int>> cols(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i) cols[size_t(i)].push_back(i);
+  for (const auto& [i, j] : pairs) {
+    cols[size_t(i)].push_back(j);
+    cols[size_t(j)].push_back(i);
+  }
+  block_row_start_.assign(size_t(n) + 1, 0);
+  block_cols_.clear();
+  for (int i = 0; i < n; ++i) {
+    auto& c = cols[size_t(i)];
+    std::sort(c.begin(), c.end());
+    c.erase(std::unique(c.begin(), c.end()), c.end());
+    block_row_start_[size_t(i) + 1] = block_row_start_[size_t(i)] + int(c.size());
+    block_cols_.insert(block_cols_.end(), c.begin(), c.end());
+  }
+  const int num_slots = block_row_start_.back();
+  const int nnz = 9 * num_slots;
+  csr_.resize(3 * n, 3 * n);
+  csr_.resizeNonZeros(nnz);
+  int* outer = csr_.outerIndexPtr();
+  int* inner = csr_.innerIndexPtr();
+  slot_base_.resize(size_t(num_slots));
+  slot_stride_.resize(size_t(num_slots));
+  diagonal_slot_.resize(size_t(n));
+  int offset = 0;
+  for (int i = 0; i < n; ++i) {
+    const int first = block_row_start_[size_t(i)], last = block_row_start_[size_t(i) + 1];
+    const int stride = 3 * (last - first);
+    for (int a = 0; a < 3; ++a) {
+      outer[3 * i + a] = offset + a * stride;
+      for (int s = first; s < last; ++s)
+        for (int b = 0; b < 3; ++b) inner[offset + a * stride + 3 * (s - first) + b] = 3 * block_cols_[size_t(s)] + b;
+    }
+    for (int s = first; s < last; ++s) {
+      slot_base_[size_t(s)] = offset + 3 * (s - first);
+      slot_stride_[size_t(s)] = stride;
+      if (block_cols_[size_t(s)] == i) diagonal_slot_[size_t(i)] = s;
+    }
+    offset += 3 * stride;
+  }
+  outer[3 * n] = offset;
+  values_ = csr_.valuePtr();
+  SetZero();
+}
+
+int SystemMatrix::Slot(int i, int j) const {
+  const auto first = block_cols_.begin() + block_row_start_[size_t(i)];
+  const auto last = block_cols_.begin() + block_row_start_[size_t(i) + 1];
+  const auto it = std::lower_bound(first, last, j);
+  return (it != last && *it == j) ? int(it - block_cols_.begin()) : -1;
+}
+
+Eigen::Matrix3d SystemMatrix::Block(int slot) const {
+  Eigen::Matrix3d m;
+  const double* base = values_ + slot_base_[size_t(slot)];
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b) m(a, b) = base[a * slot_stride_[size_t(slot)] + b];
+  return m;
+}
+
+void SystemMatrix::SetZero() { std::fill(values_, values_ + csr_.nonZeros(), 0.0); }
+
+void SystemMatrix::Multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  const int rows = int(csr_.rows());
+  y.resize(rows);
+  const int* outer = csr_.outerIndexPtr();
+  const int* inner = csr_.innerIndexPtr();
+  const double* v = csr_.valuePtr();
+#pragma omp parallel for schedule(static)
+  for (int r = 0; r < rows; ++r) {
+    double s = 0;
+    for (int k = outer[r]; k < outer[r + 1]; ++k) s += v[k] * x[inner[k]];
+    y[r] = s;
+  }
+}
+
+}  // namespace sedbridge::fem

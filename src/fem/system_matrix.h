@@ -1,0 +1,59 @@
+#pragma once
+// Symmetric system matrix with a fixed 3x3-block pattern, stored as row-major CSR so that
+// assembly writes values in place (no triplets, no allocation per step) and the same
+// arrays can be read as column-major by sparse Cholesky (the matrix is symmetric).
+
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <utility>
+#include <vector>
+
+namespace sedbridge::fem {
+
+class SystemMatrix {
+ public:
+  using Csr = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+
+  /// Pattern: the diagonal block of every node plus (i,j) and (j,i) for each pair given.
+  void Build(int num_nodes, const std::vector<std::pair<int, int>>& coupled_nodes);
+
+  /// Slot of block (i, j), or -1 if not in the pattern. O(log degree); call at setup.
+  int Slot(int i, int j) const;
+  int DiagonalSlot(int i) const { return diagonal_slot_[size_t(i)]; }
+
+  /// Adds `scale * block` into slot s. Not synchronised: callers partition by block row.
+  void AddBlock(int slot, const Eigen::Matrix3d& block, double scale = 1.0) {
+    double* base = values_ + slot_base_[size_t(slot)];
+    const int stride = slot_stride_[size_t(slot)];
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) base[a * stride + b] += scale * block(a, b);
+  }
+  /// Adds a diagonal (s * I) to a block.
+  void AddScaledIdentity(int slot, double s) {
+    double* base = values_ + slot_base_[size_t(slot)];
+    const int stride = slot_stride_[size_t(slot)];
+    for (int a = 0; a < 3; ++a) base[a * stride + a] += s;
+  }
+  Eigen::Matrix3d Block(int slot) const;
+
+  void SetZero();
+  int num_nodes() const { return num_nodes_; }
+  int num_blocks() const { return int(slot_base_.size()); }
+  const Csr& csr() const { return csr_; }
+  Csr& csr() { return csr_; }
+
+  /// y = A x (OpenMP over rows).
+  void Multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+
+ private:
+  int num_nodes_ = 0;
+  Csr csr_;
+  double* values_ = nullptr;
+  std::vector<int> block_row_start_;  // per node: first slot of its block row (CSR of blocks)
+  std::vector<int> block_cols_;       // per slot: block column
+  std::vector<int> slot_base_;        // per slot: value offset of entry (0,0)
+  std::vector<int> slot_stride_;      // per slot: value offset between rows of the block
+  std::vector<int> diagonal_slot_;
+};
+
+}  // namespace sedbridge::fem

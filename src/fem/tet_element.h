@@ -1,0 +1,35 @@
+#pragma once
+// Per-tetrahedron quantities computed once from the rest shape: shape-function gradients,
+// volume and the rest stiffness K0 (12x12, linear elasticity, constant strain).
+
+#include <Eigen/Core>
+#include <vector>
+
+#include "fem/tet_mesh.h"
+
+namespace sedbridge::fem {
+
+using Matrix12d = Eigen::Matrix<double, 12, 12>;
+
+struct TetElement {
+  Eigen::Matrix3d rest_inverse;  ///< Dm^-1, Dm = [X1-X0, X2-X0, X3-X0]
+  Eigen::Matrix<double, 4, 3> shape_gradients;  ///< row a = grad N_a [1/m]
+  double volume_m3 = 0;
+  double mu_Pa = 0, lambda_Pa = 0;
+  Matrix12d rest_stiffness;  ///< K0 [N/m], blocks (a,b) at (3a, 3b)
+};
+
+/// Deformation gradient F = Ds Dm^-1 from current positions of the tet's nodes.
+Eigen::Matrix3d DeformationGradient(const TetElement& e, const Eigen::Vector3d& x0,
+                                    const Eigen::Vector3d& x1, const Eigen::Vector3d& x2,
+                                    const Eigen::Vector3d& x3);
+
+/// Precomputes all elements. Throws std::invalid_argument naming the element index when a
+/// tet is inverted or has (near-)zero volume (relative to its edge length cubed).
+std::vector<TetElement> PrecomputeElements(const TetMesh& mesh);
+
+/// Signed volume (positive for the orientation convention of TetMesh).
+double SignedVolume(const Eigen::Vector3d& x0, const Eigen::Vector3d& x1,
+                    const Eigen::Vector3d& x2, const Eigen::Vector3d& x3);
+
+}  // namespace sedbridge::fem
