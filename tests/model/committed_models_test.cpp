@@ -80,6 +80,25 @@ TEST_P(CommittedModel, LoadsWithPositiveTetsAndConsistentIndices) {
   EXPECT_NEAR(hi.z() - lo.z(), 14.0, 0.3);
 }
 
+// Mean-ratio style quality 6 sqrt(2) V / l_rms^3: 1 for a regular tet, 0 for a flat one.
+// Slivers make the FE step stiff and the corotational rotation ill-defined.
+TEST_P(CommittedModel, NoSliversInTheSoftTissue) {
+  const FingertipModel& m = Model(GetParam());
+  const auto& x = m.soft.rest_positions_m;
+  std::vector<double> quality;
+  for (const auto& t : m.soft.tets) {
+    double sum_sq = 0;
+    for (int i = 0; i < 4; ++i)
+      for (int j = i + 1; j < 4; ++j) sum_sq += (x.col(t[i]) - x.col(t[j])).squaredNorm();
+    const double l_rms = std::sqrt(sum_sq / 6);
+    quality.push_back(6 * std::sqrt(2.0) * TetVolume(x, t) / (l_rms * l_rms * l_rms));
+  }
+  std::sort(quality.begin(), quality.end());
+  EXPECT_GT(quality.front(), 0.01);
+  EXPECT_GT(quality[quality.size() / 100], 0.25);  // 1st percentile
+  EXPECT_GT(quality[quality.size() / 2], 0.6);
+}
+
 TEST_P(CommittedModel, VolumesMatchTheParametricShape) {
   const FingertipModel& m = Model(GetParam());
   const auto& layers = m.description.geometry.layers;

@@ -82,7 +82,8 @@ void SetDeterministicOptions() {
   gmsh::option::setNumber("Mesh.Algorithm", 6);    // Frontal-Delaunay surfaces
   gmsh::option::setNumber("Mesh.Algorithm3D", 1);  // Delaunay volumes
   gmsh::option::setNumber("Mesh.Optimize", 1);
-  gmsh::option::setNumber("Mesh.OptimizeNetgen", 0);
+  gmsh::option::setNumber("Mesh.OptimizeThreshold", 0.5);  // also improve fair tets (default 0.3)
+  gmsh::option::setNumber("Mesh.OptimizeNetgen", 0);  // not compiled into Debian's Gmsh
   gmsh::option::setNumber("Mesh.ElementOrder", 1);
   gmsh::option::setNumber("Mesh.MeshSizeFromPoints", 0);
   gmsh::option::setNumber("Mesh.MeshSizeFromCurvature", 0);

@@ -94,6 +94,9 @@ int Main(int argc, char** argv) {
     } catch (const std::exception& e) {
       std::fprintf(stderr, "make_fingertip_models: %s: %s\n", y.c_str(), e.what());
       status = 1;
+    } catch (const std::string& e) {  // the Gmsh API throws its last error message
+      std::fprintf(stderr, "make_fingertip_models: %s: Gmsh: %s\n", y.c_str(), e.c_str());
+      status = 1;
     }
   }
   gmsh::finalize();
