@@ -95,7 +95,10 @@ void ScanAssembler::Push(const Frame& f, std::vector<Scan>* out) {
       ++counters_.stale_frames;
       return;
     }
-    if (active_ && slot_received_[slot]) Emit(false, out);
+    // Frames of one scan come as a burst: a repeated slot, or an idle gap longer than half
+    // a scan period, means the scan in progress is over (without this, one lost or
+    // corrupted frame would misalign every later scan).
+    if (active_ && (slot_received_[slot] || f.utime - last_utime_ > half_period_us_)) Emit(false, out);
   }
 
   if (!active_) StartScan(d, f.utime);

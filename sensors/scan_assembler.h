@@ -8,7 +8,8 @@
 //   - With a scan_counter in the profile: a different counter value starts a new scan; a
 //     counter that is behind (by less than half its range) marks a stale frame.
 //   - Without one: a slot that already arrived in the current scan starts a new scan, unless
-//     its payload is identical and it came within half a scan period (then it is a duplicate).
+//     its payload is identical and it came within half a scan period (then it is a duplicate);
+//     so does an idle gap of more than half a scan period since the scan's last frame.
 //   Slots may arrive in any order within a scan (counted as `reordered`, still used).
 //
 // Calibration: value = (raw - baseline) * scale_per_count[axis] * taxel_gain[taxel], in the

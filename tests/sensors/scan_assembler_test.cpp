@@ -298,3 +298,33 @@ TEST(ScanAssemblerTest, BarrettGroupsInAnyOrderMakeAScan) {
 
 }  // namespace
 }  // namespace sedbridge::sensors
+
+namespace sedbridge::sensors {
+namespace {
+
+// One corrupted group nibble must not misalign every later scan (frames of one scan arrive
+// as a burst; an idle gap of half a period ends the scan).
+TEST(ScanAssemblerTest, CorruptedFrameIndexDoesNotMisalignLaterScans) {
+  const SensorProfile p = Shipped("barrett_bh8_pad");  // 40 Hz: 25 ms period
+  const TaxelCodec codec(p);
+  ScanAssembler a(p);
+  std::vector<Scan> scans;
+  for (int k = 0; k < 6; ++k) {
+    std::vector<int32_t> raw(24);
+    for (int i = 0; i < 24; ++i) raw[i] = 100 + 10 * k + i;
+    auto frames = codec.EncodeScan(raw, -1, 0);
+    for (int j = 0; j < 5; ++j) frames[j].utime = k * 25000 + j * 130;
+    if (k == 2) frames[3].data[0] = 0x10;  // group 3 claims to be group 1
+    for (const Frame& f : frames) a.Push(f, &scans);
+  }
+  ASSERT_GE(scans.size(), 6u);
+  EXPECT_TRUE(scans.back().complete);
+  EXPECT_TRUE(scans[scans.size() - 2].complete);
+  // Scans 0, 1, 3, 4, 5 complete; scan 2 ends up as two partial pieces ({0,1,2}, {"1",4}).
+  EXPECT_EQ(a.counters().scans_complete, 5);
+  EXPECT_EQ(a.counters().scans_partial, 2);
+  EXPECT_EQ(a.counters().reordered, 0);
+}
+
+}  // namespace
+}  // namespace sedbridge::sensors

@@ -1,0 +1,71 @@
+#!/usr/bin/python3
+"""Taxel heatmap of one tactile scan.
+
+Reads the CSV written by `sedbridge decode --heatmap-png` (columns taxel, x_mm, y_mm,
+pressure_kPa, shear_x_kPa, shear_y_kPa, valid) and draws each taxel as a square of its
+sensing size coloured by normal pressure; invalid taxels are hatched grey; shear, when
+present, is drawn as arrows.
+
+usage: /usr/bin/python3 tools/plot_taxels.py TAXELS.csv OUT.png [--title T] [--size-mm W H]
+Exit status 3 when matplotlib is missing (Debian: apt-get install python3-matplotlib).
+"""
+import argparse
+import csv
+import sys
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("csv")
+    ap.add_argument("png")
+    ap.add_argument("--title", default="")
+    ap.add_argument("--size-mm", nargs=2, type=float, default=None, metavar=("W", "H"))
+    args = ap.parse_args()
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        from matplotlib.patches import Rectangle
+    except ImportError:
+        print("matplotlib is not installed for %s (Debian: apt-get install python3-matplotlib)"
+              % sys.executable, file=sys.stderr)
+        return 3
+
+    rows = list(csv.DictReader(open(args.csv)))
+    if not rows:
+        print("no taxels in %s" % args.csv, file=sys.stderr)
+        return 1
+    xs = [float(r["x_mm"]) for r in rows]
+    ys = [float(r["y_mm"]) for r in rows]
+    ps = [float(r["pressure_kPa"]) for r in rows]
+    sx = [float(r["shear_x_kPa"]) for r in rows]
+    sy = [float(r["shear_y_kPa"]) for r in rows]
+    valid = [r["valid"] == "1" for r in rows]
+    w, h = args.size_mm if args.size_mm else (1.0, 1.0)
+
+    vmax = max([p for p, v in zip(ps, valid) if v] + [1e-9])
+    cmap = plt.get_cmap("viridis")
+    fig, ax = plt.subplots(figsize=(5, 5))
+    for x, y, p, ok in zip(xs, ys, ps, valid):
+        if ok:
+            ax.add_patch(Rectangle((x - w / 2, y - h / 2), w, h, color=cmap(max(p, 0) / vmax)))
+        else:
+            ax.add_patch(Rectangle((x - w / 2, y - h / 2), w, h, facecolor="0.8", hatch="//",
+                                   edgecolor="0.5"))
+    if any(abs(v) > 0 for v in sx + sy):
+        ax.quiver(xs, ys, sx, sy, color="white", angles="xy")
+    ax.set_xlim(min(xs) - w, max(xs) + w)
+    ax.set_ylim(min(ys) - h, max(ys) + h)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [mm] (pad frame)")
+    ax.set_ylabel("y [mm]")
+    ax.set_title(args.title)
+    sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(0, vmax))
+    fig.colorbar(sm, ax=ax, label="normal pressure [kPa]")
+    fig.tight_layout()
+    fig.savefig(args.png, dpi=120)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
