@@ -113,8 +113,12 @@ SedToCommandMapping::Result SedToCommandMapping::Map(const SedField& field) cons
   r.check = CheckSedField(field);
   r.sed_at_site_Pa.resize(size());
   r.requested.resize(size());
+  // A NaN/Inf anywhere (or mismatched lengths) means the FE step went wrong: its finite
+  // values are not trustworthy either, so the whole field is rejected, not just nearby sites.
+  const bool reject = !r.check.consistent || r.check.non_finite_sed > 0 ||
+                      r.check.non_finite_position > 0;
   for (std::size_t i = 0; i < size(); ++i) {
-    r.sed_at_site_Pa[i] = Sample(field, i);
+    r.sed_at_site_Pa[i] = reject ? kNaN : Sample(field, i);
     r.requested[i] = Transfer(r.sed_at_site_Pa[i], i);
   }
   return r;

@@ -12,11 +12,12 @@ namespace sedbridge::display {
 /// Samples the SED field at each actuator site and passes it through the profile's transfer
 /// function (see MappingParams). Stateless and const: safe to share between threads.
 ///
-/// Untrusted input: a negative vertex SED is read as 0; a vertex with a NaN/Inf coordinate is
-/// ignored; a NaN/Inf SED inside an actuator's sampling disc makes that actuator's request
-/// NaN, and a field whose vector lengths disagree makes every request NaN — the
-/// SafetyLimiter turns NaN into 0 with the fault flag, so a bad field is never silently
-/// rendered as "no touch". Huge finite SED saturates.
+/// Untrusted input: a negative vertex SED is read as 0 (counted in the check). A field with
+/// any NaN/Inf SED or coordinate, or whose vector lengths disagree, is rejected as a whole by
+/// Map(): every request is NaN, because a non-finite value anywhere means the FE step failed
+/// and its finite values cannot be trusted either. The SafetyLimiter turns NaN into 0 with the
+/// fault flag, so a bad field is never silently rendered as "no touch". Huge finite SED
+/// saturates.
 class SedToCommandMapping {
  public:
   struct Result {
@@ -35,8 +36,8 @@ class SedToCommandMapping {
   /// Maps one field. O(#vertices x #actuators); ~1 µs per 100 vertex-site pairs.
   Result Map(const SedField& field) const;
 
-  /// Samples SED at actuator `site` [Pa]: 0 when no usable vertex lies within the radius,
-  /// NaN when a non-finite SED does.
+  /// Samples SED at actuator `site` [Pa] (no whole-field rejection): 0 when no usable vertex
+  /// lies within the radius, NaN when a non-finite SED does; NaN-position vertices are skipped.
   double Sample(const SedField& field, std::size_t site) const;
 
   /// Transfer function for actuator `site`: SED [Pa] -> value [unit]; NaN in -> NaN out.

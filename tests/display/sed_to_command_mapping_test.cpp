@@ -78,14 +78,23 @@ TEST(SedToCommandMapping, CalibrationAppliesOnlyWhenOn) {
   EXPECT_DOUBLE_EQ(map.Transfer(500, 1), 5);
 }
 
-TEST(SedToCommandMapping, NonFiniteSedInsideTheDiscIsNaNOutside) {
+TEST(SedToCommandMapping, SampleIsNaNOnlyWhereTheBadValueIs) {
   const auto map = Mapping(Params(SamplingMethod::kMaxWithinRadius));
-  const auto r = map.Map(Field({0.0, 0.2, 5.0}, {0.0, 0.0, 0.0}, {100, kNaN, 200}));
-  EXPECT_TRUE(std::isnan(r.requested[0]));
-  EXPECT_DOUBLE_EQ(r.requested[1], 2.0);
+  const SedField f = Field({0.0, 0.2, 5.0}, {0.0, 0.0, 0.0}, {100, kNaN, 200});
+  EXPECT_TRUE(std::isnan(map.Sample(f, 0)));
+  EXPECT_DOUBLE_EQ(map.Sample(f, 1), 200);
+  EXPECT_TRUE(std::isnan(map.Sample(Field({0.0}, {0.0}, {kInf}), 0)));
+}
+
+TEST(SedToCommandMapping, ANonFiniteValueAnywhereRejectsTheWholeField) {
+  const auto map = Mapping(Params(SamplingMethod::kMaxWithinRadius));
+  // the NaN is 50 mm away from both sites
+  const auto r = map.Map(Field({0.0, 50.0, 5.0}, {0.0, 0.0, 0.0}, {100, kNaN, 200}));
   EXPECT_EQ(r.check.non_finite_sed, 1u);
-  const auto inf = map.Map(Field({0.0}, {0.0}, {kInf}));
-  EXPECT_TRUE(std::isnan(inf.requested[0]));
+  EXPECT_TRUE(std::isnan(r.requested[0]));
+  EXPECT_TRUE(std::isnan(r.requested[1]));
+  const auto healthy = map.Map(Field({0.0, 50.0, 5.0}, {0.0, 0.0, 0.0}, {100, 0, 200}));
+  EXPECT_DOUBLE_EQ(healthy.requested[1], 2.0);
 }
 
 TEST(SedToCommandMapping, NegativeSedReadsAsZeroAndIsCounted) {
@@ -95,11 +104,13 @@ TEST(SedToCommandMapping, NegativeSedReadsAsZeroAndIsCounted) {
   EXPECT_EQ(r.check.negative_sed, 1u);
 }
 
-TEST(SedToCommandMapping, BadPositionsAreIgnoredAndCounted) {
+TEST(SedToCommandMapping, BadPositionsAreSkippedBySampleAndRejectedByMap) {
   const auto map = Mapping(Params(SamplingMethod::kMaxWithinRadius));
-  const auto r = map.Map(Field({kNaN, 0.0}, {0.0, kInf}, {900, 800}));
-  EXPECT_DOUBLE_EQ(r.requested[0], 0);
+  const SedField f = Field({kNaN, 0.0, 0.1}, {0.0, kInf, 0.0}, {900, 800, 50});
+  EXPECT_DOUBLE_EQ(map.Sample(f, 0), 50);
+  const auto r = map.Map(f);
   EXPECT_EQ(r.check.non_finite_position, 2u);
+  EXPECT_TRUE(std::isnan(r.requested[0]));
 }
 
 TEST(SedToCommandMapping, MismatchedLengthsMakeEveryRequestNaN) {

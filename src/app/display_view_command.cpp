@@ -1,0 +1,251 @@
+// `sedbridge display-view`: shows what the leader's finger would feel — the display command as
+// a live terminal heatmap (LCM live or from a log), or PNG frames / a GIF from a log.
+
+#include <unistd.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <thread>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "app/arg_parser.h"
+#include "app/command.h"
+#include "config/config_error.h"
+#include "config/resource_path.h"
+#include "display/display_log_frames.h"
+#include "display/display_profile.h"
+#include "display/lcm_channels.h"
+#include "display/lcm_conversions.h"
+#include "display/terminal_heatmap.h"
+#include "sedbridge/lcmt_display_command.hpp"
+#include "sedbridge/lcmt_merkel_sed.hpp"
+
+namespace sedbridge::app {
+namespace {
+
+using namespace sedbridge::display;
+
+volatile std::sig_atomic_t g_stop = 0;
+void OnSignal(int) { g_stop = 1; }
+
+// The actuator layout: from --profile, else from the command's display_id, else a single row.
+class LayoutSource {
+ public:
+  explicit LayoutSource(std::string profile_path) : profile_path_(std::move(profile_path)) {
+    if (!profile_path_.empty()) Load(profile_path_);
+  }
+  const ActuatorLayout& For(const DisplayCommand& c) {
+    if (have_ && (fixed_ || c.display_id == id_) && layout_.x_mm.size() == c.value.size()) return layout_;
+    if (!fixed_ && !c.display_id.empty() && c.display_id != tried_) {
+      tried_ = c.display_id;
+      try {
+        Load("config/displays/" + c.display_id + ".yaml");
+      } catch (const config::ConfigError& e) {
+        std::fprintf(stderr, "display-view: no profile for '%s' (%s); showing a plain row\n",
+                     c.display_id.c_str(), e.what());
+      }
+      if (have_ && layout_.x_mm.size() == c.value.size()) return layout_;
+    }
+    // Unknown display: one row, full scale from the values seen.
+    fallback_.x_mm.clear();
+    fallback_.y_mm.clear();
+    for (std::size_t i = 0; i < c.value.size(); ++i) {
+      fallback_.x_mm.push_back(static_cast<double>(i));
+      fallback_.y_mm.push_back(0);
+      if (std::isfinite(c.value[i])) fallback_.max = std::max(fallback_.max, c.value[i]);
+    }
+    fallback_.unit = c.unit;
+    return fallback_;
+  }
+  std::string id() const { return id_; }
+
+ private:
+  void Load(const std::string& path) {
+    const DisplayProfile p = LoadDisplayProfile(path);
+    layout_ = {p.x_mm, p.y_mm, p.safety.max, p.unit};
+    id_ = p.name;
+    have_ = true;
+    fixed_ = !profile_path_.empty();
+  }
+  std::string profile_path_, id_, tried_;
+  ActuatorLayout layout_, fallback_;
+  bool have_ = false, fixed_ = false;
+};
+
+struct LiveState {
+  bool have_command = false, have_sed = false, new_command = false;
+  DisplayCommand command;
+  SedField sed;
+  int64_t commands = 0, fields = 0;
+  void OnCommand(const lcm::ReceiveBuffer*, const std::string&, const lcmt_display_command* m) {
+    command = FromLcm(*m);
+    have_command = new_command = true;
+    ++commands;
+  }
+  void OnSed(const lcm::ReceiveBuffer*, const std::string&, const lcmt_merkel_sed* m) {
+    sed = FromLcm(*m);
+    have_sed = true;
+    ++fields;
+  }
+};
+
+void Show(const std::string& frame, bool clear) {
+  if (clear) std::fputs("\033[H\033[2J", stdout);
+  std::fputs(frame.c_str(), stdout);
+  std::fflush(stdout);
+}
+
+int RunLive(const ArgParser& args, const LcmChannels& ch, LayoutSource& layouts,
+            const HeatmapStyle& style, bool clear) {
+  const std::string url = args.Get("url");
+  lcm::LCM lcm(url);
+  if (!lcm.good()) {
+    std::fprintf(stderr, "display-view: cannot open LCM at '%s'\n", url.c_str());
+    return 1;
+  }
+  LiveState state;
+  lcm.subscribe(ch.command, &LiveState::OnCommand, &state);
+  lcm.subscribe(ch.sed, &LiveState::OnSed, &state);
+  const double duration_s = args.GetDouble("duration-s");
+  const double fps = std::max(0.5, args.GetDouble("fps"));
+  const bool once = args.GetFlag("once");
+  std::fprintf(stderr, "display-view: listening on %s, channels %s and %s (Ctrl-C to stop)\n",
+               url.c_str(), ch.command.c_str(), ch.sed.c_str());
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  auto last_draw = start - std::chrono::hours(1);
+  while (!g_stop) {
+    const double elapsed = std::chrono::duration<double>(Clock::now() - start).count();
+    if (duration_s > 0 && elapsed >= duration_s) break;
+    lcm.handleTimeout(20);
+    if (state.new_command &&
+        std::chrono::duration<double>(Clock::now() - last_draw).count() >= 1.0 / fps) {
+      state.new_command = false;
+      last_draw = Clock::now();
+      Show(RenderHeatmap(layouts.For(state.command), state.command,
+                         state.have_sed ? &state.sed : nullptr, style),
+           clear);
+      if (once) break;
+    }
+  }
+  std::fprintf(stderr, "display-view: %lld commands, %lld SED fields received\n",
+               static_cast<long long>(state.commands), static_cast<long long>(state.fields));
+  return state.have_command ? 0 : 3;
+}
+
+int RunLogTerminal(const ArgParser& args, const std::vector<DisplayFrame>& frames,
+                   LayoutSource& layouts, const HeatmapStyle& style, bool clear) {
+  const double speed = args.GetDouble("speed");
+  const bool once = args.GetFlag("once");
+  for (std::size_t i = once ? frames.size() - 1 : 0; i < frames.size() && !g_stop; ++i) {
+    const DisplayFrame& f = frames[i];
+    if (i > 0 && speed > 0 && !once) {
+      const double dt = (f.log_utime - frames[i - 1].log_utime) * 1e-6 / speed;
+      if (dt > 0) std::this_thread::sleep_for(std::chrono::duration<double>(std::min(dt, 5.0)));
+    }
+    Show(RenderHeatmap(layouts.For(f.command), f.command, f.has_sed ? &f.sed : nullptr, style),
+         clear);
+  }
+  return 0;
+}
+
+int RunLogImages(const ArgParser& args, const std::vector<DisplayFrame>& frames,
+                 LayoutSource& layouts) {
+  const std::string png_dir = args.GetOptional("png-dir").value_or("");
+  const std::string animation = args.GetOptional("animation").value_or("");
+  namespace fs = std::filesystem;
+  const fs::path work = !png_dir.empty() ? fs::path(png_dir)
+                                         : fs::temp_directory_path() /
+                                               ("sedbridge_view_" + std::to_string(::getpid()));
+  fs::create_directories(work);
+  const std::string jsonl = (work / "frames.jsonl").string();
+  const ActuatorLayout& layout = layouts.For(frames.front().command);
+  WriteFramesJsonl(jsonl, layout, frames.front().command.display_id, frames);
+  const std::string script = config::ResolveResource("tools/plot_display_frames.py");
+  std::string cmd = args.Get("python") + " '" + script + "' '" + jsonl + "'";
+  if (!png_dir.empty()) cmd += " --png-dir '" + png_dir + "'";
+  if (!animation.empty()) cmd += " --animation '" + animation + "' --fps " + args.Get("fps");
+  std::fprintf(stderr, "display-view: %zu frames -> %s\n", frames.size(), cmd.c_str());
+  const int rc = std::system(cmd.c_str());
+  if (png_dir.empty()) fs::remove_all(work);
+  if (rc != 0) {
+    std::fprintf(stderr, "display-view: plotting failed (exit %d); the frames are in %s\n", rc,
+                 jsonl.c_str());
+    return 1;
+  }
+  return 0;
+}
+
+int RunDisplayView(int argc, char** argv) {
+  ArgParser args("sedbridge display-view",
+                 "Shows what the leader's finger would feel: the haptic display command as a\n"
+                 "heatmap of the actuator array (tip at the top), with the Merkel-layer SED\n"
+                 "field below it. Live from LCM, or from an LCM event log (--log), as a\n"
+                 "terminal replay or as PNG frames / a GIF animation.");
+  args.Option("log", "FILE", "read this LCM event log instead of listening live")
+      .Option("url", "URL", "LCM URL to listen on (live mode)", kDefaultLcmUrl)
+      .Option("profile", "YAML", "display profile for the layout (default: from display_id)")
+      .Option("command-channel", "NAME", "display command channel", "DISPLAY_COMMAND")
+      .Option("sed-channel", "NAME", "Merkel SED channel", "FINGERTIP_SED")
+      .Option("fps", "N", "frames per second shown / sampled from a log", "10")
+      .Option("speed", "X", "log replay speed in the terminal; 0 = no waiting", "1")
+      .Option("duration-s", "S", "live: stop after S seconds; 0 = until Ctrl-C", "0")
+      .Option("max-frames", "N", "log: at most N frames (the last one is always kept)", "2000")
+      .Option("png-dir", "DIR", "log: write DIR/frame_00000.png ... (and DIR/frames.jsonl)")
+      .Option("animation", "FILE", "log: write an animated GIF of the frames")
+      .Option("python", "EXE", "Python with matplotlib for PNG/GIF output", "/usr/bin/python3")
+      .Flag("once", "show one frame (live: the first; log: the last) and exit")
+      .Flag("no-color", "plain ASCII shades instead of ANSI colours")
+      .Epilog(
+          "examples:\n"
+          "  sedbridge display-view                                  # live, default udpm URL\n"
+          "  sedbridge display-view --url memq:// ...                 # (in-process only)\n"
+          "  sedbridge display-view --log out/run.lcmlog --speed 0.5\n"
+          "  sedbridge display-view --log out/run.lcmlog --png-dir out/frames --animation out/run.gif\n"
+          "exit status: 0 ok, 1 error, 2 usage, 3 live mode received no command");
+  if (!args.Parse(argc, argv)) return 0;
+
+  LcmChannels ch;
+  ch.command = args.Get("command-channel");
+  ch.sed = args.Get("sed-channel");
+  if (!IsUpperSnake(ch.command) || !IsUpperSnake(ch.sed))
+    throw UsageError("channel names must be UPPER_SNAKE");
+  HeatmapStyle style;
+  style.color = !args.GetFlag("no-color");
+  const bool clear = style.color && ::isatty(STDOUT_FILENO) && !args.GetFlag("once");
+  LayoutSource layouts(args.GetOptional("profile").value_or(""));
+
+  std::signal(SIGINT, OnSignal);
+  std::signal(SIGTERM, OnSignal);
+  const auto log = args.GetOptional("log");
+  if (!log) {
+    if (args.Has("png-dir") || args.Has("animation"))
+      throw UsageError("--png-dir/--animation need --log (record live runs with lcm-logger)");
+    return RunLive(args, ch, layouts, style, clear);
+  }
+  std::size_t bad = 0;
+  const long max_frames = args.GetInt("max-frames");
+  if (max_frames < 1) throw UsageError("--max-frames must be >= 1");
+  const std::vector<DisplayFrame> frames =
+      ReadDisplayFrames(*log, ch, args.GetDouble("fps"), static_cast<std::size_t>(max_frames), &bad);
+  if (bad) std::fprintf(stderr, "display-view: %zu events did not decode (wrong type?)\n", bad);
+  if (frames.empty()) {
+    std::fprintf(stderr, "display-view: no %s events in %s\n", ch.command.c_str(), log->c_str());
+    return 1;
+  }
+  if (args.Has("png-dir") || args.Has("animation")) return RunLogImages(args, frames, layouts);
+  return RunLogTerminal(args, frames, layouts, style, clear);
+}
+
+}  // namespace
+}  // namespace sedbridge::app
+
+SEDBRIDGE_COMMAND(display_view, "display-view",
+                  "show display commands + SED as a terminal heatmap, PNG frames or a GIF",
+                  &sedbridge::app::RunDisplayView);
