@@ -18,8 +18,7 @@
 
 #include "config/config_error.h"
 #include "config/resource_path.h"
-#include "config/yaml_reader.h"
-#include "model/fingertip_geometry.h"
+#include "model/model_description.h"
 #include "tools/fingertip_generator/fingertip_mesher.h"
 
 namespace sedbridge::tools {
@@ -37,18 +36,16 @@ int Usage() {
 // Returns false (and says why) for YAMLs that describe no generated geometry, e.g. a
 // user's CT mesh.
 bool GenerateOne(const std::string& yaml_path, const std::string& out_dir) {
-  auto doc = config::LoadYamlFile(yaml_path);
-  config::MapReader root(doc.root, doc.file);
-  const std::string name = root.Required<std::string>("name");
-  const std::string mesh = root.Required<std::string>("mesh");
-  bool complete = false;
-  const model::FingertipGeometry geometry = model::ReadFingertipGeometry(root, &complete);
-  if (!complete) {
+  // The loader's strict reader: a typo anywhere in the YAML stops generation too.
+  const model::ModelDescription d = model::ReadModelDescription(yaml_path);
+  if (!d.has_geometry) {
     std::printf("%s: no geometry/layers/mesh_size, skipped\n", yaml_path.c_str());
     return false;
   }
-  const fs::path msh_path = out_dir.empty() ? fs::path(yaml_path).parent_path() / mesh
-                                            : fs::path(out_dir) / fs::path(mesh).filename();
+  const std::string& name = d.name;
+  const model::FingertipGeometry& geometry = d.geometry;
+  const std::string mesh = fs::path(d.mesh_path).filename().string();
+  const fs::path msh_path = out_dir.empty() ? fs::path(d.mesh_path) : fs::path(out_dir) / mesh;
   const MeshStats s = MeshFingertip(geometry, name, msh_path.string());
   std::printf("%s -> %s: soft %d nodes / %d tets (epidermis %d, dermis %d, subcutaneous %d), "
               "rigid %d tets (bone %d, nail %d), stratum corneum %d triangles\n",
