@@ -1,0 +1,120 @@
+// `sedbridge display-view` end to end: a recorded run (DisplaySession -> LCM log) shown as a
+// terminal heatmap and rendered to PNG frames.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <algorithm>
+#include <filesystem>
+#include <regex>
+#include <vector>
+#include <string>
+#include <unistd.h>
+
+#include "display/display_session.h"
+
+namespace sedbridge::display {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct ShellResult {
+  std::string output;
+  int status = -1;
+};
+
+ShellResult Sh(const std::string& cmd) {
+  ShellResult r;
+  FILE* p = ::popen((cmd + " 2>&1").c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  while (std::size_t n = std::fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
+  const int st = ::pclose(p);
+  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+  return r;
+}
+
+class DisplayViewCli : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("sedbridge_view_cli_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    log_ = (dir_ / "run.lcmlog").string();
+    LcmSettings settings;
+    settings.url = "memq://";
+    settings.log_path = log_;
+    DisplaySession session(LoadDisplayProfile("config/displays/pin_6x4.yaml"), settings);
+    int64_t t = 1'000'000;
+    for (int k = 0; k < 60; ++k, t += 10'000) {
+      SedField f;
+      f.utime = t;
+      for (double x = -5; x <= 5; x += 0.5)
+        for (double y = -6; y <= 8; y += 0.5) {
+          f.x_mm.push_back(x);
+          f.y_mm.push_back(y);
+          f.z_mm.push_back(-1.5);
+          f.sed_Pa.push_back(2500 * std::exp(-(x * x + (y - 1) * (y - 1)) / 6));
+        }
+      session.OnSedField(f, t);
+    }
+    session.Shutdown(t);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path dir_;
+  std::string log_;
+};
+
+TEST_F(DisplayViewCli, TerminalReplayShowsTheLastFrame) {
+  const ShellResult r = Sh(std::string(SEDBRIDGE_BINARY) + " display-view --log " + log_ +
+                   " --once --no-color");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("pin_6x4"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("[SHUTDOWN]"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("peak 2.5e+03 Pa"), std::string::npos) << r.output;
+}
+
+TEST_F(DisplayViewCli, MidRunFrameShowsAStrongerCentre) {
+  const ShellResult r = Sh(std::string(SEDBRIDGE_BINARY) + " display-view --log " + log_ +
+                           " --speed 0 --fps 1000 --no-color");
+  ASSERT_EQ(r.status, 0) << r.output;
+  // Frame of command 30 (0.3 s into a steady press): read the 6x4 pin heights back.
+  const auto at = r.output.find("seq 30 ");
+  ASSERT_NE(at, std::string::npos) << r.output;
+  const auto begin = r.output.find("tip ^", at), end = r.output.find("x ->", at);
+  ASSERT_LT(begin, end);
+  const std::string block = r.output.substr(begin, end - begin);
+  std::vector<double> v;
+  const std::regex cell(R"(\[.\s*([0-9.]+)\s*\])");
+  for (auto it = std::sregex_iterator(block.begin(), block.end(), cell); it != std::sregex_iterator(); ++it)
+    v.push_back(std::stod((*it)[1]));
+  ASSERT_EQ(v.size(), 24u) << block;
+  // Row-major from the tip, 4 columns; the bump is centred at y = 1 mm (rows 2 and 3).
+  EXPECT_GT(v[2 * 4 + 1], v[0]);   // inner pin > tip corner
+  EXPECT_GT(v[2 * 4 + 1], 0.5);    // a clear stimulus (mm)
+  EXPECT_LE(*std::max_element(v.begin(), v.end()), 1.5);  // the profile's hard max
+}
+
+TEST_F(DisplayViewCli, BadArgumentsAreUsageErrors) {
+  EXPECT_EQ(Sh(std::string(SEDBRIDGE_BINARY) + " display-view --png-dir x").status, 2);
+  EXPECT_EQ(Sh(std::string(SEDBRIDGE_BINARY) + " display-view --bogus").status, 2);
+  EXPECT_EQ(Sh(std::string(SEDBRIDGE_BINARY) + " display-view --log /nonexistent.lcmlog").status, 1);
+}
+
+TEST_F(DisplayViewCli, WritesPngFrames) {
+  if (Sh("/usr/bin/python3 -c 'import matplotlib'").status != 0)
+    GTEST_SKIP() << "/usr/bin/python3 has no matplotlib (Debian: python3-matplotlib)";
+  const fs::path frames = dir_ / "frames";
+  const ShellResult r = Sh(std::string(SEDBRIDGE_BINARY) + " display-view --log " + log_ +
+                   " --fps 4 --png-dir " + frames.string());
+  ASSERT_EQ(r.status, 0) << r.output;
+  int pngs = 0;
+  for (const auto& e : fs::directory_iterator(frames))
+    if (e.path().extension() == ".png" && fs::file_size(e.path()) > 1000) ++pngs;
+  EXPECT_GE(pngs, 3);  // 0.6 s at 4 fps + the last command
+  EXPECT_TRUE(fs::exists(frames / "frames.jsonl"));
+}
+
+}  // namespace
+}  // namespace sedbridge::display
