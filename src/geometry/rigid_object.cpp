@@ -80,16 +80,22 @@ RigidObject ParseRigidObject(config::MapReader& r) {
     return obj;
   }
   config::MapReader motion = r.Child("motion");
+  obj.trajectory = ParseMotion(motion, pose0);
+  motion.Finish();
+  return obj;
+}
+
+Trajectory ParseMotion(config::MapReader& motion, const Eigen::Isometry3d& pose0) {
   std::vector<PoseKeyframe> keys;
   if (motion.Has("keyframes")) {
     const YAML::Node list = motion.Node("keyframes");
     if (!list.IsSequence() || list.size() == 0) motion.Fail(list, "'keyframes' must be a non-empty list");
     for (const auto& item : list) {
-      config::MapReader k(item, r.file());
+      config::MapReader k(item, motion.file());
       PoseKeyframe key;
       key.t_s = k.Required<double>("t_s");
       key.position_m = pose0.translation() + Vec3(k, "offset_mm", Eigen::Vector3d::Zero()) * 1e-3;
-      key.orientation = Eigen::Quaterniond(pose0.linear());
+      key.orientation = Eigen::Quaterniond(pose0.linear() * RotationFromRpyDeg(Vec3(k, "rpy_deg", Eigen::Vector3d::Zero())));
       if (!keys.empty() && !(key.t_s > keys.back().t_s)) k.Fail(item, "keyframe times must increase");
       k.Finish();
       keys.push_back(key);
@@ -110,9 +116,7 @@ RigidObject ParseRigidObject(config::MapReader& r) {
     if (vib.direction.norm() == 0) v.Fail(v.Node("direction"), "'direction' must be non-zero");
     v.Finish();
   }
-  motion.Finish();
-  obj.trajectory = Trajectory(std::move(keys), vib);
-  return obj;
+  return Trajectory(std::move(keys), vib);
 }
 
 std::vector<RigidObject> ParseRigidObjects(const YAML::Node& list, const std::string& file) {

@@ -34,8 +34,12 @@ struct RigidObject {
 ///   motion:                        # optional
 ///     keyframes: [{t_s: 0, offset_mm: [0,0,0]}, {t_s: 0.05, offset_mm: [0,0,-2]}]
 ///     vibration: {amplitude_mm: 0.1, frequency_Hz: 300, direction: [0,0,1]}
-/// keyframe offsets translate the t = 0 pose (in the scene frame).
+/// keyframe offsets translate the t = 0 pose (in the scene frame); a keyframe may also
+/// give rpy_deg, a rotation applied after the t = 0 orientation.
 RigidObject ParseRigidObject(config::MapReader& reader);
+
+/// Parses a `motion` mapping (keyframes, vibration) around the t = 0 pose `pose0`.
+Trajectory ParseMotion(config::MapReader& motion, const Eigen::Isometry3d& pose0);
 
 /// Parses a YAML sequence of object mappings.
 std::vector<RigidObject> ParseRigidObjects(const YAML::Node& list, const std::string& file);

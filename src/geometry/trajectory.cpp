@@ -59,4 +59,16 @@ Eigen::Vector3d Trajectory::PointVelocity(const Eigen::Vector3d& p_frame, double
 
 double Trajectory::EndTime() const { return keyframes_.back().t_s; }
 
+Trajectory Trajectory::Transformed(const Eigen::Isometry3d& frame_from_this) const {
+  std::vector<PoseKeyframe> keys = keyframes_;
+  const Eigen::Quaterniond q(frame_from_this.rotation());
+  for (auto& k : keys) {
+    k.position_m = frame_from_this * k.position_m;
+    k.orientation = q * k.orientation;
+  }
+  Vibration v = vibration_;
+  v.direction = frame_from_this.linear() * v.direction;
+  return Trajectory(std::move(keys), v);
+}
+
 }  // namespace sedbridge::geometry

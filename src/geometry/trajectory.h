@@ -33,6 +33,8 @@ class Trajectory {
   Eigen::Vector3d PointVelocity(const Eigen::Vector3d& p_frame_m, double t_s) const;
   /// Last keyframe time (0 for a fixed pose).
   double EndTime() const;
+  /// The same motion seen from another frame: Pose'(t) = frame_from_this * Pose(t).
+  Trajectory Transformed(const Eigen::Isometry3d& frame_from_this) const;
 
  private:
   std::vector<PoseKeyframe> keyframes_;

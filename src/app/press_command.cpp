@@ -1,0 +1,91 @@
+// sedbridge press: the paper's experiment (Sec. IV-A) on a fingertip model.
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+
+#include "app/arg_parser.h"
+#include "app/command.h"
+#include "app/plot_runner.h"
+#include "config/resource_path.h"
+#include "scene/press_experiment.h"
+
+namespace sedbridge::app {
+namespace {
+
+int RunPress(int argc, char** argv) {
+  ArgParser args("sedbridge press",
+                 "Presses a rigid plane 2.0 mm into the pad of a fingertip model tilted 15 deg, as in\n"
+                 "the paper's validation (Sec. IV-A), and writes force, contact area and the SED at\n"
+                 "the Merkel layer (epidermis-dermis interface) at the step closest to 1.0 N.");
+  args.Option("model", "A|B|C|NAME|PATH", "model name (config/models/NAME.yaml), model YAML or .msh", "scene's")
+      .Option("scene", "FILE", "scene YAML", "config/scenes/paper_press.yaml")
+      .Option("preset", "NAME", "solver preset: fast, balanced or accurate (overrides the scene's solver)")
+      .Option("out", "DIR", "output folder", "out/press")
+      .Option("target-force", "N", "force at which the SED map and path are taken", "1.0")
+      .Flag("no-plots", "write CSV and VTU only")
+      .Flag("quiet", "no per-step progress")
+      .Epilog(
+          "outputs in DIR:\n"
+          "  force_displacement.csv  step,displacement_mm,force_N,contact_area_mm2 (one row per step)\n"
+          "  merkel_sed.csv          vertex,x_mm,y_mm,z_mm,sed_Pa at the step closest to the target force\n"
+          "                          (pad frame; vertex = Gmsh node tag)\n"
+          "  sed_path.csv            x_mm,sed_Pa,sed_normalized along x at y = 2 mm\n"
+          "  frames.pvd + frame_*.vtu  deformation and SED for ParaView\n"
+          "  *.png                   force-displacement, area-force, Merkel SED map, SED path plots\n\n"
+          "example:\n  sedbridge press --model B --out out/press_B");
+  if (!args.Parse(argc, argv)) return 0;
+
+  scene::SceneDescription scene = scene::ReadSceneDescription(config::ResolveResource(args.Get("scene")));
+  if (args.Has("model")) scene.model = args.Get("model");
+  if (args.Has("preset")) scene::ApplyPreset(args.Get("preset"), scene);
+  const std::string out = args.Get("out");
+  std::filesystem::create_directories(out);
+
+  const auto t_load = std::chrono::steady_clock::now();
+  scene::FingertipScene fingertip(scene);
+  const auto& m = fingertip.model();
+  std::printf("model %s: %d soft nodes, %d soft tets, %zu Merkel vertices, %zu bone-attached nodes\n",
+              m.name.c_str(), m.num_soft_nodes(), m.soft.num_tets(), m.merkel_nodes.size(), m.attached_nodes.size());
+  std::string effects;
+  for (const auto& e : fingertip.BuiltEffects()) effects += (effects.empty() ? "" : ", ") + e;
+  std::printf("effects: %s; solver %s; %d steps\n", effects.c_str(), fingertip.simulation().solver().name().c_str(),
+              scene.steps);
+
+  scene::PressOptions options;
+  options.target_force_N = args.GetDouble("target-force");
+  options.vtu_dir = out;
+  const bool quiet = args.GetFlag("quiet");
+  int warnings = 0;
+  options.on_step = [&](const scene::PressStepRecord& r) {
+    if (!r.report.converged || r.report.inverted_elements > 0) ++warnings;
+    if (quiet) return;
+    std::printf("  step %3d/%d  d = %5.2f mm  F = %6.3f N  area = %6.1f mm2  max SED = %8.1f Pa  newton %2d%s%s  %6.1f ms\n",
+                r.step, scene.steps, r.displacement_mm, r.force_N, r.contact_area_mm2, r.max_merkel_sed_Pa,
+                r.report.newton_iterations, r.report.converged ? "" : " (not converged)",
+                r.report.inverted_elements ? " (inverted elements)" : "", r.wall_ms);
+    std::fflush(stdout);
+  };
+  const scene::PressResult result = scene::RunPress(fingertip, options);
+  scene::WritePressCsv(fingertip, result, out);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
+
+  const auto& sel = result.steps[size_t(result.selected)];
+  std::printf("\nforce at %.2f mm: %.3f N; contact area %.1f mm2\n", result.steps.back().displacement_mm,
+              result.steps.back().force_N, result.steps.back().contact_area_mm2);
+  std::printf("closest to %.2f N: step %d (d = %.2f mm, F = %.3f N); max Merkel SED %.1f Pa\n", options.target_force_N,
+              sel.step, sel.displacement_mm, sel.force_N, result.selected_max_sed_Pa);
+  if (warnings) std::printf("warning: %d steps did not converge or had inverted elements (see progress)\n", warnings);
+  std::printf("done in %.1f s\n", seconds);
+  if (!args.GetFlag("no-plots")) {
+    if (RunPlotScript("plot_press.py", {out, "--out", out})) std::printf("plots: %s/*.png\n", out.c_str());
+  }
+  std::printf("results: %s (open %s/frames.pvd in ParaView)\n", out.c_str(), out.c_str());
+  return 0;
+}
+
+}  // namespace
+
+SEDBRIDGE_COMMAND(press, "press", "the paper's press experiment: force, contact area, Merkel SED", &RunPress);
+
+}  // namespace sedbridge::app

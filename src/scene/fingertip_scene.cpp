@@ -1,0 +1,81 @@
+#include "scene/fingertip_scene.h"
+
+#include <Eigen/Dense>
+#include <set>
+
+#include "fem/elastic_tet_force.h"
+#include "fem/mesh_topology.h"
+#include "fem/pseudo_friction_force.h"
+
+namespace sedbridge::scene {
+
+FingertipScene::FingertipScene(const SceneDescription& d)
+    : FingertipScene(d, model::LoadFingertipModel(d.model)) {}
+
+FingertipScene::FingertipScene(const SceneDescription& d, model::FingertipModel m)
+    : description_(d), model_(std::make_unique<model::FingertipModel>(std::move(m))) {
+  Build();
+}
+
+void FingertipScene::Build() {
+  const model::FingertipModel& m = *model_;
+  const SceneDescription& d = description_;
+  std::vector<std::unique_ptr<fem::ForceTerm>> terms;
+
+  terms.push_back(std::make_unique<fem::ElasticTetForce>(m.soft, d.elasticity, d.rayleigh_beta_s));
+  if (d.bone) {
+    std::vector<Eigen::Vector3d> normals;
+    if (d.bone->spring.anisotropy != 1.0) {
+      // Bone-surface normals: boundary faces of the soft mesh made only of attached nodes.
+      const std::set<int> attached(m.attached_nodes.begin(), m.attached_nodes.end());
+      std::vector<fem::Triangle> interface;
+      for (const auto& f : fem::BoundaryFaces(m.soft.tets, m.soft.rest_positions_m))
+        if (attached.count(f[0]) && attached.count(f[1]) && attached.count(f[2])) interface.push_back(f);
+      normals = fem::VertexNormals(interface, m.soft.rest_positions_m, m.attached_nodes);
+    }
+    terms.push_back(std::make_unique<fem::BoneCouplingForce>(m.soft.rest_positions_m, m.attached_nodes, normals,
+                                                             d.bone->spring, d.bone->motion));
+  }
+  if (d.contact) {
+    std::vector<geometry::RigidObject> objects;
+    for (const auto& o : d.contact->objects_pad_frame)
+      objects.push_back({o.name, o.shape, o.trajectory.Transformed(m.pad_frame.model_from_pad)});
+    auto contact = std::make_unique<fem::PenaltyContactForce>(m.skin_nodes, std::move(objects), d.contact->params);
+    contact_ = contact.get();
+    terms.push_back(std::move(contact));
+    if (d.friction)
+      terms.push_back(std::make_unique<fem::PseudoFrictionForce>(*contact_, d.friction->anisotropy, d.friction->coulomb_mu));
+  }
+  if (d.surface_traction) {
+    auto traction = std::make_unique<fem::SurfaceTractionForce>(m.soft.rest_positions_m, m.skin_triangles);
+    traction_ = traction.get();
+    terms.push_back(std::move(traction));
+  }
+  simulation_ = std::make_unique<fem::Simulation>(m.soft, std::move(terms), d.integrator,
+                                                  fem::MakeLinearSolver(d.solver, d.pcg));
+  if (d.outputs.merkel_sed) merkel_ = std::make_unique<MerkelLayer>(m, *simulation_->elastic());
+  skin_area_m2_ = fem::VertexAreas(m.skin_triangles, m.soft.rest_positions_m);
+}
+
+fem::StepReport FingertipScene::Step() {
+  const fem::StepReport r = simulation_->Step(description_.dt_s);
+  if (merkel_) merkel_->Evaluate(simulation_->positions_m());
+  return r;
+}
+
+std::vector<std::string> FingertipScene::BuiltEffects() const {
+  std::vector<std::string> names;
+  for (const auto& t : simulation_->terms()) names.push_back(t->name());
+  return names;
+}
+
+double FingertipScene::ContactArea_m2() const {
+  if (!contact_) return 0.0;
+  std::set<int> nodes;
+  for (const auto& c : contact_->active_contacts()) nodes.insert(c.node);
+  double area = 0;
+  for (int n : nodes) area += skin_area_m2_[n];
+  return area;
+}
+
+}  // namespace sedbridge::scene

@@ -1,0 +1,66 @@
+#include "scene/merkel_layer.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <limits>
+#include <unordered_map>
+
+#include "fem/mesh_topology.h"
+
+namespace sedbridge::scene {
+
+MerkelLayer::MerkelLayer(const model::FingertipModel& model, const fem::ElasticTetForce& elastic)
+    : evaluator_(elastic, model.merkel_nodes) {
+  const auto& x = model.soft.rest_positions_m;
+  const size_t n = model.merkel_nodes.size();
+  rest_pad_mm_.resize(3, Eigen::Index(n));
+  std::unordered_map<int, int> local;
+  for (size_t k = 0; k < n; ++k) {
+    local[model.merkel_nodes[k]] = int(k);
+    rest_pad_mm_.col(Eigen::Index(k)) = model.pad_frame.ToPad(x.col(model.merkel_nodes[k])) * 1e3;
+  }
+  const Eigen::Vector3d z_pad = model.pad_frame.model_from_pad.linear().col(2);
+  const auto normals = fem::VertexNormals(model.merkel_triangles, x, model.merkel_nodes);
+  facing_pad_.resize(n);
+  for (size_t k = 0; k < n; ++k) facing_pad_[k] = normals[k].dot(z_pad) > 0 ? 1 : 0;
+  for (const auto& t : model.merkel_triangles) {
+    const Eigen::Vector3d normal = (x.col(t[1]) - x.col(t[0])).cross(x.col(t[2]) - x.col(t[0]));
+    if (normal.dot(z_pad) > 0) pad_triangles_.push_back({local[t[0]], local[t[1]], local[t[2]]});
+  }
+  sed_Pa_ = Eigen::VectorXd::Zero(Eigen::Index(n));
+}
+
+const Eigen::VectorXd& MerkelLayer::Evaluate(const Eigen::VectorXd& x_m) {
+  evaluator_.Evaluate(x_m, sed_Pa_);
+  return sed_Pa_;
+}
+
+std::vector<PathSample> MerkelLayer::SamplePath(const Eigen::VectorXd& sed, double y, double x_min,
+                                                double x_max, double step) const {
+  std::vector<PathSample> out;
+  const int count = int(std::floor((x_max - x_min) / step + 1e-9)) + 1;
+  for (int s = 0; s < count; ++s) {
+    const double px = x_min + s * step;
+    double best_z = -std::numeric_limits<double>::infinity();
+    double value = 0;
+    for (const auto& t : pad_triangles_) {
+      const Eigen::Vector3d a = rest_pad_mm_.col(t[0]), b = rest_pad_mm_.col(t[1]), c = rest_pad_mm_.col(t[2]);
+      const double det = (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
+      if (std::abs(det) < 1e-12) continue;
+      const double l1 = ((px - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (y - a.y())) / det;
+      const double l2 = ((b.x() - a.x()) * (y - a.y()) - (px - a.x()) * (b.y() - a.y())) / det;
+      const double l0 = 1 - l1 - l2;
+      const double eps = -1e-9;
+      if (l0 < eps || l1 < eps || l2 < eps) continue;
+      const double z = l0 * a.z() + l1 * b.z() + l2 * c.z();
+      if (z > best_z) {  // the sheet nearest the pressing plane
+        best_z = z;
+        value = l0 * sed[t[0]] + l1 * sed[t[1]] + l2 * sed[t[2]];
+      }
+    }
+    if (std::isfinite(best_z)) out.push_back({px, value});
+  }
+  return out;
+}
+
+}  // namespace sedbridge::scene

@@ -1,0 +1,116 @@
+#include "scene/press_experiment.h"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <stdexcept>
+
+#include "scene/vtu_writer.h"
+
+namespace sedbridge::scene {
+
+PressResult RunPress(FingertipScene& scene, const PressOptions& options) {
+  if (!scene.contact()) throw std::invalid_argument("the press needs a scene with a contact object");
+  if (!scene.merkel()) throw std::invalid_argument("the press needs outputs.merkel_sed: true");
+  PressResult result;
+  const auto& object = scene.contact()->objects().front();
+  const Eigen::Vector3d start = object.trajectory.Pose(0.0).translation();
+  const int steps = scene.description().steps;
+  const int vtu_every = scene.description().outputs.vtu_every;
+  std::unique_ptr<PvdCollection> pvd;
+  std::unique_ptr<fem::VertexSedEvaluator> full_sed;
+  if (!options.vtu_dir.empty() && vtu_every > 0) {
+    std::filesystem::create_directories(options.vtu_dir);
+    pvd = std::make_unique<PvdCollection>(options.vtu_dir + "/frames.pvd");
+    if (scene.description().outputs.full_sed) {
+      std::vector<int> all(size_t(scene.model().num_soft_nodes()));
+      for (size_t i = 0; i < all.size(); ++i) all[i] = int(i);
+      full_sed = std::make_unique<fem::VertexSedEvaluator>(scene.elastic(), all);
+    }
+  }
+  for (int k = 1; k <= steps; ++k) {
+    const auto t0 = std::chrono::steady_clock::now();
+    PressStepRecord rec;
+    rec.report = scene.Step();
+    rec.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    rec.step = k;
+    rec.t_s = scene.simulation().time_s();
+    scene.simulation().TotalForce();  // contact set at the converged state
+    rec.displacement_mm = (object.trajectory.Pose(rec.t_s).translation() - start).norm() * 1e3;
+    rec.force_N = scene.contact()->TotalSpringForceMagnitude();
+    rec.contact_area_mm2 = scene.ContactArea_m2() * 1e6;
+    rec.max_merkel_sed_Pa = scene.merkel()->sed_Pa().size() ? scene.merkel()->sed_Pa().maxCoeff() : 0.0;
+    result.merkel_sed.push_back(scene.merkel()->sed_Pa());
+    result.steps.push_back(rec);
+    if (pvd && (k % vtu_every == 0 || k == steps)) {
+      char name[32];
+      std::snprintf(name, sizeof name, "frame_%04d.vtu", k);
+      std::vector<VtuField> point_fields;
+      if (full_sed) {
+        Eigen::VectorXd sed;
+        full_sed->Evaluate(scene.simulation().positions_m(), sed);
+        point_fields.push_back({"sed_Pa", 1, std::vector<double>(sed.data(), sed.data() + sed.size())});
+      }
+      VtuField merkel{"merkel_sed_Pa", 1, std::vector<double>(size_t(scene.model().num_soft_nodes()), 0.0)};
+      for (size_t v = 0; v < scene.merkel()->nodes().size(); ++v)
+        merkel.values[size_t(scene.merkel()->nodes()[v])] = scene.merkel()->sed_Pa()[Eigen::Index(v)];
+      point_fields.push_back(std::move(merkel));
+      WriteVtu(options.vtu_dir + "/" + name, scene.model().soft, scene.simulation().positions_m(), point_fields, {});
+      pvd->Add(rec.t_s, name);
+    }
+    if (options.on_step) options.on_step(rec);
+  }
+  double best = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < result.steps.size(); ++i) {
+    const double d = std::abs(result.steps[i].force_N - options.target_force_N);
+    if (d < best) {
+      best = d;
+      result.selected = int(i);
+    }
+  }
+  const Eigen::VectorXd& sed = result.merkel_sed[size_t(result.selected)];
+  result.selected_max_sed_Pa = sed.size() ? sed.maxCoeff() : 0.0;
+  result.path = scene.merkel()->SamplePath(sed, options.path_y_mm, -options.path_half_width_mm,
+                                           options.path_half_width_mm, options.path_step_mm);
+  return result;
+}
+
+void WritePressCsv(const FingertipScene& scene, const PressResult& result, const std::string& dir) {
+  std::filesystem::create_directories(dir);
+  auto open = [&](const std::string& name) {
+    std::ofstream out(dir + "/" + name);
+    if (!out) throw std::runtime_error("cannot write " + dir + "/" + name);
+    out << std::setprecision(8);
+    return out;
+  };
+  {
+    auto out = open("force_displacement.csv");
+    out << "step,displacement_mm,force_N,contact_area_mm2\n";
+    for (const auto& s : result.steps)
+      out << s.step << "," << s.displacement_mm << "," << s.force_N << "," << s.contact_area_mm2 << "\n";
+  }
+  const MerkelLayer& merkel = *scene.merkel();
+  const Eigen::VectorXd& sed = result.merkel_sed.at(size_t(result.selected));
+  {
+    // Vertex = Gmsh node tag, so that other solvers' results on the same mesh line up.
+    auto out = open("merkel_sed.csv");
+    out << "vertex,x_mm,y_mm,z_mm,sed_Pa\n";
+    const auto& tags = scene.model().soft_node_tags;
+    for (size_t v = 0; v < merkel.nodes().size(); ++v) {
+      const int node = merkel.nodes()[v];
+      const Eigen::Vector3d p = merkel.rest_pad_mm().col(Eigen::Index(v));
+      out << (tags.empty() ? size_t(node) : tags[size_t(node)]) << "," << p.x() << "," << p.y() << "," << p.z() << ","
+          << sed[Eigen::Index(v)] << "\n";
+    }
+  }
+  {
+    auto out = open("sed_path.csv");
+    out << "x_mm,sed_Pa,sed_normalized\n";
+    const double max_sed = result.selected_max_sed_Pa;
+    for (const auto& s : result.path) out << s.x_mm << "," << s.sed_Pa << "," << (max_sed > 0 ? s.sed_Pa / max_sed : 0.0) << "\n";
+  }
+}
+
+}  // namespace sedbridge::scene

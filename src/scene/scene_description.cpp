@@ -1,0 +1,155 @@
+#include "scene/scene_description.h"
+
+#include <stdexcept>
+
+#include "config/yaml_reader.h"
+
+namespace sedbridge::scene {
+namespace {
+
+using config::MapReader;
+
+double NonNegative(MapReader& r, const std::string& key, double fallback) {
+  const double v = r.Optional<double>(key, fallback);
+  if (!(v >= 0) || !std::isfinite(v)) r.Fail(r.Has(key) ? r.Node(key) : r.node(), "'" + key + "' must be a finite number >= 0");
+  return v;
+}
+
+double Positive(MapReader& r, const std::string& key, double fallback) {
+  const double v = r.Optional<double>(key, fallback);
+  if (!(v > 0) || !std::isfinite(v)) r.Fail(r.Has(key) ? r.Node(key) : r.node(), "'" + key + "' must be a finite number > 0");
+  return v;
+}
+
+SceneDescription Parse(const config::YamlDocument& doc) {
+  SceneDescription s;
+  s.file = doc.file;
+  MapReader r(doc.root, doc.file);
+  s.model = r.Required<std::string>("model");
+  if (r.Has("preset")) {
+    const YAML::Node n = r.Node("preset");
+    s.preset = config::As<std::string>(n, doc.file, "preset");
+    try {
+      ApplyPreset(s.preset, s);
+    } catch (const std::invalid_argument& e) {
+      r.Fail(n, e.what());
+    }
+  }
+  if (r.Has("elasticity"))
+    s.elasticity = r.RequiredChoice("elasticity", {"corotational", "linear"}) == "linear"
+                       ? fem::ElasticFormulation::kLinear
+                       : fem::ElasticFormulation::kCorotational;
+
+  if (r.Has("dynamics")) {
+    MapReader d = r.Child("dynamics");
+    if (d.Has("integrator"))
+      s.integrator.kind = d.RequiredChoice("integrator", {"backward_euler", "quasi_static"}) == "quasi_static"
+                              ? fem::IntegratorKind::kQuasiStatic
+                              : fem::IntegratorKind::kBackwardEuler;
+    s.dt_s = Positive(d, "dt_s", s.dt_s);
+    s.steps = d.Optional<int>("steps", s.steps);
+    if (s.steps < 1) d.Fail(d.Node("steps"), "'steps' must be >= 1");
+    s.integrator.newton_iterations = d.Optional<int>("newton_iterations", s.integrator.newton_iterations);
+    if (s.integrator.newton_iterations < 1) d.Fail(d.Node("newton_iterations"), "'newton_iterations' must be >= 1");
+    s.integrator.newton_tolerance_m = Positive(d, "newton_tolerance_mm", s.integrator.newton_tolerance_m * 1e3) * 1e-3;
+    s.integrator.rayleigh_alpha_1_s = NonNegative(d, "rayleigh_alpha_1_s", s.integrator.rayleigh_alpha_1_s);
+    s.rayleigh_beta_s = NonNegative(d, "rayleigh_beta_s", s.rayleigh_beta_s);
+    d.Finish();
+  }
+  if (s.integrator.kind == fem::IntegratorKind::kQuasiStatic) s.dt_s = 1.0 / s.steps;
+
+  if (r.Has("solver")) {
+    MapReader so = r.Child("solver");
+    if (so.Has("type")) s.solver = so.RequiredChoice("type", {"ldlt", "pcg_jacobi", "pcg_warp"});
+    s.pcg.relative_tolerance = Positive(so, "tolerance", s.pcg.relative_tolerance);
+    s.pcg.max_iterations = so.Optional<int>("max_iterations", s.pcg.max_iterations);
+    if (s.pcg.max_iterations < 1) so.Fail(so.Node("max_iterations"), "'max_iterations' must be >= 1");
+    s.pcg.fallback_to_direct = so.Optional<bool>("fallback_to_direct", s.pcg.fallback_to_direct);
+    so.Finish();
+  }
+
+  if (r.Has("bone")) {
+    MapReader b = r.Child("bone");
+    BoneSection bone;
+    const std::string mode = b.OptionalChoice("mode", {"fixed", "tracked"}, "fixed");
+    bone.spring.stiffness_N_m = Positive(b, "stiffness_N_m", bone.spring.stiffness_N_m);
+    bone.spring.damping_N_s_m = NonNegative(b, "damping_N_s_m", bone.spring.damping_N_s_m);
+    bone.spring.anisotropy = NonNegative(b, "anisotropy", bone.spring.anisotropy);
+    if (mode == "tracked") {
+      MapReader m = b.Child("motion");
+      bone.motion = std::make_shared<geometry::Trajectory>(geometry::ParseMotion(m, Eigen::Isometry3d::Identity()));
+      m.Finish();
+    } else if (b.Has("motion")) {
+      b.Fail(b.Node("motion"), "'motion' needs mode: tracked");
+    }
+    b.Finish();
+    s.bone = bone;
+  }
+
+  if (r.Has("contact")) {
+    MapReader c = r.Child("contact");
+    ContactSection contact;
+    contact.params.stiffness_N_m = Positive(c, "stiffness_N_m", contact.params.stiffness_N_m);
+    contact.params.damping_N_s_m = NonNegative(c, "damping_N_s_m", contact.params.damping_N_s_m);
+    contact.objects_pad_frame = geometry::ParseRigidObjects(c.Node("objects"), doc.file);
+    if (contact.objects_pad_frame.empty()) c.Fail(c.Node("objects"), "'objects' is empty");
+    c.Finish();
+    s.contact = std::move(contact);
+  }
+
+  if (r.Has("friction")) {
+    MapReader f = r.Child("friction");
+    if (!s.contact) f.Fail("'friction' needs a 'contact' section");
+    FrictionSection fr;
+    fr.anisotropy = NonNegative(f, "anisotropy", 0.0);
+    fr.coulomb_mu = NonNegative(f, "coulomb_mu", 0.0);
+    f.Finish();
+    if (fr.anisotropy > 0) s.friction = fr;  // a = 0 is frictionless: nothing to build
+  }
+
+  s.surface_traction = r.Optional<bool>("surface_traction", false);
+
+  if (r.Has("outputs")) {
+    MapReader o = r.Child("outputs");
+    s.outputs.merkel_sed = o.Optional<bool>("merkel_sed", s.outputs.merkel_sed);
+    s.outputs.full_sed = o.Optional<bool>("full_sed", s.outputs.full_sed);
+    s.outputs.vtu_every = o.Optional<int>("vtu_every", s.outputs.vtu_every);
+    if (s.outputs.vtu_every < 0) o.Fail(o.Node("vtu_every"), "'vtu_every' must be >= 0");
+    o.Finish();
+  }
+  r.Finish();
+  return s;
+}
+
+}  // namespace
+
+SceneDescription ReadSceneDescription(const std::string& path) { return Parse(config::LoadYamlFile(path)); }
+
+SceneDescription ParseSceneDescription(const std::string& text, const std::string& file) {
+  return Parse(config::LoadYamlString(text, file));
+}
+
+std::vector<std::string> PresetNames() { return {"fast", "balanced", "accurate"}; }
+
+void ApplyPreset(const std::string& name, SceneDescription& s) {
+  // Chosen from the measured accuracy-cost study (docs/accuracy-cost.md).
+  if (name == "fast") {
+    s.elasticity = fem::ElasticFormulation::kLinear;
+    s.solver = "ldlt";  // constant matrix: factorized once, one back-substitution a step
+    s.integrator.newton_iterations = 1;
+  } else if (name == "balanced") {
+    s.elasticity = fem::ElasticFormulation::kCorotational;
+    s.solver = "pcg_warp";
+    s.pcg.relative_tolerance = 1e-4;
+    s.pcg.max_iterations = 50;
+    s.integrator.newton_iterations = 1;
+  } else if (name == "accurate") {
+    s.elasticity = fem::ElasticFormulation::kCorotational;
+    s.solver = "ldlt";
+    s.integrator.newton_iterations = 3;
+  } else {
+    throw std::invalid_argument("unknown preset '" + name + "' (fast, balanced, accurate)");
+  }
+}
+
+}  // namespace sedbridge::scene

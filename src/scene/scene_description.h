@@ -1,0 +1,70 @@
+#pragma once
+// A scene YAML (config/scenes/*.yaml) says which model to load and which effects to
+// simulate. Absent sections are not built and cost nothing. Every key is documented in
+// config/scenes/README.md; unknown keys are errors naming file:line:column.
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "fem/bone_coupling_force.h"
+#include "fem/elastic_tet_force.h"
+#include "fem/linear_solver.h"
+#include "fem/penalty_contact_force.h"
+#include "fem/simulation.h"
+#include "geometry/rigid_object.h"
+
+namespace sedbridge::scene {
+
+struct BoneSection {
+  fem::SpringDamperParams spring;   ///< paper: k 200 N/m, b 0.1 N s/m, a 1.0
+  /// Tracked bone pose (model frame, relative to rest); null = fixed.
+  std::shared_ptr<const geometry::Trajectory> motion;
+};
+
+struct ContactSection {
+  fem::ContactParams params;                 ///< paper: k 1e4 N/m, b 0.5 N s/m
+  std::vector<geometry::RigidObject> objects_pad_frame;  ///< poses in the pad frame
+};
+
+struct FrictionSection {
+  double anisotropy = 0.0;  ///< tangential stiffness factor a (0 = frictionless: not built)
+  double coulomb_mu = 0.0;  ///< sliding limit, 0 = sticking springs only
+};
+
+struct OutputSection {
+  bool merkel_sed = true;   ///< SED on the Merkel layer every step
+  bool full_sed = false;    ///< SED on every node (VTU); costs a full element pass
+  int vtu_every = 0;        ///< write a VTU frame every N steps (0 = none)
+};
+
+struct SceneDescription {
+  std::string file;          ///< where it was read from
+  std::string model;         ///< model name or path (LoadFingertipModel)
+  std::string preset;        ///< preset name it started from, if any
+  fem::ElasticFormulation elasticity = fem::ElasticFormulation::kCorotational;
+  fem::IntegratorSettings integrator;
+  double dt_s = 1e-3;        ///< backward Euler step; quasi-static: load increment 1/steps
+  int steps = 50;            ///< number of steps the scene runs
+  std::string solver = "ldlt";
+  fem::PcgSettings pcg;
+  double rayleigh_beta_s = 0.0;
+  std::optional<BoneSection> bone;          ///< absent: the soft tissue floats (rarely wanted)
+  std::optional<ContactSection> contact;
+  std::optional<FrictionSection> friction;  ///< needs contact
+  bool surface_traction = false;            ///< the bridge's sensor-driven load
+  OutputSection outputs;
+};
+
+/// Reads a scene file. Throws config::ConfigError (file:line:column) on any error.
+SceneDescription ReadSceneDescription(const std::string& path);
+/// Same from text (tests).
+SceneDescription ParseSceneDescription(const std::string& yaml_text, const std::string& file);
+
+/// Applies a named preset ("fast", "balanced", "accurate": docs/accuracy-cost.md) to
+/// the solver-related fields. Throws std::invalid_argument for an unknown name.
+void ApplyPreset(const std::string& name, SceneDescription& scene);
+std::vector<std::string> PresetNames();
+
+}  // namespace sedbridge::scene

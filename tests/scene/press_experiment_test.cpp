@@ -1,0 +1,49 @@
+#include "scene/press_experiment.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "config/resource_path.h"
+
+namespace sedbridge::scene {
+namespace {
+
+TEST(PressExperiment, CoarsePressWritesTheOutputContract) {
+  SceneDescription d = ReadSceneDescription(config::ResolveResource("config/scenes/paper_press.yaml"));
+  d.model = "B_coarse";
+  d.steps = 10;
+  d.dt_s = 0.1;
+  d.outputs.vtu_every = 5;
+  FingertipScene scene(d);
+  const std::string dir = ::testing::TempDir() + "/press_contract";
+  PressOptions options;
+  options.vtu_dir = dir;
+  const PressResult r = RunPress(scene, options);
+  WritePressCsv(scene, r, dir);
+  ASSERT_EQ(r.steps.size(), 10u);
+  for (size_t i = 1; i < r.steps.size(); ++i) {
+    EXPECT_GT(r.steps[i].force_N, r.steps[i - 1].force_N) << "force must grow with depth";
+    EXPECT_GE(r.steps[i].contact_area_mm2, r.steps[i - 1].contact_area_mm2);
+    EXPECT_TRUE(r.steps[i].report.converged) << "step " << i;
+  }
+  EXPECT_NEAR(r.steps.back().displacement_mm, 2.0, 1e-9);
+  EXPECT_GT(r.steps.back().force_N, 0.3);  // paper Fig. 6: O(1 N) at 2 mm
+  EXPECT_LT(r.steps.back().force_N, 10.0);
+  EXPECT_GT(r.selected_max_sed_Pa, 0.0);
+  EXPECT_FALSE(r.path.empty());
+  for (const char* f : {"force_displacement.csv", "merkel_sed.csv", "sed_path.csv", "frames.pvd", "frame_0005.vtu",
+                        "frame_0010.vtu"})
+    EXPECT_TRUE(std::filesystem::exists(dir + "/" + f)) << f;
+  std::ifstream fd(dir + "/force_displacement.csv");
+  std::string header;
+  std::getline(fd, header);
+  EXPECT_EQ(header, "step,displacement_mm,force_N,contact_area_mm2");
+  std::ifstream path(dir + "/sed_path.csv");
+  std::getline(path, header);
+  EXPECT_EQ(header, "x_mm,sed_Pa,sed_normalized");
+}
+
+}  // namespace
+}  // namespace sedbridge::scene

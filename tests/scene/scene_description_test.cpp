@@ -1,0 +1,62 @@
+#include "scene/scene_description.h"
+
+#include <gtest/gtest.h>
+
+#include "config/resource_path.h"
+
+namespace sedbridge::scene {
+namespace {
+
+TEST(SceneDescription, ShippedPaperPressParses) {
+  const SceneDescription s = ReadSceneDescription(config::ResolveResource("config/scenes/paper_press.yaml"));
+  EXPECT_EQ(s.model, "B");
+  EXPECT_EQ(s.integrator.kind, fem::IntegratorKind::kQuasiStatic);
+  EXPECT_EQ(s.steps, 50);
+  EXPECT_DOUBLE_EQ(s.dt_s, 1.0 / 50);
+  ASSERT_TRUE(s.bone.has_value());
+  EXPECT_DOUBLE_EQ(s.bone->spring.stiffness_N_m, 200);
+  ASSERT_TRUE(s.contact.has_value());
+  EXPECT_DOUBLE_EQ(s.contact->params.stiffness_N_m, 1e4);
+  EXPECT_FALSE(s.friction.has_value());  // frictionless: not built
+  EXPECT_FALSE(s.surface_traction);
+}
+
+TEST(SceneDescription, MinimalSceneBuildsNothingExtra) {
+  const SceneDescription s = ParseSceneDescription("model: B\n", "min.yaml");
+  EXPECT_FALSE(s.bone || s.contact || s.friction || s.surface_traction);
+}
+
+TEST(SceneDescription, ZeroFrictionIsNotBuilt) {
+  const SceneDescription s = ParseSceneDescription(
+      "model: B\ncontact:\n  objects: [{shape: plane}]\nfriction: {anisotropy: 0.0}\n", "f.yaml");
+  EXPECT_FALSE(s.friction.has_value());
+}
+
+void ExpectErrorAt(const std::string& yaml, int line, const std::string& words) {
+  try {
+    ParseSceneDescription(yaml, "bad.yaml");
+    FAIL() << "accepted: " << yaml;
+  } catch (const config::ConfigError& e) {
+    EXPECT_EQ(e.where().line, line) << e.what();
+    EXPECT_NE(std::string(e.what()).find(words), std::string::npos) << e.what();
+  }
+}
+
+TEST(SceneDescription, ErrorsNameTheLine) {
+  ExpectErrorAt("model: B\ndynamics:\n  integrator: rk4\n", 3, "must be one of");
+  ExpectErrorAt("model: B\ndynamics:\n  dt_s: -1\n", 3, "> 0");
+  ExpectErrorAt("model: B\nsolver:\n  tolerence: 1e-6\n", 3, "unknown key 'tolerence'");
+  ExpectErrorAt("model: B\nfriction: {anisotropy: 0.5}\n", 2, "needs a 'contact'");
+  ExpectErrorAt("model: B\npreset: turbo\n", 2, "unknown preset");
+  ExpectErrorAt("dynamics: {steps: 3}\n", 1, "missing required key 'model'");
+  ExpectErrorAt("model: B\nbone: {mode: fixed, motion: {}}\n", 2, "needs mode: tracked");
+}
+
+TEST(SceneDescription, PresetThenExplicitKeysOverride) {
+  const SceneDescription s = ParseSceneDescription("model: B\npreset: fast\nsolver: {type: pcg_jacobi}\n", "p.yaml");
+  EXPECT_EQ(s.elasticity, fem::ElasticFormulation::kLinear);
+  EXPECT_EQ(s.solver, "pcg_jacobi");
+}
+
+}  // namespace
+}  // namespace sedbridge::scene
