@@ -21,7 +21,7 @@ moves along -z):
     `stratum_corneum` group, thickness and material from the YAML;
   * *STATIC, NLGEOM, increments of 1/N with automatic cut-back allowed;
   * output to the .dat every increment: plane RF totals, U of the slave nodes (contact
-    area), ENER of every element around a Merkel vertex.
+    area), ENER of every element around a Merkel vertex; U to the .frd (for cgx).
 """
 import argparse
 import json
@@ -176,10 +176,10 @@ def export(model, out_dir, element="C3D4", increments=50, depth_mm=2.0, contact_
     w.append("U")
     w.append("*EL PRINT, ELSET=MERKELADJ")
     w.append("ENER")
-    w.append("*NODE FILE, FREQUENCY=10")
+    # .frd for viewing in cgx: displacements only (stress fields of model A would be ~1 GB).
+    # No FREQUENCY parameter: in ccx it applies to the .dat prints as well.
+    w.append("*NODE FILE")
     w.append("U")
-    w.append("*EL FILE, FREQUENCY=10")
-    w.append("S, E, ENER")
     w.append("*END STEP")
     with open(inp, "w") as f:
         f.write("\n".join(w) + "\n")

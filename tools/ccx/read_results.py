@@ -177,6 +177,13 @@ def read_run(model, run_dir, target_force_n=TARGET_FORCE_N):
     parse_dat(dat, on_inc)
     if not steps:
         raise ResultError(f"{dat}: no converged increment")
+    sta = os.path.join(run_dir, "press.sta")
+    if os.path.exists(sta):
+        with open(sta) as f:
+            converged = sum(1 for line in f if re.match(r"\s*\d+\s+\d+\s+\d+\s+\d+\s", line))
+        if converged != len(steps):
+            raise ResultError(f"{dat} holds {len(steps)} increments but {sta} lists {converged} "
+                              "converged ones (was an output FREQUENCY set?)")
     selected = min(range(len(steps)), key=lambda i: abs(steps[i][2] - target_force_n))
     vsed = mm.vertex_sed(element_sed_by_step[selected])
     path = mm.sample_path(vsed)

@@ -54,14 +54,14 @@ def run_ccx(run_dir, threads, log, quiet=False):
                 inc = int(m.group(1))
                 if int(m.group(2)) > 1 and not quiet:
                     print(f"  ccx: increment {inc}: attempt {m.group(2)} (cut back)", flush=True)
-            if s.startswith("iteration"):
+            if re.match(r"iteration\s+\d+", s):
                 iters += 1
             m = re.match(r"actual total time=\s*(\S+)", s)
             if m:
                 final_time = float(m.group(1).replace("D", "E"))
                 if not quiet:
-                    print(f"  ccx: increment {inc:3d} done, time {final_time:.4f} "
-                          f"({iters} iterations so far, {time.time() - t0:6.1f} s)", flush=True)
+                    print(f"  ccx: increment {inc:3d} -> time {final_time:.4f} "
+                          f"({iters} Newton iterations so far, {time.time() - t0:6.1f} s)", flush=True)
             if "Job finished" in s:
                 finished = True
         p.wait()
