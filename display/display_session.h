@@ -43,7 +43,9 @@ class DisplaySession {
   const DisplayCommand& Shutdown(int64_t now_utime);
 
   DisplayController& controller() { return controller_; }
+  const DisplayController& controller() const { return controller_; }
   LcmPublisher& publisher() { return publisher_; }
+  const LcmPublisher& publisher() const { return publisher_; }
   const DisplayCommand& last_command() const { return last_; }
 
  private:
