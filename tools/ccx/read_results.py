@@ -7,7 +7,7 @@ files `sedbridge press` writes:
                           the pad frame, at the increment whose force is closest to 1.0 N)
   sed_path.csv            x_mm,sed_Pa,sed_normalized  (along x at y = 2 mm, pad-facing sheet)
 
-usage: read_results.py --model B --run DIR [--out DIR]
+usage: read_results.py --model B --run DIR/ccx [--out DIR] [--target-force 1.0]
 
 Definitions, all as src/scene (press_experiment.cpp, merkel_layer.cpp):
   force      = -RF_z summed over the plane's nodes (the plane is pushed along -z_pad);
@@ -215,9 +215,11 @@ def main():
     ap.add_argument("--model", required=True)
     ap.add_argument("--run", required=True, help="directory with press.dat (and deck.json)")
     ap.add_argument("--out", default=None)
+    ap.add_argument("--target-force", type=float, default=TARGET_FORCE_N,
+                    help="the SED map and path are taken at the increment closest to this force [N]")
     a = ap.parse_args()
     model = fingertip.load_model(a.model, REPO)
-    r = read_run(model, a.run)
+    r = read_run(model, a.run, a.target_force)
     write_csvs(r, a.out or a.run)
     s = r["steps"][r["selected"]]
     print(f"{len(r['steps'])} increments; selected step {s[0]} (d = {s[1]:.3f} mm, F = {s[2]:.4f} N); "

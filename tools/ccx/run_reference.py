@@ -2,7 +2,8 @@
 """CalculiX reference run of the paper's press experiment, written like `sedbridge press`.
 
 usage: run_reference.py --model A|B|C|PATH [--element C3D4|C3D10] [--increments 50]
-                        [--threads 2] [--contact-slope 50] [--no-shells] --out DIR
+                        [--threads 2] [--contact-slope 50] [--no-shells] [--target-force 1.0]
+                        [--material-law elastic|neohooke] --out DIR
 
 Exports the deck (tools/ccx/export_deck.py), runs `ccx` in DIR/ccx/ showing one progress
 line per increment, then reads DIR/ccx/press.dat (tools/ccx/read_results.py) and writes
@@ -82,6 +83,8 @@ def main():
     ap.add_argument("--no-shells", action="store_true", help="model A without its stratum corneum shell")
     ap.add_argument("--material-law", default="elastic", choices=("elastic", "neohooke"))
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--target-force", type=float, default=1.0,
+                    help="the SED map and path are taken at the increment closest to this force [N]")
     ap.add_argument("--allow-partial", action="store_true")
     ap.add_argument("--no-plots", action="store_true")
     ap.add_argument("--out", required=True)
@@ -112,7 +115,7 @@ def main():
             return 1
         print("run_reference: --allow-partial: writing the converged increments only", file=sys.stderr)
     try:
-        r = read_results.read_run(model, run_dir)
+        r = read_results.read_run(model, run_dir, a.target_force)
     except read_results.ResultError as e:
         print(f"run_reference: cannot read the results: {e}", file=sys.stderr)
         return 1
