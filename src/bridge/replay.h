@@ -39,6 +39,8 @@ struct ReplayOptions {
   std::function<void(const ScanOutcome&, BridgePipeline&)> on_scan;
   /// Called once the pipeline exists, before the first frame (e.g. to subscribe on memq).
   std::function<void(BridgePipeline&)> on_start;
+  /// Called after the display's shutdown, before the pipeline is destroyed.
+  std::function<void(BridgePipeline&)> on_finish;
 };
 
 struct ReplayRow {
