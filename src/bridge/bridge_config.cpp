@@ -65,6 +65,9 @@ BridgeConfig Parse(const config::YamlDocument& doc) {
     if (!(c.traction.min_facing >= -1 && c.traction.min_facing <= 1))
       t.Fail(t.Node("min_facing"), "'min_facing' must be in [-1, 1]");
     c.traction.max_depth_mm = Positive(t, "max_depth_mm", c.traction.max_depth_mm);
+    c.traction.nodal_load = t.OptionalChoice("nodal_load", {"lumped", "consistent"}, "lumped") == "consistent"
+                                ? NodalLoad::kConsistent
+                                : NodalLoad::kLumped;
     c.conditioning.invalid = t.OptionalChoice("invalid_taxels", {"fill", "zero"}, "fill") == "zero"
                                  ? InvalidTaxelPolicy::kZero
                                  : InvalidTaxelPolicy::kFill;

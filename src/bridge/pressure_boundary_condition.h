@@ -40,9 +40,11 @@ class PressureBoundaryCondition {
   const Eigen::Matrix3Xd& Apply(const TaxelValues& values);
 
   /// Node traction along `axis` (pad frame) = weights(axis) * taxel values along that axis
-  /// (normal: inward pressure, the traction is its negative along z_pad). One matrix serves
-  /// all three axes here; the accessor is per axis so a later kernel may differ.
-  const Eigen::SparseMatrix<double, Eigen::RowMajor>& weights(Axis axis) const { return field_.W; }
+  /// (normal: inward pressure, the traction is its negative along z_pad): the map actually
+  /// applied (with the lumped-load compensation when options.nodal_load is kLumped). One
+  /// matrix serves all three axes here; the accessor is per axis so a later kernel may differ.
+  const Eigen::SparseMatrix<double, Eigen::RowMajor>& weights(Axis axis) const { return applied_; }
+  /// The interpolation (before any lumped-load compensation).
   const TractionWeights& field() const { return field_; }
   /// Last Apply() in the pad frame: rows shear x, shear y, normal (outward +), 3 x #nodes.
   const Eigen::Matrix3Xd& traction_pad_Pa() const { return traction_pad_; }
@@ -50,7 +52,8 @@ class PressureBoundaryCondition {
 
  private:
   Eigen::Matrix3d model_from_pad_rotation_;
-  TractionWeights field_;
+  TractionWeights field_;                              // the interpolation (traction_field.h)
+  Eigen::SparseMatrix<double, Eigen::RowMajor> applied_;  // what Apply() multiplies by
   Eigen::Matrix3Xd traction_pad_, traction_model_;
   Eigen::VectorXd tmp_in_, tmp_out_;
 };

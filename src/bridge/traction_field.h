@@ -33,10 +33,23 @@
 
 namespace sedbridge::bridge {
 
+/// How the FE turns node tractions into nodal forces, and what the map compensates:
+///   consistent  W is applied as it is; SurfaceTractionForce's consistent load
+///               f_a = A/12 sum_b (1 + delta_ab) t_b spreads half of each node's load to its
+///               neighbours (a smooth-traction discretization);
+///   lumped      the map is pre-multiplied by M^-1 D (M the consistent-load matrix, D the node
+///               areas) so that the FE's nodal forces become exactly f_n = a_n (W p)_n: the
+///               load stays where the taxels put it (as with penalty contact, whose forces
+///               act at nodes). Precomputed once (one sparse factorization, one solve per
+///               taxel); the applied tractions may oscillate, the nodal forces do not.
+///               Force balance holds either way.
+enum class NodalLoad { kConsistent, kLumped };
+
 struct TractionFieldOptions {
   double kernel_sigma_mm = 0;  ///< Gaussian width on the sensor pad [mm]; 0 = half the smallest taxel spacing
   double min_facing = 0.5;     ///< smallest outward normal . z_pad of a loaded node [-]
   double max_depth_mm = 6;     ///< nodes with z_pad below -max_depth_mm are not loaded [mm]
+  NodalLoad nodal_load = NodalLoad::kLumped;
 };
 
 /// Skin nodes as the interpolation sees them (one column / entry per node).

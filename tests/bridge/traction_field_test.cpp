@@ -69,23 +69,38 @@ TEST_F(TractionFieldTest, IntegratedNodalForceEqualsMeasuredForceExactly) {
   step_->scene().traction()->ClearTraction();
 }
 
-TEST_F(TractionFieldTest, ZeroTractionOutsideTheFootprint) {
-  PressureBoundaryCondition bc(step_->scene(), *profile_, PadRegistration(profile_->taxels));
+TEST_F(TractionFieldTest, ZeroLoadOutsideTheFootprint) {
   const SkinNodes nodes = SkinNodesOf(step_->scene());
   const PadRegistration reg(profile_->taxels);
   TaxelValues v;
   v.pressure_Pa.assign(16, 10e3);
-  const Eigen::Matrix3Xd& t = bc.Apply(v);
+  TractionFieldOptions consistent;
+  consistent.nodal_load = NodalLoad::kConsistent;
+  PressureBoundaryCondition bc_consistent(step_->scene(), *profile_, reg, consistent);
+  PressureBoundaryCondition bc_lumped(step_->scene(), *profile_, reg);  // default: lumped
+  const Eigen::Matrix3Xd t = bc_consistent.Apply(v);
+  const Eigen::Matrix3Xd t_pad = bc_consistent.traction_pad_Pa();
+  fem::SurfaceTractionForce& tr = *step_->scene().traction();
+  tr.SetNodalTraction(bc_lumped.Apply(v));
+  const Eigen::Matrix3Xd f_lumped = tr.NodalForces();
+  tr.ClearTraction();
+  const double f_scale = f_lumped.cwiseAbs().maxCoeff();
   int outside = 0, inside_loaded = 0;
   for (Eigen::Index n = 0; n < t.cols(); ++n) {
     const Eigen::Vector2d s = reg.ToSensor(nodes.position_pad_mm.col(n).head<2>());
     if (!InsideFootprint(*profile_, s)) {
       ++outside;
+      // Consistent: the traction itself is zero; lumped: the nodal forces are.
       EXPECT_EQ(t.col(n).norm(), 0.0) << "node " << n;
-      EXPECT_EQ(bc.weights(PressureBoundaryCondition::kNormal).row(n).nonZeros(), 0);
+      EXPECT_EQ(bc_consistent.weights(PressureBoundaryCondition::kNormal).row(n).nonZeros(), 0);
+      EXPECT_LT(f_lumped.col(n).norm(), 1e-9 * f_scale) << "node " << n;
     } else if (t.col(n).norm() > 0) {
       ++inside_loaded;
       EXPECT_GE(nodes.normal_pad(2, n), 0.5);  // only skin facing the pad
+      // Lumped: each loaded node carries exactly its area times the interpolated pressure.
+      const Eigen::Vector3d f_pad =
+          step_->scene().model().pad_frame.model_from_pad.linear().transpose() * f_lumped.col(n);
+      EXPECT_NEAR(f_pad.z(), nodes.area_m2[n] * t_pad(2, n), 1e-9 * f_scale);
     }
   }
   EXPECT_GT(outside, 100);  // most of the finger (back, nail side, proximal cut)
