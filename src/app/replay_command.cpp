@@ -58,6 +58,7 @@ int RunReplayCommand(int argc, char** argv) {
       .Option("out", "DIR", "output folder", "out/replay")
       .Option("lcm-url", "URL", "also publish live on this LCM URL (e.g. udpm://239.255.76.67:7667?ttl=0)", "memq://")
       .Option("threads", "N", "OpenMP threads for the FE step (1 is fastest for a small model on a busy machine)", "1")
+      .Option("vtu-every", "N", "also write frames.pvd + frame_*.vtu every N scans (ParaView)", "0")
       .Flag("no-plots", "write CSV and the LCM log only")
       .Flag("quiet", "no progress lines")
       .Epilog(
@@ -67,7 +68,8 @@ int RunReplayCommand(int argc, char** argv) {
           "  bridge.lcmlog         TACTILE_SCAN, FINGERTIP_SED, DISPLAY_COMMAND, BRIDGE_STATUS (lcm-logplayer)\n"
           "  peak_merkel_sed.csv   Merkel-layer SED at the scan of peak SED (pad frame, mm)\n"
           "  peak_command.csv      display command at that scan; peak_taxels.csv: the taxel pressures\n"
-          "  bridge_*.png          SED map + display frame at peak, force and max SED over time\n\n"
+          "  bridge_*.png          SED map + display frame at peak, force and max SED over time\n"
+          "  frames.pvd, frame_*.vtu  with --vtu-every N: deformation, traction, Merkel SED (ParaView)\n\n"
           "example:\n  sedbridge replay config/bridge/example_press.log --out out/replay");
   if (!args.Parse(argc, argv)) return 0;
 
@@ -86,6 +88,8 @@ int RunReplayCommand(int argc, char** argv) {
   options.out_dir = args.Get("out");
   options.lcm_url = args.Get("lcm-url");
   options.progress = !args.GetFlag("quiet");
+  options.vtu_every = static_cast<int>(args.GetInt("vtu-every"));
+  if (options.vtu_every < 0) throw UsageError("--vtu-every must be >= 0");
   std::printf("replay %s with %s (sensor %s, model %s/%s, display %s)\n", log_path.c_str(), config_path.c_str(),
               config.sensor_profile.c_str(), config.model.c_str(), config.preset.c_str(),
               config.display_profile.c_str());

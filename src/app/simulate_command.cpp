@@ -29,6 +29,7 @@ int RunSimulateCommand(int argc, char** argv) {
       .Option("duration-s", "S", "override the scene's duration [s]")
       .Option("lcm-url", "URL", "also publish live on this LCM URL", "memq://")
       .Option("threads", "N", "OpenMP threads for the FE step", "1")
+      .Option("vtu-every", "N", "also write frames.pvd + frame_*.vtu every N scans (ParaView)", "0")
       .Flag("no-plots", "write CSV and the LCM log only")
       .Flag("quiet", "no progress lines")
       .Epilog("example:\n  sedbridge simulate config/scenes/sensor_edge_slide.yaml --out out/edge");
@@ -49,6 +50,8 @@ int RunSimulateCommand(int argc, char** argv) {
   options.out_dir = args.Get("out");
   options.lcm_url = args.Get("lcm-url");
   options.progress = !args.GetFlag("quiet");
+  options.vtu_every = static_cast<int>(args.GetInt("vtu-every"));
+  if (options.vtu_every < 0) throw UsageError("--vtu-every must be >= 0");
   std::printf("simulate %s: sensor %s at %g Hz for %.2f s -> model %s/%s -> display %s\n", scene_path.c_str(),
               profile.name.c_str(), profile.scan_rate_Hz, sim.duration_s, config.model.c_str(), config.preset.c_str(),
               config.display_profile.c_str());

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "bridge/scene_fe_step.h"
+#include "scene/vtu_writer.h"
 #include "sensors/scan_assembler.h"
 
 namespace sedbridge::bridge {
@@ -65,6 +66,33 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   TaxelValues peak_values;
   int64_t last_utime = 0;
 
+  // Optional VTU frames (scene-based FE only).
+  auto* scene_step = dynamic_cast<SceneFeStep*>(&pipeline.fe());
+  std::unique_ptr<scene::PvdCollection> pvd;
+  if (options.vtu_every > 0 && scene_step && !options.out_dir.empty())
+    pvd = std::make_unique<scene::PvdCollection>((std::filesystem::path(options.out_dir) / "frames.pvd").string());
+  auto write_vtu = [&](size_t index, int64_t utime) {
+    scene::FingertipScene& sc = scene_step->scene();
+    const fem::TetMesh& mesh = sc.model().soft;
+    const Eigen::VectorXd& x = sc.simulation().positions_m();
+    const int n = mesh.num_nodes();
+    scene::VtuField disp{"displacement_mm", 3, std::vector<double>(size_t(3 * n))};
+    scene::VtuField trac{"traction_pad_Pa", 3, std::vector<double>(size_t(3 * n), 0.0)};
+    scene::VtuField sed{"merkel_sed_Pa", 1, std::vector<double>(size_t(n), 0.0)};
+    for (int i = 0; i < n; ++i)
+      for (int d = 0; d < 3; ++d) disp.values[size_t(3 * i + d)] = (x[3 * i + d] - mesh.rest_positions_m(d, i)) * 1e3;
+    const Eigen::Matrix3Xd& t = scene_step->boundary_condition().traction_pad_Pa();
+    const std::vector<int>& ids = sc.traction()->nodes();
+    for (size_t k = 0; k < ids.size(); ++k)
+      for (int d = 0; d < 3; ++d) trac.values[size_t(3 * ids[k] + d)] = t(d, Eigen::Index(k));
+    const std::vector<int>& merkel = sc.merkel()->nodes();
+    for (size_t k = 0; k < merkel.size(); ++k) sed.values[size_t(merkel[k])] = sc.merkel()->sed_Pa()[Eigen::Index(k)];
+    char name[64];
+    std::snprintf(name, sizeof name, "frame_%06zu.vtu", index);
+    scene::WriteVtu((std::filesystem::path(options.out_dir) / name).string(), mesh, x, {disp, trac, sed}, {});
+    pvd->Add((utime - result.rows.front().utime) * 1e-6, name);
+  };
+
   std::vector<sensors::Scan> scans;
   auto process = [&](int64_t receive_wall) {
     for (const sensors::Scan& scan : scans) {
@@ -88,6 +116,8 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
         peak_command = pipeline.last_command();
         peak_values = pipeline.last_values();
       }
+      if (pvd && o.stepped && (result.rows.size() - 1) % size_t(options.vtu_every) == 0)
+        write_vtu(result.rows.size() - 1, scan.utime);
       if (options.on_scan) options.on_scan(o, pipeline);
       if (options.progress && result.rows.size() % 1000 == 0)
         std::fprintf(stderr, "  %zu scans (log time %.2f s)\n", result.rows.size(),

@@ -11,6 +11,7 @@
 //   peak_command.csv        actuator,x_mm,y_mm,value (display unit) at that scan
 //   peak_taxels.csv         taxel,x_mm,y_mm,pressure_Pa (pad frame, registered) at that scan
 //   bridge.lcmlog           every published LCM message (lcm-logplayer, lcm-spy)
+//   frames.pvd, frame_*.vtu with vtu_every > 0 (ParaView)
 
 #include <cstdint>
 #include <functional>
@@ -35,6 +36,9 @@ struct ReplayOptions {
   std::string lcm_url = "memq://"; ///< where messages go besides the log (memq = nowhere)
   bool write_lcm_log = true;       ///< bridge.lcmlog in out_dir
   bool progress = false;           ///< a line on stderr every 1000 scans
+  /// Every N-th scan, write out_dir/frames.pvd + frame_NNNNNN.vtu (deformed soft mesh with
+  /// displacement_mm, traction_pad_Pa and merkel_sed_Pa), for SceneFeStep only. 0 = none.
+  int vtu_every = 0;
   /// Called after every scan (tests, benchmarks), with the pipeline (e.g. to drain memq).
   std::function<void(const ScanOutcome&, BridgePipeline&)> on_scan;
   /// Called once the pipeline exists, before the first frame (e.g. to subscribe on memq).

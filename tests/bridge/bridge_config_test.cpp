@@ -29,7 +29,7 @@ TEST(BridgeConfig, EmptyFileGivesDefaults) {
 TEST(BridgeConfig, ReadsRegistrationAndTraction) {
   const BridgeConfig c = ParseBridgeConfig(
       "registration: {offset_mm: [1.5, -2], rotation_deg: 30, scale: 0.8}\n"
-      "traction: {kernel_sigma_mm: 1.2, invalid_taxels: zero, max_invalid_fraction: 0.25}\n"
+      "traction: {kernel_sigma_mm: 1.2, invalid_taxels: zero, max_invalid_fraction: 0.25, nodal_load: consistent}\n"
       "rates: {status_Hz: 5, tick_Hz: 500}\n",
       "t.yaml");
   EXPECT_DOUBLE_EQ(c.registration.offset_mm.x(), 1.5);
@@ -38,6 +38,8 @@ TEST(BridgeConfig, ReadsRegistrationAndTraction) {
   EXPECT_DOUBLE_EQ(c.traction.kernel_sigma_mm, 1.2);
   EXPECT_DOUBLE_EQ(c.conditioning.fill_sigma_mm, 1.2);
   EXPECT_EQ(c.conditioning.invalid, InvalidTaxelPolicy::kZero);
+  EXPECT_EQ(c.traction.nodal_load, NodalLoad::kConsistent);
+  EXPECT_EQ(ParseBridgeConfig("", "e.yaml").traction.nodal_load, NodalLoad::kLumped);
   EXPECT_DOUBLE_EQ(c.tick_Hz, 500);
 }
 

@@ -177,8 +177,11 @@ TEST(Replay, TwoReplaysWriteIdenticalOutput) {
     sensors::CandumpLogSource source(testing::ExampleLogPath());
     ReplayOptions options;
     options.out_dir = dir;
+    options.vtu_every = 100;
     RunReplay(config, source, options);
   }
+  for (const char* f : {"frames.pvd", "frame_000000.vtu", "frame_000100.vtu", "frame_000200.vtu"})
+    EXPECT_TRUE(std::filesystem::exists(dirs[0] + "/" + f)) << f;
   const std::string a = SummaryWithoutLatency(dirs[0] + "/summary.csv");
   EXPECT_EQ(std::count(a.begin(), a.end(), '\n'), 301);
   EXPECT_EQ(a, SummaryWithoutLatency(dirs[1] + "/summary.csv"));
