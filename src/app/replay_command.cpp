@@ -90,6 +90,9 @@ int RunReplayCommand(int argc, char** argv) {
   options.progress = !args.GetFlag("quiet");
   options.vtu_every = static_cast<int>(args.GetInt("vtu-every"));
   if (options.vtu_every < 0) throw UsageError("--vtu-every must be >= 0");
+  if (options.vtu_every > 0 && config.fe_step != "scene")
+    std::printf("note: --vtu-every needs fe.step: scene (this config uses '%s'); no VTU frames\n",
+                config.fe_step.c_str());
   std::printf("replay %s with %s (sensor %s, model %s/%s, display %s)\n", log_path.c_str(), config_path.c_str(),
               config.sensor_profile.c_str(), config.model.c_str(), config.preset.c_str(),
               config.display_profile.c_str());

@@ -42,6 +42,9 @@ BridgeConfig Parse(const config::YamlDocument& doc) {
     MapReader f = r.Child("fe");
     c.model = f.Optional<std::string>("model", c.model);
     c.preset = f.OptionalChoice("preset", {"fast", "balanced", "accurate"}, c.preset);
+    c.fe_step = f.OptionalChoice("step", {"scene", "reduced"}, c.fe_step);
+    if (c.fe_step == "reduced" && c.preset != "fast")
+      f.Fail(f.Node("step"), "'step: reduced' needs 'preset: fast' (a linear model)");
     f.Finish();
   }
   if (r.Has("registration")) {

@@ -24,6 +24,7 @@ struct BridgeConfig {
   // fe:
   std::string model = "B";      ///< model name or path (model::LoadFingertipModel)
   std::string preset = "fast";  ///< fast | balanced | accurate
+  std::string fe_step = "scene";  ///< scene (SceneFeStep) | reduced (ReducedLinearFeStep, preset fast only)
 
   // registration:
   PadRegistrationParams registration;

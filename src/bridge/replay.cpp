@@ -6,6 +6,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "bridge/reduced_linear_fe_step.h"
 #include "bridge/scene_fe_step.h"
 #include "scene/vtu_writer.h"
 #include "sensors/scan_assembler.h"
@@ -13,6 +14,9 @@
 namespace sedbridge::bridge {
 
 std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::SensorProfile& profile) {
+  if (config.fe_step == "reduced")
+    return std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, config.preset), profile,
+                                                 PadRegistration(profile.taxels, config.registration), config.traction);
   return std::make_unique<SceneFeStep>(BridgeSceneDescription(config.model, config.preset), profile,
                                        PadRegistration(profile.taxels, config.registration), config.traction);
 }

@@ -28,7 +28,8 @@
 
 namespace sedbridge::bridge {
 
-/// The FE step a config asks for (SceneFeStep on BridgeSceneDescription(model, preset)).
+/// The FE step a config asks for: SceneFeStep (fe.step: scene) or ReducedLinearFeStep
+/// (fe.step: reduced), both on BridgeSceneDescription(model, preset).
 std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::SensorProfile& profile);
 
 struct ReplayOptions {

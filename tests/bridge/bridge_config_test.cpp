@@ -14,6 +14,7 @@ TEST(BridgeConfig, ShippedDefaultLoadsWithEveryKey) {
   EXPECT_EQ(c.sensor_profile, "uskin_4x4");
   EXPECT_EQ(c.model, "B");
   EXPECT_EQ(c.preset, "fast");
+  EXPECT_EQ(c.fe_step, "reduced");
   EXPECT_EQ(c.display_profile, "suction_4x4");
   EXPECT_DOUBLE_EQ(c.status_Hz, 10);
   EXPECT_DOUBLE_EQ(c.conditioning.noise_floor_Pa, 150);
@@ -56,6 +57,8 @@ TEST(BridgeConfig, UnknownKeyNamesFileLineColumn) {
   EXPECT_THROW(ParseBridgeConfig("fe: {preset: turbo}\n", "b.yaml"), config::ConfigError);
   EXPECT_THROW(ParseBridgeConfig("lcm: {channels: {command: lower}}\n", "b.yaml"), config::ConfigError);
   EXPECT_THROW(ParseBridgeConfig("bogus: 1\n", "b.yaml"), config::ConfigError);
+  EXPECT_THROW(ParseBridgeConfig("fe: {preset: accurate, step: reduced}\n", "b.yaml"), config::ConfigError);
+  EXPECT_EQ(ParseBridgeConfig("fe: {step: reduced}\n", "b.yaml").fe_step, "reduced");
 }
 
 TEST(LatencyStats, PercentilesWindowAndRun) {

@@ -1,4 +1,5 @@
-// Replay at maximum speed through the whole bridge on model B (and B_coarse): scans/s and the
+// Replay at maximum speed through the whole bridge on model B (scene-based and reduced FE
+// step) and B_coarse: scans/s and the
 // per-scan latency (assembler emit -> command published) median / p99 as counters.
 //   build/tests/bridge/bridge_replay_benchmark --benchmark_counters_tabular=true
 // OMP_NUM_THREADS=1 is what the bridge commands use (--threads 1).
@@ -12,10 +13,11 @@
 namespace sedbridge::bridge {
 namespace {
 
-void BM_ReplayExampleLog(benchmark::State& state, const std::string& model) {
+void BM_ReplayExampleLog(benchmark::State& state, const std::string& model, const std::string& step) {
   SetFeThreads(1);
   BridgeConfig config = LoadBridgeConfig(DefaultBridgeConfigPath());
   config.model = model;
+  config.fe_step = step;
   const std::string log = std::string(SEDBRIDGE_SOURCE_DIR) + "/config/bridge/example_press.log";
   const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
   int64_t scans = 0;
@@ -39,8 +41,12 @@ void BM_ReplayExampleLog(benchmark::State& state, const std::string& model) {
   state.counters["latency_max_ms"] = max;
 }
 
-BENCHMARK_CAPTURE(BM_ReplayExampleLog, B, std::string("B"))->Unit(benchmark::kMillisecond)->Iterations(3);
-BENCHMARK_CAPTURE(BM_ReplayExampleLog, B_coarse, std::string("B_coarse"))->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK_CAPTURE(BM_ReplayExampleLog, B_scene, std::string("B"), std::string("scene"))
+    ->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK_CAPTURE(BM_ReplayExampleLog, B_reduced, std::string("B"), std::string("reduced"))
+    ->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK_CAPTURE(BM_ReplayExampleLog, B_coarse_scene, std::string("B_coarse"), std::string("scene"))
+    ->Unit(benchmark::kMillisecond)->Iterations(3);
 
 }  // namespace
 }  // namespace sedbridge::bridge

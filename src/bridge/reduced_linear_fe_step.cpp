@@ -1,0 +1,84 @@
+#include "bridge/reduced_linear_fe_step.h"
+
+#include <cstdio>
+#include <stdexcept>
+
+namespace sedbridge::bridge {
+
+ReducedLinearFeStep::ReducedLinearFeStep(const scene::SceneDescription& d, const sensors::SensorProfile& profile,
+                                         const PadRegistration& registration, const TractionFieldOptions& options) {
+  if (d.elasticity != fem::ElasticFormulation::kLinear || d.integrator.kind != fem::IntegratorKind::kQuasiStatic ||
+      d.contact || d.friction || (d.bone && d.bone->motion) || !d.surface_traction)
+    throw std::invalid_argument(
+        "the reduced FE step needs a linear quasi-static traction-only scene with the bone fixed (preset 'fast')");
+  scene_step_ = std::make_unique<SceneFeStep>(d, profile, registration, options);
+  num_taxels_ = profile.taxel_count;
+  shear_ = profile.axes == 3;
+  scene::FingertipScene& sc = scene_step_->scene();
+  const Eigen::Matrix3Xd& rest = sc.model().soft.rest_positions_m;
+  rest_m_ = Eigen::Map<const Eigen::VectorXd>(rest.data(), rest.size());
+  const int axes = shear_ ? 3 : 1;
+  U_.resize(rest_m_.size(), num_taxels_ * axes);
+  force_per_Pa_N_.setZero(num_taxels_);
+  // One column per unit taxel load (1 kPa for round-off, scaled back to per Pa).
+  constexpr double kUnit_Pa = 1e3;
+  TaxelValues unit;
+  unit.pressure_Pa.assign(size_t(num_taxels_), 0.0);
+  if (shear_) unit.shear_x_Pa = unit.shear_y_Pa = unit.pressure_Pa;
+  for (int a = 0; a < axes; ++a)
+    for (int j = 0; j < num_taxels_; ++j) {
+      std::vector<double>& target = a == 0 ? unit.pressure_Pa : (a == 1 ? unit.shear_x_Pa : unit.shear_y_Pa);
+      target[size_t(j)] = kUnit_Pa;
+      sc.simulation().SetPositions(rest_m_);
+      const MerkelSedResult& r = scene_step_->Step(unit);
+      if (!r.ok) throw std::runtime_error("reduced FE step: unit load failed: " + r.error);
+      U_.col(a * num_taxels_ + j) = (sc.simulation().positions_m() - rest_m_) / kUnit_Pa;
+      if (a == 0) force_per_Pa_N_[j] = r.applied_force_N / kUnit_Pa;
+      target[size_t(j)] = 0.0;
+    }
+  sc.simulation().SetPositions(rest_m_);
+  x_m_ = rest_m_;
+  v_.setZero(U_.cols());
+}
+
+const MerkelSedResult& ReducedLinearFeStep::Step(const TaxelValues& values) {
+  result_ = MerkelSedResult{};
+  if (static_cast<int>(values.pressure_Pa.size()) != num_taxels_) {
+    result_.error = "taxel count does not match the reduced FE step";
+    return result_;
+  }
+  const bool shear = shear_ && static_cast<int>(values.shear_x_Pa.size()) == num_taxels_ &&
+                     static_cast<int>(values.shear_y_Pa.size()) == num_taxels_;
+  for (int j = 0; j < num_taxels_; ++j) {
+    v_[j] = values.pressure_Pa[size_t(j)];
+    if (shear_) {
+      v_[num_taxels_ + j] = shear ? values.shear_x_Pa[size_t(j)] : 0.0;
+      v_[2 * num_taxels_ + j] = shear ? values.shear_y_Pa[size_t(j)] : 0.0;
+    }
+  }
+  if (!v_.allFinite()) {  // never evaluate NaN
+    result_.error = "non-finite taxel values";
+    return result_;
+  }
+  x_m_ = rest_m_;
+  x_m_.noalias() += U_ * v_;
+  result_.applied_force_N = force_per_Pa_N_.dot(v_.head(num_taxels_));
+  result_.report.finite = x_m_.allFinite();
+  result_.report.converged = true;
+  if (!result_.report.finite) {
+    result_.error = "reduced step produced NaN/Inf";
+    return result_;
+  }
+  result_.sed_Pa = &scene_step_->scene().merkel()->Evaluate(x_m_);
+  result_.ok = true;
+  return result_;
+}
+
+std::string ReducedLinearFeStep::Describe() const {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, " -- reduced linear step: %ld x %ld displacement map", static_cast<long>(U_.rows()),
+                static_cast<long>(U_.cols()));
+  return scene_step_->Describe() + buf;
+}
+
+}  // namespace sedbridge::bridge

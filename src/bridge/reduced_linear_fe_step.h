@@ -1,0 +1,44 @@
+#pragma once
+// FeStep as one dense product: for the linear quasi-static bridge scene (preset "fast":
+// linear elasticity, bone fixed, surface traction only) the displacement is a fixed linear
+// function of the taxel values, u = U v with v = [p; s_x; s_y] (per taxel) and
+// U = K^-1 B W. U is computed once by stepping the scene under each unit taxel load (one
+// back-substitution per column); a step is then u = U v plus the Merkel-layer SED of the
+// new positions. Same result as SceneFeStep up to round-off, at a fraction of its cost.
+//
+// Refuses (std::invalid_argument) scenes where the map is not linear: corotational
+// elasticity, contact, a moving bone, backward Euler.
+
+#include <memory>
+#include <string>
+
+#include "bridge/fe_step.h"
+#include "bridge/scene_fe_step.h"
+
+namespace sedbridge::bridge {
+
+class ReducedLinearFeStep final : public FeStep {
+ public:
+  ReducedLinearFeStep(const scene::SceneDescription& description, const sensors::SensorProfile& profile,
+                      const PadRegistration& registration, const TractionFieldOptions& options = {});
+
+  const MerkelSedResult& Step(const TaxelValues& values) override;
+  const Eigen::Matrix3Xd& merkel_rest_pad_mm() const override { return scene_step_->merkel_rest_pad_mm(); }
+  const std::string& model_id() const override { return scene_step_->model_id(); }
+  std::string Describe() const override;
+
+  /// Displacement per unit taxel value [m/Pa], 3 #soft nodes x (#taxels * #axes); columns
+  /// ordered normal (all taxels), then shear x, then shear y.
+  const Eigen::MatrixXd& displacement_map() const { return U_; }
+
+ private:
+  std::unique_ptr<SceneFeStep> scene_step_;
+  int num_taxels_ = 0;
+  bool shear_ = false;
+  Eigen::MatrixXd U_;
+  Eigen::VectorXd rest_m_, x_m_, v_;
+  Eigen::VectorXd force_per_Pa_N_;  // applied pressing force per unit pressure of each taxel
+  MerkelSedResult result_;
+};
+
+}  // namespace sedbridge::bridge
