@@ -9,9 +9,14 @@ DisplayController::DisplayController(DisplayProfile profile)
 
 DisplayCommand DisplayController::OnSedField(const SedField& field, int64_t now_utime) {
   last_mapping_ = mapping_.Map(field);
-  const bool was_fresh_candidate = !limiter_.is_shut_down();
+  ++stats_.fields;
+  const SedFieldCheck& check = last_mapping_.check;
+  if (!check.consistent || check.non_finite_sed > 0 || check.non_finite_position > 0)
+    ++stats_.fields_rejected;
+  if (check.negative_sed > 0) ++stats_.fields_negative;
   const LimitedOutput& out = limiter_.Apply(now_utime, field.utime, last_mapping_.requested);
-  if (was_fresh_candidate && field.utime > source_sed_utime_) {
+  // Provenance follows the newest field the limiter could have taken.
+  if (!limiter_.is_shut_down() && field.utime > source_sed_utime_) {
     source_sed_utime_ = field.utime;
     source_scan_utime_ = field.source_scan_utime;
   }
@@ -39,6 +44,10 @@ DisplayCommand DisplayController::Make(const LimitedOutput& out, int64_t now_uti
   c.stale = out.stale;
   c.fault = out.fault;
   c.shutdown = out.shutdown;
+  ++stats_.commands;
+  stats_.commands_clamped += c.clamped;
+  stats_.commands_stale += c.stale;
+  stats_.commands_fault += c.fault;
   return c;
 }
 

@@ -12,6 +12,17 @@
 
 namespace sedbridge::display {
 
+/// Counters since construction, e.g. for lcmt_bridge_status.
+struct DisplayStats {
+  int64_t fields = 0;            ///< OnSedField calls
+  int64_t fields_rejected = 0;   ///< fields with NaN/Inf or inconsistent lengths
+  int64_t fields_negative = 0;   ///< fields with negative SED values (read as 0)
+  int64_t commands = 0;          ///< commands emitted
+  int64_t commands_clamped = 0;
+  int64_t commands_stale = 0;
+  int64_t commands_fault = 0;
+};
+
 /// Not thread-safe; call from the one thread that owns the display output.
 ///
 ///   DisplayController display(LoadDisplayProfile("config/displays/suction_4x4.yaml"));
@@ -35,6 +46,7 @@ class DisplayController {
   const SafetyLimiter& limiter() const { return limiter_; }
   /// Mapping result of the last field (sampled SED per site, requests, field check).
   const SedToCommandMapping::Result& last_mapping() const { return last_mapping_; }
+  const DisplayStats& stats() const { return stats_; }
 
  private:
   DisplayCommand Make(const LimitedOutput& out, int64_t now_utime);
@@ -43,6 +55,7 @@ class DisplayController {
   SedToCommandMapping mapping_;
   SafetyLimiter limiter_;
   SedToCommandMapping::Result last_mapping_;
+  DisplayStats stats_;
   int64_t sequence_ = 0;
   int64_t source_scan_utime_ = 0;
   int64_t source_sed_utime_ = 0;

@@ -56,8 +56,12 @@ const DisplayCommand& DisplaySession::Tick(int64_t now_utime) {
 
 const DisplayCommand& DisplaySession::Shutdown(int64_t now_utime) {
   shut_down_ = true;
-  last_ = controller_.Shutdown(now_utime);
-  publisher_.PublishCommand(last_);
+  // Sent kShutdownRepeats times: UDP multicast may drop one datagram, and this is the one
+  // message the display must not miss (its own watchdog is the last line of defence).
+  for (int i = 0; i < kShutdownRepeats; ++i) {
+    last_ = controller_.Shutdown(now_utime);
+    publisher_.PublishCommand(last_);
+  }
   if (publisher_.log()) publisher_.log()->Flush();
   return last_;
 }

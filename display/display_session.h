@@ -26,6 +26,8 @@ int64_t WallClockUtime();
 ///   on exit (or by dtor):  display.Shutdown(WallClockUtime());      // publishes all zeros
 class DisplaySession {
  public:
+  static constexpr int kShutdownRepeats = 3;
+
   /// Throws std::runtime_error (LCM/log cannot open), std::invalid_argument (bad limits or
   /// channel names).
   DisplaySession(DisplayProfile profile, const LcmSettings& settings,
@@ -36,7 +38,8 @@ class DisplaySession {
 
   const DisplayCommand& OnSedField(const SedField& field, int64_t now_utime);
   const DisplayCommand& Tick(int64_t now_utime);
-  /// Publishes the all-zero shutdown command (again, if called twice).
+  /// Publishes the all-zero shutdown command kShutdownRepeats times (consecutive sequence
+  /// numbers, same utime); again if called twice.
   const DisplayCommand& Shutdown(int64_t now_utime);
 
   DisplayController& controller() { return controller_; }

@@ -110,8 +110,10 @@ LineResult ParseCandumpLine(std::string_view s, Frame* f) {
   while (n < s.size() && !IsSpace(s[n])) ++n;
   if (n == 0) return Bad("missing interface name");
   if (n >= kInterfaceNameMax) return Bad("interface name longer than 15 characters");
-  for (size_t i = 0; i < n; ++i)
+  for (size_t i = 0; i < n; ++i) {
     if (s[i] == '#') return Bad("missing interface name before the frame");
+    if (s[i] < 0x21 || s[i] > 0x7E) return Bad("interface name has non-printable characters");
+  }
   std::copy(s.begin(), s.begin() + n, f->interface.begin());
   s.remove_prefix(n);
 

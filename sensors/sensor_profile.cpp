@@ -229,6 +229,20 @@ std::string ResolveProfilePath(const std::string& name_or_path) {
   return config::ResolveResource(name_or_path);
 }
 
+SensorProfile LoadNamedSensorProfile(const std::string& name_or_path) {
+  const std::string path = ResolveProfilePath(name_or_path);
+  if (!std::filesystem::exists(path)) {
+    std::string shipped;
+    const auto dir = std::filesystem::path(config::ResolveResource("config/sensors"));
+    if (std::filesystem::is_directory(dir))
+      for (const auto& e : std::filesystem::directory_iterator(dir))
+        if (e.path().extension() == ".yaml") shipped += (shipped.empty() ? "" : ", ") + e.path().stem().string();
+    throw config::ConfigError({name_or_path, 0, 0}, "no such sensor profile (not a file; shipped profiles: " +
+                                                        (shipped.empty() ? std::string("none found") : shipped) + ")");
+  }
+  return LoadSensorProfile(path);
+}
+
 void ValidateProfile(const SensorProfile& p) {
   auto fail = [](const std::string& m) { throw std::invalid_argument(m); };
   const FrameLayout& l = p.layout;

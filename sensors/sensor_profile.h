@@ -114,6 +114,10 @@ SensorProfile ParseSensorProfile(config::MapReader& reader);
 /// ("uskin_4x4" -> config/sensors/uskin_4x4.yaml).
 std::string ResolveProfilePath(const std::string& name_or_path);
 
+/// ResolveProfilePath + LoadSensorProfile; when nothing matches, the error lists the shipped
+/// profiles.
+SensorProfile LoadNamedSensorProfile(const std::string& name_or_path);
+
 /// Checks internal consistency (bit fields inside the payload and not overlapping, enough
 /// slots for every channel, ...). Throws std::invalid_argument. Called by the loaders;
 /// call it yourself for profiles built in code.

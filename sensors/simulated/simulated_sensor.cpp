@@ -73,7 +73,7 @@ SimulatedSensorConfig LoadSimulatedSensorScene(const std::string& path,
     }
   }
   if (profile.empty()) s.Fail("missing 'profile' (or pass --profile)");
-  c.profile = LoadSensorProfile(ResolveProfilePath(profile));
+  c.profile = LoadNamedSensorProfile(profile);
   c.interface = s.Optional<std::string>("interface", "can0");
   if (c.interface.empty() || c.interface.size() >= kInterfaceNameMax)
     s.Fail(s.Node("interface"), "'interface' must have 1..15 characters");

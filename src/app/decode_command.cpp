@@ -42,7 +42,7 @@ int RunDecode(int argc, char** argv) {
               "exit status: 0 when at least one scan was decoded, 1 otherwise.");
   if (!args.Parse(argc, argv)) return 0;
 
-  const SensorProfile profile = LoadSensorProfile(ResolveProfilePath(args.Get("profile")));
+  const SensorProfile profile = LoadNamedSensorProfile(args.Get("profile"));
   const std::string log_path = args.Get("LOG");
   std::ifstream file;
   std::istream* in = &std::cin;

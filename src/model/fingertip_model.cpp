@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <set>
 #include <unordered_map>
@@ -157,7 +158,8 @@ PadFrame ComputePadFrame(const Eigen::Matrix3Xd& positions_m, const std::vector<
                          double tilt_deg) {
   PadFrame f;
   f.tilt_deg = tilt_deg;
-  const double t = tilt_deg * M_PI / 180.0;
+  constexpr double kPi = 3.14159265358979323846;
+  const double t = tilt_deg * kPi / 180.0;
   const Eigen::Vector3d x_pad(1, 0, 0), y_pad(0, std::cos(t), -std::sin(t)),
       z_pad(0, std::sin(t), std::cos(t));
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();

@@ -59,7 +59,8 @@ struct FingertipModel {
   std::vector<int> skin_nodes;  ///< sorted unique
 
   /// Merkel layer: faces shared by an epidermis tet and a dermis tet, oriented outward
-  /// (normal pointing from dermis to epidermis). Indices are soft nodes.
+  /// (normal pointing from dermis to epidermis). Indices are soft nodes. Empty only for a
+  /// homogeneous mesh (a single `soft_tissue` group); layered meshes always have one.
   std::vector<fem::Triangle> merkel_triangles;
   std::vector<int> merkel_nodes;  ///< sorted unique
 

@@ -1,6 +1,8 @@
 #include "model/msh_reader.h"
 
+#include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -64,8 +66,8 @@ double ToDouble(const LineCursor& c, const std::string& token, const std::string
   errno = 0;
   char* end = nullptr;
   const double v = std::strtod(token.c_str(), &end);
-  if (token.empty() || *end != '\0' || errno == ERANGE) {
-    c.Fail("malformed " + what + ": expected a number, got '" + token + "'");
+  if (token.empty() || *end != '\0' || errno == ERANGE || !std::isfinite(v)) {
+    c.Fail("malformed " + what + ": expected a finite number, got '" + token + "'");
   }
   return v;
 }
@@ -166,9 +168,11 @@ void ReadNodes(LineCursor& c, MshFile* m) {
   const long long total = ToInt(c, head[1], "$Nodes node count");
   if (blocks < 0 || total < 0) c.Fail("malformed $Nodes header (negative count)");
   const std::size_t first = m->node_tags.size();
-  m->node_tags.reserve(first + total);
+  // The header is user input: do not trust it with a huge allocation.
+  const std::size_t expected = static_cast<std::size_t>(std::min<long long>(total, 1 << 20));
+  m->node_tags.reserve(first + expected);
   std::vector<Eigen::Vector3d> positions;
-  positions.reserve(total);
+  positions.reserve(expected);
   for (long long b = 0; b < blocks; ++b) {
     const auto bh = c.Tokens("a node block header");
     ExpectCount(c, bh, 4, "node block header");

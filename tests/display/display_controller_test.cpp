@@ -60,6 +60,13 @@ TEST(DisplayController, NaNFieldFaultsAndSilenceGoesStale) {
   EXPECT_TRUE(s.stale);
   for (double v : s.value) EXPECT_EQ(v, 0.0);
   EXPECT_TRUE(display.Shutdown(t).shutdown);
+  const DisplayStats& stats = display.stats();
+  EXPECT_EQ(stats.fields, 51);
+  EXPECT_EQ(stats.fields_rejected, 1);
+  EXPECT_EQ(stats.commands, 82);
+  // the bad field, then 10 ticks holding its (zeroed) target until the 0.1 s watchdog expires
+  EXPECT_EQ(stats.commands_fault, 11);
+  EXPECT_GT(stats.commands_stale, 0);
 }
 
 // Whole chain, all shipped profiles, adversarial fields: the emitted values respect the

@@ -43,13 +43,14 @@ TEST(DisplaySession, PublishesAndEndsWithAZeroCommandInTheLog) {
     // no explicit Shutdown(): the destructor must publish zeros
   }
   LcmLogReader reader(path);
-  int commands = 0, sa1 = 0, fields = 0;
+  int commands = 0, sa1 = 0, fields = 0, shutdowns = 0;
   lcmt_display_command last;
   lcmt_sa1_rate_estimate rate;
   while (const lcm::LogEvent* e = reader.Next()) {
     if (e->channel == "DISPLAY_COMMAND") {
       ASSERT_TRUE(LcmLogReader::Decode(*e, &last));
       ++commands;
+      shutdowns += last.shutdown;
     } else if (e->channel == "SA1_RATE_ESTIMATE") {
       ASSERT_TRUE(LcmLogReader::Decode(*e, &rate));
       ++sa1;
@@ -57,7 +58,8 @@ TEST(DisplaySession, PublishesAndEndsWithAZeroCommandInTheLog) {
       ++fields;
     }
   }
-  EXPECT_EQ(commands, 31);
+  EXPECT_EQ(commands, 30 + DisplaySession::kShutdownRepeats);
+  EXPECT_EQ(shutdowns, DisplaySession::kShutdownRepeats);
   EXPECT_EQ(fields, 30);
   EXPECT_EQ(sa1, 30);
   EXPECT_TRUE(last.shutdown);

@@ -175,6 +175,19 @@ TEST(FingertipModel, StratumCorneumMustLieOnTheSkin) {
   ExpectModelError(ReplaceLine(text, 43, "13 1 2 4"), 43, "element 13 is not a face of the skin");
 }
 
+TEST(FingertipModel, HomogeneousSoftTissueMeshHasNoMerkelLayer) {
+  std::string text = ReplaceLine(ThreeTets(), 7, "3 2 \"soft_tissue\"");
+  text = ReplaceLine(text, 6, "3 1 \"soft_tissue\"");
+  const FingertipModel m = Build(text);
+  ASSERT_EQ(m.soft.materials.size(), 1u);
+  EXPECT_EQ(m.soft.materials[0].name, "soft_tissue");
+  EXPECT_DOUBLE_EQ(m.soft.materials[0].youngs_modulus_Pa, 3.4e4);  // subcutaneous, Table II
+  EXPECT_EQ(m.soft.tet_material, (std::vector<int>{0, 0}));
+  EXPECT_TRUE(m.merkel_triangles.empty());
+  EXPECT_TRUE(m.merkel_nodes.empty());
+  EXPECT_EQ(m.skin_triangles.size(), 5u);  // the shared face is interior, not skin
+}
+
 TEST(FingertipModel, UnknownFileKind) {
   EXPECT_THROW(LoadFingertipModel("model.txt"), config::ConfigError);
   EXPECT_THROW(LoadFingertipModel("no_such_model_name"), config::ConfigError);

@@ -2,7 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "config/config_error.h"
+#include "model/fingertip_model.h"
 #include "tests/model/model_test_util.h"
 
 namespace sedbridge::model {
@@ -115,6 +118,41 @@ TEST(MshReader, NotAnMshFile) {
 
 TEST(MshReader, MissingFileIsAConfigError) {
   EXPECT_THROW(ReadMshFile("/nonexistent/x.msh"), config::ConfigError);
+}
+
+}  // namespace
+}  // namespace sedbridge::model
+
+namespace sedbridge::model {
+namespace {
+
+// Every single-line corruption and every truncation of the fixture either loads (and
+// builds a model) or throws ConfigError: never a crash or another exception type.
+TEST(MshReader, CorruptedOrTruncatedInputOnlyEverThrowsConfigError) {
+  const std::string text = ThreeTets();
+  const int lines = static_cast<int>(std::count(text.begin(), text.end(), '\n'));
+  const std::vector<std::string> garbage = {"", "x", "-1", "0", "99999999999999999999", "1 2",
+                                            "3 1 4 1 5 9 2 6", "$Nodes", "nan nan nan",
+                                            "4000000000 1 1 4000000000"};
+  int thrown = 0;
+  for (int line = 1; line <= lines; ++line) {
+    for (const auto& g : garbage) {
+      try {
+        const MshFile m = ReadMshString(ReplaceLine(text, line, g), "fuzz.msh");
+        BuildFingertipModel(m, DefaultModelDescription("fuzz.msh"));  // must also be safe
+      } catch (const config::ConfigError& e) {
+        ++thrown;
+        EXPECT_GT(e.where().line, 0) << "line " << line << " -> '" << g << "': " << e.what();
+      }
+    }
+  }
+  EXPECT_GT(thrown, lines * static_cast<int>(garbage.size()) / 2);
+  for (std::size_t cut = 0; cut < text.size(); cut += 7) {
+    try {
+      ReadMshString(text.substr(0, cut), "fuzz.msh");
+    } catch (const config::ConfigError&) {
+    }
+  }
 }
 
 }  // namespace

@@ -102,6 +102,8 @@ TEST(CandumpLineTest, BadLinesSayWhy) {
   EXPECT_NE(BadReason("(1.000000) 123#00").find("interface"), std::string::npos);
   EXPECT_NE(BadReason("(1.000000) can0 123#00 extra words").find("unexpected"), std::string::npos);
   EXPECT_NE(BadReason("(1.000000) can0 123#R9").find("unexpected"), std::string::npos);
+  // Found by fuzz_candump_line: NUL bytes inside the interface name.
+  EXPECT_NE(BadReason(std::string("(1.000000) ca\0n0 123#00", 24)).find("non-printable"), std::string::npos);
 }
 
 TEST(CandumpLineTest, WriterMatchesCandumpFormat) {

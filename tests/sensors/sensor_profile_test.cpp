@@ -117,3 +117,21 @@ TEST(SensorProfileTest, OverlappingFieldsAreRejected) {
 
 }  // namespace
 }  // namespace sedbridge::sensors
+
+namespace sedbridge::sensors {
+namespace {
+
+TEST(SensorProfileTest, UnknownProfileNameListsTheShippedOnes) {
+  try {
+    LoadNamedSensorProfile("no_such_sensor");
+    FAIL();
+  } catch (const config::ConfigError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("uskin_4x4"), std::string::npos) << what;
+    EXPECT_NE(what.find("barrett_bh8_pad"), std::string::npos) << what;
+  }
+  EXPECT_EQ(LoadNamedSensorProfile("cyskin_16").name, "cyskin_16");
+}
+
+}  // namespace
+}  // namespace sedbridge::sensors

@@ -1,0 +1,159 @@
+#!/usr/bin/env python3
+"""Unit tests of tools/ccx (model reader, deck exporter, .dat reader, Merkel averaging and
+path sampling). No CalculiX needed. Run: python3 tests/ccx/test_ccx_tools.py"""
+import math
+import os
+import sys
+import tempfile
+import unittest
+
+REPO = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+sys.path.insert(0, os.path.join(REPO, "tools", "ccx"))
+import export_deck  # noqa: E402
+import fingertip  # noqa: E402
+import read_results  # noqa: E402
+
+_MODELS = {}
+
+
+def model(name):
+    if name not in _MODELS:
+        _MODELS[name] = fingertip.load_model(name, REPO)
+    return _MODELS[name]
+
+
+class ModelReaderTest(unittest.TestCase):
+    def test_yaml_materials(self):
+        y = fingertip.read_simple_yaml(os.path.join(REPO, "config", "models", "B.yaml"))
+        self.assertEqual(y["mesh"], "B.msh")
+        self.assertAlmostEqual(y["materials"]["epidermis"]["youngs_modulus_MPa"], 0.136)
+        self.assertAlmostEqual(y["materials"]["dermis"]["poisson_ratio"], 0.48)
+        self.assertAlmostEqual(y["pad_frame"]["tilt_deg"], 15.0)
+
+    def test_b_coarse_sets(self):
+        m = model("B_coarse")
+        # config/models/README.md: B_coarse has 915 soft nodes and 3610 soft tets
+        self.assertEqual(len(m.soft_nodes), 915)
+        self.assertEqual(len(m.soft_tets), 3610)
+        self.assertGreater(len(m.attached), 0)
+        self.assertGreater(len(m.merkel), 0)
+        for _, _, n in m.soft_tets:
+            self.assertGreater(fingertip.signed_volume(*(m.nodes[t] for t in n)), 0)
+        # Merkel triangles point from dermis to epidermis: the epidermis tet is on the + side.
+        tissue_of_face = {}
+        for _, tissue, n in m.soft_tets:
+            for f in fingertip.FACE_VERTICES:
+                tissue_of_face.setdefault(tuple(sorted(n[i] for i in f)), []).append((tissue, n))
+        for tri in m.merkel[:50]:
+            p = [m.nodes[v] for v in tri]
+            normal = fingertip.cross(fingertip.sub(p[1], p[0]), fingertip.sub(p[2], p[0]))
+            for tissue, n in tissue_of_face[tuple(sorted(tri))]:
+                apex = [v for v in n if v not in tri][0]
+                side = fingertip.dot(normal, fingertip.sub(m.nodes[apex], p[0]))
+                self.assertEqual(side > 0, tissue == "epidermis")
+        # Pad frame: origin on the skin with z_pad = 0, every skin node at z_pad <= 0.
+        pad = m.pad_positions()
+        self.assertTrue(all(pad[n][2] <= 1e-12 for n in m.skin_nodes()))
+        self.assertIn(0.0, [round(pad[n][2], 12) for n in m.skin_nodes()])
+
+    def test_model_c_is_homogeneous_and_a_has_shell(self):
+        c = model("C")
+        self.assertEqual({v["E_MPa"] for k, v in c.materials.items() if k in fingertip.SOFT}, {0.034})
+        self.assertEqual(c.sc, [])
+        a = model("A")
+        self.assertGreater(len(a.sc), 0)
+        self.assertAlmostEqual(a.sc_thickness_mm, 0.02)
+        self.assertAlmostEqual(a.sc_material["E_MPa"], 1.993)
+        self.assertEqual(len(a.merkel), len(c.merkel))
+
+
+class ExporterTest(unittest.TestCase):
+    def test_c3d10_mid_nodes_shared_and_corner_tags_kept(self):
+        m = model("B_coarse")
+        with tempfile.TemporaryDirectory() as d:
+            inp = export_deck.export(m, d, "C3D10", increments=2)
+            nodes, elems, kind = {}, [], None
+            with open(inp) as f:
+                lines = f.read().splitlines()
+            for line in lines:
+                if line.startswith("*"):
+                    kind = "node" if line.startswith("*NODE,") else (
+                        "tet" if "TYPE=C3D10" in line else None)
+                    continue
+                v = [s.strip() for s in line.split(",")]
+                if kind == "node":
+                    nodes[int(v[0])] = tuple(float(t) for t in v[1:4])
+                elif kind == "tet":
+                    elems.append([int(t) for t in v])
+        edges = set()
+        for _, _, n in m.soft_tets:
+            for a, b in export_deck.C3D10_EDGES:
+                edges.add((min(n[a], n[b]), max(n[a], n[b])))
+        self.assertEqual(len(elems), len(m.soft_tets))
+        mids = {t for e in elems for t in e[5:]}
+        self.assertEqual(len(mids), len(edges))           # one shared node per edge
+        self.assertTrue(min(mids) > max(m.nodes))         # above every Gmsh tag
+        by_tag = {t: n for t, _, n in m.soft_tets}
+        pad = m.pad_positions()
+        for e in elems[:200]:
+            self.assertEqual(e[1:5], by_tag[e[0]])       # Gmsh element and corner tags
+            for k, (a, b) in enumerate(export_deck.C3D10_EDGES):
+                mid = nodes[e[5 + k]]
+                for i in range(3):
+                    self.assertAlmostEqual(mid[i], 0.5 * (pad[e[1 + a]][i] + pad[e[1 + b]][i]), 9)
+
+
+class ReaderTest(unittest.TestCase):
+    DAT = """
+ total force (fx,fy,fz) for set PLANEN and time  0.5000000E+00
+
+        0.000000E+00  1.0E-20 -2.500000E-01
+
+ displacements (vx,vy,vz) for set SLAVEN and time  0.5000000E+00
+
+         7  1.0E-03 -2.0E-02 -8.0E-03
+
+ internal energy density (elem, integ.pnt.,energy) for set MERKELADJ and time  0.5000000E+00
+
+        16   1  1.0E-06
+        16   2  3.0E-06
+        17   1  2.0E-06
+
+ total force (fx,fy,fz) for set PLANEN and time  0.1000000E+01
+
+        0.000000E+00  1.0E-20 -5.000000E-01
+"""
+
+    def test_parse_dat(self):
+        with tempfile.TemporaryDirectory() as d:
+            p = os.path.join(d, "press.dat")
+            with open(p, "w") as f:
+                f.write(self.DAT)
+            incs = read_results.parse_dat(p)
+        self.assertEqual([i["time"] for i in incs], [0.5, 1.0])
+        self.assertAlmostEqual(incs[0]["force"][2], -0.25)
+        self.assertEqual(incs[0]["u"][7], (1e-3, -2e-2, -8e-3))
+        self.assertEqual(incs[0]["ener"], {16: [1e-6, 3e-6], 17: [2e-6]})
+        self.assertEqual(incs[1]["ener"], {})
+
+    def test_vertex_average_and_path(self):
+        m = model("B_coarse")
+        mm = read_results.MerkelMap(m)
+        esed = {t: float(t) for t, _, _ in m.soft_tets}
+        vs = mm.vertex_sed(esed)
+        for v in mm.vertices[:100]:
+            adj = [t for t, _, n in m.soft_tets if v in n]   # ALL soft elements at v
+            self.assertAlmostEqual(vs[v], sum(adj) / len(adj))
+        # A field linear in x is reproduced exactly by the barycentric path.
+        lin = {v: 3.0 + 2.0 * mm.pad[v][0] for v in mm.vertices}
+        path = mm.sample_path(lin)
+        self.assertGreater(len(path), 50)
+        for x, val in path:
+            self.assertAlmostEqual(val, 3.0 + 2.0 * x, 9)
+        xs = [round(x, 6) for x, _ in path]
+        self.assertEqual(xs, sorted(xs))
+        self.assertTrue(all(abs(x * 10 - round(x * 10)) < 1e-6 for x in xs))  # 0.1 mm grid
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=1)

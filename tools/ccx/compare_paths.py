@@ -1,0 +1,111 @@
+#!/usr/bin/env python3
+"""Table III of the paper: errors of normalized SED path plots against a reference run.
+
+usage: compare_paths.py REF_DIR RUN_DIR [RUN_DIR ...] [--labels REF,RUN1,...]
+                        [--csv OUT.csv] [--plot OUTDIR]
+
+Each DIR holds sed_path.csv (x_mm, sed_Pa, sed_normalized) as written by `sedbridge press`
+or tools/ccx/run_reference.py. Both paths are put on a common grid: the reference's x
+samples inside the x range the two paths share, the run linearly interpolated there. Prints
+a markdown table with the mean and max absolute error of sed_normalized, the grid size and
+range, and (extra) the relative error of the map maximum SED and of the force at the last
+step. With --plot, runs tools/plot_press.py on all dirs (Figs 6, 7, 10-12 overlaid).
+"""
+import argparse
+import csv
+import os
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import fingertip  # noqa: E402
+
+REPO = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
+
+
+def read_cols(path):
+    with open(path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    if not rows:
+        raise SystemExit(f"compare_paths: {path} is empty")
+    return {k: [float(r[k]) for r in rows] for k in rows[0]}
+
+
+def interp(xs, ys, x):
+    if x <= xs[0]:
+        return ys[0]
+    if x >= xs[-1]:
+        return ys[-1]
+    lo, hi = 0, len(xs) - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if xs[mid] <= x:
+            lo = mid
+        else:
+            hi = mid
+    t = (x - xs[lo]) / (xs[hi] - xs[lo]) if xs[hi] > xs[lo] else 0.0
+    return ys[lo] + t * (ys[hi] - ys[lo])
+
+
+def path_errors(ref, run):
+    """Mean and max |run - ref| of sed_normalized on the reference's x inside the shared range."""
+    lo = max(ref["x_mm"][0], run["x_mm"][0])
+    hi = min(ref["x_mm"][-1], run["x_mm"][-1])
+    grid = [x for x in ref["x_mm"] if lo - 1e-9 <= x <= hi + 1e-9]
+    if not grid:
+        raise SystemExit("compare_paths: the paths share no x range")
+    errs = [abs(interp(run["x_mm"], run["sed_normalized"], x) - interp(ref["x_mm"], ref["sed_normalized"], x))
+            for x in grid]
+    return sum(errs) / len(errs), max(errs), len(grid), lo, hi
+
+
+def max_sed(d):
+    return max(read_cols(os.path.join(d, "merkel_sed.csv"))["sed_Pa"])
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("dirs", nargs="+", help="reference dir first")
+    ap.add_argument("--labels", default="")
+    ap.add_argument("--csv", default=None)
+    ap.add_argument("--plot", default=None, help="write overlaid plots into this dir")
+    a = ap.parse_args()
+    if len(a.dirs) < 2:
+        ap.error("need a reference and at least one run")
+    labels = a.labels.split(",") if a.labels else [os.path.basename(os.path.normpath(d)) for d in a.dirs]
+    if len(labels) != len(a.dirs):
+        ap.error("--labels needs one label per dir")
+    ref_dir = a.dirs[0]
+    ref = read_cols(os.path.join(ref_dir, "sed_path.csv"))
+    ref_fd = read_cols(os.path.join(ref_dir, "force_displacement.csv"))
+    ref_max = max_sed(ref_dir)
+    rows = []
+    print(f"Errors of the normalized SED path (y = 2 mm) against {labels[0]}\n")
+    print("| run | mean abs. err. | max abs. err. | grid (x range) | max SED [Pa] (vs ref) | F at last step [N] (vs ref) |")
+    print("|---|---|---|---|---|---|")
+    print(f"| {labels[0]} (reference) | - | - | {len(ref['x_mm'])} pts | {ref_max:.1f} | {ref_fd['force_N'][-1]:.3f} |")
+    for d, label in zip(a.dirs[1:], labels[1:]):
+        run = read_cols(os.path.join(d, "sed_path.csv"))
+        fd = read_cols(os.path.join(d, "force_displacement.csv"))
+        mean, mx, n, lo, hi = path_errors(ref, run)
+        m = max_sed(d)
+        f_last = fd["force_N"][-1]
+        rows.append(dict(run=label, mean_abs_err=mean, max_abs_err=mx, grid_points=n, x_lo=lo, x_hi=hi,
+                         max_sed_Pa=m, max_sed_rel_err=(m - ref_max) / ref_max,
+                         force_last_N=f_last, force_rel_err=(f_last - ref_fd["force_N"][-1]) / ref_fd["force_N"][-1]))
+        print(f"| {label} | {mean:.3f} | {mx:.3f} | {n} pts ({lo:.1f} to {hi:.1f} mm) | {m:.1f} ({rows[-1]['max_sed_rel_err']:+.0%}) "
+              f"| {f_last:.3f} ({rows[-1]['force_rel_err']:+.0%}) |")
+    if a.csv:
+        with open(a.csv, "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+            w.writeheader()
+            for r in rows:
+                w.writerow(r)
+    if a.plot:
+        return subprocess.call([fingertip.plot_python(), os.path.join(REPO, "tools", "plot_press.py"), *a.dirs,
+                                "--labels", ",".join(labels), "--out", a.plot])
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
