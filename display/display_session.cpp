@@ -29,7 +29,16 @@ DisplaySession::~DisplaySession() {
 }
 
 const DisplayCommand& DisplaySession::OnSedField(const SedField& field, int64_t now_utime) {
-  if (options_.publish_sed) publisher_.PublishSed(field);
+  if (options_.publish_sed) {
+    const bool due = !sed_published_ || options_.sed_max_rate_Hz <= 0 ||
+                     now_utime - last_sed_publish_utime_ >= 1e6 / options_.sed_max_rate_Hz ||
+                     now_utime < last_sed_publish_utime_;
+    if (due) {
+      publisher_.PublishSed(field);
+      sed_published_ = true;
+      last_sed_publish_utime_ = now_utime;
+    }
+  }
   last_ = controller_.OnSedField(field, now_utime);
   publisher_.PublishCommand(last_);
   if (options_.publish_sa1_rate) {

@@ -12,7 +12,10 @@
 namespace sedbridge::display {
 
 struct DisplaySessionOptions {
-  bool publish_sed = true;        ///< also publish each field on channels.sed (for viewers)
+  bool publish_sed = true;        ///< also publish fields on channels.sed (for viewers, logs)
+  /// At most this many SED fields per second on channels.sed (0 = every field). A Merkel
+  /// layer of ~1000 vertices is ~16 kB a message; at a 1 kHz FE rate that would be 16 MB/s.
+  double sed_max_rate_Hz = 50;
   bool publish_sa1_rate = false;  ///< also publish the SA1 rate ESTIMATE on channels.sa1_rate
   Sa1RateParams sa1;
 };
@@ -43,7 +46,9 @@ class DisplaySession {
   const DisplayCommand& Shutdown(int64_t now_utime);
 
   DisplayController& controller() { return controller_; }
+  const DisplayController& controller() const { return controller_; }
   LcmPublisher& publisher() { return publisher_; }
+  const LcmPublisher& publisher() const { return publisher_; }
   const DisplayCommand& last_command() const { return last_; }
 
  private:
@@ -52,6 +57,8 @@ class DisplaySession {
   DisplaySessionOptions options_;
   DisplayCommand last_;
   bool shut_down_ = false;
+  bool sed_published_ = false;
+  int64_t last_sed_publish_utime_ = 0;
 };
 
 }  // namespace sedbridge::display

@@ -48,8 +48,22 @@ const LimitedOutput& SafetyLimiter::Apply(int64_t now_utime, int64_t input_utime
                                           const std::vector<double>& requested) {
   if (shut_down_) return Emit(now_utime);
   // A repeated or reordered input is not news: it neither re-arms the watchdog nor changes
-  // the target.
-  if (!watchdog_.Feed(input_utime, now_utime)) return Emit(now_utime);
+  // the target — except that its bad entries still zero their actuators (always safe).
+  if (!watchdog_.Feed(input_utime, now_utime)) {
+    if (requested.size() != size()) {
+      std::fill(target_.begin(), target_.end(), 0.0);
+      std::fill(target_fault_.begin(), target_fault_.end(), 1);
+      target_fault_any_ = true;
+    } else {
+      for (std::size_t i = 0; i < size(); ++i) {
+        if (std::isfinite(requested[i])) continue;
+        target_[i] = 0;
+        target_fault_[i] = 1;
+        target_fault_any_ = true;
+      }
+    }
+    return Emit(now_utime);
+  }
   target_clamped_ = false;
   target_fault_any_ = false;
   if (requested.size() != size()) {
@@ -107,8 +121,8 @@ const LimitedOutput& SafetyLimiter::Emit(int64_t now_utime) {
   for (std::size_t i = 0; i < size(); ++i) {
     const double prev = out_.value[i];
     double y;
-    if (!stale && target_fault_[i]) {
-      y = 0;  // bad input: off at once
+    if (target_fault_[i]) {
+      y = 0;  // bad input: off at once, stale or not
     } else {
       const double target = stale ? 0.0 : target_[i];
       y = std::clamp(target, prev - fall, prev + rise);
@@ -117,7 +131,8 @@ const LimitedOutput& SafetyLimiter::Emit(int64_t now_utime) {
   }
   out_.stale = stale;
   out_.clamped = !stale && target_clamped_;
-  out_.fault = !stale && target_fault_any_;
+  // Stays raised until a good fresh input replaces the bad one, also through staleness.
+  out_.fault = target_fault_any_;
   out_.shutdown = false;
   return out_;
 }

@@ -25,7 +25,8 @@ struct LimitedOutput {
   std::vector<double> value;  ///< per actuator [unit], always within [0, max[i]]
   bool clamped = false;       ///< a request was above max[i] or below 0 and was clipped
   bool stale = false;         ///< watchdog expired: ramping to / holding zero
-  bool fault = false;         ///< a request was NaN/Inf or had the wrong length -> those set to 0
+  bool fault = false;         ///< the last request had NaN/Inf or the wrong length -> those
+                              ///< actuators are 0; cleared by the next good fresh request
   bool shutdown = false;      ///< after Shutdown(): all zero, for good
 };
 
@@ -45,9 +46,10 @@ class SafetyLimiter {
   /// kMaxWatchdogTimeout_s.
   explicit SafetyLimiter(SafetyLimits limits);
 
-  /// A fresh request from the mapping (input stamped `input_utime`, e.g. the SED field's utime;
-  /// a repeated or older stamp does not re-arm the watchdog). `requested` has one value per
-  /// actuator in the display unit; NaN/Inf entries become 0 with the fault flag.
+  /// A fresh request from the mapping (input stamped `input_utime`, e.g. the SED field's utime).
+  /// `requested` has one value per actuator in the display unit; NaN/Inf entries (or a wrong
+  /// length) become 0 with the fault flag. A repeated or older stamp neither re-arms the
+  /// watchdog nor changes the targets, but its NaN/Inf entries still zero their actuators.
   const LimitedOutput& Apply(int64_t now_utime, int64_t input_utime,
                              const std::vector<double>& requested);
 

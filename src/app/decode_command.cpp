@@ -2,7 +2,10 @@
 
 #include <unistd.h>
 
+#include <chrono>
+#include <csignal>
 #include <cstdio>
+#include <memory>
 #include <fstream>
 #include <iostream>
 #include <string>
@@ -13,6 +16,7 @@
 #include "sensors/candump_log.h"
 #include "sensors/scan_assembler.h"
 #include "sensors/scan_csv.h"
+#include "sensors/socketcan_source.h"
 #include "sensors/taxel_heatmap.h"
 
 namespace sedbridge::app {
@@ -20,16 +24,24 @@ namespace {
 
 using namespace sedbridge::sensors;
 
+volatile std::sig_atomic_t g_stop = 0;
+
 int RunDecode(int argc, char** argv) {
   ArgParser args("sedbridge decode",
                  "Decodes a candump -l log of a tactile sensor into scans: one CSV row per scan\n"
                  "(scan,utime,complete, then one column per taxel axis in Pa: t<i>_x_Pa, t<i>_y_Pa\n"
                  "for shear, t<i>_z_Pa for normal pressure; empty where the taxel is invalid).\n"
                  "Prints counts of frames, scans and every kind of bad line or frame. A bad line\n"
-                 "never stops the decode; it is reported with its line number.");
+                 "never stops the decode; it is reported with its line number. With --interface it\n"
+                 "reads a live SocketCAN bus instead (kernel filters from the profile, error frames,\n"
+                 "kernel time stamps) for --duration-s seconds or until Ctrl-C.");
   args.Option("profile", "PROFILE", "sensor profile: shipped name (uskin_4x4, cyskin_16, "
               "barrett_bh8_pad) or YAML path")
-      .Positional("LOG", "candump -l log (use - for stdin)")
+      .Positional("LOG", "candump -l log (use - for stdin); omit with --interface", false)
+      .Option("interface", "IFACE", "decode live frames from this SocketCAN interface (e.g. can0, vcan0)")
+      .Option("duration-s", "S", "with --interface: stop after S seconds", "10")
+      .Flag("start", "with --interface: send the profile's start_frames first and stop_frames at the end")
+      .Option("record", "OUT", "with --interface: also write the received frames as a candump -l log")
       .Option("csv", "OUT", "write one row per scan to OUT")
       .Option("tare-scans", "N", "tare from the first N quiet scans (0 = use the profile offsets)", "0")
       .Option("heatmap-png", "OUT", "draw a taxel heatmap of one scan to OUT (also writes OUT.csv); "
@@ -39,16 +51,23 @@ int RunDecode(int argc, char** argv) {
       .Epilog("examples:\n"
               "  sedbridge make-log --profile uskin_4x4 --scene config/scenes/sensor_sphere_press.yaml --out s.log\n"
               "  sedbridge decode --profile uskin_4x4 s.log --csv s.csv --heatmap-png s.png\n"
+              "  sedbridge decode --profile uskin_4x4 --interface can0 --start --duration-s 5 --record live.log\n"
               "exit status: 0 when at least one scan was decoded, 1 otherwise.");
   if (!args.Parse(argc, argv)) return 0;
 
   const SensorProfile profile = LoadNamedSensorProfile(args.Get("profile"));
-  const std::string log_path = args.Get("LOG");
+  const auto log_arg = args.GetOptional("LOG");
+  const auto interface = args.GetOptional("interface");
+  if (log_arg.has_value() == interface.has_value())
+    throw UsageError("give either a LOG file or --interface (see sedbridge decode --help)");
+  if (!interface && (args.Has("start") || args.Has("record")))
+    throw UsageError("--start and --record need --interface");
+  const std::string log_path = log_arg ? *log_arg : "socketcan:" + *interface;
   std::ifstream file;
   std::istream* in = &std::cin;
-  if (log_path != "-") {
-    file.open(log_path);
-    if (!file) throw std::runtime_error("cannot open " + log_path);
+  if (log_arg && *log_arg != "-") {
+    file.open(*log_arg);
+    if (!file) throw std::runtime_error("cannot open " + *log_arg);
     in = &file;
   }
   std::ofstream csv;
@@ -97,25 +116,64 @@ int RunDecode(int argc, char** argv) {
     scan_total += static_cast<int64_t>(scans.size());
     scans.clear();
   };
-  while (reader.Next(&frame)) {
-    ++source_stats.frames;
-    if (frame.error) CountErrorFrame(frame, &source_stats);
-    assembler.Push(frame, &scans);
-    if (!scans.empty()) consume();
-    if ((reader.lines_read() & ((1 << 20) - 1)) == 0)  // progress on long logs
-      std::fprintf(stderr, tty ? "\r  %lld lines, %lld scans..." : "  %lld lines, %lld scans...\n",
-                   static_cast<long long>(reader.lines_read()), static_cast<long long>(scan_total));
+  if (!interface) {
+    while (reader.Next(&frame)) {
+      ++source_stats.frames;
+      if (frame.error) CountErrorFrame(frame, &source_stats);
+      assembler.Push(frame, &scans);
+      if (!scans.empty()) consume();
+      if ((reader.lines_read() & ((1 << 20) - 1)) == 0)  // progress on long logs
+        std::fprintf(stderr, tty ? "\r  %lld lines, %lld scans..." : "  %lld lines, %lld scans...\n",
+                     static_cast<long long>(reader.lines_read()), static_cast<long long>(scan_total));
+    }
+    if (tty && reader.lines_read() >= (1 << 20)) std::fprintf(stderr, "\n");
+  } else {
+    const double duration_s = args.GetDouble("duration-s");
+    if (!(duration_s > 0)) throw UsageError("--duration-s must be > 0");
+    SocketCanSource source(OptionsForProfile(profile, *interface));
+    std::ofstream record_file;
+    std::unique_ptr<CandumpLogWriter> recorder;
+    if (auto path = args.GetOptional("record")) {
+      record_file.open(*path);
+      if (!record_file) throw std::runtime_error("cannot write " + *path);
+      recorder = std::make_unique<CandumpLogWriter>(record_file);
+    }
+    if (args.GetFlag("start"))
+      for (const Frame& f : profile.start_frames)
+        if (!source.Send(f)) std::fprintf(stderr, "warning: could not send start frame %s\n", FormatCandumpLine(f).c_str());
+    g_stop = 0;
+    std::signal(SIGINT, [](int) { g_stop = 1; });
+    const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(duration_s);
+    std::fprintf(stderr, "decoding %s for %g s (Ctrl-C stops)...\n", interface->c_str(), duration_s);
+    while (!g_stop && !source.Done() && std::chrono::steady_clock::now() < end) {
+      if (auto f = source.Next(20000)) {
+        if (recorder) recorder->Write(*f);
+        assembler.Push(*f, &scans);
+      } else {
+        assembler.Poll(std::chrono::duration_cast<std::chrono::microseconds>(
+                           std::chrono::system_clock::now().time_since_epoch()).count(), &scans);
+      }
+      if (!scans.empty()) consume();
+    }
+    std::signal(SIGINT, SIG_DFL);
+    if (args.GetFlag("start"))
+      for (const Frame& f : profile.stop_frames) source.Send(f);
+    if (recorder) recorder->Flush();
+    source_stats = source.Stats();
+    std::printf("  %-18s %lld\n", "kernel_drops", static_cast<long long>(source_stats.kernel_drops));
+    std::printf("  %-18s %lld\n", "read_errors", static_cast<long long>(source_stats.read_errors));
   }
   assembler.Flush(&scans);
   consume();
-  if (tty && reader.lines_read() >= (1 << 20)) std::fprintf(stderr, "\n");
 
   const BadFrameCounters& c = assembler.counters();
   std::printf("decoded %s with profile %s (%d taxels x %d axes, %d frames per scan)\n",
               log_path.c_str(), profile.name.c_str(), profile.taxel_count, profile.axes,
               profile.layout.frame_count);
-  std::printf("  %-18s %lld\n", "lines", static_cast<long long>(reader.lines_read()));
-  std::printf("  %-18s %lld\n", "bad_lines", static_cast<long long>(reader.bad_line_count()));
+  if (!interface) {
+    std::printf("  %-18s %lld\n", "lines", static_cast<long long>(reader.lines_read()));
+    std::printf("  %-18s %lld\n", "bad_lines", static_cast<long long>(reader.bad_line_count()));
+  }
   std::printf("  %-18s %lld (%lld complete, %lld partial)\n", "scans", static_cast<long long>(scan_total),
               static_cast<long long>(c.scans_complete), static_cast<long long>(c.scans_partial));
   if (assembler.tared())

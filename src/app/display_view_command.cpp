@@ -1,6 +1,7 @@
 // `sedbridge display-view`: shows what the leader's finger would feel — the display command as
 // a live terminal heatmap (LCM live or from a log), or PNG frames / a GIF from a log.
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -11,6 +12,7 @@
 #include <memory>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include <lcm/lcm-cpp.hpp>
 
@@ -168,11 +170,26 @@ int RunLogImages(const ArgParser& args, const std::vector<DisplayFrame>& frames,
   const ActuatorLayout& layout = layouts.For(frames.front().command);
   WriteFramesJsonl(jsonl, layout, frames.front().command.display_id, frames);
   const std::string script = config::ResolveResource("tools/plot_display_frames.py");
-  std::string cmd = args.Get("python") + " '" + script + "' '" + jsonl + "'";
-  if (!png_dir.empty()) cmd += " --png-dir '" + png_dir + "'";
-  if (!animation.empty()) cmd += " --animation '" + animation + "' --fps " + args.Get("fps");
-  std::fprintf(stderr, "display-view: %zu frames -> %s\n", frames.size(), cmd.c_str());
-  const int rc = std::system(cmd.c_str());
+  std::vector<std::string> argv_s = {args.Get("python"), script, jsonl};
+  if (!png_dir.empty()) argv_s.insert(argv_s.end(), {"--png-dir", png_dir});
+  if (!animation.empty()) argv_s.insert(argv_s.end(), {"--animation", animation, "--fps", args.Get("fps")});
+  std::string shown;
+  for (const auto& a : argv_s) shown += (shown.empty() ? "" : " ") + a;
+  std::fprintf(stderr, "display-view: %zu frames -> %s\n", frames.size(), shown.c_str());
+  std::fflush(nullptr);
+  // fork + exec (no shell): paths are passed as they are, quotes and all.
+  int rc = -1;
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    std::vector<char*> argv_c;
+    for (auto& a : argv_s) argv_c.push_back(a.data());
+    argv_c.push_back(nullptr);
+    ::execvp(argv_c[0], argv_c.data());
+    std::fprintf(stderr, "display-view: cannot run %s\n", argv_c[0]);
+    ::_exit(127);
+  }
+  int status = 0;
+  if (pid > 0 && ::waitpid(pid, &status, 0) == pid && WIFEXITED(status)) rc = WEXITSTATUS(status);
   if (png_dir.empty()) fs::remove_all(work);
   if (rc != 0) {
     std::fprintf(stderr, "display-view: plotting failed (exit %d); the frames are in %s\n", rc,
@@ -205,7 +222,6 @@ int RunDisplayView(int argc, char** argv) {
       .Epilog(
           "examples:\n"
           "  sedbridge display-view                                  # live, default udpm URL\n"
-          "  sedbridge display-view --url memq:// ...                 # (in-process only)\n"
           "  sedbridge display-view --log out/run.lcmlog --speed 0.5\n"
           "  sedbridge display-view --log out/run.lcmlog --png-dir out/frames --animation out/run.gif\n"
           "exit status: 0 ok, 1 error, 2 usage, 3 live mode received no command");

@@ -37,7 +37,7 @@ struct BoneParams {
 struct NailParams {
   double thickness_mm = 0.5;
   double start_y_mm = 10.0;
-  double end_y_mm = 20.5;
+  double end_y_mm = 19.5;
   double half_width_mm = 5.5;
   double max_z_mm = -3.0;
 };

@@ -75,13 +75,16 @@ class ExporterTest(unittest.TestCase):
             nodes, elems, kind = {}, [], None
             with open(inp) as f:
                 lines = f.read().splitlines()
+            fixed = set()
             for line in lines:
                 if line.startswith("*"):
                     kind = "node" if line.startswith("*NODE,") else (
-                        "tet" if "TYPE=C3D10" in line else None)
+                        "tet" if "TYPE=C3D10" in line else ("fixed" if "NSET=FIXED" in line else None))
                     continue
                 v = [s.strip() for s in line.split(",")]
-                if kind == "node":
+                if kind == "fixed":
+                    fixed.update(int(t) for t in v if t)
+                elif kind == "node":
                     nodes[int(v[0])] = tuple(float(t) for t in v[1:4])
                 elif kind == "tet":
                     elems.append([int(t) for t in v])
@@ -90,6 +93,18 @@ class ExporterTest(unittest.TestCase):
             for a, b in export_deck.C3D10_EDGES:
                 edges.add((min(n[a], n[b]), max(n[a], n[b])))
         self.assertEqual(len(elems), len(m.soft_tets))
+        # bone/nail surface: corner nodes and the mid-edge nodes of rigid edges are fixed
+        rigid_edges = set()
+        for _, _, n in m.rigid_tets:
+            for a, b in export_deck.C3D10_EDGES:
+                rigid_edges.add((min(n[a], n[b]), max(n[a], n[b])))
+        expect = set(m.attached)
+        for e in elems:
+            for k, (a, b) in enumerate(export_deck.C3D10_EDGES):
+                if (min(e[1 + a], e[1 + b]), max(e[1 + a], e[1 + b])) in rigid_edges:
+                    expect.add(e[5 + k])
+        self.assertEqual(fixed, expect)
+        self.assertGreater(len(fixed), len(m.attached))
         mids = {t for e in elems for t in e[5:]}
         self.assertEqual(len(mids), len(edges))           # one shared node per edge
         self.assertTrue(min(mids) > max(m.nodes))         # above every Gmsh tag

@@ -116,5 +116,16 @@ TEST_F(DisplayViewCli, WritesPngFrames) {
   EXPECT_TRUE(fs::exists(frames / "frames.jsonl"));
 }
 
+TEST_F(DisplayViewCli, WritesAGifToAPathWithQuotesAndSpaces) {
+  if (Sh("/usr/bin/python3 -c 'import matplotlib, PIL'").status != 0)
+    GTEST_SKIP() << "/usr/bin/python3 lacks matplotlib or Pillow (python3-matplotlib, python3-pil)";
+  const fs::path gif = dir_ / "it's a run.gif";
+  const ShellResult r = Sh(std::string(SEDBRIDGE_BINARY) + " display-view --log " + log_ +
+                           " --fps 4 --animation \"" + gif.string() + "\"");
+  ASSERT_EQ(r.status, 0) << r.output;
+  ASSERT_TRUE(fs::exists(gif)) << r.output;
+  EXPECT_GT(fs::file_size(gif), 1000u);
+}
+
 }  // namespace
 }  // namespace sedbridge::display

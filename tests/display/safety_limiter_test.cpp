@@ -86,6 +86,19 @@ TEST(SafetyLimiter, RepeatedInputDoesNotKeepItAlive) {
   EXPECT_EQ(lim.last().value, (std::vector<double>{0, 0, 0}));
 }
 
+TEST(SafetyLimiter, RepeatedStampWithNaNStillZeroesAndFaults) {
+  SafetyLimiter lim(Limits());
+  int64_t t = 0;
+  for (int k = 0; k < 20; ++k, t += 10 * kMs) lim.Apply(t, k + 1, {5, 5, 5});
+  // same stamp as the last input (e.g. a producer marking a failed step with an old time)
+  const auto& out = lim.Apply(t, 20, {kNaN, 7, 7});
+  EXPECT_TRUE(out.fault);
+  EXPECT_DOUBLE_EQ(out.value[0], 0.0);
+  EXPECT_DOUBLE_EQ(out.value[1], 5.0);  // finite entries of a stale input are not taken
+  EXPECT_TRUE(lim.Apply(t + kMs, 3, {1.0}).fault);  // wrong length, old stamp: all zero
+  EXPECT_EQ(lim.last().value, (std::vector<double>{0, 0, 0}));
+}
+
 TEST(SafetyLimiter, NoJumpAfterAPause) {
   SafetyLimiter lim(Limits());
   lim.Apply(0, 1, {10, 10, 5});

@@ -49,5 +49,13 @@ cmp -s again.log cyskin_16.log || fail "make-log not deterministic"
 "$bin" make-log --help | grep -q 'usage: sedbridge make-log' || fail "make-log --help"
 set +e
 "$bin" decode --profile cyskin_16 --bogus x.log 2>/dev/null; [ $? -eq 2 ] || fail "unknown option exit status"
+"$bin" decode --profile cyskin_16 2>/dev/null; [ $? -eq 2 ] || fail "neither LOG nor --interface"
+# 5. Live input: without AF_CAN (or without the interface) a clear error, never a crash.
+"$bin" decode --profile cyskin_16 --interface vcan0 --duration-s 0.2 > live.txt 2> live.err
+status=$?
+if [ $status -ne 0 ]; then
+  [ $status -eq 1 ] || fail "live decode exit status $status"
+  grep -Eq 'AF_CAN|vcan0' live.err || fail "live decode error message: $(cat live.err)"
+fi
 set -e
 echo "decode CLI: all checks passed"

@@ -20,6 +20,7 @@ if [ ! -f "$build/CMakeCache.txt" ]; then
     }
 fi
 cmake --build "$build" -j2 --target fuzz_candump_line fuzz_frame_decoder
+rm -f "$build"/crash-* "$build"/leak-* "$build"/timeout-*  # from an earlier run
 for target in candump_line frame_decoder; do
   corpus="$build/corpus_$target"
   mkdir -p "$corpus"

@@ -142,6 +142,32 @@ TEST(TaxelCodecTest, SignedSamplesAndScanCounterRoundTrip) {
   EXPECT_EQ(d.samples[3], -2048);
 }
 
+TEST(TaxelCodecTest, CanFdLayoutCarriesAWholeScanInOneFrame) {
+  SensorProfile p = Shipped("cyskin_16");
+  p.layout.fd = true;
+  p.layout.fd_flags = kCanFdBrs;
+  p.layout.length = 32;
+  p.layout.samples_per_frame = 16;
+  p.layout.frame_count = 1;
+  p.layout.ids = {0x405};
+  ValidateProfile(p);
+  const TaxelCodec codec(p);
+  std::vector<int32_t> channels(16);
+  for (int i = 0; i < 16; ++i) channels[i] = 1000 * i + 7;
+  const auto frames = codec.EncodeScan(channels, -1, 0);
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_TRUE(frames[0].fd);
+  EXPECT_EQ(frames[0].fd_flags, kCanFdBrs);
+  EXPECT_EQ(frames[0].len, 32);
+  DecodedFrame d;
+  ASSERT_EQ(codec.Decode(frames[0], &d), DecodeStatus::kOk);
+  EXPECT_EQ(d.channel_count, 16);
+  EXPECT_EQ(d.samples[15], 15007);
+  Frame classic = frames[0];
+  classic.fd = false;
+  EXPECT_EQ(codec.Decode(classic, &d), DecodeStatus::kWrongFrameType);
+}
+
 TEST(TaxelCodecTest, BitHelpersAgreeBothWays) {
   for (ByteOrder order : {ByteOrder::kBig, ByteOrder::kLittle}) {
     for (int first = 0; first < 40; first += 3) {

@@ -59,6 +59,11 @@ def path_errors(ref, run):
     return sum(errs) / len(errs), max(errs), len(grid), lo, hi
 
 
+def selected(fd, target):
+    i = min(range(len(fd["force_N"])), key=lambda k: abs(fd["force_N"][k] - target))
+    return f"{fd['displacement_mm'][i]:.2f} mm / {fd['force_N'][i]:.3f} N"
+
+
 def max_sed(d):
     return max(read_cols(os.path.join(d, "merkel_sed.csv"))["sed_Pa"])
 
@@ -69,6 +74,8 @@ def main():
     ap.add_argument("--labels", default="")
     ap.add_argument("--csv", default=None)
     ap.add_argument("--plot", default=None, help="write overlaid plots into this dir")
+    ap.add_argument("--target-force", type=float, default=1.0,
+                    help="only for the 'map at' column: the step closest to this force [N]")
     a = ap.parse_args()
     if len(a.dirs) < 2:
         ap.error("need a reference and at least one run")
@@ -81,9 +88,11 @@ def main():
     ref_max = max_sed(ref_dir)
     rows = []
     print(f"Errors of the normalized SED path (y = 2 mm) against {labels[0]}\n")
-    print("| run | mean abs. err. | max abs. err. | grid (x range) | max SED [Pa] (vs ref) | F at last step [N] (vs ref) |")
-    print("|---|---|---|---|---|---|")
-    print(f"| {labels[0]} (reference) | - | - | {len(ref['x_mm'])} pts | {ref_max:.1f} | {ref_fd['force_N'][-1]:.3f} |")
+    print("| run | mean abs. err. | max abs. err. | grid (x range) | map at (d / F) | max SED [Pa] (vs ref) "
+          "| F at last step [N] (vs ref) |")
+    print("|---|---|---|---|---|---|---|")
+    print(f"| {labels[0]} (reference) | - | - | {len(ref['x_mm'])} pts | {selected(ref_fd, a.target_force)} "
+          f"| {ref_max:.1f} | {ref_fd['force_N'][-1]:.3f} |")
     for d, label in zip(a.dirs[1:], labels[1:]):
         run = read_cols(os.path.join(d, "sed_path.csv"))
         fd = read_cols(os.path.join(d, "force_displacement.csv"))
@@ -93,7 +102,7 @@ def main():
         rows.append(dict(run=label, mean_abs_err=mean, max_abs_err=mx, grid_points=n, x_lo=lo, x_hi=hi,
                          max_sed_Pa=m, max_sed_rel_err=(m - ref_max) / ref_max,
                          force_last_N=f_last, force_rel_err=(f_last - ref_fd["force_N"][-1]) / ref_fd["force_N"][-1]))
-        print(f"| {label} | {mean:.3f} | {mx:.3f} | {n} pts ({lo:.1f} to {hi:.1f} mm) | {m:.1f} ({rows[-1]['max_sed_rel_err']:+.0%}) "
+        print(f"| {label} | {mean:.3f} | {mx:.3f} | {n} pts ({lo:.1f} to {hi:.1f} mm) | {selected(fd, a.target_force)} | {m:.1f} ({rows[-1]['max_sed_rel_err']:+.0%}) "
               f"| {f_last:.3f} ({rows[-1]['force_rel_err']:+.0%}) |")
     if a.csv:
         with open(a.csv, "w", newline="") as f:

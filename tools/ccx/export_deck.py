@@ -11,7 +11,8 @@ moves along -z):
     elements keep the Gmsh element tags); one *MATERIAL per soft group from the model YAML
     (linear *ELASTIC; with NLGEOM CalculiX makes it St Venant-Kirchhoff);
   * bone + nail rigid and fixed: every soft node attached to bone/nail is fixed in all
-    DOF (the rigid tets are not in the deck). This differs from `sedbridge press`, which
+    DOF (C3D10: also the mid-edge nodes of edges on the bone/nail surface); the rigid tets
+    are not in the deck. This differs from `sedbridge press`, which
     couples those nodes with penalty springs (k_bone = 200 N/m);
   * the plane: one stiff C3D8 block (z in [0, 1] mm, |x|, |y| <= 30 mm) whose 8 nodes are
     all prescribed: ux = uy = 0, uz ramped to -depth over the step. Its summed reaction
@@ -21,7 +22,7 @@ moves along -z):
     `stratum_corneum` group, thickness and material from the YAML;
   * *STATIC, NLGEOM, increments of 1/N with automatic cut-back allowed;
   * output to the .dat every increment: plane RF totals, U of the slave nodes (contact
-    area), ENER of every element around a Merkel vertex.
+    area), ENER of every element around a Merkel vertex; U to the .frd (for cgx).
 """
 import argparse
 import json
@@ -80,8 +81,16 @@ def export(model, out_dir, element="C3D4", increments=50, depth_mm=2.0, contact_
             next_node += 1
     plane_elem = max_elem + 1
 
-    fixed = sorted(model.attached)
-    fixed_set = set(fixed)
+    fixed = list(model.attached)
+    if element == "C3D10":
+        # mid-edge nodes on the bone/nail surface (edges shared with a rigid tet) are fixed too
+        rigid_edges = set()
+        for _, _, n in model.rigid_tets:
+            for a, b in C3D10_EDGES:
+                rigid_edges.add((min(n[a], n[b]), max(n[a], n[b])))
+        fixed += [node for key, node in mid.items() if key in rigid_edges]
+    fixed = sorted(fixed)
+    fixed_set = set(model.attached)
     slave = [n for n in model.skin_nodes() if pad[n][2] > -SLAVE_DEPTH_MM and n not in fixed_set]
     if element == "C3D10":
         # mid-edge nodes of skin triangles on the pad side are slaves too
@@ -176,10 +185,10 @@ def export(model, out_dir, element="C3D4", increments=50, depth_mm=2.0, contact_
     w.append("U")
     w.append("*EL PRINT, ELSET=MERKELADJ")
     w.append("ENER")
-    w.append("*NODE FILE, FREQUENCY=10")
+    # .frd for viewing in cgx: displacements only (stress fields of model A would be ~1 GB).
+    # No FREQUENCY parameter: in ccx it applies to the .dat prints as well.
+    w.append("*NODE FILE")
     w.append("U")
-    w.append("*EL FILE, FREQUENCY=10")
-    w.append("S, E, ENER")
     w.append("*END STEP")
     with open(inp, "w") as f:
         f.write("\n".join(w) + "\n")

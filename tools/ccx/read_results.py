@@ -7,7 +7,7 @@ files `sedbridge press` writes:
                           the pad frame, at the increment whose force is closest to 1.0 N)
   sed_path.csv            x_mm,sed_Pa,sed_normalized  (along x at y = 2 mm, pad-facing sheet)
 
-usage: read_results.py --model B --run DIR [--out DIR]
+usage: read_results.py --model B --run DIR/ccx [--out DIR] [--target-force 1.0]
 
 Definitions, all as src/scene (press_experiment.cpp, merkel_layer.cpp):
   force      = -RF_z summed over the plane's nodes (the plane is pushed along -z_pad);
@@ -177,6 +177,13 @@ def read_run(model, run_dir, target_force_n=TARGET_FORCE_N):
     parse_dat(dat, on_inc)
     if not steps:
         raise ResultError(f"{dat}: no converged increment")
+    sta = os.path.join(run_dir, "press.sta")
+    if os.path.exists(sta):
+        with open(sta) as f:
+            converged = sum(1 for line in f if re.match(r"\s*\d+\s+\d+\s+\d+\s+\d+\s", line))
+        if converged != len(steps):
+            raise ResultError(f"{dat} holds {len(steps)} increments but {sta} lists {converged} "
+                              "converged ones (was an output FREQUENCY set?)")
     selected = min(range(len(steps)), key=lambda i: abs(steps[i][2] - target_force_n))
     vsed = mm.vertex_sed(element_sed_by_step[selected])
     path = mm.sample_path(vsed)
@@ -208,9 +215,11 @@ def main():
     ap.add_argument("--model", required=True)
     ap.add_argument("--run", required=True, help="directory with press.dat (and deck.json)")
     ap.add_argument("--out", default=None)
+    ap.add_argument("--target-force", type=float, default=TARGET_FORCE_N,
+                    help="the SED map and path are taken at the increment closest to this force [N]")
     a = ap.parse_args()
     model = fingertip.load_model(a.model, REPO)
-    r = read_run(model, a.run)
+    r = read_run(model, a.run, a.target_force)
     write_csvs(r, a.out or a.run)
     s = r["steps"][r["selected"]]
     print(f"{len(r['steps'])} increments; selected step {s[0]} (d = {s[1]:.3f} mm, F = {s[2]:.4f} N); "

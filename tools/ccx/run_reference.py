@@ -2,7 +2,8 @@
 """CalculiX reference run of the paper's press experiment, written like `sedbridge press`.
 
 usage: run_reference.py --model A|B|C|PATH [--element C3D4|C3D10] [--increments 50]
-                        [--threads 2] [--contact-slope 50] [--no-shells] --out DIR
+                        [--threads 2] [--contact-slope 50] [--no-shells] [--target-force 1.0]
+                        [--material-law elastic|neohooke] --out DIR
 
 Exports the deck (tools/ccx/export_deck.py), runs `ccx` in DIR/ccx/ showing one progress
 line per increment, then reads DIR/ccx/press.dat (tools/ccx/read_results.py) and writes
@@ -54,14 +55,14 @@ def run_ccx(run_dir, threads, log, quiet=False):
                 inc = int(m.group(1))
                 if int(m.group(2)) > 1 and not quiet:
                     print(f"  ccx: increment {inc}: attempt {m.group(2)} (cut back)", flush=True)
-            if s.startswith("iteration"):
+            if re.match(r"iteration\s+\d+", s):
                 iters += 1
             m = re.match(r"actual total time=\s*(\S+)", s)
             if m:
                 final_time = float(m.group(1).replace("D", "E"))
                 if not quiet:
-                    print(f"  ccx: increment {inc:3d} done, time {final_time:.4f} "
-                          f"({iters} iterations so far, {time.time() - t0:6.1f} s)", flush=True)
+                    print(f"  ccx: increment {inc:3d} -> time {final_time:.4f} "
+                          f"({iters} Newton iterations so far, {time.time() - t0:6.1f} s)", flush=True)
             if "Job finished" in s:
                 finished = True
         p.wait()
@@ -82,6 +83,8 @@ def main():
     ap.add_argument("--no-shells", action="store_true", help="model A without its stratum corneum shell")
     ap.add_argument("--material-law", default="elastic", choices=("elastic", "neohooke"))
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--target-force", type=float, default=1.0,
+                    help="the SED map and path are taken at the increment closest to this force [N]")
     ap.add_argument("--allow-partial", action="store_true")
     ap.add_argument("--no-plots", action="store_true")
     ap.add_argument("--out", required=True)
@@ -112,7 +115,7 @@ def main():
             return 1
         print("run_reference: --allow-partial: writing the converged increments only", file=sys.stderr)
     try:
-        r = read_results.read_run(model, run_dir)
+        r = read_results.read_run(model, run_dir, a.target_force)
     except read_results.ResultError as e:
         print(f"run_reference: cannot read the results: {e}", file=sys.stderr)
         return 1

@@ -1,4 +1,4 @@
-// Fuzzes the frame decoder and scan assembler. The first byte picks a shipped profile or a
+// Fuzzes the frame decoder and scan assembler (and the SocketCAN datagram conversion). The first byte picks a shipped profile or a
 // layout built from the input itself; the rest is a stream of frames (id, flags, length,
 // payload) pushed through the assembler. Checked: no crash/UB, decoded samples in range,
 // encode(decode(frame)) reproduces the decoded samples, scans have consistent sizes and
@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "sensors/scan_assembler.h"
+#include "sensors/socketcan_source.h"
 
 using namespace sedbridge::sensors;
 
@@ -74,6 +75,14 @@ std::unique_ptr<SensorProfile> LayoutFromBytes(Reader& in) {
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  // The whole input as a kernel datagram (what SocketCanSource reads).
+  Frame kernel;
+  if (FrameFromKernel(data, size, &kernel)) {
+    if (!IsWellFormed(kernel)) std::abort();
+    unsigned char back[72];
+    Frame again;
+    if (!FrameFromKernel(back, FrameToKernel(kernel, back), &again) || !again.SamePayload(kernel)) std::abort();
+  }
   Reader in{data, size};
   const uint8_t choice = in.U8();
   std::unique_ptr<SensorProfile> own;

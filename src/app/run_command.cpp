@@ -1,0 +1,124 @@
+// sedbridge run: the live bridge. SocketCAN -> scans -> FE -> SED -> display -> LCM.
+
+#include <atomic>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <thread>
+
+#include "app/arg_parser.h"
+#include "app/command.h"
+#include "bridge/bridge_config.h"
+#include "bridge/live_bridge.h"
+#include "bridge/replay.h"
+#include "bridge/scene_fe_step.h"
+#include "config/resource_path.h"
+#include "sensors/candump_log.h"
+#include "sensors/socketcan_source.h"
+
+namespace sedbridge::app {
+namespace {
+
+using namespace sedbridge::bridge;
+
+std::atomic<bool> g_stop{false};
+extern "C" void OnSignal(int) { g_stop.store(true); }  // lock-free atomic: async-signal-safe
+
+int RunLiveCommand(int argc, char** argv) {
+  ArgParser args("sedbridge run",
+                 "The live bridge: a receiver thread reads the sensor's CAN frames (SocketCAN) into\n"
+                 "a newest-scan slot; this thread takes the newest scan, steps the FE model and\n"
+                 "publishes the display command on LCM (older scans are dropped and counted).\n"
+                 "Ctrl-C (SIGINT) or SIGTERM stops cleanly; the display is driven to zero on exit and\n"
+                 "on any fault. Status on BRIDGE_STATUS; a summary is printed at exit.");
+  args.Option("config", "BRIDGE.yaml", "bridge config", "config/bridge/default.yaml")
+      .Option("interface", "NAME", "CAN interface (overrides sensor.interface)")
+      .Option("log-input", "LOG", "instead of SocketCAN, play a candump log at recorded speed (restamped)")
+      .Option("duration-s", "S", "stop after S seconds (default: until Ctrl-C)")
+      .Option("threads", "N", "OpenMP threads for the FE step", "1")
+      .Epilog("example:\n  sedbridge run --config config/bridge/default.yaml --interface can0\n"
+              "  lcm-logger -c 'DISPLAY_COMMAND|BRIDGE_STATUS' out/run.lcmlog   # record in another shell");
+  if (!args.Parse(argc, argv)) return 0;
+
+  SetFeThreads(static_cast<int>(args.GetInt("threads")));
+  const BridgeConfig config = LoadBridgeConfig(config::ResolveResource(args.Get("config")));
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
+  const std::string interface = args.GetOptional("interface").value_or(config.can_interface);
+
+  std::unique_ptr<sensors::FrameSource> source;
+  LiveOptions live;
+  live.tick_period_us = static_cast<int64_t>(1e6 / config.tick_Hz);
+  if (auto log = args.GetOptional("log-input")) {
+    sensors::PlaybackOptions playback;
+    playback.speed = 1.0;
+    playback.restamp = true;
+    source = std::make_unique<sensors::CandumpLogSource>(config::ResolveResource(*log), playback);
+  } else {
+    std::string why;
+    if (!sensors::SocketCanSource::KernelHasCan(&why))
+      throw std::runtime_error("no SocketCAN here: " + why + " (try --log-input LOG to run on a recording)");
+    auto can = std::make_unique<sensors::SocketCanSource>(sensors::OptionsForProfile(profile, interface));
+    for (const sensors::Frame& f : profile.start_frames) can->Send(f);
+    source = std::move(can);
+  }
+
+  std::printf("run: %s, sensor %s -> model %s/%s -> display %s, LCM %s\n", source->Describe().c_str(),
+              profile.name.c_str(), config.model.c_str(), config.preset.c_str(), config.display_profile.c_str(),
+              config.lcm.url.c_str());
+  BridgePipeline pipeline(config, profile, MakeFeStep(config, profile), config.lcm);
+  std::printf("%s\n", pipeline.fe().Describe().c_str());
+  sensors::AssemblerOptions assembler_options;
+  assembler_options.tare_scans = config.tare_scans;
+  sensors::ScanAssembler assembler(profile, assembler_options);
+
+  g_stop.store(false);
+  std::signal(SIGINT, OnSignal);
+  std::signal(SIGTERM, OnSignal);
+  std::thread timer;
+  if (args.Has("duration-s")) {
+    const double s = args.GetDouble("duration-s");
+    timer = std::thread([s] {
+      const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(s);
+      while (!g_stop.load() && std::chrono::steady_clock::now() < end)
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+      g_stop.store(true);
+    });
+  }
+  LiveBridge bridge(*source, assembler, pipeline, live);
+  LiveResult result;
+  try {
+    result = bridge.Run(g_stop);
+  } catch (...) {
+    g_stop.store(true);
+    if (timer.joinable()) timer.join();
+    throw;
+  }
+  g_stop.store(true);
+  if (timer.joinable()) timer.join();
+  std::signal(SIGINT, SIG_DFL);
+  std::signal(SIGTERM, SIG_DFL);
+
+  const LatencySummary lat = pipeline.latency().Run();
+  const PipelineCounters& c = pipeline.counters();
+  std::printf("\nstopped (%s): scans received %lld, processed %lld, dropped (newest wins) %lld, rejected %lld; "
+              "ticks %lld\n",
+              result.stopped_by_request ? "signal/duration" : "source done",
+              static_cast<long long>(result.scans_received), static_cast<long long>(result.scans_processed),
+              static_cast<long long>(result.scans_dropped), static_cast<long long>(c.scans_rejected),
+              static_cast<long long>(result.ticks));
+  std::printf("latency (receive -> publish): median %.3f ms, p99 %.3f ms, max %.3f ms\n", lat.p50_ms, lat.p99_ms,
+              lat.max_ms);
+  std::printf("bad frames:\n%s", sensors::FormatCounters(assembler.counters()).c_str());
+  std::printf("display driven to zero; LCM messages %lld (%lld errors)\n",
+              static_cast<long long>(pipeline.display().publisher().published()),
+              static_cast<long long>(pipeline.display().publisher().publish_errors()));
+  if (auto* can = dynamic_cast<sensors::SocketCanSource*>(source.get()))
+    for (const sensors::Frame& f : profile.stop_frames) can->Send(f);
+  return 0;
+}
+
+}  // namespace
+}  // namespace sedbridge::app
+
+SEDBRIDGE_COMMAND(run, "run", "the live bridge: SocketCAN -> FE -> SED -> display over LCM (Ctrl-C stops, display to zero)",
+                  &sedbridge::app::RunLiveCommand);

@@ -1,0 +1,120 @@
+#include "bridge/bridge_config.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include "config/resource_path.h"
+#include "config/yaml_reader.h"
+
+namespace sedbridge::bridge {
+namespace {
+
+using config::MapReader;
+
+double Positive(MapReader& r, const std::string& key, double fallback) {
+  if (!r.Has(key)) return fallback;
+  const double v = r.Required<double>(key);
+  if (!(std::isfinite(v) && v > 0)) r.Fail(r.Node(key), "'" + key + "' must be a finite number > 0");
+  return v;
+}
+
+double NonNegative(MapReader& r, const std::string& key, double fallback) {
+  if (!r.Has(key)) return fallback;
+  const double v = r.Required<double>(key);
+  if (!(std::isfinite(v) && v >= 0)) r.Fail(r.Node(key), "'" + key + "' must be a finite number >= 0");
+  return v;
+}
+
+BridgeConfig Parse(const config::YamlDocument& doc) {
+  BridgeConfig c;
+  c.file = doc.file;
+  if (!doc.root || doc.root.IsNull()) return c;
+  MapReader r(doc.root, doc.file);
+  if (r.Has("sensor")) {
+    MapReader s = r.Child("sensor");
+    c.sensor_profile = s.Optional<std::string>("profile", c.sensor_profile);
+    c.can_interface = s.Optional<std::string>("interface", c.can_interface);
+    c.tare_scans = s.Optional<int>("tare_scans", c.tare_scans);
+    if (c.tare_scans < 0) s.Fail(s.Node("tare_scans"), "'tare_scans' must be >= 0");
+    s.Finish();
+  }
+  if (r.Has("fe")) {
+    MapReader f = r.Child("fe");
+    c.model = f.Optional<std::string>("model", c.model);
+    c.preset = f.OptionalChoice("preset", {"fast", "balanced", "accurate"}, c.preset);
+    f.Finish();
+  }
+  if (r.Has("registration")) {
+    MapReader g = r.Child("registration");
+    if (g.Has("offset_mm")) {
+      const auto v = g.Required<std::vector<double>>("offset_mm");
+      if (v.size() != 2 || !std::isfinite(v[0]) || !std::isfinite(v[1]))
+        g.Fail(g.Node("offset_mm"), "'offset_mm' must be [x, y] (finite)");
+      c.registration.offset_mm = Eigen::Vector2d(v[0], v[1]);
+    }
+    c.registration.rotation_deg = g.Optional<double>("rotation_deg", 0.0);
+    if (!std::isfinite(c.registration.rotation_deg)) g.Fail(g.Node("rotation_deg"), "'rotation_deg' must be finite");
+    c.registration.scale = Positive(g, "scale", 1.0);
+    g.Finish();
+  }
+  if (r.Has("traction")) {
+    MapReader t = r.Child("traction");
+    c.traction.kernel_sigma_mm = NonNegative(t, "kernel_sigma_mm", c.traction.kernel_sigma_mm);
+    c.conditioning.fill_sigma_mm = c.traction.kernel_sigma_mm;
+    c.traction.min_facing = t.Optional<double>("min_facing", c.traction.min_facing);
+    if (!(c.traction.min_facing >= -1 && c.traction.min_facing <= 1))
+      t.Fail(t.Node("min_facing"), "'min_facing' must be in [-1, 1]");
+    c.traction.max_depth_mm = Positive(t, "max_depth_mm", c.traction.max_depth_mm);
+    c.conditioning.invalid = t.OptionalChoice("invalid_taxels", {"fill", "zero"}, "fill") == "zero"
+                                 ? InvalidTaxelPolicy::kZero
+                                 : InvalidTaxelPolicy::kFill;
+    c.conditioning.max_invalid_fraction = t.Optional<double>("max_invalid_fraction", c.conditioning.max_invalid_fraction);
+    if (!(c.conditioning.max_invalid_fraction >= 0 && c.conditioning.max_invalid_fraction <= 1))
+      t.Fail(t.Node("max_invalid_fraction"), "'max_invalid_fraction' must be in [0, 1]");
+    c.conditioning.noise_floor_Pa = NonNegative(t, "noise_floor_Pa", c.conditioning.noise_floor_Pa);
+    t.Finish();
+  }
+  if (r.Has("display")) {
+    MapReader d = r.Child("display");
+    c.display_profile = d.Required<std::string>("profile");
+    d.Finish();
+  }
+  if (r.Has("rates")) {
+    MapReader q = r.Child("rates");
+    c.status_Hz = Positive(q, "status_Hz", c.status_Hz);
+    c.tick_Hz = Positive(q, "tick_Hz", c.tick_Hz);
+    q.Finish();
+  }
+  if (r.Has("outputs")) {
+    MapReader o = r.Child("outputs");
+    c.publish_sed = o.Optional<bool>("publish_sed", c.publish_sed);
+    c.publish_scans = o.Optional<bool>("publish_scans", c.publish_scans);
+    o.Finish();
+  }
+  if (r.Has("lcm")) {
+    MapReader l = r.Child("lcm");
+    c.lcm = display::ParseLcmSettings(l);
+  }
+  r.Finish();
+  return c;
+}
+
+}  // namespace
+
+BridgeConfig LoadBridgeConfig(const std::string& path) { return Parse(config::LoadYamlFile(path)); }
+
+BridgeConfig ParseBridgeConfig(const std::string& yaml_text, const std::string& file) {
+  return Parse(config::LoadYamlString(yaml_text, file));
+}
+
+std::string ResolveDisplayProfilePath(const std::string& name_or_path) {
+  if (std::filesystem::exists(name_or_path)) return name_or_path;
+  const bool bare = name_or_path.find('/') == std::string::npos &&
+                    std::filesystem::path(name_or_path).extension().empty();
+  if (bare) return config::ResolveResource("config/displays/" + name_or_path + ".yaml");
+  return config::ResolveResource(name_or_path);
+}
+
+std::string DefaultBridgeConfigPath() { return config::ResolveResource("config/bridge/default.yaml"); }
+
+}  // namespace sedbridge::bridge

@@ -1,0 +1,62 @@
+#pragma once
+// One bridge YAML (config/bridge/*.yaml): which sensor, which fingertip model and preset,
+// where the sensor sits on the pad, how taxels become traction, which display, LCM URL and
+// channels, rates. Every key is documented in config/bridge/README.md; the reader is strict
+// (unknown keys and wrong types are config::ConfigError naming file:line:column).
+
+#include <string>
+
+#include "bridge/pad_registration.h"
+#include "bridge/taxel_values.h"
+#include "bridge/traction_field.h"
+#include "display/lcm_channels.h"
+
+namespace sedbridge::bridge {
+
+struct BridgeConfig {
+  std::string file;  ///< where it was read from ("" = defaults)
+
+  // sensor:
+  std::string sensor_profile = "uskin_4x4";  ///< shipped name or YAML path
+  std::string can_interface = "can0";        ///< live mode (sedbridge run)
+  int tare_scans = 0;                        ///< automatic tare over N quiet scans (0 = profile offsets)
+
+  // fe:
+  std::string model = "B";      ///< model name or path (model::LoadFingertipModel)
+  std::string preset = "fast";  ///< fast | balanced | accurate
+
+  // registration:
+  PadRegistrationParams registration;
+
+  // traction:
+  TractionFieldOptions traction;
+  ScanConditioningOptions conditioning;
+
+  // display:
+  std::string display_profile = "suction_4x4";  ///< shipped name (config/displays/NAME.yaml) or path
+
+  // rates:
+  double status_Hz = 10;  ///< BRIDGE_STATUS rate (pipeline clock)
+  double tick_Hz = 200;   ///< live mode: display Tick rate while no scan arrives
+
+  // outputs:
+  bool publish_sed = true;    ///< FINGERTIP_SED every step
+  bool publish_scans = true;  ///< TACTILE_SCAN every scan
+
+  // lcm:
+  display::LcmSettings lcm;
+};
+
+/// Reads a bridge YAML. Throws config::ConfigError.
+BridgeConfig LoadBridgeConfig(const std::string& path);
+/// Same from text (`file` is used in messages).
+BridgeConfig ParseBridgeConfig(const std::string& yaml_text, const std::string& file);
+
+/// A display profile argument: a path, or a shipped name ("suction_4x4" ->
+/// config/displays/suction_4x4.yaml).
+std::string ResolveDisplayProfilePath(const std::string& name_or_path);
+
+/// The shipped default config (config/bridge/default.yaml, resolved from any directory).
+std::string DefaultBridgeConfigPath();
+
+}  // namespace sedbridge::bridge

@@ -1,0 +1,210 @@
+#include "bridge/bridge_pipeline.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "display/display_profile.h"
+#include "display/lcm_conversions.h"
+#include "sedbridge/lcmt_tactile_scan.hpp"
+
+namespace sedbridge::bridge {
+namespace {
+
+lcmt_tactile_scan ToTactileScan(const sensors::Scan& s, const std::string& sensor_id) {
+  lcmt_tactile_scan m;
+  m.utime = s.utime;
+  m.sequence = s.sensor_counter >= 0 ? s.sensor_counter : s.sequence;
+  m.sensor_id = sensor_id;
+  m.num_taxels = s.num_taxels;
+  const size_t n = static_cast<size_t>(std::max(0, s.num_taxels));
+  m.raw_counts.assign(n, 0);
+  m.pressure_kPa.assign(n, 0.0f);
+  m.valid.assign(n, false);
+  const int axes = std::max(1, s.num_axes);
+  for (size_t i = 0; i < n; ++i) {
+    // The message has one raw value per taxel: the normal axis.
+    const size_t ch = i * size_t(axes) + size_t(axes == 3 ? 2 : 0);
+    if (ch < s.raw_counts.size()) m.raw_counts[i] = s.raw_counts[ch];
+    if (i < s.pressure_Pa.size()) m.pressure_kPa[i] = display::ToLcmFloat(s.pressure_Pa[i] * 1e-3);
+    if (i < s.valid.size()) m.valid[i] = s.valid[i] != 0;
+  }
+  return m;
+}
+
+}  // namespace
+
+BridgePipeline::BridgePipeline(const BridgeConfig& config, const sensors::SensorProfile& profile,
+                               std::unique_ptr<FeStep> fe, const display::LcmSettings& lcm, WallClock wall_clock)
+    : config_(config),
+      profile_(profile),
+      fe_(std::move(fe)),
+      conditioner_(profile, PadRegistration(profile.taxels, config.registration), config.conditioning),
+      wall_clock_(wall_clock ? std::move(wall_clock) : WallClock(display::WallClockUtime)),
+      status_period_us_(std::max<int64_t>(1, static_cast<int64_t>(std::llround(1e6 / config.status_Hz)))) {
+  display::DisplaySessionOptions options;
+  options.publish_sed = config.publish_sed;
+  display_ = std::make_unique<display::DisplaySession>(
+      display::LoadDisplayProfile(ResolveDisplayProfilePath(config.display_profile)), lcm, options);
+  const Eigen::Matrix3Xd& rest = fe_->merkel_rest_pad_mm();
+  field_.model_id = fe_->model_id();
+  field_.x_mm.resize(size_t(rest.cols()));
+  field_.y_mm.resize(size_t(rest.cols()));
+  field_.z_mm.resize(size_t(rest.cols()));
+  for (Eigen::Index k = 0; k < rest.cols(); ++k) {
+    field_.x_mm[size_t(k)] = rest(0, k);
+    field_.y_mm[size_t(k)] = rest(1, k);
+    field_.z_mm[size_t(k)] = rest(2, k);
+  }
+  field_.sed_Pa.assign(size_t(rest.cols()), 0.0);
+  fault_field_ = field_;
+  std::fill(fault_field_.sed_Pa.begin(), fault_field_.sed_Pa.end(), std::numeric_limits<double>::quiet_NaN());
+}
+
+BridgePipeline::~BridgePipeline() {
+  try {
+    Shutdown(display::WallClockUtime());
+  } catch (...) {
+  }
+}
+
+void BridgePipeline::Reject(const std::string& why, int64_t now_utime, ScanOutcome* outcome) {
+  ++counters_.scans_rejected;
+  outcome->problem = why;
+  fault_state_ = 2;
+  fault_message_ = "scan rejected: " + why;
+  fault_field_.utime = now_utime;
+  const display::DisplayCommand& c = display_->OnSedField(fault_field_, now_utime);
+  ++counters_.commands;
+  ++window_commands_;
+  outcome->max_command = c.value.empty() ? 0 : *std::max_element(c.value.begin(), c.value.end());
+  outcome->latency_us = 0;
+}
+
+ScanOutcome BridgePipeline::ProcessScan(const sensors::Scan& scan, int64_t now_utime, int64_t receive_wall_utime) {
+  ScanOutcome outcome;
+  if (shut_down_) {
+    outcome.problem = "shut down";
+    return outcome;
+  }
+  if (window_start_utime_ < 0) window_start_utime_ = now_utime;
+  ++counters_.scans;
+  ++window_scans_;
+  if (config_.publish_scans) display_->publisher().PublishTactileScan(ToTactileScan(scan, profile_.name));
+
+  fault_field_.source_scan_utime = scan.utime;
+  const ConditioningReport cr = conditioner_.Condition(scan, &values_);
+  counters_.nonfinite_values += cr.nonfinite_values;
+  counters_.invalid_taxels += cr.invalid_taxels;
+  window_invalid_ += cr.invalid_taxels;
+  outcome.invalid_taxels = cr.invalid_taxels;
+  if (!cr.usable) {
+    Reject(cr.reason, now_utime, &outcome);
+    MaybePublishStatus(now_utime);
+    return outcome;
+  }
+  outcome.total_force_N = values_.total_force_N;
+
+  const MerkelSedResult& r = fe_->Step(values_);
+  outcome.report = r.report;
+  last_report_ = r.report;
+  outcome.applied_force_N = r.applied_force_N;
+  if (!r.ok || !r.sed_Pa || static_cast<size_t>(r.sed_Pa->size()) != field_.sed_Pa.size()) {
+    ++counters_.fe_failures;
+    Reject(r.ok ? std::string("SED size mismatch") : r.error, now_utime, &outcome);
+    MaybePublishStatus(now_utime);
+    return outcome;
+  }
+  ++counters_.steps;
+  ++window_steps_;
+  field_.utime = now_utime;
+  field_.source_scan_utime = scan.utime;
+  Eigen::Map<Eigen::VectorXd>(field_.sed_Pa.data(), r.sed_Pa->size()) = *r.sed_Pa;
+  outcome.max_sed_Pa = display::MaxFiniteSed(field_);
+
+  const display::DisplayCommand& c = display_->OnSedField(field_, now_utime);
+  outcome.latency_us = wall_clock_() - receive_wall_utime;
+  latency_.Add(outcome.latency_us);
+  ++counters_.commands;
+  ++window_commands_;
+  outcome.max_command = c.value.empty() ? 0 : *std::max_element(c.value.begin(), c.value.end());
+  outcome.stepped = true;
+  if (fault_state_ == 2) fault_state_ = 0, fault_message_.clear();
+  MaybePublishStatus(now_utime);
+  return outcome;
+}
+
+void BridgePipeline::Tick(int64_t now_utime) {
+  if (shut_down_) return;
+  if (window_start_utime_ < 0) window_start_utime_ = now_utime;
+  display_->Tick(now_utime);
+  ++counters_.commands;
+  ++window_commands_;
+  MaybePublishStatus(now_utime);
+}
+
+void BridgePipeline::Shutdown(int64_t now_utime) {
+  if (shut_down_) return;
+  shut_down_ = true;
+  display_->Shutdown(now_utime);
+  counters_.commands += display::DisplaySession::kShutdownRepeats;
+  display_->publisher().PublishStatus(MakeStatus(now_utime));
+  ++counters_.status_messages;
+  if (auto* log = display_->publisher().log()) log->Flush();
+}
+
+void BridgePipeline::SetSensorCounters(const sensors::BadFrameCounters& counters,
+                                       const sensors::FrameSourceStats& source) {
+  sensor_counters_ = counters;
+  source_stats_ = source;
+}
+
+void BridgePipeline::MaybePublishStatus(int64_t now_utime) {
+  if (now_utime - window_start_utime_ < status_period_us_) return;
+  const double seconds = static_cast<double>(now_utime - window_start_utime_) * 1e-6;
+  window_rates_[0] = window_scans_ / seconds;
+  window_rates_[1] = window_steps_ / seconds;
+  window_rates_[2] = window_commands_ / seconds;
+  window_latency_ = latency_.Window();
+  // Degraded (not a fault): invalid taxels filled, scans dropped upstream, taxels off the pad.
+  if (fault_state_ < 2) {
+    fault_state_ = 0;
+    fault_message_.clear();
+    if (window_invalid_ > 0) fault_state_ = 1, fault_message_ = std::to_string(window_invalid_) + " invalid taxel readings";
+  }
+  display_->publisher().PublishStatus(MakeStatus(now_utime));
+  ++counters_.status_messages;
+  latency_.ResetWindow();
+  window_start_utime_ = now_utime;
+  window_scans_ = window_steps_ = window_commands_ = window_invalid_ = 0;
+}
+
+lcmt_bridge_status BridgePipeline::MakeStatus(int64_t now_utime) const {
+  lcmt_bridge_status s{};
+  s.utime = now_utime;
+  s.scan_rate_Hz = static_cast<float>(window_rates_[0]);
+  s.step_rate_Hz = static_cast<float>(window_rates_[1]);
+  s.command_rate_Hz = static_cast<float>(window_rates_[2]);
+  s.latency_p50_ms = static_cast<float>(window_latency_.p50_ms);
+  s.latency_p90_ms = static_cast<float>(window_latency_.p90_ms);
+  s.latency_p99_ms = static_cast<float>(window_latency_.p99_ms);
+  s.latency_max_ms = static_cast<float>(window_latency_.max_ms);
+  s.solver_iterations = last_report_.linear_iterations;
+  s.solver_residual = static_cast<float>(last_report_.linear_residual);
+  s.scans_received = counters_.scans;
+  s.scans_dropped = dropped_upstream_ + sensor_counters_.scans_dropped + counters_.scans_rejected;
+  // The message predates BadFrameCounters; map its three buckets (see config/bridge/README.md).
+  const sensors::BadFrameCounters& b = sensor_counters_;
+  s.bad_frames_length = b.wrong_length + b.wrong_frame_type;
+  s.bad_frames_checksum = b.error_frames + b.bad_frame_index + b.remote_frames;
+  s.bad_frames_sequence = b.missing_frames + b.stale_frames + b.duplicates;
+  const display::DisplayStats& d = const_cast<display::DisplaySession&>(*display_).controller().stats();
+  s.commands_clamped = d.commands_clamped;
+  s.commands_stale = d.commands_stale;
+  s.commands_fault = d.commands_fault;
+  s.fault_state = static_cast<int8_t>(shut_down_ ? 2 : fault_state_);
+  s.fault_message = shut_down_ ? "shut down" : fault_message_;
+  return s;
+}
+
+}  // namespace sedbridge::bridge

@@ -1,0 +1,133 @@
+#pragma once
+// The bridge's data path for one scan, and its health report:
+//
+//   Scan -> ScanConditioner (registration, invalid taxels, NaN guard) -> FeStep (pressure BC,
+//   FE step, Merkel SED) -> SedField -> DisplaySession (mapping, safety limiter, watchdog,
+//   LCM publish) ; BRIDGE_STATUS at rates.status_Hz.
+//
+// A scan that cannot be stepped (too many invalid taxels, wrong size, FE failure) is counted
+// and skipped, and the display is sent to its safe state at once: a non-finite SED field,
+// which the display stage answers with all actuators at 0 and the `fault` flag.
+//
+// Two clocks: `now_utime` drives everything published (message utimes, watchdog, slew,
+// status period; replay passes the log's time so its output is deterministic); latency is
+// measured on the wall clock from the scan's receive time to the return from the publish.
+// Single-threaded: call from the one solver thread.
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "bridge/bridge_config.h"
+#include "bridge/fe_step.h"
+#include "bridge/latency_stats.h"
+#include "bridge/taxel_values.h"
+#include "display/display_session.h"
+#include "sensors/bad_frame_counters.h"
+#include "sensors/frame_source.h"
+#include "sensors/scan.h"
+#include "sensors/sensor_profile.h"
+
+namespace sedbridge::bridge {
+
+/// What happened to one scan.
+struct ScanOutcome {
+  bool stepped = false;          ///< the FE step ran and its SED went to the display
+  std::string problem;           ///< why not (empty when stepped)
+  double total_force_N = 0;      ///< measured normal force of the scan (conditioned)
+  double applied_force_N = 0;    ///< force the FE applied (equals total_force_N up to unmapped taxels)
+  double max_sed_Pa = 0;         ///< largest Merkel-layer SED
+  double max_command = 0;        ///< largest actuator value published [display unit]
+  int64_t latency_us = 0;        ///< receive (wall) -> publish (wall)
+  int invalid_taxels = 0;
+  fem::StepReport report;
+};
+
+/// Counters since start.
+struct PipelineCounters {
+  int64_t scans = 0;              ///< scans handed to ProcessScan
+  int64_t steps = 0;              ///< scans stepped
+  int64_t scans_rejected = 0;     ///< scans not stepped (conditioning or FE failure)
+  int64_t fe_failures = 0;        ///< of those, FE step failures
+  int64_t nonfinite_values = 0;   ///< NaN/Inf taxel values caught (never reached the FE)
+  int64_t invalid_taxels = 0;     ///< invalid taxel readings (filled or zeroed)
+  int64_t scans_dropped = 0;      ///< dropped before the pipeline (newest-scan slot, sensor counter gaps)
+  int64_t commands = 0;           ///< commands published (fields + ticks)
+  int64_t status_messages = 0;
+};
+
+class BridgePipeline {
+ public:
+  using WallClock = std::function<int64_t()>;
+
+  /// @param[in] config    bridge config (display profile, rates, outputs, conditioning)
+  /// @param[in] profile   sensor profile the scans come from
+  /// @param[in] fe        FE step implementation (owned)
+  /// @param[in] lcm       where to publish (URL, channels, optional log)
+  /// @param[in] wall_clock  for latency [us]; defaults to display::WallClockUtime
+  BridgePipeline(const BridgeConfig& config, const sensors::SensorProfile& profile, std::unique_ptr<FeStep> fe,
+                 const display::LcmSettings& lcm, WallClock wall_clock = {});
+  ~BridgePipeline();
+
+  /// Runs one scan through the chain. `receive_wall_utime`: wall time the scan's last
+  /// frame was received (latency origin). Never throws for bad data.
+  ScanOutcome ProcessScan(const sensors::Scan& scan, int64_t now_utime, int64_t receive_wall_utime);
+  /// No scan this period: keeps the display watchdog honest; publishes status when due.
+  void Tick(int64_t now_utime);
+  /// Display to zero (published), final status. Idempotent.
+  void Shutdown(int64_t now_utime);
+
+  /// Latest sensor-side counters (copied into the status message).
+  void SetSensorCounters(const sensors::BadFrameCounters& counters, const sensors::FrameSourceStats& source);
+  /// Scans dropped before reaching the pipeline (newest-scan slot), total since start.
+  void SetScansDroppedUpstream(int64_t dropped) { dropped_upstream_ = dropped; }
+
+  /// Status as published (also used for the exit summary).
+  lcmt_bridge_status MakeStatus(int64_t now_utime) const;
+
+  const PipelineCounters& counters() const { return counters_; }
+  const LatencyStats& latency() const { return latency_; }
+  display::DisplaySession& display() { return *display_; }
+  FeStep& fe() { return *fe_; }
+  const ScanConditioner& conditioner() const { return conditioner_; }
+  /// Last field sent to the display (finite SED of the last stepped scan).
+  const display::SedField& last_field() const { return field_; }
+  const TaxelValues& last_values() const { return values_; }
+  const display::DisplayCommand& last_command() const { return display_->last_command(); }
+  /// 0 ok, 1 degraded, 2 fault; with a reason.
+  int fault_state() const { return fault_state_; }
+  const std::string& fault_message() const { return fault_message_; }
+
+ private:
+  void Reject(const std::string& why, int64_t now_utime, ScanOutcome* outcome);
+  void MaybePublishStatus(int64_t now_utime);
+
+  BridgeConfig config_;
+  sensors::SensorProfile profile_;
+  std::unique_ptr<FeStep> fe_;
+  ScanConditioner conditioner_;
+  std::unique_ptr<display::DisplaySession> display_;
+  WallClock wall_clock_;
+
+  TaxelValues values_;
+  display::SedField field_, fault_field_;
+  LatencyStats latency_;
+  PipelineCounters counters_;
+  sensors::BadFrameCounters sensor_counters_;
+  sensors::FrameSourceStats source_stats_;
+  int64_t dropped_upstream_ = 0;
+
+  // Status window.
+  int64_t status_period_us_;
+  int64_t window_start_utime_ = -1;
+  int64_t window_scans_ = 0, window_steps_ = 0, window_commands_ = 0, window_invalid_ = 0;
+  double window_rates_[3] = {0, 0, 0};
+  LatencySummary window_latency_;
+  fem::StepReport last_report_;
+  int fault_state_ = 0;
+  std::string fault_message_;
+  bool shut_down_ = false;
+};
+
+}  // namespace sedbridge::bridge

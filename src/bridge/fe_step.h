@@ -1,0 +1,37 @@
+#pragma once
+// The one call the bridge pipeline makes into the FE side: taxel values in, Merkel-layer SED
+// out. Kept narrow on purpose so that a faster implementation (e.g. a reduced linear
+// operator built from PressureBoundaryCondition::weights()) can replace the scene-based one
+// without touching the pipeline.
+
+#include <Eigen/Core>
+#include <string>
+
+#include "bridge/taxel_values.h"
+#include "fem/simulation.h"
+
+namespace sedbridge::bridge {
+
+/// Result of one FE step. References stay valid until the next Step().
+struct MerkelSedResult {
+  bool ok = false;                   ///< false: no usable SED this step (see `error`)
+  std::string error;                 ///< why not ok
+  const Eigen::VectorXd* sed_Pa = nullptr;  ///< SED per Merkel vertex [Pa] (only when ok)
+  fem::StepReport report;            ///< solver iterations, residual, convergence
+  double applied_force_N = 0;        ///< applied load along -z_pad (pressing force) [N]
+};
+
+class FeStep {
+ public:
+  virtual ~FeStep() = default;
+  /// Applies `values` (finite, profile taxel count) as the load and solves one step.
+  virtual const MerkelSedResult& Step(const TaxelValues& values) = 0;
+  /// Merkel vertices' rest positions in the pad frame [mm], 3 x #vertices.
+  virtual const Eigen::Matrix3Xd& merkel_rest_pad_mm() const = 0;
+  /// Model id for messages (e.g. "B").
+  virtual const std::string& model_id() const = 0;
+  /// One line, e.g. "scene B (fast): 1642 soft nodes, ldlt".
+  virtual std::string Describe() const = 0;
+};
+
+}  // namespace sedbridge::bridge

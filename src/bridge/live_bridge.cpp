@@ -1,0 +1,84 @@
+#include "bridge/live_bridge.h"
+
+#include <exception>
+#include <thread>
+#include <vector>
+
+namespace sedbridge::bridge {
+
+LiveBridge::LiveBridge(sensors::FrameSource& source, sensors::ScanAssembler& assembler, BridgePipeline& pipeline,
+                       LiveOptions options)
+    : source_(source), assembler_(assembler), pipeline_(pipeline), options_(options) {}
+
+void LiveBridge::Receive(const std::atomic<bool>& stop) {
+  std::vector<sensors::Scan> scans;
+  while (!stop.load() && !source_.Done() && !slot_.closed()) {
+    if (auto frame = source_.Next(options_.receive_timeout_us))
+      assembler_.Push(*frame, &scans);
+    else
+      assembler_.Poll(display::WallClockUtime(), &scans);
+    if (scans.empty()) continue;
+    const int64_t now = display::WallClockUtime();
+    slot_.SetCounters(assembler_.counters(), source_.Stats());
+    for (sensors::Scan& s : scans) {
+      const int64_t origin = options_.scan_utime_is_wall_clock ? s.utime : now;
+      slot_.Put({std::move(s), origin});
+    }
+    scans.clear();
+  }
+  if (source_.Done()) {
+    assembler_.Flush(&scans);
+    for (sensors::Scan& s : scans) slot_.Put({std::move(s), display::WallClockUtime()});
+  }
+  slot_.SetCounters(assembler_.counters(), source_.Stats());
+}
+
+LiveResult LiveBridge::Run(const std::atomic<bool>& stop) {
+  LiveResult result;
+  std::exception_ptr receiver_error, solver_error;
+  std::atomic<bool> receiver_done{false};
+  std::thread receiver([&] {
+    try {
+      Receive(stop);
+    } catch (...) {
+      receiver_error = std::current_exception();
+    }
+    receiver_done = true;
+    slot_.Close();
+  });
+
+  try {
+    LatestScanSlot::Entry entry;
+    sensors::BadFrameCounters counters;
+    sensors::FrameSourceStats stats;
+    while (!stop.load()) {
+      if (slot_.Take(&entry, options_.tick_period_us)) {
+        slot_.GetCounters(&counters, &stats);
+        pipeline_.SetSensorCounters(counters, stats);
+        pipeline_.SetScansDroppedUpstream(slot_.dropped_count());
+        pipeline_.ProcessScan(entry.scan, display::WallClockUtime(), entry.receive_wall_utime);
+        ++result.scans_processed;
+      } else if (receiver_done.load()) {
+        break;  // closed and empty
+      } else {
+        pipeline_.Tick(display::WallClockUtime());
+        ++result.ticks;
+      }
+    }
+  } catch (...) {
+    solver_error = std::current_exception();
+  }
+  result.stopped_by_request = stop.load();
+  slot_.Close();  // the receiver sees it within one receive timeout
+  receiver.join();
+  source_.Close();
+  pipeline_.SetScansDroppedUpstream(slot_.dropped_count());
+  pipeline_.Shutdown(display::WallClockUtime());  // zero on exit and on any fault
+  result.scans_received = slot_.put_count();
+  result.scans_dropped = slot_.dropped_count();
+  if (solver_error) std::rethrow_exception(solver_error);
+  if (receiver_error) std::rethrow_exception(receiver_error);
+  return result;
+}
+
+}  // namespace sedbridge::bridge

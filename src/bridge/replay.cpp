@@ -1,0 +1,145 @@
+#include "bridge/replay.h"
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+
+#include "bridge/scene_fe_step.h"
+#include "sensors/scan_assembler.h"
+
+namespace sedbridge::bridge {
+
+std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::SensorProfile& profile) {
+  return std::make_unique<SceneFeStep>(BridgeSceneDescription(config.model, config.preset), profile,
+                                       PadRegistration(profile.taxels, config.registration), config.traction);
+}
+
+void WriteSummaryCsv(const std::string& path, const std::vector<ReplayRow>& rows) {
+  std::ofstream f(path);
+  if (!f) throw std::runtime_error("cannot write " + path);
+  f << "utime,total_force_N,applied_force_N,max_sed_Pa,max_command,latency_ms,stepped,invalid_taxels\n";
+  char buf[256];
+  for (const ReplayRow& r : rows) {
+    std::snprintf(buf, sizeof buf, "%lld,%.6g,%.6g,%.6g,%.6g,%.4f,%d,%d\n", static_cast<long long>(r.utime),
+                  r.total_force_N, r.applied_force_N, r.max_sed_Pa, r.max_command, r.latency_ms, r.stepped ? 1 : 0,
+                  r.invalid_taxels);
+    f << buf;
+  }
+  if (!f) throw std::runtime_error("write failed: " + path);
+}
+
+ReplayResult RunReplay(const BridgeConfig& config, sensors::FrameSource& source, const ReplayOptions& options) {
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
+  return RunReplay(config, profile, nullptr, source, options);
+}
+
+ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile& profile, std::unique_ptr<FeStep> fe,
+                       sensors::FrameSource& source, const ReplayOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  ReplayResult result;
+  const auto t_setup = Clock::now();
+  if (!fe) fe = MakeFeStep(config, profile);
+  result.fe_description = fe->Describe();
+
+  display::LcmSettings lcm = config.lcm;
+  lcm.url = options.lcm_url;
+  lcm.log_path.clear();
+  if (!options.out_dir.empty()) {
+    std::filesystem::create_directories(options.out_dir);
+    if (options.write_lcm_log) lcm.log_path = (std::filesystem::path(options.out_dir) / "bridge.lcmlog").string();
+  }
+  BridgePipeline pipeline(config, profile, std::move(fe), lcm);
+  result.display_unit = pipeline.display().controller().profile().unit;
+  sensors::AssemblerOptions assembler_options;
+  assembler_options.tare_scans = config.tare_scans;
+  sensors::ScanAssembler assembler(profile, assembler_options);
+  result.setup_s = std::chrono::duration<double>(Clock::now() - t_setup).count();
+  if (options.on_start) options.on_start(pipeline);
+
+  // Peak-SED snapshot for the CSVs.
+  double peak_sed = -1;
+  display::SedField peak_field;
+  display::DisplayCommand peak_command;
+  TaxelValues peak_values;
+  int64_t last_utime = 0;
+
+  std::vector<sensors::Scan> scans;
+  auto process = [&](int64_t receive_wall) {
+    for (const sensors::Scan& scan : scans) {
+      pipeline.SetSensorCounters(assembler.counters(), source.Stats());
+      const ScanOutcome o = pipeline.ProcessScan(scan, scan.utime, receive_wall);
+      last_utime = scan.utime;
+      ReplayRow row;
+      row.utime = scan.utime;
+      row.total_force_N = o.total_force_N;
+      row.applied_force_N = o.applied_force_N;
+      row.max_sed_Pa = o.max_sed_Pa;
+      row.max_command = o.max_command;
+      row.latency_ms = o.latency_us * 1e-3;
+      row.stepped = o.stepped;
+      row.invalid_taxels = o.invalid_taxels;
+      result.rows.push_back(row);
+      if (o.stepped && o.max_sed_Pa > peak_sed) {
+        peak_sed = o.max_sed_Pa;
+        result.peak_index = static_cast<int>(result.rows.size()) - 1;
+        peak_field = pipeline.last_field();
+        peak_command = pipeline.last_command();
+        peak_values = pipeline.last_values();
+      }
+      if (options.on_scan) options.on_scan(o, pipeline);
+      if (options.progress && result.rows.size() % 1000 == 0)
+        std::fprintf(stderr, "  %zu scans (log time %.2f s)\n", result.rows.size(),
+                     (scan.utime - result.rows.front().utime) * 1e-6);
+    }
+    scans.clear();
+  };
+
+  const auto t0 = Clock::now();
+  while (!source.Done()) {
+    std::optional<sensors::Frame> frame = source.Next(-1);
+    if (!frame) continue;
+    assembler.Push(*frame, &scans);
+    if (!scans.empty()) process(display::WallClockUtime());
+  }
+  assembler.Flush(&scans);
+  process(display::WallClockUtime());
+  result.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
+  pipeline.SetSensorCounters(assembler.counters(), source.Stats());
+  pipeline.Shutdown(last_utime);
+  if (options.on_finish) options.on_finish(pipeline);
+
+  result.counters = pipeline.counters();
+  result.latency = pipeline.latency().Run();
+  result.bad_frames = assembler.counters();
+  result.source_stats = source.Stats();
+  result.published = pipeline.display().publisher().published();
+  result.publish_errors = pipeline.display().publisher().publish_errors();
+
+  if (!options.out_dir.empty()) {
+    const std::filesystem::path dir(options.out_dir);
+    WriteSummaryCsv((dir / "summary.csv").string(), result.rows);
+    std::ofstream sed((dir / "peak_merkel_sed.csv").string());
+    sed << "x_mm,y_mm,z_mm,sed_Pa\n";
+    for (size_t k = 0; k < peak_field.sed_Pa.size(); ++k)
+      sed << peak_field.x_mm[k] << ',' << peak_field.y_mm[k] << ',' << peak_field.z_mm[k] << ','
+          << peak_field.sed_Pa[k] << '\n';
+    const display::DisplayProfile& dp = pipeline.display().controller().profile();
+    std::ofstream cmd((dir / "peak_command.csv").string());
+    cmd << "actuator,x_mm,y_mm,value\n";
+    for (size_t k = 0; k < dp.x_mm.size(); ++k)
+      cmd << k << ',' << dp.x_mm[k] << ',' << dp.y_mm[k] << ','
+          << (k < peak_command.value.size() ? peak_command.value[k] : 0.0) << '\n';
+    std::ofstream tax((dir / "peak_taxels.csv").string());
+    tax << "taxel,x_mm,y_mm,pressure_Pa\n";
+    const PadRegistration reg(profile.taxels, config.registration);
+    for (size_t k = 0; k < peak_values.pressure_Pa.size() && k < profile.taxels.size(); ++k) {
+      const Eigen::Vector2d p = reg.ToPad({profile.taxels[k].x_mm, profile.taxels[k].y_mm});
+      tax << k << ',' << p.x() << ',' << p.y() << ',' << peak_values.pressure_Pa[k] << '\n';
+    }
+  }
+  return result;
+}
+
+}  // namespace sedbridge::bridge

@@ -1,0 +1,76 @@
+#pragma once
+// Offline runs of the bridge: every frame of a finite source (candump log, simulated sensor)
+// through the assembler and the pipeline, every scan processed, in order. Everything
+// published and written is stamped with the source's own time (the log's receive times), so
+// two runs give identical output; only the measured wall-clock latency differs.
+//
+// Files written into `out_dir` (when not empty):
+//   summary.csv             one row per scan: utime,total_force_N,applied_force_N,max_sed_Pa,
+//                           max_command,latency_ms,stepped,invalid_taxels
+//   peak_merkel_sed.csv     x_mm,y_mm,z_mm,sed_Pa of the Merkel layer at the scan of peak SED
+//   peak_command.csv        actuator,x_mm,y_mm,value (display unit) at that scan
+//   peak_taxels.csv         taxel,x_mm,y_mm,pressure_Pa (pad frame, registered) at that scan
+//   bridge.lcmlog           every published LCM message (lcm-logplayer, lcm-spy)
+
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bridge/bridge_config.h"
+#include "bridge/bridge_pipeline.h"
+#include "bridge/fe_step.h"
+#include "bridge/latency_stats.h"
+#include "sensors/frame_source.h"
+#include "sensors/sensor_profile.h"
+
+namespace sedbridge::bridge {
+
+/// The FE step a config asks for (SceneFeStep on BridgeSceneDescription(model, preset)).
+std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::SensorProfile& profile);
+
+struct ReplayOptions {
+  std::string out_dir;             ///< "" = no files (tests)
+  std::string lcm_url = "memq://"; ///< where messages go besides the log (memq = nowhere)
+  bool write_lcm_log = true;       ///< bridge.lcmlog in out_dir
+  bool progress = false;           ///< a line on stderr every 1000 scans
+  /// Called after every scan (tests, benchmarks), with the pipeline (e.g. to drain memq).
+  std::function<void(const ScanOutcome&, BridgePipeline&)> on_scan;
+  /// Called once the pipeline exists, before the first frame (e.g. to subscribe on memq).
+  std::function<void(BridgePipeline&)> on_start;
+  /// Called after the display's shutdown, before the pipeline is destroyed.
+  std::function<void(BridgePipeline&)> on_finish;
+};
+
+struct ReplayRow {
+  int64_t utime = 0;
+  double total_force_N = 0, applied_force_N = 0, max_sed_Pa = 0, max_command = 0, latency_ms = 0;
+  bool stepped = false;
+  int invalid_taxels = 0;
+};
+
+struct ReplayResult {
+  std::vector<ReplayRow> rows;
+  PipelineCounters counters;
+  LatencySummary latency;
+  sensors::BadFrameCounters bad_frames;
+  sensors::FrameSourceStats source_stats;
+  double wall_s = 0;            ///< processing time (scan loop only, no model load)
+  double setup_s = 0;           ///< model load + factorization
+  int peak_index = -1;          ///< row of peak SED
+  std::string fe_description;
+  std::string display_unit;
+  int64_t published = 0, publish_errors = 0;
+};
+
+/// Runs `source` to its end through a new pipeline built from `config`.
+ReplayResult RunReplay(const BridgeConfig& config, sensors::FrameSource& source, const ReplayOptions& options);
+/// Same with a given FE step (e.g. one already built; ownership passes to the pipeline).
+ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile& profile,
+                       std::unique_ptr<FeStep> fe, sensors::FrameSource& source, const ReplayOptions& options);
+
+/// Writes summary.csv for `rows`.
+void WriteSummaryCsv(const std::string& path, const std::vector<ReplayRow>& rows);
+
+}  // namespace sedbridge::bridge

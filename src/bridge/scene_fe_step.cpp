@@ -1,0 +1,84 @@
+#include "bridge/scene_fe_step.h"
+
+#include <omp.h>
+
+#include <cstdio>
+#include <stdexcept>
+
+namespace sedbridge::bridge {
+
+scene::SceneDescription BridgeSceneDescription(const std::string& model, const std::string& preset) {
+  scene::SceneDescription d;
+  d.file = "<bridge>";
+  d.model = model;
+  d.preset = preset;
+  scene::ApplyPreset(preset, d);
+  d.integrator.kind = fem::IntegratorKind::kQuasiStatic;
+  d.steps = 1;
+  d.dt_s = 1.0;
+  d.bone = scene::BoneSection{};
+  d.surface_traction = true;
+  d.outputs.merkel_sed = true;
+  d.outputs.full_sed = false;
+  d.outputs.vtu_every = 0;
+  return d;
+}
+
+SceneFeStep::SceneFeStep(const scene::SceneDescription& description, const sensors::SensorProfile& profile,
+                         const PadRegistration& registration, const TractionFieldOptions& options)
+    : scene_(std::make_unique<scene::FingertipScene>(description)) {
+  if (!scene_->traction()) throw std::invalid_argument("bridge scene needs surface_traction: true");
+  if (!scene_->merkel()) throw std::invalid_argument("bridge scene needs outputs.merkel_sed: true");
+  bc_ = std::make_unique<PressureBoundaryCondition>(*scene_, profile, registration, options);
+  model_id_ = scene_->model().name;
+  TaxelValues zero;
+  zero.pressure_Pa.assign(size_t(profile.taxel_count), 0.0);
+  Step(zero);
+}
+
+void SetFeThreads(int threads) { omp_set_num_threads(threads < 1 ? 1 : threads); }
+
+const MerkelSedResult& SceneFeStep::Step(const TaxelValues& values) {
+  result_ = MerkelSedResult{};
+  const Eigen::Matrix3Xd& traction = bc_->Apply(values);
+  if (!traction.allFinite()) {  // cannot happen with conditioned values; never hand NaN to the FE
+    result_.error = "non-finite traction";
+    return result_;
+  }
+  try {
+    scene_->traction()->SetNodalTraction(traction);
+  } catch (const std::invalid_argument& e) {
+    result_.error = e.what();
+    return result_;
+  }
+  result_.report = scene_->Step();
+  const Eigen::Vector3d f_model = scene_->traction()->TotalForce();
+  result_.applied_force_N = -(scene_->model().pad_frame.model_from_pad.linear().transpose() * f_model).z();
+  if (!result_.report.finite) {
+    result_.error = "FE step produced NaN/Inf (rolled back)";
+    return result_;
+  }
+  // Not `report.converged`: with one Newton iteration (the linear "fast" preset, exact for
+  // a linear problem) it reads false whenever the load changed. A bad linear solve is what
+  // matters here.
+  if (!(result_.report.linear_residual <= kMaxLinearResidual)) {
+    result_.error = "FE linear solve residual " + std::to_string(result_.report.linear_residual);
+    return result_;
+  }
+  result_.sed_Pa = &scene_->merkel()->sed_Pa();
+  result_.ok = true;
+  return result_;
+}
+
+const Eigen::Matrix3Xd& SceneFeStep::merkel_rest_pad_mm() const { return scene_->merkel()->rest_pad_mm(); }
+
+std::string SceneFeStep::Describe() const {
+  const auto& m = scene_->model();
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "model %s (%s): %d soft nodes, %zu Merkel vertices, solver %s; %zu loaded skin nodes",
+                m.name.c_str(), scene_->description().preset.c_str(), m.num_soft_nodes(), m.merkel_nodes.size(),
+                scene_->simulation().solver().name().c_str(), bc_->field().loaded_nodes.size());
+  return buf;
+}
+
+}  // namespace sedbridge::bridge

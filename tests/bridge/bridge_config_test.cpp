@@ -1,0 +1,84 @@
+#include "bridge/bridge_config.h"
+
+#include <gtest/gtest.h>
+
+#include "bridge/latency_stats.h"
+#include "config/config_error.h"
+#include "config/resource_path.h"
+
+namespace sedbridge::bridge {
+namespace {
+
+TEST(BridgeConfig, ShippedDefaultLoadsWithEveryKey) {
+  const BridgeConfig c = LoadBridgeConfig(DefaultBridgeConfigPath());
+  EXPECT_EQ(c.sensor_profile, "uskin_4x4");
+  EXPECT_EQ(c.model, "B");
+  EXPECT_EQ(c.preset, "fast");
+  EXPECT_EQ(c.display_profile, "suction_4x4");
+  EXPECT_DOUBLE_EQ(c.status_Hz, 10);
+  EXPECT_DOUBLE_EQ(c.conditioning.noise_floor_Pa, 150);
+  EXPECT_EQ(c.lcm.channels.command, "DISPLAY_COMMAND");
+}
+
+TEST(BridgeConfig, EmptyFileGivesDefaults) {
+  const BridgeConfig c = ParseBridgeConfig("", "empty.yaml");
+  EXPECT_EQ(c.model, "B");
+  EXPECT_DOUBLE_EQ(c.registration.scale, 1.0);
+}
+
+TEST(BridgeConfig, ReadsRegistrationAndTraction) {
+  const BridgeConfig c = ParseBridgeConfig(
+      "registration: {offset_mm: [1.5, -2], rotation_deg: 30, scale: 0.8}\n"
+      "traction: {kernel_sigma_mm: 1.2, invalid_taxels: zero, max_invalid_fraction: 0.25}\n"
+      "rates: {status_Hz: 5, tick_Hz: 500}\n",
+      "t.yaml");
+  EXPECT_DOUBLE_EQ(c.registration.offset_mm.x(), 1.5);
+  EXPECT_DOUBLE_EQ(c.registration.rotation_deg, 30);
+  EXPECT_DOUBLE_EQ(c.registration.scale, 0.8);
+  EXPECT_DOUBLE_EQ(c.traction.kernel_sigma_mm, 1.2);
+  EXPECT_DOUBLE_EQ(c.conditioning.fill_sigma_mm, 1.2);
+  EXPECT_EQ(c.conditioning.invalid, InvalidTaxelPolicy::kZero);
+  EXPECT_DOUBLE_EQ(c.tick_Hz, 500);
+}
+
+TEST(BridgeConfig, UnknownKeyNamesFileLineColumn) {
+  try {
+    ParseBridgeConfig("fe:\n  model: B\n  presett: fast\n", "bridge.yaml");
+    FAIL() << "no error";
+  } catch (const config::ConfigError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("bridge.yaml:3:3"), std::string::npos) << what;
+    EXPECT_NE(what.find("presett"), std::string::npos) << what;
+  }
+  EXPECT_THROW(ParseBridgeConfig("registration: {scale: -1}\n", "b.yaml"), config::ConfigError);
+  EXPECT_THROW(ParseBridgeConfig("fe: {preset: turbo}\n", "b.yaml"), config::ConfigError);
+  EXPECT_THROW(ParseBridgeConfig("lcm: {channels: {command: lower}}\n", "b.yaml"), config::ConfigError);
+  EXPECT_THROW(ParseBridgeConfig("bogus: 1\n", "b.yaml"), config::ConfigError);
+}
+
+TEST(LatencyStats, PercentilesWindowAndRun) {
+  LatencyStats s;
+  for (int i = 1; i <= 100; ++i) s.Add(i * 1000);  // 1..100 ms
+  LatencySummary w = s.Window();
+  EXPECT_EQ(w.count, 100);
+  EXPECT_DOUBLE_EQ(w.p50_ms, 50);
+  EXPECT_DOUBLE_EQ(w.p99_ms, 99);
+  EXPECT_DOUBLE_EQ(w.max_ms, 100);
+  s.ResetWindow();
+  EXPECT_EQ(s.Window().count, 0);
+  s.Add(-5);  // clocks that disagree count as 0
+  EXPECT_EQ(s.Run().count, 101);
+  EXPECT_DOUBLE_EQ(s.Run().max_ms, 100);
+}
+
+TEST(LatencyStats, BoundedMemoryKeepsAUniformSubsample) {
+  LatencyStats s(64);
+  for (int i = 0; i < 10000; ++i) s.Add(i % 100 * 1000);
+  const LatencySummary r = s.Run();
+  EXPECT_EQ(r.count, 10000);
+  EXPECT_NEAR(r.p50_ms, 50, 10);
+  EXPECT_DOUBLE_EQ(r.max_ms, 99);
+}
+
+}  // namespace
+}  // namespace sedbridge::bridge

@@ -1,0 +1,48 @@
+// Replay at maximum speed through the whole bridge on model B (and B_coarse): scans/s and the
+// per-scan latency (assembler emit -> command published) median / p99 as counters.
+//   build/tests/bridge/bridge_replay_benchmark --benchmark_counters_tabular=true
+// OMP_NUM_THREADS=1 is what the bridge commands use (--threads 1).
+
+#include <benchmark/benchmark.h>
+
+#include "bridge/replay.h"
+#include "bridge/scene_fe_step.h"
+#include "sensors/candump_log.h"
+
+namespace sedbridge::bridge {
+namespace {
+
+void BM_ReplayExampleLog(benchmark::State& state, const std::string& model) {
+  SetFeThreads(1);
+  BridgeConfig config = LoadBridgeConfig(DefaultBridgeConfigPath());
+  config.model = model;
+  const std::string log = std::string(SEDBRIDGE_SOURCE_DIR) + "/config/bridge/example_press.log";
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
+  int64_t scans = 0;
+  double wall = 0, p50 = 0, p99 = 0, max = 0;
+  for (auto _ : state) {
+    state.PauseTiming();
+    sensors::CandumpLogSource source(log);
+    auto fe = MakeFeStep(config, profile);  // model load + factorization: not timed
+    ReplayOptions options;
+    state.ResumeTiming();
+    const ReplayResult r = RunReplay(config, profile, std::move(fe), source, options);
+    scans += r.counters.scans;
+    wall += r.wall_s;
+    p50 = r.latency.p50_ms;
+    p99 = r.latency.p99_ms;
+    max = r.latency.max_ms;
+  }
+  state.counters["scans_per_s"] = wall > 0 ? scans / wall : 0;
+  state.counters["latency_p50_ms"] = p50;
+  state.counters["latency_p99_ms"] = p99;
+  state.counters["latency_max_ms"] = max;
+}
+
+BENCHMARK_CAPTURE(BM_ReplayExampleLog, B, std::string("B"))->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK_CAPTURE(BM_ReplayExampleLog, B_coarse, std::string("B_coarse"))->Unit(benchmark::kMillisecond)->Iterations(3);
+
+}  // namespace
+}  // namespace sedbridge::bridge
+
+BENCHMARK_MAIN();

@@ -1,0 +1,200 @@
+// End to end: the example candump log through the whole chain over memq://, the published
+// commands checked; the pipeline's fault path; determinism of two replays.
+
+#include "bridge/replay.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "bridge_test_util.h"
+#include "display/lcm_conversions.h"
+#include "display/lcm_log_reader.h"
+#include "sedbridge/lcmt_bridge_status.hpp"
+#include "sedbridge/lcmt_display_command.hpp"
+#include "sensors/candump_log.h"
+
+namespace sedbridge::bridge {
+namespace {
+
+struct Collector {
+  std::vector<lcmt_display_command> commands;
+  std::vector<lcmt_bridge_status> status;
+  int scans = 0;
+  void OnCommand(const lcm::ReceiveBuffer*, const std::string&, const lcmt_display_command* m) {
+    commands.push_back(*m);
+  }
+  void OnStatus(const lcm::ReceiveBuffer*, const std::string&, const lcmt_bridge_status* m) { status.push_back(*m); }
+  void OnScan(const lcm::ReceiveBuffer*, const std::string&) { ++scans; }
+};
+
+std::string TempDir(const std::string& name) {
+  const auto dir = std::filesystem::temp_directory_path() / ("sedbridge_bridge_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  return dir.string();
+}
+
+TEST(Replay, ExampleLogOverMemqPublishesOrderedLimitedCommands) {
+  const BridgeConfig config = testing::TestConfig();
+  sensors::CandumpLogSource source(testing::ExampleLogPath());
+  Collector got;
+  lcm::LCM* lcm = nullptr;
+  ReplayOptions options;
+  options.on_start = [&](BridgePipeline& p) {
+    lcm = &p.display().publisher().lcm();
+    lcm->subscribe(config.lcm.channels.command, &Collector::OnCommand, &got);
+    lcm->subscribe(config.lcm.channels.status, &Collector::OnStatus, &got);
+    lcm->subscribe(config.lcm.channels.tactile_scan, &Collector::OnScan, &got);
+  };
+  auto drain = [&] {
+    while (lcm && lcm->handleTimeout(0) > 0) {
+    }
+  };
+  options.on_scan = [&](const ScanOutcome&, BridgePipeline&) { drain(); };
+  options.on_finish = [&](BridgePipeline&) {
+    drain();
+    lcm = nullptr;  // dies with the pipeline
+  };
+  const ReplayResult r = RunReplay(config, source, options);
+
+  // 3 s at 100 Hz: every scan processed, one command each, plus the shutdown commands.
+  ASSERT_EQ(r.rows.size(), 300u);
+  EXPECT_EQ(r.counters.steps, 300);
+  EXPECT_EQ(r.counters.scans_rejected, 0);
+  EXPECT_EQ(got.scans, 300);
+  ASSERT_EQ(got.commands.size(), 300u + display::DisplaySession::kShutdownRepeats);
+  const double max = 20.0;  // suction_4x4 safety.max [kPa]
+  int nonzero = 0;
+  for (size_t i = 0; i < got.commands.size(); ++i) {
+    const lcmt_display_command& c = got.commands[i];
+    EXPECT_EQ(c.sequence, static_cast<int64_t>(i));
+    if (i > 0) {
+      EXPECT_GE(c.utime, got.commands[i - 1].utime);
+    }
+    ASSERT_EQ(c.num_actuators, 16);
+    for (float v : c.value) {
+      EXPECT_GE(v, 0.0f);
+      EXPECT_LE(v, max);
+    }
+    EXPECT_FALSE(c.fault);
+    if (i < 300) {
+      EXPECT_EQ(c.source_scan_utime, r.rows[i].utime);
+    }
+    float m = 0;
+    for (float v : c.value) m = std::max(m, v);
+    if (m > 0) ++nonzero;
+  }
+  // At rest (first 0.4 s, sphere above the pad; and the shutdown): all zero.
+  for (size_t i = 0; i < 40; ++i)
+    for (float v : got.commands[i].value) EXPECT_EQ(v, 0.0f) << "command " << i;
+  for (size_t i = 300; i < got.commands.size(); ++i) {
+    EXPECT_TRUE(got.commands[i].shutdown);
+    for (float v : got.commands[i].value) EXPECT_EQ(v, 0.0f);
+  }
+  // In contact (peak around t = 1.5 s): clearly non-zero.
+  float peak = 0;
+  for (size_t i = 130; i < 170; ++i)
+    for (float v : got.commands[i].value) peak = std::max(peak, v);
+  EXPECT_GT(peak, 0.5f);
+  EXPECT_GT(nonzero, 40);
+  // Force at the peak: the sphere reaches about 0.8 N on the sensor; the FE applied the same.
+  const ReplayRow& p = r.rows[size_t(r.peak_index)];
+  EXPECT_GT(p.total_force_N, 0.4);
+  EXPECT_NEAR(p.applied_force_N, p.total_force_N, 1e-6 * p.total_force_N);
+  // Status at ~10 Hz of log time (3 s) plus the final one.
+  EXPECT_GE(got.status.size(), 28u);
+  EXPECT_LE(got.status.size(), 32u);
+  EXPECT_EQ(got.status.back().fault_state, 2);  // "shut down"
+  EXPECT_EQ(got.status.back().scans_received, 300);
+}
+
+TEST(Replay, NanScansAreCountedSkippedAndZeroTheDisplay) {
+  const BridgeConfig config = testing::TestConfig();
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
+  display::LcmSettings lcm;
+  lcm.url = "memq://";
+  BridgePipeline pipeline(config, profile, MakeFeStep(config, profile), lcm);
+  int64_t t = 1'000'000;
+  // A firm press brings the display up.
+  for (int i = 0; i < 30; ++i, t += 10'000) {
+    const ScanOutcome o = pipeline.ProcessScan(testing::UniformScan(profile, 8e3, t), t, display::WallClockUtime());
+    ASSERT_TRUE(o.stepped) << o.problem;
+  }
+  float before = 0;
+  for (double v : pipeline.last_command().value) before = std::max<float>(before, float(v));
+  ASSERT_GT(before, 0.0f);
+  // An all-NaN scan: not stepped (the FE would throw), counted, display to zero with fault.
+  sensors::Scan bad = testing::UniformScan(profile, 8e3, t);
+  for (double& p : bad.pressure_Pa) p = std::nan("");
+  const ScanOutcome o = pipeline.ProcessScan(bad, t, display::WallClockUtime());
+  EXPECT_FALSE(o.stepped);
+  EXPECT_EQ(pipeline.counters().scans_rejected, 1);
+  EXPECT_EQ(pipeline.counters().nonfinite_values, 16);
+  EXPECT_EQ(pipeline.fault_state(), 2);
+  EXPECT_TRUE(pipeline.last_command().fault);
+  for (double v : pipeline.last_command().value) EXPECT_EQ(v, 0.0);
+  // The next good scan recovers.
+  t += 10'000;
+  EXPECT_TRUE(pipeline.ProcessScan(testing::UniformScan(profile, 8e3, t), t, display::WallClockUtime()).stepped);
+  EXPECT_EQ(pipeline.fault_state(), 0);
+  EXPECT_EQ(pipeline.counters().steps, 31);
+}
+
+std::string SummaryWithoutLatency(const std::string& path) {
+  std::ifstream f(path);
+  std::stringstream out;
+  std::string line;
+  while (std::getline(f, line)) {
+    std::vector<std::string> cols;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) cols.push_back(c);
+    for (size_t i = 0; i < cols.size(); ++i)
+      if (i != 5) out << cols[i] << ',';  // column 5 = latency_ms, the one wall-clock value
+    out << '\n';
+  }
+  return out.str();
+}
+
+std::vector<std::string> LoggedCommands(const std::string& log) {
+  display::LcmLogReader reader(log);
+  std::vector<std::string> out;
+  while (const lcm::LogEvent* e = reader.Next())
+    if (e->channel == "DISPLAY_COMMAND" || e->channel == "TACTILE_SCAN")
+      out.push_back(e->channel + std::to_string(e->timestamp) +
+                    std::string(static_cast<const char*>(e->data), size_t(e->datalen)));
+  return out;
+}
+
+TEST(Replay, TwoReplaysWriteIdenticalOutput) {
+  const BridgeConfig config = testing::TestConfig();
+  std::string dirs[2] = {TempDir("det_a"), TempDir("det_b")};
+  for (const std::string& dir : dirs) {
+    sensors::CandumpLogSource source(testing::ExampleLogPath());
+    ReplayOptions options;
+    options.out_dir = dir;
+    RunReplay(config, source, options);
+  }
+  const std::string a = SummaryWithoutLatency(dirs[0] + "/summary.csv");
+  EXPECT_EQ(std::count(a.begin(), a.end(), '\n'), 301);
+  EXPECT_EQ(a, SummaryWithoutLatency(dirs[1] + "/summary.csv"));
+  const auto la = LoggedCommands(dirs[0] + "/bridge.lcmlog");
+  EXPECT_GT(la.size(), 600u);
+  EXPECT_TRUE(la == LoggedCommands(dirs[1] + "/bridge.lcmlog"));
+  for (const char* f : {"peak_merkel_sed.csv", "peak_command.csv", "peak_taxels.csv"}) {
+    std::ifstream x(dirs[0] + "/" + f), y(dirs[1] + "/" + f);
+    std::stringstream sx, sy;
+    sx << x.rdbuf();
+    sy << y.rdbuf();
+    EXPECT_GT(sx.str().size(), 30u) << f;
+    EXPECT_EQ(sx.str(), sy.str()) << f;
+  }
+  for (const std::string& dir : dirs) std::filesystem::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace sedbridge::bridge

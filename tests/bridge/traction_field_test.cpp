@@ -1,0 +1,154 @@
+// Pressure boundary condition on the coarse model: exact force balance, zero traction outside
+// the sensor footprint, shear, the NaN guard of the scan conditioning.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "bridge/pressure_boundary_condition.h"
+#include "bridge/scene_fe_step.h"
+#include "bridge/taxel_values.h"
+#include "bridge_test_util.h"
+
+namespace sedbridge::bridge {
+namespace {
+
+class TractionFieldTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    profile_ = new sensors::SensorProfile(sensors::LoadNamedSensorProfile("uskin_4x4"));
+    step_ = new SceneFeStep(BridgeSceneDescription("B_coarse", "fast"), *profile_, PadRegistration(profile_->taxels));
+  }
+  static void TearDownTestSuite() {
+    delete step_;
+    delete profile_;
+  }
+  static sensors::SensorProfile* profile_;
+  static SceneFeStep* step_;
+};
+sensors::SensorProfile* TractionFieldTest::profile_ = nullptr;
+SceneFeStep* TractionFieldTest::step_ = nullptr;
+
+TEST_F(TractionFieldTest, EveryTaxelReachesTheCoarseModel) {
+  const TractionWeights& f = step_->boundary_condition().field();
+  EXPECT_TRUE(f.unmapped_taxels.empty());
+  EXPECT_GT(f.loaded_nodes.size(), 20u);
+  EXPECT_NEAR(f.sigma_mm, 0.5 * 4.7, 1e-9);
+}
+
+TEST_F(TractionFieldTest, IntegratedNodalForceEqualsMeasuredForceExactly) {
+  PressureBoundaryCondition bc(step_->scene(), *profile_, PadRegistration(profile_->taxels));
+  const ScanConditioner cond(*profile_, PadRegistration(profile_->taxels));
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> p(0, 20e3), s(-3e3, 3e3);
+  const Eigen::Matrix3d R_pad = step_->scene().model().pad_frame.model_from_pad.linear().transpose();
+  for (int trial = 0; trial < 5; ++trial) {
+    sensors::Scan scan = testing::UniformScan(*profile_, 0.0);
+    for (int i = 0; i < profile_->taxel_count; ++i) {
+      scan.pressure_Pa[size_t(i)] = trial == 0 ? 5e3 : p(rng);
+      scan.shear_x_Pa[size_t(i)] = s(rng);
+      scan.shear_y_Pa[size_t(i)] = s(rng);
+    }
+    TaxelValues v;
+    ASSERT_TRUE(cond.Condition(scan, &v).usable);
+    double measured = 0, sx = 0, sy = 0;
+    for (int i = 0; i < profile_->taxel_count; ++i) {
+      const double a = profile_->taxel_area_mm2() * 1e-6;
+      measured += scan.pressure_Pa[size_t(i)] * a;
+      sx += scan.shear_x_Pa[size_t(i)] * a;
+      sy += scan.shear_y_Pa[size_t(i)] * a;
+    }
+    EXPECT_NEAR(v.total_force_N, measured, 1e-12 * measured);
+    step_->scene().traction()->SetNodalTraction(bc.Apply(v));
+    const Eigen::Vector3d f_pad = R_pad * step_->scene().traction()->TotalForce();
+    EXPECT_NEAR(-f_pad.z(), measured, 1e-9 * measured) << "trial " << trial;
+    EXPECT_NEAR(f_pad.x(), sx, 1e-9 * measured);
+    EXPECT_NEAR(f_pad.y(), sy, 1e-9 * measured);
+  }
+  step_->scene().traction()->ClearTraction();
+}
+
+TEST_F(TractionFieldTest, ZeroTractionOutsideTheFootprint) {
+  PressureBoundaryCondition bc(step_->scene(), *profile_, PadRegistration(profile_->taxels));
+  const SkinNodes nodes = SkinNodesOf(step_->scene());
+  const PadRegistration reg(profile_->taxels);
+  TaxelValues v;
+  v.pressure_Pa.assign(16, 10e3);
+  const Eigen::Matrix3Xd& t = bc.Apply(v);
+  int outside = 0, inside_loaded = 0;
+  for (Eigen::Index n = 0; n < t.cols(); ++n) {
+    const Eigen::Vector2d s = reg.ToSensor(nodes.position_pad_mm.col(n).head<2>());
+    if (!InsideFootprint(*profile_, s)) {
+      ++outside;
+      EXPECT_EQ(t.col(n).norm(), 0.0) << "node " << n;
+      EXPECT_EQ(bc.weights(PressureBoundaryCondition::kNormal).row(n).nonZeros(), 0);
+    } else if (t.col(n).norm() > 0) {
+      ++inside_loaded;
+      EXPECT_GE(nodes.normal_pad(2, n), 0.5);  // only skin facing the pad
+    }
+  }
+  EXPECT_GT(outside, 100);  // most of the finger (back, nail side, proximal cut)
+  EXPECT_GT(inside_loaded, 20);
+}
+
+TEST_F(TractionFieldTest, MovingTheSensorOffThePadLeavesItsTaxelsUnmapped) {
+  PadRegistrationParams far;
+  far.offset_mm = {40, 0};
+  const TractionWeights w =
+      BuildTractionWeights(*profile_, PadRegistration(profile_->taxels, far), SkinNodesOf(step_->scene()));
+  EXPECT_EQ(w.unmapped_taxels.size(), 16u);
+  EXPECT_EQ(w.W.nonZeros(), 0);
+}
+
+TEST(ScanConditioner, NanInAValidTaxelIsCountedAndFilledFromNeighbours) {
+  const sensors::SensorProfile p = sensors::LoadNamedSensorProfile("uskin_4x4");
+  const ScanConditioner cond(p, PadRegistration(p.taxels));
+  sensors::Scan scan = testing::UniformScan(p, 2000.0);
+  scan.pressure_Pa[5] = std::nan("");
+  scan.shear_x_Pa[6] = INFINITY;
+  TaxelValues v;
+  const ConditioningReport r = cond.Condition(scan, &v);
+  EXPECT_TRUE(r.usable);
+  EXPECT_EQ(r.nonfinite_values, 2);
+  EXPECT_EQ(r.invalid_taxels, 2);
+  EXPECT_NEAR(v.pressure_Pa[5], 2000.0, 1e-9);  // uniform neighbours -> the same value
+  EXPECT_NEAR(v.pressure_Pa[6], 2000.0, 1e-9);
+  for (double x : v.pressure_Pa) EXPECT_TRUE(std::isfinite(x));
+  for (double x : v.shear_x_Pa) EXPECT_TRUE(std::isfinite(x));
+}
+
+TEST(ScanConditioner, ZeroPolicyAndNoiseFloor) {
+  const sensors::SensorProfile p = sensors::LoadNamedSensorProfile("uskin_4x4");
+  ScanConditioningOptions o;
+  o.invalid = InvalidTaxelPolicy::kZero;
+  o.noise_floor_Pa = 100;
+  const ScanConditioner cond(p, PadRegistration(p.taxels), o);
+  sensors::Scan scan = testing::UniformScan(p, 2000.0);
+  scan.valid[3] = 0;
+  scan.pressure_Pa[4] = 50;   // below the floor
+  scan.pressure_Pa[7] = -500; // a pad cannot pull
+  TaxelValues v;
+  ASSERT_TRUE(cond.Condition(scan, &v).usable);
+  EXPECT_EQ(v.pressure_Pa[3], 0.0);
+  EXPECT_EQ(v.pressure_Pa[4], 0.0);
+  EXPECT_EQ(v.pressure_Pa[7], 0.0);
+  EXPECT_NEAR(v.total_force_N, 13 * 2000.0 * 16e-6, 1e-12);
+}
+
+TEST(ScanConditioner, RejectsMostlyInvalidOrMisshapenScans) {
+  const sensors::SensorProfile p = sensors::LoadNamedSensorProfile("uskin_4x4");
+  const ScanConditioner cond(p, PadRegistration(p.taxels));
+  TaxelValues v;
+  sensors::Scan scan = testing::UniformScan(p, 1000.0);
+  for (int i = 0; i < 9; ++i) scan.pressure_Pa[size_t(i)] = std::nan("");
+  const ConditioningReport r = cond.Condition(scan, &v);
+  EXPECT_FALSE(r.usable);
+  EXPECT_EQ(r.nonfinite_values, 9);
+  sensors::Scan shorter = testing::UniformScan(p, 1000.0);
+  shorter.pressure_Pa.pop_back();
+  EXPECT_FALSE(cond.Condition(shorter, &v).usable);
+}
+
+}  // namespace
+}  // namespace sedbridge::bridge

@@ -1,0 +1,93 @@
+#!/usr/bin/python3
+"""Plots of a bridge replay (written by `sedbridge replay ... --out DIR`).
+
+Usage: plot_bridge.py DIR [UNIT]
+
+Reads DIR/summary.csv, DIR/peak_merkel_sed.csv, DIR/peak_command.csv, DIR/peak_taxels.csv
+and writes
+  DIR/bridge_peak.png      at the scan of peak SED: the taxel pressures on the pad, the
+                           Merkel-layer SED under the pad, the display command (pad frame:
+                           x lateral, y toward the tip)
+  DIR/bridge_timeline.png  measured force and max Merkel SED over time, max command below
+
+Run with /usr/bin/python3 (needs matplotlib; Debian: python3-matplotlib).
+"""
+import csv
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def read(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def col(rows, key):
+    return [float(r[key]) for r in rows]
+
+
+def main():
+    if len(sys.argv) < 2:
+        print(__doc__)
+        return 2
+    out = sys.argv[1]
+    unit = sys.argv[2] if len(sys.argv) > 2 else ""
+    summary = read(os.path.join(out, "summary.csv"))
+    sed = read(os.path.join(out, "peak_merkel_sed.csv"))
+    cmd = read(os.path.join(out, "peak_command.csv"))
+    taxels = read(os.path.join(out, "peak_taxels.csv"))
+
+    # Timeline.
+    t0 = float(summary[0]["utime"])
+    t = [(float(r["utime"]) - t0) * 1e-6 for r in summary]
+    fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 5), sharex=True)
+    a1.plot(t, col(summary, "total_force_N"), color="tab:blue", label="measured force")
+    a1.set_ylabel("force [N]", color="tab:blue")
+    b1 = a1.twinx()
+    b1.plot(t, col(summary, "max_sed_Pa"), color="tab:red", label="max Merkel SED")
+    b1.set_ylabel("max Merkel SED [Pa]", color="tab:red")
+    a1.set_title("bridge replay: force and Merkel-layer SED")
+    a2.plot(t, col(summary, "max_command"), color="tab:green")
+    a2.set_ylabel("max command [%s]" % unit)
+    a2.set_xlabel("time [s]")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "bridge_timeline.png"), dpi=120)
+    plt.close(fig)
+
+    # Peak frame.
+    fig, axes = plt.subplots(1, 3, figsize=(13, 4.2))
+    ax = axes[0]
+    if taxels:
+        s = ax.scatter(col(taxels, "x_mm"), col(taxels, "y_mm"), c=[p * 1e-3 for p in col(taxels, "pressure_Pa")],
+                       s=260, marker="s", cmap="viridis")
+        fig.colorbar(s, ax=ax, label="pressure [kPa]")
+    ax.set_title("taxels (registered on the pad)")
+    ax = axes[1]
+    under = [r for r in sed if float(r["z_mm"]) > -6.0]  # the pad side of the Merkel layer
+    if under:
+        s = ax.tricontourf(col(under, "x_mm"), col(under, "y_mm"), col(under, "sed_Pa"), levels=20, cmap="inferno")
+        fig.colorbar(s, ax=ax, label="SED [Pa]")
+    ax.set_title("Merkel-layer SED at peak")
+    ax = axes[2]
+    if cmd:
+        s = ax.scatter(col(cmd, "x_mm"), col(cmd, "y_mm"), c=col(cmd, "value"), s=500, marker="o", cmap="Blues",
+                       edgecolors="k", vmin=0)
+        fig.colorbar(s, ax=ax, label="command [%s]" % unit)
+    ax.set_title("display command at peak")
+    for ax in axes:
+        ax.set_xlabel("x [mm] (lateral)")
+        ax.set_ylabel("y [mm] (toward tip)")
+        ax.set_aspect("equal", adjustable="datalim")
+    fig.tight_layout()
+    fig.savefig(os.path.join(out, "bridge_peak.png"), dpi=120)
+    plt.close(fig)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
