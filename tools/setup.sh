@@ -7,7 +7,7 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake pkg-config git
   libeigen3-dev libyaml-cpp-dev
-  liblcm-dev liblcm-bin libglib2.0-dev
+  liblcm-dev liblcm-bin liblcm-java libglib2.0-dev
   libomp-dev
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   clang libclang-rt-dev

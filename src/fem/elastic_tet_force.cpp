@@ -1,5 +1,6 @@
 #include "fem/elastic_tet_force.h"
 
+#include <Eigen/Dense>
 #include <cstdint>
 #include <stdexcept>
 
@@ -43,6 +44,22 @@ ElasticTetForce::ElasticTetForce(const TetMesh& mesh, ElasticFormulation formula
   node_elements_.resize(size_t(mesh.num_nodes()));
   for (int t = 0; t < mesh.num_tets(); ++t)
     for (int n : mesh.tets[size_t(t)]) node_elements_[size_t(n)].push_back(t);
+  rest_positions_.resize(3 * mesh.num_nodes());
+  for (int i = 0; i < mesh.num_nodes(); ++i) rest_positions_.segment<3>(3 * i) = mesh.rest_positions_m.col(i);
+  if (formulation_ == ElasticFormulation::kLinear) {
+    std::vector<std::pair<int, int>> pairs;
+    AppendCoupledNodes(pairs);
+    rest_stiffness_.Build(mesh.num_nodes(), pairs);
+    for (size_t t = 0; t < elements_.size(); ++t) {
+      const TetElement& e = elements_[t];
+      for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b) {
+          const Eigen::Vector3d ga = e.shape_gradients.row(a).transpose(), gb = e.shape_gradients.row(b).transpose();
+          rest_stiffness_.AddBlock(rest_stiffness_.Slot(mesh.tets[t][size_t(a)], mesh.tets[t][size_t(b)]),
+                                   StiffnessBlock(e, ga, gb, ga.dot(gb)));
+        }
+    }
+  }
 }
 
 std::string ElasticTetForce::name() const {
@@ -66,6 +83,26 @@ void ElasticTetForce::AddForce(const SystemState& state, Eigen::VectorXd& force_
   if (sink && slots_.empty()) throw std::logic_error("ElasticTetForce: BindMatrix not called");
   const bool corotational = formulation_ == ElasticFormulation::kCorotational;
   const bool damping = state.dynamic && beta_s_ > 0;
+
+  if (!corotational) {
+    // f = -K0 (x - X) - beta K0 v
+    work_ = state.x_m - rest_positions_;
+    if (damping) work_ += beta_s_ * state.v_m_s;
+    Eigen::VectorXd k_times;
+    rest_stiffness_.Multiply(work_, k_times);
+    force_N -= k_times;
+    int inverted = 0;
+#pragma omp parallel for schedule(static) reduction(+ : inverted)
+    for (int t = 0; t < int(elements_.size()); ++t) {
+      const Tet& n = mesh_.tets[size_t(t)];
+      if (SignedVolume(state.x_m.segment<3>(3 * n[0]), state.x_m.segment<3>(3 * n[1]), state.x_m.segment<3>(3 * n[2]),
+                       state.x_m.segment<3>(3 * n[3])) <= 0)
+        ++inverted;
+    }
+    inverted_elements_ = inverted;
+    if (!sink) return;
+  }
+
   int inverted = 0;
   for (const auto& color : colors_) {
 #pragma omp parallel for schedule(static) reduction(+ : inverted)
@@ -73,30 +110,40 @@ void ElasticTetForce::AddForce(const SystemState& state, Eigen::VectorXd& force_
       const int t = color[size_t(k)];
       const TetElement& e = elements_[size_t(t)];
       const Tet& n = mesh_.tets[size_t(t)];
-      Eigen::Vector3d x[4];
-      for (int a = 0; a < 4; ++a) x[a] = state.x_m.segment<3>(3 * n[size_t(a)]);
-      const Eigen::Matrix3d F = DeformationGradient(e, x[0], x[1], x[2], x[3]);
-      if (F.determinant() <= 0) ++inverted;
+      const Eigen::Vector3d x0 = state.x_m.segment<3>(3 * n[0]);
+      const Eigen::Matrix3d F = DeformationGradient(e, x0, state.x_m.segment<3>(3 * n[1]),
+                                                    state.x_m.segment<3>(3 * n[2]), state.x_m.segment<3>(3 * n[3]));
       Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-      if (corotational) R = ExtractRotation(F, quaternions_[size_t(t)]);
-      rotations_[size_t(t)] = R;
-
-      // f = -R K0 (R^T x - X)
-      Eigen::Matrix<double, 12, 1> u;
-      for (int a = 0; a < 4; ++a)
-        u.segment<3>(3 * a) = R.transpose() * x[a] - mesh_.rest_positions_m.col(n[size_t(a)]);
-      Eigen::Matrix<double, 12, 1> g = e.rest_stiffness * u;
-      if (damping) {
-        Eigen::Matrix<double, 12, 1> w;
-        for (int a = 0; a < 4; ++a) w.segment<3>(3 * a) = R.transpose() * state.v_m_s.segment<3>(3 * n[size_t(a)]);
-        g += beta_s_ * (e.rest_stiffness * w);
+      if (corotational) {
+        if (F.determinant() <= 0) ++inverted;
+        R = ExtractRotation(F, quaternions_[size_t(t)]);
+        rotations_[size_t(t)] = R;
+        // Stress form of f = -R K0 (R^T x - X): f_a = -V R sigma(eps) g_a with
+        // eps = sym(R^T F) - I (the small strain in the element's rotated frame).
+        Eigen::Matrix3d G = R.transpose() * F;
+        Eigen::Matrix3d eps = 0.5 * (G + G.transpose());
+        eps.diagonal().array() -= 1.0;
+        if (damping) {
+          Eigen::Matrix3d dv;
+          const Eigen::Vector3d v0 = state.v_m_s.segment<3>(3 * n[0]);
+          dv << state.v_m_s.segment<3>(3 * n[1]) - v0, state.v_m_s.segment<3>(3 * n[2]) - v0,
+              state.v_m_s.segment<3>(3 * n[3]) - v0;
+          const Eigen::Matrix3d Gd = R.transpose() * dv * e.rest_inverse;
+          eps += beta_s_ * 0.5 * (Gd + Gd.transpose());
+        }
+        Eigen::Matrix3d sigma = (2.0 * e.mu_Pa) * eps;
+        sigma.diagonal().array() += e.lambda_Pa * eps.trace();
+        const Eigen::Matrix3d P = e.volume_m3 * (R * sigma);
+        for (int a = 0; a < 4; ++a)
+          force_N.segment<3>(3 * n[size_t(a)]) -= P * e.shape_gradients.row(a).transpose();
       }
-      for (int a = 0; a < 4; ++a) force_N.segment<3>(3 * n[size_t(a)]) -= R * g.segment<3>(3 * a);
-
       if (!sink) continue;
+      Eigen::Vector3d h[4];
+      for (int a = 0; a < 4; ++a) h[a] = R * e.shape_gradients.row(a).transpose();
       for (int a = 0; a < 4; ++a) {
         for (int b = a; b < 4; ++b) {
-          const Eigen::Matrix3d K = R * e.rest_stiffness.block<3, 3>(3 * a, 3 * b) * R.transpose();
+          const Eigen::Matrix3d K =
+              StiffnessBlock(e, h[a], h[b], e.shape_gradients.row(a).dot(e.shape_gradients.row(b)));
           const Eigen::Matrix3d D = beta_s_ * K;
           sink->Add(slots_[size_t(t)][size_t(4 * a + b)], n[size_t(a)], n[size_t(b)], K, damping ? &D : nullptr);
           if (b != a) {
@@ -108,18 +155,21 @@ void ElasticTetForce::AddForce(const SystemState& state, Eigen::VectorXd& force_
       }
     }
   }
-  inverted_elements_ = inverted;
+  if (corotational) inverted_elements_ = inverted;
 }
 
 double ElasticTetForce::PotentialEnergy(const SystemState& state) const {
+  // V * SED with the rotations of the last AddForce (identity for linear FEM).
   double energy = 0;
   for (size_t t = 0; t < elements_.size(); ++t) {
     const Tet& n = mesh_.tets[t];
-    Eigen::Matrix<double, 12, 1> u;
-    for (int a = 0; a < 4; ++a)
-      u.segment<3>(3 * a) = rotations_[t].transpose() * state.x_m.segment<3>(3 * n[size_t(a)]) -
-                            mesh_.rest_positions_m.col(n[size_t(a)]);
-    energy += 0.5 * u.dot(elements_[t].rest_stiffness * u);
+    const TetElement& e = elements_[t];
+    const Eigen::Matrix3d F = DeformationGradient(e, state.x_m.segment<3>(3 * n[0]), state.x_m.segment<3>(3 * n[1]),
+                                                  state.x_m.segment<3>(3 * n[2]), state.x_m.segment<3>(3 * n[3]));
+    const Eigen::Matrix3d G = rotations_[t].transpose() * F;
+    Eigen::Matrix3d eps = 0.5 * (G + G.transpose());
+    eps.diagonal().array() -= 1.0;
+    energy += e.volume_m3 * (e.mu_Pa * (eps.array() * eps.array()).sum() + 0.5 * e.lambda_Pa * eps.trace() * eps.trace());
   }
   return energy;
 }

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "fem/force_term.h"
+#include "fem/system_matrix.h"
 #include "fem/tet_element.h"
 
 namespace sedbridge::fem {
@@ -51,6 +52,9 @@ class ElasticTetForce final : public ForceTerm {
   std::vector<Eigen::Matrix3d> rotations_;
   std::vector<std::vector<int>> node_elements_;
   int inverted_elements_ = 0;
+  // Linear FEM: K0 assembled once; the force is then one sparse product a step.
+  SystemMatrix rest_stiffness_;
+  Eigen::VectorXd rest_positions_, work_;
 };
 
 /// Greedy colouring of tets so that no two tets of one colour share a node.

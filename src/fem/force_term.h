@@ -23,18 +23,21 @@ struct SystemState {
 
 /// Receives Jacobian blocks. The integrator sets the scales: backward Euler assembles
 /// M + h D + h^2 K (stiffness_scale = h^2, damping_scale = h); quasi-static assembles K.
+/// When `velocity` is set it also accumulates K v (backward Euler's right-hand side
+/// h f0 - h^2 K v0 needs it).
 struct JacobianSink {
   SystemMatrix* matrix = nullptr;
   double stiffness_scale = 1.0;
   double damping_scale = 0.0;
+  const Eigen::VectorXd* velocity = nullptr;
+  Eigen::VectorXd* stiffness_times_velocity = nullptr;
 
   /// Block (i, j) of K = -df/dx and, if given, of D = -df/dv. Callers writing distinct
   /// block rows may call this concurrently.
   void Add(int slot, int i, int j, const Eigen::Matrix3d& K, const Eigen::Matrix3d* D = nullptr) {
-    (void)i;
-    (void)j;
     matrix->AddBlock(slot, K, stiffness_scale);
     if (D && damping_scale != 0) matrix->AddBlock(slot, *D, damping_scale);
+    if (velocity) stiffness_times_velocity->segment<3>(3 * i) += K * velocity->segment<3>(3 * j);
   }
 };
 

@@ -32,6 +32,10 @@ LinearSolveReport DirectLdltSolver::Solve(const SystemMatrix&, const Eigen::Vect
     report.converged = false;
     return report;
   }
+  if (b.isZero(0.0)) {  // at rest: nothing to solve (keeps long idle runs cheap)
+    x.setZero(b.size());
+    return report;
+  }
   x = ldlt_.solve(b);
   report.converged = x.allFinite();
   return report;

@@ -1,6 +1,7 @@
 #include "fem/simulation.h"
 
 #include <cmath>
+#include <stdexcept>
 
 #include "fem/lumped_mass.h"
 
@@ -28,9 +29,14 @@ Simulation::Simulation(const TetMesh& mesh, std::vector<std::unique_ptr<ForceTer
   delta_ = Eigen::VectorXd::Zero(3 * n);
 }
 
-void Simulation::Assemble(const SystemState& s, double ks, double kd, bool with_matrix) {
+void Simulation::Assemble(const SystemState& s, double ks, double kd, bool with_matrix, bool k_times_v) {
   force_.setZero(x_.size());
   JacobianSink sink{&matrix_, ks, kd};
+  if (k_times_v) {
+    k_times_v_.setZero(x_.size());
+    sink.velocity = &s.v_m_s;
+    sink.stiffness_times_velocity = &k_times_v_;
+  }
   if (with_matrix) matrix_.SetZero();
   for (const auto& term : terms_) term->AddForce(s, force_, with_matrix ? &sink : nullptr);
 }
@@ -63,17 +69,22 @@ StepReport Simulation::Step(double dt) {
 }
 
 StepReport Simulation::StepBackwardEuler(double h) {
-  // Newton on g(v1) = M (v1 - v0) - h f(x0 + h v1, v1) = 0, starting from v1 = v0;
-  // one iteration is the classic linearized backward Euler step.
+  // Newton on g(v1) = M (v1 - v0) - h f(x0 + h v1, v1) = 0. The first iteration is the
+  // classic linearized step (Baraff & Witkin): forces, Jacobians and the contact set are
+  // taken at the current state (x0, v0), giving (M + hD + h^2 K) dv = h f0 - h^2 K v0.
+  // (Linearizing at the predictor x0 + h v0 instead lets a fast-moving contact patch
+  // flip in and out of contact every step.) Later iterations re-linearize at x0 + h v1.
   StepReport report;
   const double t1 = t_ + h;
   const Eigen::VectorXd x0 = x_, v0 = v_;
   Eigen::VectorXd v1 = v0;
   for (int it = 0; it < std::max(1, settings_.newton_iterations); ++it) {
-    x_ = x0 + h * v1;
-    const SystemState s{x_, v1, t1, true};
     const bool build = !(constant_matrix_ && matrix_ready_ && matrix_dt_ == h);
-    Assemble(s, h * h, h, build);
+    // With a constant matrix the problem is linear and both linearizations coincide.
+    const bool at_current_state = it == 0 && build;
+    x_ = at_current_state ? x0 : Eigen::VectorXd(x0 + h * v1);
+    const SystemState s{x_, v1, t1, true};
+    Assemble(s, h * h, h, build, at_current_state);
     if (build) {
       for (int i = 0; i < mesh_.num_nodes(); ++i)
         matrix_.AddScaledIdentity(matrix_.DiagonalSlot(i), mass_[i] * (1.0 + h * settings_.rayleigh_alpha_1_s));
@@ -88,6 +99,7 @@ StepReport Simulation::StepBackwardEuler(double h) {
       rhs_.segment<3>(3 * i) = h * (force_.segment<3>(3 * i) - settings_.rayleigh_alpha_1_s * m * v1.segment<3>(3 * i)) -
                                m * (v1.segment<3>(3 * i) - v0.segment<3>(3 * i));
     }
+    if (at_current_state) rhs_ -= h * h * k_times_v_;
     const LinearSolveReport lr = solver_->Solve(matrix_, rhs_, delta_);
     report.newton_iterations++;
     report.linear_iterations += lr.iterations;
@@ -127,6 +139,10 @@ StepReport Simulation::StepQuasiStatic(double dt) {
     report.converged = report.converged && lr.converged;
     x_ += delta_;
     report.max_step_m = delta_.cwiseAbs().maxCoeff();
+    if (constant_matrix_) {  // linear problem: one exact solve is the equilibrium
+      newton_converged = lr.converged;
+      break;
+    }
     if (!(report.max_step_m > settings_.newton_tolerance_m)) {
       newton_converged = report.max_step_m <= settings_.newton_tolerance_m;
       break;
@@ -136,6 +152,18 @@ StepReport Simulation::StepQuasiStatic(double dt) {
   v_.setZero();
   t_ = t1;
   return report;
+}
+
+void Simulation::PrepareConstantMatrix() {
+  if (!constant_matrix_) throw std::logic_error("PrepareConstantMatrix: the scene's matrix is not constant");
+  if (matrix_ready_) return;
+  const bool dynamic = settings_.kind == IntegratorKind::kBackwardEuler;
+  const double h = dynamic ? matrix_dt_ : 1.0;
+  if (dynamic && h <= 0) throw std::logic_error("PrepareConstantMatrix: backward Euler needs a first step");
+  const SystemState s{x_, v_, t_, dynamic};
+  Assemble(s, dynamic ? h * h : 1.0, dynamic ? h : 0.0, true);
+  PrepareSolver();
+  matrix_ready_ = true;
 }
 
 double Simulation::KineticEnergy() const {

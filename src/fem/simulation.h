@@ -81,9 +81,17 @@ class Simulation {
   Eigen::VectorXd TotalForce();
   /// True if every term's Jacobian is constant (system matrix assembled once).
   bool constant_matrix() const { return constant_matrix_; }
+  /// For a constant-matrix scene: assembles and factorizes the system matrix now (if the
+  /// first step has not) so reduced solvers can reuse it. Throws otherwise.
+  void PrepareConstantMatrix();
+  const SystemMatrix& matrix() const { return matrix_; }
+  LinearSolver& mutable_solver() { return *solver_; }
 
  private:
-  void Assemble(const SystemState& s, double stiffness_scale, double damping_scale, bool with_matrix);
+  /// Forces at s (into force_) and, with_matrix, the system matrix; with k_times_v, also
+  /// K v of s's velocity (into k_times_v_).
+  void Assemble(const SystemState& s, double stiffness_scale, double damping_scale, bool with_matrix,
+                bool k_times_v = false);
   StepReport StepBackwardEuler(double dt);
   StepReport StepQuasiStatic(double dt);
   void PrepareSolver();
@@ -94,7 +102,7 @@ class Simulation {
   std::unique_ptr<LinearSolver> solver_;
   ElasticTetForce* elastic_ = nullptr;
   SystemMatrix matrix_;
-  Eigen::VectorXd x_, v_, mass_, force_, rhs_, delta_;
+  Eigen::VectorXd x_, v_, mass_, force_, rhs_, delta_, k_times_v_;
   std::vector<Eigen::Matrix3d> node_rotations_;
   double t_ = 0;
   bool constant_matrix_ = false;

@@ -51,10 +51,14 @@ void VertexSedEvaluator::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd& ver
     if (corotational) R = ExtractRotation(F, warm_[size_t(k)]);
     element_sed_[k] = ElementSed(e, F, R);
   }
+  AverageToVertices(element_sed_, vertex_sed);
+}
+
+void VertexSedEvaluator::AverageToVertices(const Eigen::VectorXd& element_sed, Eigen::VectorXd& vertex_sed) const {
   vertex_sed.resize(Eigen::Index(vertices_.size()));
   for (size_t v = 0; v < vertices_.size(); ++v) {
     double sum = 0;
-    for (int k : vertex_local_[v]) sum += element_sed_[k];
+    for (int k : vertex_local_[v]) sum += element_sed[k];
     vertex_sed[Eigen::Index(v)] = vertex_local_[v].empty() ? 0.0 : sum / double(vertex_local_[v].size());
   }
 }

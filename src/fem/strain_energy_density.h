@@ -26,6 +26,9 @@ class VertexSedEvaluator {
   /// Element SED [Pa] of elements() from the last Evaluate.
   const Eigen::VectorXd& element_sed_Pa() const { return element_sed_; }
 
+  /// Vertex SED from element SED given for elements() (e.g. from a reduced solver).
+  void AverageToVertices(const Eigen::VectorXd& element_sed_Pa, Eigen::VectorXd& vertex_sed_Pa) const;
+
   const std::vector<int>& vertices() const { return vertices_; }
   const std::vector<int>& elements() const { return elements_; }
 

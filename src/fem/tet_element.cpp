@@ -47,18 +47,25 @@ std::vector<TetElement> PrecomputeElements(const TetMesh& mesh) {
     const auto& mat = mesh.materials.at(size_t(mesh.tet_material.at(t)));
     e.mu_Pa = mat.lame_mu_Pa();
     e.lambda_Pa = mat.lame_lambda_Pa();
-    // K0_ab = V (lambda g_a g_b^T + mu g_b g_a^T + mu (g_a.g_b) I)
-    for (int a = 0; a < 4; ++a) {
-      const Eigen::Vector3d ga = e.shape_gradients.row(a).transpose();
-      for (int b = 0; b < 4; ++b) {
-        const Eigen::Vector3d gb = e.shape_gradients.row(b).transpose();
-        e.rest_stiffness.block<3, 3>(3 * a, 3 * b) =
-            e.volume_m3 * (e.lambda_Pa * ga * gb.transpose() + e.mu_Pa * gb * ga.transpose() +
-                           e.mu_Pa * ga.dot(gb) * Eigen::Matrix3d::Identity());
-      }
-    }
   }
   return out;
+}
+
+Eigen::Matrix3d StiffnessBlock(const TetElement& e, const Eigen::Vector3d& ha, const Eigen::Vector3d& hb,
+                               double ga_dot_gb) {
+  Eigen::Matrix3d k = (e.volume_m3 * e.lambda_Pa) * ha * hb.transpose() + (e.volume_m3 * e.mu_Pa) * hb * ha.transpose();
+  k.diagonal().array() += e.volume_m3 * e.mu_Pa * ga_dot_gb;
+  return k;
+}
+
+Matrix12d RestStiffness(const TetElement& e) {
+  Matrix12d k;
+  for (int a = 0; a < 4; ++a)
+    for (int b = 0; b < 4; ++b) {
+      const Eigen::Vector3d ga = e.shape_gradients.row(a).transpose(), gb = e.shape_gradients.row(b).transpose();
+      k.block<3, 3>(3 * a, 3 * b) = StiffnessBlock(e, ga, gb, ga.dot(gb));
+    }
+  return k;
 }
 
 }  // namespace sedbridge::fem

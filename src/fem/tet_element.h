@@ -16,8 +16,15 @@ struct TetElement {
   Eigen::Matrix<double, 4, 3> shape_gradients;  ///< row a = grad N_a [1/m]
   double volume_m3 = 0;
   double mu_Pa = 0, lambda_Pa = 0;
-  Matrix12d rest_stiffness;  ///< K0 [N/m], blocks (a,b) at (3a, 3b)
 };
+
+/// Block (a, b) of the stiffness R K0 R^T [N/m] for rotated gradients h = R g:
+/// V (lambda h_a h_b^T + mu h_b h_a^T + mu (g_a . g_b) I).
+Eigen::Matrix3d StiffnessBlock(const TetElement& e, const Eigen::Vector3d& h_a, const Eigen::Vector3d& h_b,
+                               double ga_dot_gb);
+
+/// The full rest stiffness K0 (12x12) of one element; blocks (a,b) at (3a, 3b).
+Matrix12d RestStiffness(const TetElement& e);
 
 /// Deformation gradient F = Ds Dm^-1 from current positions of the tet's nodes.
 Eigen::Matrix3d DeformationGradient(const TetElement& e, const Eigen::Vector3d& x0,

@@ -106,6 +106,14 @@ void WritePressCsv(const FingertipScene& scene, const PressResult& result, const
     }
   }
   {
+    // Not part of the figure contract: what each step cost, for the accuracy-cost study.
+    auto out = open("step_timing.csv");
+    out << "step,wall_ms,newton_iterations,linear_iterations,solver_fallbacks,converged,inverted_elements\n";
+    for (const auto& s : result.steps)
+      out << s.step << "," << s.wall_ms << "," << s.report.newton_iterations << "," << s.report.linear_iterations << ","
+          << s.report.solver_fallbacks << "," << (s.report.converged ? 1 : 0) << "," << s.report.inverted_elements << "\n";
+  }
+  {
     auto out = open("sed_path.csv");
     out << "x_mm,sed_Pa,sed_normalized\n";
     const double max_sed = result.selected_max_sed_Pa;

@@ -42,7 +42,8 @@ struct PressResult {
 
 PressResult RunPress(FingertipScene& scene, const PressOptions& options);
 
-/// force_displacement.csv, merkel_sed.csv, sed_path.csv in `dir` (created if needed).
+/// force_displacement.csv, merkel_sed.csv, sed_path.csv (the figure contract) and
+/// step_timing.csv in `dir` (created if needed).
 void WritePressCsv(const FingertipScene& scene, const PressResult& result, const std::string& dir);
 
 }  // namespace sedbridge::scene

@@ -1,0 +1,169 @@
+// FE step cost on a fingertip model: median and p99 ms/step, steps/s, per-effect
+// breakdown. Run (Release build):
+//   build/tests/bench/fem_step_benchmark                      # model B, all cases
+//   SEDBRIDGE_BENCH_MODEL=B_coarse build/tests/bench/fem_step_benchmark --benchmark_filter=Traction
+// Counters: median_ms / p99_ms per step, steps_per_s (from the median), threads.
+
+#include <benchmark/benchmark.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <map>
+#include <memory>
+
+#include "scene/fingertip_scene.h"
+
+namespace sedbridge {
+namespace {
+
+std::string ModelName() {
+  const char* env = std::getenv("SEDBRIDGE_BENCH_MODEL");
+  return env ? env : "B";
+}
+
+const model::FingertipModel& SharedModel() {
+  static const model::FingertipModel model = model::LoadFingertipModel(ModelName());
+  return model;
+}
+
+void Report(benchmark::State& state, std::vector<double> ms) {
+  std::sort(ms.begin(), ms.end());
+  const double median = ms[ms.size() / 2];
+  const double p99 = ms[std::min(ms.size() - 1, size_t(0.99 * double(ms.size())))];
+  state.counters["median_ms"] = median;
+  state.counters["p99_ms"] = p99;
+  state.counters["steps_per_s"] = 1000.0 / median;
+  state.counters["threads"] = omp_get_max_threads();
+}
+
+// A pressure patch on the pad, as the bridge applies from a taxel grid (1 kPa over ~8x8 mm).
+void ApplyPadPressure(scene::FingertipScene& s, double pressure_Pa) {
+  auto* traction = s.traction();
+  Eigen::Matrix3Xd t = Eigen::Matrix3Xd::Zero(3, Eigen::Index(traction->nodes().size()));
+  const Eigen::Vector3d z_pad = s.model().pad_frame.model_from_pad.linear().col(2);
+  for (Eigen::Index k = 0; k < t.cols(); ++k) {
+    const Eigen::Vector3d p = s.model().pad_frame.ToPad(traction->node_rest_positions_m().col(k)) * 1e3;
+    if (p.z() > -1.5 && std::abs(p.x()) < 4 && std::abs(p.y()) < 4) t.col(k) = -pressure_Pa * z_pad;
+  }
+  traction->SetNodalTraction(t);
+}
+
+std::string TractionScene(const std::string& elasticity, const std::string& solver, const std::string& integrator) {
+  return "model: " + ModelName() + "\nelasticity: " + elasticity + "\nsolver: {type: " + solver +
+         ", tolerance: 1.0e-6, max_iterations: 200}\ndynamics: {integrator: " + integrator +
+         ", dt_s: 0.001, newton_iterations: 1}\nbone: {mode: fixed}\nsurface_traction: true\n";
+}
+
+// The bridge's step: a pressure patch that varies a little every step (a live scan),
+// backward Euler or quasi-static, then the Merkel SED.
+void TractionStep(benchmark::State& state, const std::string& elasticity, const std::string& solver,
+                  const std::string& integrator) {
+  omp_set_num_threads(int(state.range(0)));
+  scene::FingertipScene s(scene::ParseSceneDescription(TractionScene(elasticity, solver, integrator), "bench"),
+                          SharedModel());
+  std::vector<double> ms;
+  int k = 0;
+  for (int warm = 0; warm < 3; ++warm) s.Step();
+  for (auto _ : state) {
+    ApplyPadPressure(s, 1000.0 + 200.0 * std::sin(0.05 * k++));
+    const auto t0 = std::chrono::steady_clock::now();
+    s.Step();
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  }
+  Report(state, ms);
+}
+
+// The paper's press, dynamic: backward Euler at 1 ms with penalty contact, the plane
+// pushed 2 mm in 1 s; timed while in contact.
+void ContactPressStep(benchmark::State& state, const std::string& elasticity, const std::string& solver) {
+  omp_set_num_threads(int(state.range(0)));
+  const std::string yaml = "model: " + ModelName() + "\nelasticity: " + elasticity + "\nsolver: {type: " + solver +
+                           ", tolerance: 1.0e-6, max_iterations: 200}\n"
+                           "dynamics: {integrator: backward_euler, dt_s: 0.001, newton_iterations: 1}\n"
+                           "bone: {mode: fixed}\ncontact:\n  objects:\n    - {shape: plane, rpy_deg: [180, 0, 0], "
+                           "position_mm: [0, 0, -0.5], motion: {keyframes: [{t_s: 0, offset_mm: [0, 0, 0]}, "
+                           "{t_s: 1.0, offset_mm: [0, 0, -1.5]}]}}\n";
+  scene::FingertipScene s(scene::ParseSceneDescription(yaml, "bench"), SharedModel());
+  std::vector<double> ms;
+  for (int warm = 0; warm < 3; ++warm) s.Step();
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    s.Step();
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  }
+  state.counters["contacts"] = double(s.contact()->active_contacts().size());
+  Report(state, ms);
+}
+
+// Per-effect breakdown: force + Jacobian of each term alone, and the pieces of a solve.
+void EffectCost(benchmark::State& state, const std::string& effect) {
+  omp_set_num_threads(int(state.range(0)));
+  std::string yaml = "model: " + ModelName() + "\nbone: {}\nsurface_traction: true\n"
+                     "contact:\n  objects: [{shape: plane, rpy_deg: [180, 0, 0], position_mm: [0, 0, -1.0]}]\n"
+                     "friction: {anisotropy: 0.3}\noutputs: {merkel_sed: true}\n";
+  scene::FingertipScene s(scene::ParseSceneDescription(yaml, "bench"), SharedModel());
+  ApplyPadPressure(s, 1000.0);
+  s.Step();
+  auto& sim = s.simulation();
+  fem::SystemMatrix A;
+  std::vector<std::pair<int, int>> pairs;
+  for (const auto& t : sim.terms()) t->AppendCoupledNodes(pairs);
+  A.Build(s.model().num_soft_nodes(), pairs);
+  for (const auto& t : sim.terms()) t->BindMatrix(A);
+  fem::JacobianSink sink{&A, 1e-6, 1e-3};
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(sim.positions_m().size());
+  const fem::SystemState st{sim.positions_m(), sim.velocities_m_s(), sim.time_s(), true};
+  fem::ForceTerm* term = nullptr;
+  for (const auto& t : sim.terms())
+    if (t->name() == effect) term = t.get();
+  std::vector<double> ms;
+  Eigen::VectorXd sed;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    if (effect == "merkel_sed") {
+      s.merkel()->Evaluate(sim.positions_m());
+    } else {
+      f.setZero();
+      term->AddForce(st, f, &sink);
+    }
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  }
+  Report(state, ms);
+}
+
+void Register() {
+  for (const char* integrator : {"backward_euler", "quasi_static"})
+    for (auto [el, solver] : std::vector<std::pair<const char*, const char*>>{
+             {"linear", "ldlt"}, {"corotational", "pcg_warp"}, {"corotational", "pcg_jacobi"}, {"corotational", "ldlt"}}) {
+      if (std::string(integrator) == "quasi_static" && std::string(el) == "corotational") continue;
+      const std::string name = std::string("TractionStep/") + integrator + "/" + el + "/" + solver;
+      benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { TractionStep(st, el, solver, integrator); })
+          ->Arg(1)->Arg(2)->Iterations(std::string(solver) == "ldlt" && std::string(el) == "corotational" ? 10 : 200)
+          ->Unit(benchmark::kMillisecond)->UseRealTime();
+    }
+  for (auto [el, solver] : std::vector<std::pair<const char*, const char*>>{
+           {"linear", "ldlt"}, {"corotational", "pcg_warp"}, {"linear", "pcg_warp"}}) {
+    const std::string name = std::string("ContactPressStep/backward_euler/") + el + "/" + solver;
+    benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { ContactPressStep(st, el, solver); })
+        ->Arg(1)->Arg(2)->Iterations(200)->Unit(benchmark::kMillisecond)->UseRealTime();
+  }
+  for (const char* effect : {"elastic_corotational", "bone_coupling", "penalty_contact", "pseudo_friction",
+                             "surface_traction", "merkel_sed"}) {
+    const std::string name = std::string("EffectCost/") + effect;
+    benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { EffectCost(st, effect); })
+        ->Arg(1)->Arg(2)->Iterations(200)->Unit(benchmark::kMillisecond)->UseRealTime();
+  }
+}
+
+}  // namespace
+}  // namespace sedbridge
+
+int main(int argc, char** argv) {
+  sedbridge::Register();
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -1,0 +1,171 @@
+#!/usr/bin/env python3
+"""What accuracy costs in time: sweep the solver knobs of the press experiment and measure
+ms/step and the SED error against a reference run (issue 3).
+
+usage: accuracy_cost_study.py --reference DIR [--out out/accuracy_cost] [--quick]
+                              [--sedbridge build/sedbridge] [--only NAME,...]
+
+REFERENCE is a press-shaped result folder (sed_path.csv, merkel_sed.csv,
+force_displacement.csv), e.g. CalculiX model A from tools/ccx/run_reference.py. Every
+configuration runs `sedbridge press` on a scene derived from config/scenes/paper_press.yaml
+and is compared with tools/ccx/compare_paths.py's path_errors. Writes OUT/study.csv
+(one row per configuration), OUT/pareto.png (median ms/step vs normalized-path MAE) and
+prints a markdown table. Each run's own folder stays in OUT/<name>/.
+"""
+import argparse
+import csv
+import os
+import statistics
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.abspath(os.path.join(HERE, ".."))
+sys.path.insert(0, os.path.join(HERE, "ccx"))
+import compare_paths  # noqa: E402
+
+BASE = os.path.join(REPO, "config", "scenes", "paper_press.yaml")
+
+
+def scene_yaml(model="B", elasticity="corotational", integrator="quasi_static", dt_s=None, steps=50,
+               newton=25, solver="ldlt", tol=1e-6, max_it=200, k_contact=10000, preset=None):
+    """The paper press with one or more knobs changed (same plane, same 2 mm over t in [0, 1])."""
+    if integrator == "backward_euler":
+        steps = int(round(1.0 / dt_s))
+    lines = [f"model: {model}"]
+    if preset:
+        lines.append(f"preset: {preset}")
+    lines += [f"elasticity: {elasticity}",
+              "dynamics:",
+              f"  integrator: {integrator}",
+              f"  steps: {steps}",
+              f"  newton_iterations: {newton}"]
+    if integrator == "backward_euler":
+        lines.append(f"  dt_s: {dt_s}")
+    else:
+        lines.append("  newton_tolerance_mm: 1.0e-6")
+    lines += [f"solver: {{type: {solver}, tolerance: {tol}, max_iterations: {max_it}}}",
+              "bone: {mode: fixed, stiffness_N_m: 200, damping_N_s_m: 0.1, anisotropy: 1.0}",
+              "contact:",
+              f"  stiffness_N_m: {k_contact}",
+              "  damping_N_s_m: 0.5",
+              "  objects:",
+              "    - {name: plane, shape: plane, rpy_deg: [180, 0, 0], position_mm: [0, 0, 0],",
+              "       motion: {keyframes: [{t_s: 0.0, offset_mm: [0, 0, 0]}, {t_s: 1.0, offset_mm: [0, 0, -2.0]}]}}",
+              "outputs: {merkel_sed: true, full_sed: false, vtu_every: 0}"]
+    return "\n".join(lines) + "\n"
+
+
+def configurations(quick):
+    c = []
+    # Mesh resolution (corotational, exact solves).
+    for m in (["B_coarse", "B"] if quick else ["B_coarse", "B", "B_fine"]):
+        c.append((f"{m}_corot_ldlt", dict(model=m)))
+    # Element formulation.
+    c.append(("B_linear_ldlt", dict(model="B", elasticity="linear")))
+    # Linear solver, tolerance, iteration cap, preconditioner.
+    for tol in ([1e-4, 1e-6] if quick else [1e-3, 1e-4, 1e-6, 1e-8]):
+        c.append((f"B_corot_pcgwarp_tol{tol:g}", dict(model="B", solver="pcg_warp", tol=tol)))
+    c.append(("B_corot_pcgjacobi_tol1e-6", dict(model="B", solver="pcg_jacobi", tol=1e-6, max_it=2000)))
+    if not quick:
+        c.append(("B_corot_pcgwarp_cap5", dict(model="B", solver="pcg_warp", tol=1e-8, max_it=5)))
+    # Penalty stiffness.
+    for k in ([1e3, 1e5] if quick else [1e3, 1e5, 1e6]):
+        c.append((f"B_corot_k{k:g}", dict(model="B", solver="pcg_warp", k_contact=k)))
+    # Quasi-static vs backward Euler (2 mm in 1 s).
+    for dt in ([0.01] if quick else [0.02, 0.005]):
+        c.append((f"B_corot_be_dt{dt:g}", dict(model="B", integrator="backward_euler", dt_s=dt, newton=1,
+                                               solver="pcg_warp")))
+    return c
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        return list(csv.DictReader(f))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--reference", required=True)
+    ap.add_argument("--out", default=os.path.join(REPO, "out", "accuracy_cost"))
+    ap.add_argument("--sedbridge", default=os.path.join(REPO, "build", "sedbridge"))
+    ap.add_argument("--quick", action="store_true", help="fewer configurations")
+    ap.add_argument("--only", default="", help="comma-separated configuration names")
+    a = ap.parse_args()
+    os.makedirs(a.out, exist_ok=True)
+    ref = compare_paths.read_cols(os.path.join(a.reference, "sed_path.csv"))
+    ref_fd = read_csv(os.path.join(a.reference, "force_displacement.csv"))
+    ref_force_2mm = float(ref_fd[-1]["force_N"])
+    ref_max_sed = max(float(r["sed_Pa"]) for r in read_csv(os.path.join(a.reference, "merkel_sed.csv")))
+    configs = configurations(a.quick)
+    if a.only:
+        keep = set(a.only.split(","))
+        configs = [c for c in configs if c[0] in keep]
+    rows = []
+    for i, (name, kw) in enumerate(configs, 1):
+        d = os.path.join(a.out, name)
+        os.makedirs(d, exist_ok=True)
+        scene = os.path.join(d, "scene.yaml")
+        with open(scene, "w") as f:
+            f.write(scene_yaml(**kw))
+        print(f"[{i}/{len(configs)}] {name} ...", flush=True)
+        t0 = time.time()
+        r = subprocess.run([a.sedbridge, "press", "--scene", scene, "--out", d, "--no-plots", "--quiet"],
+                           capture_output=True, text=True)
+        wall = time.time() - t0
+        if r.returncode != 0:
+            print(f"  failed: {r.stderr.strip() or r.stdout.strip()}", file=sys.stderr)
+            continue
+        timing = read_csv(os.path.join(d, "step_timing.csv"))
+        ms = sorted(float(t["wall_ms"]) for t in timing)
+        med = statistics.median(ms)
+        p99 = ms[min(len(ms) - 1, int(0.99 * len(ms)))]
+        run = compare_paths.read_cols(os.path.join(d, "sed_path.csv"))
+        mae, mx, n, _, _ = compare_paths.path_errors(ref, run)
+        fd = read_csv(os.path.join(d, "force_displacement.csv"))
+        force_2mm = float(fd[-1]["force_N"])
+        max_sed = max(float(x["sed_Pa"]) for x in read_csv(os.path.join(d, "merkel_sed.csv")))
+        row = dict(name=name, steps=len(timing), median_ms=med, p99_ms=p99, total_s=wall, path_mae=mae, path_max=mx,
+                   max_sed_rel_err=(max_sed - ref_max_sed) / ref_max_sed,
+                   force_2mm_rel_err=(force_2mm - ref_force_2mm) / ref_force_2mm,
+                   unconverged=sum(1 for t in timing if t["converged"] != "1"),
+                   fallbacks=sum(int(t["solver_fallbacks"]) for t in timing),
+                   max_inverted=max(int(t["inverted_elements"]) for t in timing))
+        rows.append(row)
+        print(f"  {med:.1f} ms/step median, p99 {p99:.1f}; path MAE {mae:.3f} max {mx:.3f}; "
+              f"max SED {100 * row['max_sed_rel_err']:+.1f} %; F(2 mm) {100 * row['force_2mm_rel_err']:+.1f} %", flush=True)
+    if not rows:
+        return 1
+    with open(os.path.join(a.out, "study.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
+        w.writeheader()
+        w.writerows(rows)
+    print("\n| configuration | steps | median ms/step | p99 ms/step | path MAE | path max | max SED err | F(2 mm) err | unconverged | fallbacks |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for r in rows:
+        print(f"| {r['name']} | {r['steps']} | {r['median_ms']:.1f} | {r['p99_ms']:.1f} | {r['path_mae']:.3f} | "
+              f"{r['path_max']:.3f} | {100 * r['max_sed_rel_err']:+.1f} % | {100 * r['force_2mm_rel_err']:+.1f} % | "
+              f"{r['unconverged']} | {r['fallbacks']} |")
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        fig, ax = plt.subplots(figsize=(6.5, 4.5))
+        for r in rows:
+            ax.scatter(r["median_ms"], r["path_mae"])
+            ax.annotate(r["name"], (r["median_ms"], r["path_mae"]), fontsize=7, xytext=(3, 3), textcoords="offset points")
+        ax.set_xscale("log")
+        ax.set_xlabel("median ms per step (this machine)")
+        ax.set_ylabel("normalized SED path MAE vs reference")
+        ax.set_title("What accuracy costs in time")
+        ax.grid(alpha=0.3)
+        fig.tight_layout()
+        fig.savefig(os.path.join(a.out, "pareto.png"), dpi=120)
+    except ImportError:
+        print("pareto plot skipped: no matplotlib (run with /usr/bin/python3)", file=sys.stderr)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
