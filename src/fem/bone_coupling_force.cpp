@@ -31,7 +31,6 @@ void BoneCouplingForce::AddForce(const SystemState& s, Eigen::VectorXd& f, Jacob
   const Eigen::Isometry3d motion =
       motion_ ? Eigen::Isometry3d(motion_->Pose(s.t_s) * motion_->Pose(0).inverse())
               : Eigen::Isometry3d::Identity();
-#pragma omp parallel for schedule(static)
   for (int k = 0; k < int(nodes_.size()); ++k) {
     const int i = nodes_[size_t(k)];
     const Eigen::Matrix3d R = motion.linear();

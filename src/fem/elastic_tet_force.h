@@ -38,26 +38,27 @@ class ElasticTetForce final : public ForceTerm {
   const TetMesh& mesh() const { return mesh_; }
   const std::vector<TetElement>& elements() const { return elements_; }
   ElasticFormulation formulation() const { return formulation_; }
-  /// Element batches with no shared node (parallel assembly without atomics).
-  const std::vector<std::vector<int>>& colors() const { return colors_; }
 
  private:
   const TetMesh& mesh_;
   ElasticFormulation formulation_;
   double beta_s_;
   std::vector<TetElement> elements_;
-  std::vector<std::vector<int>> colors_;
   std::vector<std::array<int, 16>> slots_;
   std::vector<Eigen::Quaterniond> quaternions_;  // warm starts
   std::vector<Eigen::Matrix3d> rotations_;
   std::vector<std::vector<int>> node_elements_;
   int inverted_elements_ = 0;
+  /// Element kernel: force into `force`, Jacobian blocks into `values`/`k_times_v` (laid
+  /// out like sink's matrix). Returns 1 if the element is inverted.
+  int AccumulateElement(int t, const SystemState& state, bool force, Eigen::VectorXd& force_N, JacobianSink* sink,
+                        double* values, Eigen::VectorXd* k_times_v);
+  // Threads > 1: per-thread partial sums (thread 0 writes the real buffers), reduced once.
+  std::vector<std::vector<double>> thread_values_;
+  std::vector<Eigen::VectorXd> thread_force_, thread_k_times_v_;
   // Linear FEM: K0 assembled once; the force is then one sparse product a step.
   SystemMatrix rest_stiffness_;
   Eigen::VectorXd rest_positions_, work_;
 };
-
-/// Greedy colouring of tets so that no two tets of one colour share a node.
-std::vector<std::vector<int>> ColorElements(const std::vector<Tet>& tets, int num_nodes);
 
 }  // namespace sedbridge::fem

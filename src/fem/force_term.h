@@ -35,9 +35,14 @@ struct JacobianSink {
   /// Block (i, j) of K = -df/dx and, if given, of D = -df/dv. Callers writing distinct
   /// block rows may call this concurrently.
   void Add(int slot, int i, int j, const Eigen::Matrix3d& K, const Eigen::Matrix3d* D = nullptr) {
-    matrix->AddBlock(slot, K, stiffness_scale);
-    if (D && damping_scale != 0) matrix->AddBlock(slot, *D, damping_scale);
-    if (velocity) stiffness_times_velocity->segment<3>(3 * i) += K * velocity->segment<3>(3 * j);
+    AddTo(matrix->values(), stiffness_times_velocity, slot, i, j, K, D);
+  }
+  /// Same into other buffers laid out like the matrix and K v (per-thread partial sums).
+  void AddTo(double* values, Eigen::VectorXd* k_times_v, int slot, int i, int j, const Eigen::Matrix3d& K,
+             const Eigen::Matrix3d* D = nullptr) const {
+    matrix->AddBlockTo(values, slot, K, stiffness_scale);
+    if (D && damping_scale != 0) matrix->AddBlockTo(values, slot, *D, damping_scale);
+    if (velocity) k_times_v->segment<3>(3 * i) += K * velocity->segment<3>(3 * j);
   }
 };
 

@@ -154,18 +154,6 @@ StepReport Simulation::StepQuasiStatic(double dt) {
   return report;
 }
 
-void Simulation::PrepareConstantMatrix() {
-  if (!constant_matrix_) throw std::logic_error("PrepareConstantMatrix: the scene's matrix is not constant");
-  if (matrix_ready_) return;
-  const bool dynamic = settings_.kind == IntegratorKind::kBackwardEuler;
-  const double h = dynamic ? matrix_dt_ : 1.0;
-  if (dynamic && h <= 0) throw std::logic_error("PrepareConstantMatrix: backward Euler needs a first step");
-  const SystemState s{x_, v_, t_, dynamic};
-  Assemble(s, dynamic ? h * h : 1.0, dynamic ? h : 0.0, true);
-  PrepareSolver();
-  matrix_ready_ = true;
-}
-
 double Simulation::KineticEnergy() const {
   double e = 0;
   for (int i = 0; i < mesh_.num_nodes(); ++i) e += 0.5 * mass_[i] * v_.segment<3>(3 * i).squaredNorm();

@@ -81,11 +81,7 @@ class Simulation {
   Eigen::VectorXd TotalForce();
   /// True if every term's Jacobian is constant (system matrix assembled once).
   bool constant_matrix() const { return constant_matrix_; }
-  /// For a constant-matrix scene: assembles and factorizes the system matrix now (if the
-  /// first step has not) so reduced solvers can reuse it. Throws otherwise.
-  void PrepareConstantMatrix();
-  const SystemMatrix& matrix() const { return matrix_; }
-  LinearSolver& mutable_solver() { return *solver_; }
+
 
  private:
   /// Forces at s (into force_) and, with_matrix, the system matrix; with k_times_v, also

@@ -7,6 +7,9 @@
 
 namespace sedbridge::fem {
 
+// A Merkel layer has a few thousand elements (~0.3 ms): not worth a parallel region.
+constexpr size_t kParallelMinElements = 20000;
+
 double ElementSed(const TetElement& e, const Eigen::Matrix3d& F, const Eigen::Matrix3d& R) {
   const Eigen::Matrix3d G = R.transpose() * F;
   const Eigen::Matrix3d eps = 0.5 * (G + G.transpose()) - Eigen::Matrix3d::Identity();
@@ -40,7 +43,7 @@ VertexSedEvaluator::VertexSedEvaluator(const ElasticTetForce& elastic, std::vect
 void VertexSedEvaluator::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd& vertex_sed) {
   const TetMesh& mesh = elastic_.mesh();
   const bool corotational = elastic_.formulation() == ElasticFormulation::kCorotational;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (elements_.size() > kParallelMinElements)
   for (int k = 0; k < int(elements_.size()); ++k) {
     const int t = elements_[size_t(k)];
     const Tet& n = mesh.tets[size_t(t)];

@@ -4,6 +4,10 @@
 
 namespace sedbridge::fem {
 
+// Below this a product takes ~0.1 ms: a parallel region costs more than it saves, and
+// far more when the machine is loaded (each barrier may wait a scheduler time slice).
+constexpr long kParallelMinNonZeros = 2'000'000;
+
 void SystemMatrix::Build(int n, const std::vector<std::pair<int, int>>& pairs) {
   num_nodes_ = n;
   std::vector<std::vector<int>> cols(static_cast<size_t>(n));
@@ -74,7 +78,7 @@ void SystemMatrix::Multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const 
   const int* outer = csr_.outerIndexPtr();
   const int* inner = csr_.innerIndexPtr();
   const double* v = csr_.valuePtr();
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) if (csr_.nonZeros() > kParallelMinNonZeros)
   for (int r = 0; r < rows; ++r) {
     double s = 0;
     for (int k = outer[r]; k < outer[r + 1]; ++k) s += v[k] * x[inner[k]];

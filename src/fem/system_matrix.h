@@ -22,8 +22,10 @@ class SystemMatrix {
   int DiagonalSlot(int i) const { return diagonal_slot_[size_t(i)]; }
 
   /// Adds `scale * block` into slot s. Not synchronised: callers partition by block row.
-  void AddBlock(int slot, const Eigen::Matrix3d& block, double scale = 1.0) {
-    double* base = values_ + slot_base_[size_t(slot)];
+  void AddBlock(int slot, const Eigen::Matrix3d& block, double scale = 1.0) { AddBlockTo(values_, slot, block, scale); }
+  /// Same into another value array laid out like this matrix (per-thread partial sums).
+  void AddBlockTo(double* values, int slot, const Eigen::Matrix3d& block, double scale) const {
+    double* base = values + slot_base_[size_t(slot)];
     const int stride = slot_stride_[size_t(slot)];
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) base[a * stride + b] += scale * block(a, b);
@@ -38,6 +40,8 @@ class SystemMatrix {
 
   void SetZero();
   int num_nodes() const { return num_nodes_; }
+  double* values() { return values_; }
+  int num_values() const { return int(csr_.nonZeros()); }
   int num_blocks() const { return int(slot_base_.size()); }
   const Csr& csr() const { return csr_; }
   Csr& csr() { return csr_; }

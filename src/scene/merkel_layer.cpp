@@ -35,11 +35,6 @@ const Eigen::VectorXd& MerkelLayer::Evaluate(const Eigen::VectorXd& x_m) {
   return sed_Pa_;
 }
 
-const Eigen::VectorXd& MerkelLayer::SetFromElementSed(const Eigen::VectorXd& element_sed_Pa) {
-  evaluator_.AverageToVertices(element_sed_Pa, sed_Pa_);
-  return sed_Pa_;
-}
-
 std::vector<PathSample> MerkelLayer::SamplePath(const Eigen::VectorXd& sed, double y, double x_min,
                                                 double x_max, double step) const {
   std::vector<PathSample> out;

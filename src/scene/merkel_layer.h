@@ -25,10 +25,6 @@ class MerkelLayer {
   const Eigen::VectorXd& Evaluate(const Eigen::VectorXd& x_m);
   const Eigen::VectorXd& sed_Pa() const { return sed_Pa_; }
 
-  /// Sets sed_Pa() from element SED of evaluator().elements() (reduced solvers).
-  const Eigen::VectorXd& SetFromElementSed(const Eigen::VectorXd& element_sed_Pa);
-  const fem::VertexSedEvaluator& evaluator() const { return evaluator_; }
-
   /// Soft node index of each Merkel vertex (= model.merkel_nodes).
   const std::vector<int>& nodes() const { return evaluator_.vertices(); }
   /// Rest position of each vertex in the pad frame [mm], 3 x #vertices.
