@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <unistd.h>
 
 #include "config/config_error.h"
 #include "config/resource_path.h"
@@ -18,7 +19,8 @@ namespace fs = std::filesystem;
 
 // Writes `yaml` to a temp file whose mesh key points at the 3-tet fixture.
 std::string WriteYaml(const std::string& name, const std::string& yaml) {
-  const fs::path path = fs::path(::testing::TempDir()) / name;
+  // Per process: ctest -j runs the tests of this file in parallel processes.
+  const fs::path path = fs::path(::testing::TempDir()) / (std::to_string(getpid()) + "_" + name);
   std::ofstream(path) << yaml;
   return path.string();
 }

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <unistd.h>
 
 #include "config/resource_path.h"
 
@@ -17,7 +18,7 @@ TEST(PressExperiment, CoarsePressWritesTheOutputContract) {
   d.dt_s = 0.1;
   d.outputs.vtu_every = 5;
   FingertipScene scene(d);
-  const std::string dir = ::testing::TempDir() + "/press_contract";
+  const std::string dir = ::testing::TempDir() + "/press_contract_" + std::to_string(getpid());
   PressOptions options;
   options.vtu_dir = dir;
   const PressResult r = RunPress(scene, options);

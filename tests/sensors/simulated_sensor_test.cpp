@@ -1,6 +1,7 @@
 #include "sensors/simulated/simulated_sensor.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <fstream>
@@ -150,7 +151,7 @@ TEST(SimulatedSensorTest, ShippedScenesLoadAndUnknownKeysAreErrors) {
     EXPECT_FALSE(c.objects.empty()) << scene;
     EXPECT_GT(SimulatedSensor(c).scan_count(), 10) << scene;
   }
-  const std::string path = ::testing::TempDir() + "/bad_sensor_scene.yaml";
+  const std::string path = ::testing::TempDir() + "/bad_sensor_scene_" + std::to_string(getpid()) + ".yaml";
   std::ofstream(path) << "sensor:\n  profile: cyskin_16\n  pad: {thicknes_mm: 2}\nobjects: []\n";
   try {
     LoadSimulatedSensorScene(path);
