@@ -44,17 +44,27 @@ LinearSolveReport DirectLdltSolver::Solve(const SystemMatrix&, const Eigen::Vect
 PcgSolver::PcgSolver(PcgSettings settings) : settings_(settings) {}
 
 std::string PcgSolver::name() const {
-  return settings_.preconditioner == PreconditionerKind::kBlockJacobi ? "pcg_jacobi" : "pcg_warp";
+  switch (settings_.preconditioner) {
+    case PreconditionerKind::kBlockJacobi: return "pcg_jacobi";
+    case PreconditionerKind::kWarpedRestFactor: return "pcg_warp";
+    case PreconditionerKind::kWarpedRestIncompleteCholesky: return "pcg_warp_ichol";
+  }
+  return "pcg";
 }
 
 void PcgSolver::SetReferenceMatrix(const SystemMatrix& A0) {
   const Eigen::SparseMatrix<double> a = AsColumnMajor(A0);
-  rest_factor_.compute(a);
-  has_rest_factor_ = rest_factor_.info() == Eigen::Success;
+  if (settings_.preconditioner == PreconditionerKind::kWarpedRestIncompleteCholesky) {
+    rest_incomplete_.compute(a);
+    has_rest_factor_ = rest_incomplete_.info() == Eigen::Success;
+  } else {
+    rest_factor_.compute(a);
+    has_rest_factor_ = rest_factor_.info() == Eigen::Success;
+  }
 }
 
 void PcgSolver::Prepare(const SystemMatrix& A) {
-  if (settings_.preconditioner == PreconditionerKind::kBlockJacobi || !has_rest_factor_) {
+  if (settings_.preconditioner == PreconditionerKind::kBlockJacobi || !has_rest_factor_) {  // also the fallback
     block_inverse_.resize(size_t(A.num_nodes()));
     for (int i = 0; i < A.num_nodes(); ++i) {
       const Eigen::Matrix3d d = A.Block(A.DiagonalSlot(i));
@@ -66,14 +76,18 @@ void PcgSolver::Prepare(const SystemMatrix& A) {
 
 void PcgSolver::ApplyPreconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z) {
   const int n = int(r.size() / 3);
-  if (settings_.preconditioner == PreconditionerKind::kWarpedRestFactor && has_rest_factor_) {
+  if (settings_.preconditioner != PreconditionerKind::kBlockJacobi && has_rest_factor_) {
+    const bool incomplete = settings_.preconditioner == PreconditionerKind::kWarpedRestIncompleteCholesky;
+    auto solve = [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
+      return incomplete ? Eigen::VectorXd(rest_incomplete_.solve(v)) : Eigen::VectorXd(rest_factor_.solve(v));
+    };
     if (rotations_) {
       tmp_.resize(r.size());
       for (int i = 0; i < n; ++i) tmp_.segment<3>(3 * i) = (*rotations_)[size_t(i)].transpose() * r.segment<3>(3 * i);
-      z = rest_factor_.solve(tmp_);
+      z = solve(tmp_);
       for (int i = 0; i < n; ++i) z.segment<3>(3 * i) = (*rotations_)[size_t(i)] * z.segment<3>(3 * i).eval();
     } else {
-      z = rest_factor_.solve(r);
+      z = solve(r);
     }
     return;
   }
@@ -138,7 +152,11 @@ std::unique_ptr<LinearSolver> MakeLinearSolver(const std::string& name, const Pc
     s.preconditioner = PreconditionerKind::kWarpedRestFactor;
     return std::make_unique<PcgSolver>(s);
   }
-  throw std::invalid_argument("unknown linear solver '" + name + "' (ldlt, pcg_jacobi, pcg_warp)");
+  if (name == "pcg_warp_ichol") {
+    s.preconditioner = PreconditionerKind::kWarpedRestIncompleteCholesky;
+    return std::make_unique<PcgSolver>(s);
+  }
+  throw std::invalid_argument("unknown linear solver '" + name + "' (ldlt, pcg_jacobi, pcg_warp, pcg_warp_ichol)");
 }
 
 }  // namespace sedbridge::fem

@@ -7,6 +7,7 @@
 //    WarpPreconditioner idea): exact for linear FEM, close for corotational.
 
 #include <Eigen/Core>
+#include <Eigen/IterativeLinearSolvers>
 #include <Eigen/SparseCholesky>
 #include <memory>
 #include <string>
@@ -50,7 +51,10 @@ class DirectLdltSolver final : public LinearSolver {
   bool ok_ = false;
 };
 
-enum class PreconditionerKind { kBlockJacobi, kWarpedRestFactor };
+/// kWarpedRestFactor: exact LDL^T of the rest matrix, rotated per node (few iterations,
+/// each a full triangular solve). kWarpedRestIncompleteCholesky: the same with an
+/// incomplete Cholesky (cheaper iterations, more of them).
+enum class PreconditionerKind { kBlockJacobi, kWarpedRestFactor, kWarpedRestIncompleteCholesky };
 
 struct PcgSettings {
   double relative_tolerance = 1e-6;
@@ -67,9 +71,7 @@ class PcgSolver final : public LinearSolver {
   LinearSolveReport Solve(const SystemMatrix& A, const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
   void SetReferenceMatrix(const SystemMatrix& A0) override;
   void SetNodeRotations(const std::vector<Eigen::Matrix3d>* rotations) override { rotations_ = rotations; }
-  bool wants_node_rotations() const override {
-    return settings_.preconditioner == PreconditionerKind::kWarpedRestFactor;
-  }
+  bool wants_node_rotations() const override { return settings_.preconditioner != PreconditionerKind::kBlockJacobi; }
   int fallbacks() const { return fallbacks_; }
 
  private:
@@ -78,6 +80,7 @@ class PcgSolver final : public LinearSolver {
   PcgSettings settings_;
   std::vector<Eigen::Matrix3d> block_inverse_;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>, Eigen::Lower, Eigen::AMDOrdering<int>> rest_factor_;
+  Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> rest_incomplete_;
   bool has_rest_factor_ = false;
   const std::vector<Eigen::Matrix3d>* rotations_ = nullptr;
   DirectLdltSolver fallback_;
@@ -85,7 +88,7 @@ class PcgSolver final : public LinearSolver {
   Eigen::VectorXd r_, z_, p_, q_, tmp_;
 };
 
-/// Builds a solver by name: "ldlt", "pcg_jacobi", "pcg_warp".
+/// Builds a solver by name: "ldlt", "pcg_jacobi", "pcg_warp", "pcg_warp_ichol".
 std::unique_ptr<LinearSolver> MakeLinearSolver(const std::string& name, const PcgSettings& pcg);
 
 }  // namespace sedbridge::fem

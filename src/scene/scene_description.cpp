@@ -60,7 +60,7 @@ SceneDescription Parse(const config::YamlDocument& doc) {
 
   if (r.Has("solver")) {
     MapReader so = r.Child("solver");
-    if (so.Has("type")) s.solver = so.RequiredChoice("type", {"ldlt", "pcg_jacobi", "pcg_warp"});
+    if (so.Has("type")) s.solver = so.RequiredChoice("type", {"ldlt", "pcg_jacobi", "pcg_warp", "pcg_warp_ichol"});
     s.pcg.relative_tolerance = Positive(so, "tolerance", s.pcg.relative_tolerance);
     s.pcg.max_iterations = so.Optional<int>("max_iterations", s.pcg.max_iterations);
     if (s.pcg.max_iterations < 1) so.Fail(so.Node("max_iterations"), "'max_iterations' must be >= 1");

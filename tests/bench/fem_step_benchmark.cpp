@@ -136,7 +136,8 @@ void EffectCost(benchmark::State& state, const std::string& effect) {
 void Register() {
   for (const char* integrator : {"backward_euler", "quasi_static"})
     for (auto [el, solver] : std::vector<std::pair<const char*, const char*>>{
-             {"linear", "ldlt"}, {"corotational", "pcg_warp"}, {"corotational", "pcg_jacobi"}, {"corotational", "ldlt"}}) {
+             {"linear", "ldlt"}, {"corotational", "pcg_warp"}, {"corotational", "pcg_warp_ichol"},
+             {"corotational", "pcg_jacobi"}, {"corotational", "ldlt"}}) {
       if (std::string(integrator) == "quasi_static" && std::string(el) == "corotational") continue;
       const std::string name = std::string("TractionStep/") + integrator + "/" + el + "/" + solver;
       benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { TractionStep(st, el, solver, integrator); })
@@ -144,7 +145,8 @@ void Register() {
           ->Unit(benchmark::kMillisecond)->UseRealTime();
     }
   for (auto [el, solver] : std::vector<std::pair<const char*, const char*>>{
-           {"linear", "ldlt"}, {"corotational", "pcg_warp"}, {"linear", "pcg_warp"}}) {
+           {"linear", "ldlt"}, {"corotational", "pcg_warp"}, {"corotational", "pcg_warp_ichol"}, {"linear", "pcg_warp"},
+           {"linear", "pcg_warp_ichol"}}) {
     const std::string name = std::string("ContactPressStep/backward_euler/") + el + "/" + solver;
     benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { ContactPressStep(st, el, solver); })
         ->Arg(1)->Arg(2)->Iterations(200)->Unit(benchmark::kMillisecond)->UseRealTime();

@@ -42,7 +42,7 @@ TEST(LinearSolver, AllSolversAgreeAndWarpIsNearlyExactForLinearFem) {
   A.Multiply(reference, Ax);
   EXPECT_LT((Ax - b).norm(), 1e-9 * b.norm());
 
-  for (const char* name : {"pcg_jacobi", "pcg_warp"}) {
+  for (const char* name : {"pcg_jacobi", "pcg_warp", "pcg_warp_ichol"}) {
     auto solver = MakeLinearSolver(name, PcgSettings{1e-10, 5000});
     solver->SetReferenceMatrix(A);
     solver->Prepare(A);
