@@ -53,3 +53,29 @@ TEST(FingertipScene, TractionOnlyLinearSceneAssemblesOnce) {
 
 }  // namespace
 }  // namespace sedbridge::scene
+
+namespace sedbridge::scene {
+namespace {
+
+TEST(FingertipScene, TrackedBoneCarriesTheFingerRigidly) {
+  // The bone follows a tracked pose (1 mm along x, 10 deg about z, over 0.1 s) and holds:
+  // with nothing touching, the soft tissue must end up moved rigidly with it (zero SED).
+  const SceneDescription d = ParseSceneDescription(
+      "model: B_coarse\nbone:\n  mode: tracked\n  stiffness_N_m: 200\n  motion:\n    keyframes:\n"
+      "      - {t_s: 0.0, offset_mm: [0, 0, 0]}\n      - {t_s: 0.1, offset_mm: [1, 0, 0], rpy_deg: [0, 0, 10]}\n"
+      "dynamics: {integrator: backward_euler, dt_s: 0.005}\nsolver: {type: pcg_warp, tolerance: 1.0e-10}\n",
+      "tracked.yaml");
+  FingertipScene s(d);
+  for (int k = 0; k < 200; ++k) ASSERT_TRUE(s.Step().finite);
+  const Eigen::Isometry3d pose = d.bone->motion->Pose(1.0) * d.bone->motion->Pose(0.0).inverse();
+  const auto& x = s.simulation().positions_m();
+  double max_error = 0;
+  for (int i = 0; i < s.model().num_soft_nodes(); ++i)
+    max_error = std::max(max_error, (x.segment<3>(3 * i) - pose * s.model().soft.rest_positions_m.col(i)).norm());
+  EXPECT_LT(max_error, 1e-6);  // 1 um after settling, for a 1 mm / 10 deg move
+  EXPECT_GT((x.segment<3>(0) - s.model().soft.rest_positions_m.col(0)).norm(), 5e-4);  // it did move
+  EXPECT_LT(s.merkel()->sed_Pa().maxCoeff(), 1e-3);
+}
+
+}  // namespace
+}  // namespace sedbridge::scene
