@@ -6,6 +6,18 @@
 #include "fem/lumped_mass.h"
 
 namespace sedbridge::fem {
+namespace {
+
+// One Newton iteration's linear solve, summed into the step's report.
+void AddNewtonIteration(const LinearSolveReport& lr, StepReport& report) {
+  report.newton_iterations++;
+  report.linear_iterations += lr.iterations;
+  report.linear_residual = std::max(report.linear_residual, lr.relative_residual);
+  report.solver_fallbacks += lr.used_fallback ? 1 : 0;
+  report.converged = report.converged && lr.converged;
+}
+
+}  // namespace
 
 Simulation::Simulation(const TetMesh& mesh, std::vector<std::unique_ptr<ForceTerm>> terms,
                        IntegratorSettings settings, std::unique_ptr<LinearSolver> solver)
@@ -101,11 +113,7 @@ StepReport Simulation::StepBackwardEuler(double h) {
     }
     if (at_current_state) rhs_ -= h * h * k_times_v_;
     const LinearSolveReport lr = solver_->Solve(matrix_, rhs_, delta_);
-    report.newton_iterations++;
-    report.linear_iterations += lr.iterations;
-    report.linear_residual = std::max(report.linear_residual, lr.relative_residual);
-    report.solver_fallbacks += lr.used_fallback ? 1 : 0;
-    report.converged = report.converged && lr.converged;
+    AddNewtonIteration(lr, report);
     v1 += delta_;
     report.max_step_m = h * delta_.cwiseAbs().maxCoeff();
   }
@@ -132,11 +140,7 @@ StepReport Simulation::StepQuasiStatic(double dt) {
     }
     delta_.setZero(x_.size());
     const LinearSolveReport lr = solver_->Solve(matrix_, force_, delta_);
-    report.newton_iterations++;
-    report.linear_iterations += lr.iterations;
-    report.linear_residual = std::max(report.linear_residual, lr.relative_residual);
-    report.solver_fallbacks += lr.used_fallback ? 1 : 0;
-    report.converged = report.converged && lr.converged;
+    AddNewtonIteration(lr, report);
     x_ += delta_;
     report.max_step_m = delta_.cwiseAbs().maxCoeff();
     if (constant_matrix_) {  // linear problem: one exact solve is the equilibrium
