@@ -1,6 +1,7 @@
 // sedbridge press: the paper's experiment (Sec. IV-A) on a fingertip model.
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 
@@ -75,6 +76,9 @@ int RunPress(int argc, char** argv) {
               result.steps.back().force_N, result.steps.back().contact_area_mm2);
   std::printf("closest to %.2f N: step %d (d = %.2f mm, F = %.3f N); max Merkel SED %.1f Pa\n", options.target_force_N,
               sel.step, sel.displacement_mm, sel.force_N, result.selected_max_sed_Pa);
+  if (std::abs(sel.force_N - options.target_force_N) > 0.05 * options.target_force_N)
+    std::printf("warning: the force never came within 5 %% of %.2f N; the SED map and path are at step %d (%.3f N)\n",
+                options.target_force_N, sel.step, sel.force_N);
   if (warnings) std::printf("warning: %d steps did not converge or had inverted elements (see progress)\n", warnings);
   std::printf("done in %.1f s\n", seconds);
   if (!args.GetFlag("no-plots")) {
