@@ -7,6 +7,7 @@
 #include "app/arg_parser.h"
 #include "app/command.h"
 #include "app/plot_runner.h"
+#include "app/replay_output_options.h"
 #include "bridge/bridge_config.h"
 #include "bridge/replay.h"
 #include "bridge/scene_fe_step.h"
@@ -84,15 +85,7 @@ int RunReplayCommand(int argc, char** argv) {
   SetFeThreads(static_cast<int>(args.GetInt("threads")));
   const std::string log_path = config::ResolveResource(args.Get("LOG"));
   sensors::CandumpLogSource source(log_path, playback);
-  ReplayOptions options;
-  options.out_dir = args.Get("out");
-  options.lcm_url = args.Get("lcm-url");
-  options.progress = !args.GetFlag("quiet");
-  options.vtu_every = static_cast<int>(args.GetInt("vtu-every"));
-  if (options.vtu_every < 0) throw UsageError("--vtu-every must be >= 0");
-  if (options.vtu_every > 0 && config.fe_step != "scene")
-    std::printf("note: --vtu-every needs fe.step: scene (this config uses '%s'); no VTU frames\n",
-                config.fe_step.c_str());
+  ReplayOptions options = ReadReplayOutputOptions(args, config);
   std::printf("replay %s with %s (sensor %s, model %s/%s, display %s)\n", log_path.c_str(), config_path.c_str(),
               config.sensor_profile.c_str(), config.model.c_str(), config.preset.c_str(),
               config.display_profile.c_str());

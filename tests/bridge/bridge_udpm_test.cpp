@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/common/lcm_multicast_probe.h"
+
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -23,21 +25,7 @@ using Clock = std::chrono::steady_clock;
 
 std::string TestUrl() { return "udpm://239.255.76.67:" + std::to_string(20000 + (::getpid() + 7) % 20000) + "?ttl=0"; }
 
-std::string MulticastProblem(const std::string& url) {
-  lcm::LCM lcm(url);
-  if (!lcm.good()) return "LCM cannot open " + url + " (no multicast route?)";
-  struct Probe {
-    bool got = false;
-    void On(const lcm::ReceiveBuffer*, const std::string&) { got = true; }
-  } probe;
-  lcm.subscribe("SEDBRIDGE_PROBE", &Probe::On, &probe);
-  const char byte = 1;
-  for (int attempt = 0; attempt < 5 && !probe.got; ++attempt) {
-    if (lcm.publish("SEDBRIDGE_PROBE", &byte, 1) != 0) return "publish on " + url + " failed";
-    lcm.handleTimeout(100);
-  }
-  return probe.got ? "" : "multicast on this host does not loop back (" + url + ")";
-}
+using sedbridge::testing::MulticastProblem;
 
 struct Commands {
   int count = 0, out_of_order = 0, over_limit = 0, shutdown = 0, nonzero = 0;

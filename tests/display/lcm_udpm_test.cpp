@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/common/lcm_multicast_probe.h"
+
 #include <poll.h>
 #include <signal.h>
 #include <sys/wait.h>
@@ -44,22 +46,7 @@ struct Counter {
   }
 };
 
-// Publishes to itself once; "" when multicast works, else the reason.
-std::string MulticastProblem(const std::string& url) {
-  lcm::LCM lcm(url);
-  if (!lcm.good()) return "LCM cannot open " + url + " (no multicast route?)";
-  struct Probe {
-    bool got = false;
-    void On(const lcm::ReceiveBuffer*, const std::string&) { got = true; }
-  } probe;
-  lcm.subscribe("SEDBRIDGE_PROBE", &Probe::On, &probe);
-  const char byte = 1;
-  for (int attempt = 0; attempt < 5 && !probe.got; ++attempt) {
-    if (lcm.publish("SEDBRIDGE_PROBE", &byte, 1) != 0) return "publish on " + url + " failed";
-    lcm.handleTimeout(100);
-  }
-  return probe.got ? "" : "multicast on this host does not loop back (" + url + ")";
-}
+using sedbridge::testing::MulticastProblem;
 
 // Child side: subscribe, signal readiness, collect for at most `budget_ms`.
 [[noreturn]] void RunSubscriberChild(const std::string& url, int ready_fd, int result_fd,
