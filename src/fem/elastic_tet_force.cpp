@@ -62,9 +62,8 @@ void ElasticTetForce::AddForce(const SystemState& state, Eigen::VectorXd& force_
     // f = -K0 (x - X) - beta K0 v
     work_ = state.x_m - rest_positions_;
     if (damping) work_ += beta_s_ * state.v_m_s;
-    Eigen::VectorXd k_times;
-    rest_stiffness_.Multiply(work_, k_times);
-    force_N -= k_times;
+    rest_stiffness_.Multiply(work_, k_times_work_);
+    force_N -= k_times_work_;
     int inverted = 0;
 #pragma omp parallel for schedule(static) reduction(+ : inverted) if (elements_.size() > 100000)
     for (int t = 0; t < int(elements_.size()); ++t) {

@@ -58,7 +58,7 @@ class ElasticTetForce final : public ForceTerm {
   std::vector<Eigen::VectorXd> thread_force_, thread_k_times_v_;
   // Linear FEM: K0 assembled once; the force is then one sparse product a step.
   SystemMatrix rest_stiffness_;
-  Eigen::VectorXd rest_positions_, work_;
+  Eigen::VectorXd rest_positions_, work_, k_times_work_;
 };
 
 }  // namespace sedbridge::fem

@@ -62,14 +62,17 @@ void Simulation::PrepareSolver() {
 }
 
 StepReport Simulation::Step(double dt) {
-  const Eigen::VectorXd x0 = x_, v0 = v_;
+  // The step's start state: kept once per step (no allocation after the first) for the
+  // rollback below and as x0, v0 of the backward Euler step.
+  x_start_ = x_;
+  v_start_ = v_;
   const double t0 = t_;
   StepReport r = settings_.kind == IntegratorKind::kBackwardEuler ? StepBackwardEuler(dt) : StepQuasiStatic(dt);
   r.finite = x_.allFinite() && v_.allFinite();
   if (!r.finite) {
     // Never hand NaN downstream: keep the last good state and say so.
-    x_ = x0;
-    v_ = v0;
+    x_ = x_start_;
+    v_ = v_start_;
     t_ = t0 + dt;
     r.converged = false;
   }
@@ -88,13 +91,16 @@ StepReport Simulation::StepBackwardEuler(double h) {
   // flip in and out of contact every step.) Later iterations re-linearize at x0 + h v1.
   StepReport report;
   const double t1 = t_ + h;
-  const Eigen::VectorXd x0 = x_, v0 = v_;
-  Eigen::VectorXd v1 = v0;
+  const Eigen::VectorXd& x0 = x_start_;
+  const Eigen::VectorXd& v0 = v_start_;
+  v1_ = v0;
+  Eigen::VectorXd& v1 = v1_;
   for (int it = 0; it < std::max(1, settings_.newton_iterations); ++it) {
     const bool build = !(constant_matrix_ && matrix_ready_ && matrix_dt_ == h);
     // With a constant matrix the problem is linear and both linearizations coincide.
     const bool at_current_state = it == 0 && build;
-    x_ = at_current_state ? x0 : Eigen::VectorXd(x0 + h * v1);
+    if (at_current_state) x_ = x0;
+    else x_ = x0 + h * v1;
     const SystemState s{x_, v1, t1, true};
     Assemble(s, h * h, h, build, at_current_state);
     if (build) {

@@ -99,6 +99,7 @@ class Simulation {
   ElasticTetForce* elastic_ = nullptr;
   SystemMatrix matrix_;
   Eigen::VectorXd x_, v_, mass_, force_, rhs_, delta_, k_times_v_;
+  Eigen::VectorXd x_start_, v_start_, v1_;  // per-step work buffers
   std::vector<Eigen::Matrix3d> node_rotations_;
   double t_ = 0;
   bool constant_matrix_ = false;

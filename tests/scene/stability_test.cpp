@@ -6,8 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstdio>
-#include <cstdlib>
 
 #include "fem/bone_coupling_force.h"
 #include "fem/box_mesh.h"
@@ -78,7 +76,6 @@ StabilityStats RunCase(const StabilityCase& c) {
     const double energy = s.simulation().KineticEnergy() + s.simulation().PotentialEnergy();
     st.finite = st.finite && std::isfinite(energy);
     st.final_energy = energy;
-    if (std::getenv("SEDBRIDGE_STABILITY_TRACE")) std::printf("step %d energy %.6g kinetic %.3g probe_z %.6g\n", k, energy, s.simulation().KineticEnergy(), x[3 * probe + 2]);
     if (k < c.steps / 2) st.max_energy_first_half = std::max(st.max_energy_first_half, energy);
     else st.max_energy_second_half = std::max(st.max_energy_second_half, energy);
     const double z = x[3 * probe + 2];
