@@ -2,7 +2,7 @@
 """What accuracy costs in time: sweep the solver knobs of the press experiment and measure
 ms/step and the SED error against a reference run (issue 3).
 
-usage: accuracy_cost_study.py --reference DIR [--out out/accuracy_cost] [--quick]
+usage: accuracy_cost_study.py --reference DIR [--out out/accuracy_cost] [--quick] [--plot-only]
                               [--sedbridge build/sedbridge] [--only NAME,...]
 
 REFERENCE is a press-shaped result folder (sed_path.csv, merkel_sed.csv,
@@ -29,23 +29,29 @@ BASE = os.path.join(REPO, "config", "scenes", "paper_press.yaml")
 
 
 def scene_yaml(model="B", elasticity="corotational", integrator="quasi_static", dt_s=None, steps=50,
-               newton=25, solver="ldlt", tol=1e-6, max_it=200, k_contact=10000, preset=None):
-    """The paper press with one or more knobs changed (same plane, same 2 mm over t in [0, 1])."""
+               newton=25, solver="ldlt", tol=1e-6, max_it=200, k_contact=10000, preset=None, fallback=True):
+    """The paper press with one or more knobs changed (same plane, same 2 mm over t in [0, 1]).
+    With `preset`, the elasticity, solver and Newton count are left to the preset."""
     if integrator == "backward_euler":
         steps = int(round(1.0 / dt_s))
     lines = [f"model: {model}"]
     if preset:
         lines.append(f"preset: {preset}")
-    lines += [f"elasticity: {elasticity}",
-              "dynamics:",
+    if not preset:
+        lines.append(f"elasticity: {elasticity}")
+    lines += ["dynamics:",
               f"  integrator: {integrator}",
-              f"  steps: {steps}",
-              f"  newton_iterations: {newton}"]
+              f"  steps: {steps}"]
+    if not preset:
+        lines.append(f"  newton_iterations: {newton}")
     if integrator == "backward_euler":
         lines.append(f"  dt_s: {dt_s}")
     else:
         lines.append("  newton_tolerance_mm: 1.0e-6")
-    lines += [f"solver: {{type: {solver}, tolerance: {tol}, max_iterations: {max_it}}}",
+    if not preset:
+        lines.append(f"solver: {{type: {solver}, tolerance: {tol}, max_iterations: {max_it}, "
+                     f"fallback_to_direct: {'true' if fallback else 'false'}}}")
+    lines += [
               "bone: {mode: fixed, stiffness_N_m: 200, damping_N_s_m: 0.1, anisotropy: 1.0}",
               "contact:",
               f"  stiffness_N_m: {k_contact}",
@@ -59,9 +65,13 @@ def scene_yaml(model="B", elasticity="corotational", integrator="quasi_static", 
 
 def configurations(quick):
     c = []
-    # Mesh resolution (corotational, exact solves).
-    for m in (["B_coarse", "B"] if quick else ["B_coarse", "B", "B_fine"]):
+    # Mesh resolution (corotational, exact solves; the finer meshes with the warped-PCG
+    # solve, which gives the exact solve's path to three digits on B and is much cheaper).
+    for m in (["B_coarse", "B"] if quick else ["B_coarse", "B"]):
         c.append((f"{m}_corot_ldlt", dict(model=m)))
+    if not quick:
+        for m in ["B_coarse", "B_fine", "B_x4"]:  # B: the B_corot_pcgwarp_tol1e-06 row
+            c.append((f"{m}_corot_pcgwarp", dict(model=m, solver="pcg_warp", tol=1e-6)))
     # Element formulation.
     c.append(("B_linear_ldlt", dict(model="B", elasticity="linear")))
     # Linear solver, tolerance, iteration cap, preconditioner.
@@ -69,14 +79,30 @@ def configurations(quick):
         c.append((f"B_corot_pcgwarp_tol{tol:g}", dict(model="B", solver="pcg_warp", tol=tol)))
     c.append(("B_corot_pcgjacobi_tol1e-6", dict(model="B", solver="pcg_jacobi", tol=1e-6, max_it=2000)))
     if not quick:
-        c.append(("B_corot_pcgwarp_cap5", dict(model="B", solver="pcg_warp", tol=1e-8, max_it=5)))
+        # Incomplete Cholesky needs more iterations than the exact warped factor.
+        c.append(("B_corot_pcgwarpichol_tol1e-6", dict(model="B", solver="pcg_warp_ichol", tol=1e-6, max_it=2000)))
+        # Iteration cap: the capped PCG iterate is used as is (no direct fallback), the next
+        # Newton iteration / time step corrects what it left.
+        for cap in [10, 3]:
+            c.append((f"B_corot_pcgwarp_cap{cap}", dict(model="B", solver="pcg_warp", tol=1e-8, max_it=cap,
+                                                       fallback=False)))
     # Penalty stiffness.
     for k in ([1e3, 1e5] if quick else [1e3, 1e5, 1e6]):
         c.append((f"B_corot_k{k:g}", dict(model="B", solver="pcg_warp", k_contact=k)))
-    # Quasi-static vs backward Euler (2 mm in 1 s).
-    for dt in ([0.01] if quick else [0.02, 0.005]):
+    # Quasi-static vs backward Euler (2 mm in 1 s), one linearized solve a step.
+    for dt in ([0.01] if quick else [0.02, 0.01, 0.005]):
         c.append((f"B_corot_be_dt{dt:g}", dict(model="B", integrator="backward_euler", dt_s=dt, newton=1,
                                                solver="pcg_warp")))
+    if not quick:
+        c.append(("B_linear_be_dt0.01", dict(model="B", elasticity="linear", integrator="backward_euler",
+                                             dt_s=0.01, newton=1, solver="pcg_warp")))
+        for cap in [3, 1]:
+            c.append((f"B_corot_be_dt0.01_cap{cap}", dict(model="B", integrator="backward_euler", dt_s=0.01, newton=1,
+                                                         solver="pcg_warp", tol=1e-8, max_it=cap, fallback=False)))
+        # The named presets as scenes select them (backward Euler, dt 10 ms, the real-time form):
+        # only `preset:` is set, so the preset's own elasticity / solver / Newton count apply.
+        for p in ["fast", "balanced", "accurate"]:
+            c.append((f"preset_{p}_be_dt0.01", dict(model="B", integrator="backward_euler", dt_s=0.01, preset=p)))
     return c
 
 
@@ -85,14 +111,80 @@ def read_csv(path):
         return list(csv.DictReader(f))
 
 
+def family(name):
+    """The knob a configuration varies, for the plot's colours."""
+    if name.startswith("preset_"):
+        return "preset"
+    if name.startswith("B_coarse") or name.startswith("B_fine") or name.startswith("B_x4"):
+        return "mesh"
+    if "_be_" in name:
+        return "integrator"
+    if "linear" in name:
+        return "elasticity"
+    if "_k" in name:
+        return "contact penalty"
+    return "solver"
+
+
+def pareto_front(points):
+    """Indices of the points no other point beats in both coordinates (smaller is better)."""
+    front = []
+    for i, (x, y) in enumerate(points):
+        if not any((x2 <= x and y2 <= y) and (x2 < x or y2 < y) for x2, y2 in points):
+            front.append(i)
+    return sorted(front, key=lambda i: points[i][0])
+
+
+def write_pareto(rows, path):
+    """Whole-press time against the path error and the force error, Pareto front marked."""
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("pareto plot skipped: no matplotlib (run with /usr/bin/python3)", file=sys.stderr)
+        return
+    fams = sorted({family(r["name"]) for r in rows})
+    colors = dict(zip(fams, plt.rcParams["axes.prop_cycle"].by_key()["color"]))
+    fig, axes = plt.subplots(1, 2, figsize=(13, 5.2))
+    for ax, key, label in [(axes[0], "path_mae", "normalized SED path MAE vs reference"),
+                           (axes[1], "force_2mm_rel_err", "|force error at 2 mm| vs reference")]:
+        pts = [(float(r["total_s"]), abs(float(r[key]))) for r in rows]
+        for r, (x, y) in zip(rows, pts):
+            f = family(r["name"])
+            ax.scatter(x, y, color=colors[f], label=f)
+            ax.annotate(r["name"], (x, y), fontsize=6.5, xytext=(3, 3), textcoords="offset points")
+        front = pareto_front(pts)
+        ax.plot([pts[i][0] for i in front], [pts[i][1] for i in front], "k--", lw=0.8, label="Pareto front")
+        ax.set_xscale("log")
+        ax.set_xlabel("whole press, wall s (this machine)")
+        ax.set_ylabel(label)
+        ax.grid(alpha=0.3)
+        handles, labels = ax.get_legend_handles_labels()
+        seen = {}
+        for h, l in zip(handles, labels):
+            seen.setdefault(l, h)
+        ax.legend(seen.values(), seen.keys(), fontsize=7)
+    fig.suptitle("What accuracy costs in time: the press experiment on model B variants")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    print(f"wrote {path}")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--reference", required=True)
+    ap.add_argument("--reference", help="the reference run folder (required unless --plot-only)")
     ap.add_argument("--out", default=os.path.join(REPO, "out", "accuracy_cost"))
     ap.add_argument("--sedbridge", default=os.path.join(REPO, "build", "sedbridge"))
     ap.add_argument("--quick", action="store_true", help="fewer configurations")
     ap.add_argument("--only", default="", help="comma-separated configuration names")
+    ap.add_argument("--plot-only", action="store_true", help="redraw OUT/pareto.png from OUT/study.csv, run nothing")
     a = ap.parse_args()
+    if a.plot_only:
+        write_pareto(read_csv(os.path.join(a.out, "study.csv")), os.path.join(a.out, "pareto.png"))
+        return 0
+    if not a.reference:
+        ap.error("--reference is required")
     os.makedirs(a.out, exist_ok=True)
     ref = compare_paths.read_cols(os.path.join(a.reference, "sed_path.csv"))
     ref_fd = read_csv(os.path.join(a.reference, "force_displacement.csv"))
@@ -131,7 +223,9 @@ def main():
                    force_2mm_rel_err=(force_2mm - ref_force_2mm) / ref_force_2mm,
                    unconverged=sum(1 for t in timing if t["converged"] != "1"),
                    fallbacks=sum(int(t["solver_fallbacks"]) for t in timing),
-                   max_inverted=max(int(t["inverted_elements"]) for t in timing))
+                   max_inverted=max(int(t["inverted_elements"]) for t in timing),
+                   # 1-min load average after the run: times from a loaded machine are not comparable
+                   load_avg_1min=os.getloadavg()[0])
         rows.append(row)
         print(f"  {med:.1f} ms/step median, p99 {p99:.1f}; path MAE {mae:.3f} max {mx:.3f}; "
               f"max SED {100 * row['max_sed_rel_err']:+.1f} %; F(2 mm) {100 * row['force_2mm_rel_err']:+.1f} %", flush=True)
@@ -147,23 +241,7 @@ def main():
         print(f"| {r['name']} | {r['steps']} | {r['median_ms']:.1f} | {r['p99_ms']:.1f} | {r['path_mae']:.3f} | "
               f"{r['path_max']:.3f} | {100 * r['max_sed_rel_err']:+.1f} % | {100 * r['force_2mm_rel_err']:+.1f} % | "
               f"{r['unconverged']} | {r['fallbacks']} |")
-    try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        fig, ax = plt.subplots(figsize=(6.5, 4.5))
-        for r in rows:
-            ax.scatter(r["median_ms"], r["path_mae"])
-            ax.annotate(r["name"], (r["median_ms"], r["path_mae"]), fontsize=7, xytext=(3, 3), textcoords="offset points")
-        ax.set_xscale("log")
-        ax.set_xlabel("median ms per step (this machine)")
-        ax.set_ylabel("normalized SED path MAE vs reference")
-        ax.set_title("What accuracy costs in time")
-        ax.grid(alpha=0.3)
-        fig.tight_layout()
-        fig.savefig(os.path.join(a.out, "pareto.png"), dpi=120)
-    except ImportError:
-        print("pareto plot skipped: no matplotlib (run with /usr/bin/python3)", file=sys.stderr)
+    write_pareto(rows, os.path.join(a.out, "pareto.png"))
     return 0
 
 

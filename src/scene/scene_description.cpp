@@ -58,8 +58,10 @@ SceneDescription Parse(const config::YamlDocument& doc) {
   }
   if (s.integrator.kind == fem::IntegratorKind::kQuasiStatic) s.dt_s = 1.0 / s.steps;
 
+  bool solver_type_given = false;
   if (r.Has("solver")) {
     MapReader so = r.Child("solver");
+    solver_type_given = so.Has("type");
     if (so.Has("type")) s.solver = so.RequiredChoice("type", {"ldlt", "pcg_jacobi", "pcg_warp", "pcg_warp_ichol"});
     s.pcg.relative_tolerance = Positive(so, "tolerance", s.pcg.relative_tolerance);
     s.pcg.max_iterations = so.Optional<int>("max_iterations", s.pcg.max_iterations);
@@ -95,6 +97,12 @@ SceneDescription Parse(const config::YamlDocument& doc) {
     if (contact.objects_pad_frame.empty()) c.Fail(c.Node("objects"), "'objects' is empty");
     c.Finish();
     s.contact = std::move(contact);
+  }
+  if (s.preset == "fast" && s.contact && !solver_type_given) {
+    // Contact changes the matrix every step, so "factorize once" would refactorize every
+    // step (~100 ms on model B); the rest factor preconditioning PCG is exact without
+    // contact and needs a few iterations with it (docs/accuracy-cost.md).
+    s.solver = "pcg_warp";
   }
 
   if (r.Has("friction")) {

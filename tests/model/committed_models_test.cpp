@@ -196,7 +196,7 @@ TEST_P(CommittedModel, PadFrameOriginIsTheSkinNodeTheTiltedPlaneTouchesFirst) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, CommittedModel,
-                         ::testing::Values("A", "B", "C", "B_coarse", "B_fine", "B_x4"));
+                         ::testing::Values("A", "B", "C", "B_coarse", "B_fine", "B_x4", "A_fine"));
 
 TEST(ModelB, SizeMatchesThePaperWithin20Percent) {
   const FingertipModel& m = Model("B");
@@ -253,6 +253,27 @@ TEST(ModelBVariants, ResolutionLadder) {
     EXPECT_EQ(v.description.geometry.layers.dermis_mm, 3.0) << name;
     EXPECT_DOUBLE_EQ(v.soft.materials[v.MaterialIndex(kDermis)].youngs_modulus_Pa, 8e4) << name;
   }
+}
+
+TEST(ModelAFine, FinerMeshOfTheSameModelA) {
+  // The reference's own mesh-convergence pair (docs/validation.md): same layers, shell and
+  // materials as A, more tets, a finer Merkel layer.
+  const FingertipModel& a = Model("A");
+  const FingertipModel& f = Model("A_fine");
+  EXPECT_NEAR(f.soft.num_tets() / static_cast<double>(a.soft.num_tets()), 1.6, 0.3);
+  EXPECT_GT(f.merkel_nodes.size(), a.merkel_nodes.size());
+  EXPECT_EQ(f.description.geometry.layers.epidermis_mm, 1.0);
+  EXPECT_EQ(f.description.geometry.layers.dermis_mm, 0.75);
+  EXPECT_FALSE(f.stratum_corneum_triangles.empty());
+  for (std::size_t i = 0; i < a.soft.materials.size(); ++i) {
+    EXPECT_EQ(f.soft.materials[i].name, a.soft.materials[i].name);
+    EXPECT_DOUBLE_EQ(f.soft.materials[i].youngs_modulus_Pa, a.soft.materials[i].youngs_modulus_Pa);
+  }
+  // Same outer shape: the plane first touches at the same height along the pad normal (the
+  // touching node itself may sit elsewhere on the nearly flat pad).
+  const Eigen::Vector3d z_pad = a.pad_frame.model_from_pad.linear().col(2);
+  EXPECT_NEAR(z_pad.dot(f.pad_frame.model_from_pad.translation()), z_pad.dot(a.pad_frame.model_from_pad.translation()),
+              0.05e-3);
 }
 
 }  // namespace
