@@ -104,7 +104,16 @@ LinearSolveReport PcgSolver::Solve(const SystemMatrix& A, const Eigen::VectorXd&
     return report;
   }
   A.Multiply(x, q_);
-  r_ = b - q_;
+  // CG minimizes phi(x) = x.Ax/2 - b.x from the initial guess. A warm start worse than
+  // x = 0 (phi > 0, e.g. last step's dv when the motion reverses) would make a capped,
+  // accepted solve worse than no update at all and feed back step after step; starting
+  // from zero instead makes every accepted iterate a descent step (phi <= 0).
+  if (0.5 * x.dot(q_) - b.dot(x) > 0) {
+    x.setZero();
+    r_ = b;
+  } else {
+    r_ = b - q_;
+  }
   ApplyPreconditioner(r_, z_);
   p_ = z_;
   double rz = r_.dot(z_);

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 
 #include "fem/bone_coupling_force.h"
@@ -158,6 +159,40 @@ TEST(Stability, VibratingIndenter300Hz) {
       "{amplitude_mm: 0.2, frequency_Hz: 300, direction: [0, 0, 1]}}}\n";
   StabilityCase c{Scene("corotational", "pcg_warp", vib), 200, -1};
   ExpectStable(RunCase(c), true);
+}
+
+TEST(Stability, CappedPcgAcceptedWithoutFallback) {
+  // A real-time budget: 3 PCG iterations a step, the capped iterate used as is (no direct
+  // fallback), backward Euler at dt = 10 ms, the plane pushed 2 mm in 1 s and held 2 s.
+  // Before the solver stopped warm-starting from a guess worse than zero, the last step's
+  // dv fed back and the contact force reached 1e12 N by 2 mm. (With 1 iteration a step the
+  // hold is not stable: docs/accuracy-cost.md.)
+  auto run = [](const std::string& solver) {
+    const std::string yaml =
+        "model: B_coarse\nelasticity: corotational\nsolver: " + solver +
+        "\ndynamics: {integrator: backward_euler, dt_s: 0.01, newton_iterations: 1}\nbone: {mode: fixed}\n"
+        "contact:\n  objects:\n" + PlanePress(2.0, 1.0);
+    FingertipScene s(ParseSceneDescription(yaml, "capped"), model::LoadFingertipModel("B_coarse"));
+    // Inexact steps are not backward Euler steps: after the plane stops, the lag is worked
+    // off with a transient; it must die out, not grow.
+    double max_force_N = 0, max_energy_mid_hold = 0, max_energy_late_hold = 0;
+    for (int k = 0; k < 300; ++k) {
+      const fem::StepReport r = s.Step();
+      EXPECT_TRUE(r.finite) << "step " << k;
+      max_force_N = std::max(max_force_N, s.contact()->TotalSpringForceMagnitude());
+      const double e = s.simulation().KineticEnergy() + s.simulation().PotentialEnergy();
+      if (k >= 200 && k < 250) max_energy_mid_hold = std::max(max_energy_mid_hold, e);
+      if (k >= 250) max_energy_late_hold = std::max(max_energy_late_hold, e);
+    }
+    return std::array<double, 4>{s.contact()->TotalSpringForceMagnitude(), max_force_N, max_energy_mid_hold,
+                                 max_energy_late_hold};
+  };
+  const auto exact = run("{type: pcg_warp, tolerance: 1.0e-8, max_iterations: 300}");
+  ASSERT_GT(exact[0], 1.0);  // the press does reach > 1 N
+  const auto capped = run("{type: pcg_warp, tolerance: 1.0e-8, max_iterations: 3, fallback_to_direct: false}");
+  EXPECT_NEAR(capped[0], exact[0], 0.02 * exact[0]);  // settles at the exact equilibrium
+  EXPECT_LT(capped[1], 1.5 * exact[1]);               // bounded transient when the plane stops
+  EXPECT_LE(capped[3], capped[2] * 1.001 + 1e-12);    // no energy growth while held
 }
 
 TEST(Stability, SoakAtRest100kSteps) {

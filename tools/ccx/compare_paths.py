@@ -105,6 +105,7 @@ def main():
         print(f"| {label} | {mean:.3f} | {mx:.3f} | {n} pts ({lo:.1f} to {hi:.1f} mm) | {selected(fd, a.target_force)} | {m:.1f} ({rows[-1]['max_sed_rel_err']:+.0%}) "
               f"| {f_last:.3f} ({rows[-1]['force_rel_err']:+.0%}) |")
     if a.csv:
+        os.makedirs(os.path.dirname(os.path.abspath(a.csv)), exist_ok=True)
         with open(a.csv, "w", newline="") as f:
             w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
             w.writeheader()
