@@ -150,11 +150,14 @@ def write_pareto(rows, path):
     for ax, key, label in [(axes[0], "path_mae", "normalized SED path MAE vs reference"),
                            (axes[1], "force_2mm_rel_err", "|force error at 2 mm| vs reference")]:
         pts = [(float(r["total_s"]), abs(float(r[key]))) for r in rows]
-        for r, (x, y) in zip(rows, pts):
+        front = pareto_front(pts)
+        for i, (r, (x, y)) in enumerate(zip(rows, pts)):
             f = family(r["name"])
             ax.scatter(x, y, color=colors[f], label=f)
-            ax.annotate(r["name"], (x, y), fontsize=6.5, xytext=(3, 3), textcoords="offset points")
-        front = pareto_front(pts)
+            # Names only where they say something (the front, mesh, formulation, presets);
+            # the solver-knob cluster is in study.csv and the doc's table.
+            if i in front or f in ("mesh", "elasticity", "preset"):
+                ax.annotate(r["name"], (x, y), fontsize=6.5, xytext=(3, 3), textcoords="offset points")
         ax.plot([pts[i][0] for i in front], [pts[i][1] for i in front], "k--", lw=0.8, label="Pareto front")
         ax.set_xscale("log")
         ax.set_xlabel("whole press, wall s (this machine)")

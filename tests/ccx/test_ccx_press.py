@@ -119,6 +119,11 @@ def b_coarse_press(work):
     norm = [float(r["sed_normalized"]) for r in path]
     check(len(path) > 50 and max(norm) <= 1 + 1e-6 and max(norm) > 0.3,
           f"sed_path.csv: {len(path)} samples, max normalized {max(norm):.3f}")
+    # Map at equal indentation: the increment closest to 0.25 mm is the first (0.2 mm),
+    # whose SED is below the last increment's.
+    first = read_results.read_run(m, os.path.join(out, "ccx"), at_depth_mm=0.25)
+    check(first["selected"] == 0, f"--at-depth-mm 0.25 selects increment 1, got {first['selected'] + 1}")
+    check(0 < first["max_sed"] < mx, f"SED at 0.2 mm ({first['max_sed']:.1f} Pa) below the 0.6 mm one ({mx:.1f} Pa)")
 
 
 def main():

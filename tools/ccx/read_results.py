@@ -7,7 +7,7 @@ files `sedbridge press` writes:
                           the pad frame, at the increment whose force is closest to 1.0 N)
   sed_path.csv            x_mm,sed_Pa,sed_normalized  (along x at y = 2 mm, pad-facing sheet)
 
-usage: read_results.py --model B --run DIR/ccx [--out DIR] [--target-force 1.0]
+usage: read_results.py --model B --run DIR/ccx [--out DIR] [--target-force 1.0 | --at-depth-mm D]
 
 Definitions, all as src/scene (press_experiment.cpp, merkel_layer.cpp):
   force      = -RF_z summed over the plane's nodes (the plane is pushed along -z_pad);
@@ -139,8 +139,10 @@ class MerkelMap:
         return out
 
 
-def read_run(model, run_dir, target_force_n=TARGET_FORCE_N):
-    """Returns dict(steps=[(step, disp_mm, force_N, area_mm2)], selected, vertex_sed, path)."""
+def read_run(model, run_dir, target_force_n=TARGET_FORCE_N, at_depth_mm=None):
+    """Returns dict(steps=[(step, disp_mm, force_N, area_mm2)], selected, vertex_sed, path).
+    The map is taken at the increment closest to target_force_n, or to at_depth_mm if given
+    (equal indentation: for comparing runs whose forces differ, or a run still going)."""
     dat = os.path.join(run_dir, "press.dat")
     meta_path = os.path.join(run_dir, "deck.json")
     if not os.path.exists(dat):
@@ -184,7 +186,10 @@ def read_run(model, run_dir, target_force_n=TARGET_FORCE_N):
         if converged != len(steps):
             raise ResultError(f"{dat} holds {len(steps)} increments but {sta} lists {converged} "
                               "converged ones (was an output FREQUENCY set?)")
-    selected = min(range(len(steps)), key=lambda i: abs(steps[i][2] - target_force_n))
+    if at_depth_mm is not None:
+        selected = min(range(len(steps)), key=lambda i: abs(steps[i][1] - at_depth_mm))
+    else:
+        selected = min(range(len(steps)), key=lambda i: abs(steps[i][2] - target_force_n))
     vsed = mm.vertex_sed(element_sed_by_step[selected])
     path = mm.sample_path(vsed)
     return dict(steps=steps, selected=selected, vertex_sed=vsed, path=path, merkel=mm,
@@ -217,9 +222,11 @@ def main():
     ap.add_argument("--out", default=None)
     ap.add_argument("--target-force", type=float, default=TARGET_FORCE_N,
                     help="the SED map and path are taken at the increment closest to this force [N]")
+    ap.add_argument("--at-depth-mm", type=float, default=None,
+                    help="take the map at the increment closest to this indentation instead [mm]")
     a = ap.parse_args()
     model = fingertip.load_model(a.model, REPO)
-    r = read_run(model, a.run, a.target_force)
+    r = read_run(model, a.run, a.target_force, a.at_depth_mm)
     write_csvs(r, a.out or a.run)
     s = r["steps"][r["selected"]]
     print(f"{len(r['steps'])} increments; selected step {s[0]} (d = {s[1]:.3f} mm, F = {s[2]:.4f} N); "
