@@ -98,12 +98,8 @@ SceneDescription Parse(const config::YamlDocument& doc) {
     c.Finish();
     s.contact = std::move(contact);
   }
-  if (s.preset == "fast" && s.contact && !solver_type_given) {
-    // Contact changes the matrix every step, so "factorize once" would refactorize every
-    // step (~100 ms on model B); the rest factor preconditioning PCG is exact without
-    // contact and needs a few iterations with it (docs/accuracy-cost.md).
-    s.solver = "pcg_warp";
-  }
+  // The preset was applied before `contact` was read; its solver choice depends on it.
+  if (s.preset == "fast" && s.contact && !solver_type_given) s.solver = "pcg_warp";
 
   if (r.Has("friction")) {
     MapReader f = r.Child("friction");
@@ -143,7 +139,10 @@ void ApplyPreset(const std::string& name, SceneDescription& s) {
   // Chosen from the measured accuracy-cost study (docs/accuracy-cost.md).
   if (name == "fast") {
     s.elasticity = fem::ElasticFormulation::kLinear;
-    s.solver = "ldlt";  // constant matrix: factorized once, one back-substitution a step
+    // Without contact the matrix is constant: factorized once, one back-substitution a
+    // step. Contact changes it every step, and refactorizing costs ~100 ms on model B;
+    // the rest factor preconditioning PCG is exact without contact, close with it.
+    s.solver = s.contact ? "pcg_warp" : "ldlt";
     s.integrator.newton_iterations = 1;
   } else if (name == "balanced") {
     s.elasticity = fem::ElasticFormulation::kCorotational;

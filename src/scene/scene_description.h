@@ -63,8 +63,9 @@ SceneDescription ReadSceneDescription(const std::string& path);
 SceneDescription ParseSceneDescription(const std::string& yaml_text, const std::string& file);
 
 /// Applies a named preset ("fast", "balanced", "accurate": docs/accuracy-cost.md) to
-/// the solver-related fields. (Reading a scene does one more thing: `fast` in a scene with
-/// contact and no explicit `solver.type` uses pcg_warp instead of a refactorized LDL^T.) Throws std::invalid_argument for an unknown name.
+/// the solver-related fields. `fast` picks LDL^T factorized once for a scene without
+/// contact and pcg_warp with it (contact changes the matrix every step), so apply it after
+/// `scene.contact` is set (ReadSceneDescription does; an explicit `solver.type` wins). Throws std::invalid_argument for an unknown name.
 void ApplyPreset(const std::string& name, SceneDescription& scene);
 std::vector<std::string> PresetNames();
 

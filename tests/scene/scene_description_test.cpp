@@ -69,6 +69,10 @@ TEST(SceneDescription, FastPresetFactorizesOnceWithoutContactAndPreconditionsWit
   const SceneDescription forced =
       ParseSceneDescription("model: B\npreset: fast\nsolver: {type: ldlt}\n" + contact, "f.yaml");
   EXPECT_EQ(forced.solver, "ldlt");  // an explicit choice wins
+  // Applied after reading (sedbridge press --preset fast on a contact scene).
+  SceneDescription cli = ParseSceneDescription("model: B\n" + contact, "cli.yaml");
+  ApplyPreset("fast", cli);
+  EXPECT_EQ(cli.solver, "pcg_warp");
 }
 
 }  // namespace
