@@ -65,7 +65,8 @@ SceneDescription ParseSceneDescription(const std::string& yaml_text, const std::
 /// Applies a named preset ("fast", "balanced", "accurate": docs/accuracy-cost.md) to
 /// the solver-related fields. `fast` picks LDL^T factorized once for a scene without
 /// contact and pcg_warp with it (contact changes the matrix every step), so apply it after
-/// `scene.contact` is set (ReadSceneDescription does; an explicit `solver.type` wins). Throws std::invalid_argument for an unknown name.
+/// `scene.contact` is set (ReadSceneDescription does; an explicit `solver.type` wins).
+/// Throws std::invalid_argument for an unknown name.
 void ApplyPreset(const std::string& name, SceneDescription& scene);
 std::vector<std::string> PresetNames();
 
