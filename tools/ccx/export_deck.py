@@ -217,20 +217,29 @@ def _write_law(w, mat, law):
         raise ValueError("material law: elastic | neohooke")
 
 
-def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+def add_deck_arguments(ap):
+    """The deck's options, shared with run_reference.py."""
     ap.add_argument("--model", required=True)
     ap.add_argument("--element", default="C3D4", choices=("C3D4", "C3D10"))
     ap.add_argument("--increments", type=int, default=50)
     ap.add_argument("--depth-mm", type=float, default=2.0)
     ap.add_argument("--contact-slope", type=float, default=50.0, help="penalty slope [MPa/mm]")
-    ap.add_argument("--no-shells", action="store_true")
+    ap.add_argument("--no-shells", action="store_true", help="model A without its stratum corneum shell")
     ap.add_argument("--material-law", default="elastic", choices=("elastic", "neohooke"))
+
+
+def export_from_args(model, out_dir, a):
+    """export() with the options of add_deck_arguments."""
+    return export(model, out_dir, a.element, a.increments, a.depth_mm, a.contact_slope,
+                  not a.no_shells, a.material_law)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    add_deck_arguments(ap)
     ap.add_argument("--out", required=True)
     a = ap.parse_args()
-    model = fingertip.load_model(a.model, REPO)
-    print(export(model, a.out, a.element, a.increments, a.depth_mm, a.contact_slope,
-                 not a.no_shells, a.material_law))
+    print(export_from_args(fingertip.load_model(a.model, REPO), a.out, a))
 
 
 if __name__ == "__main__":

@@ -75,13 +75,7 @@ def run_ccx(run_dir, threads, log, quiet=False):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--model", required=True)
-    ap.add_argument("--element", default="C3D4", choices=("C3D4", "C3D10"))
-    ap.add_argument("--increments", type=int, default=50)
-    ap.add_argument("--depth-mm", type=float, default=2.0)
-    ap.add_argument("--contact-slope", type=float, default=50.0, help="penalty slope [MPa/mm]")
-    ap.add_argument("--no-shells", action="store_true", help="model A without its stratum corneum shell")
-    ap.add_argument("--material-law", default="elastic", choices=("elastic", "neohooke"))
+    export_deck.add_deck_arguments(ap)
     ap.add_argument("--threads", type=int, default=2)
     ap.add_argument("--target-force", type=float, default=1.0,
                     help="the SED map and path are taken at the increment closest to this force [N]")
@@ -96,8 +90,7 @@ def main():
     for stale in ("press.dat", "press.frd", "press.sta", "press.cvg"):
         if os.path.exists(os.path.join(run_dir, stale)):
             os.remove(os.path.join(run_dir, stale))
-    export_deck.export(model, run_dir, a.element, a.increments, a.depth_mm, a.contact_slope,
-                       not a.no_shells, a.material_law)
+    export_deck.export_from_args(model, run_dir, a)
     with open(os.path.join(run_dir, "deck.json")) as f:
         meta = json.load(f)
     print(f"run_reference: model {model.name} ({a.element}, {meta['soft_tets']} tets, {meta['nodes']} nodes, "
