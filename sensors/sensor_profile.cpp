@@ -197,6 +197,12 @@ SensorProfile ParseSensorProfile(MapReader& r) {
   const double timeout_ms = r.Optional<double>("partial_timeout_ms", 1500.0 / p.scan_rate_Hz);
   if (!(timeout_ms > 0)) r.Fail(r.Node("partial_timeout_ms"), "'partial_timeout_ms' must be > 0");
   p.partial_timeout_us = static_cast<int64_t>(timeout_ms * 1000.0);
+  if (r.Has("forward_model")) {
+    config::MapReader fm = r.Child("forward_model");
+    p.forward_model = ParseTactileModelParams(fm);
+    fm.Finish();
+    p.has_forward_model = true;
+  }
   p.stale_after_scans = r.Optional<int>("stale_after_scans", 0);
   if (p.stale_after_scans < 0) r.Fail(r.Node("stale_after_scans"), "'stale_after_scans' must be >= 0");
   p.start_frames = ParseCommandFrames(r, "start_frames");

@@ -25,6 +25,7 @@
 
 #include "config/yaml_reader.h"
 #include "sensors/can_frame.h"
+#include "sensors/tactile_model_params.h"
 
 namespace sedbridge::sensors {
 
@@ -94,6 +95,10 @@ struct SensorProfile {
 
   std::vector<Frame> start_frames;  ///< sent to start streaming (may be empty)
   std::vector<Frame> stop_frames;   ///< sent to stop streaming
+  /// Calibrated forward model of the sensor's elastomer (key `forward_model`), used by the
+  /// contact reconstruction and the simulated sensor's `pad: {model: kernel}`.
+  bool has_forward_model = false;
+  TactileModelParams forward_model;
 
   int channel_count() const { return taxel_count * axes; }
   /// Range a sample can hold.

@@ -1,0 +1,57 @@
+#pragma once
+// Indentation-stage calibration presses of a tactile sensor (config/sensors/rig_uskin_4x4/):
+// candump logs of known objects pressed to known forces, indexed by a cases.json. They are
+// what `sedbridge fit-sensor` calibrates the forward model to and what the fidelity
+// benchmark runs on.
+//
+// cases.json: {"cases": [{"object": {"shape": "sphere"|"cylinder"|"flat",
+//   "position_mm": [x, y], "radius_mm": R, "yaw_deg": yaw, "traction": [tx, ty]},
+//   "force_N": F, "log": "press_00.log"}, ...]}  (traction: tangential force / normal force)
+// Every press follows the rig's protocol: 0.3 s unloaded, a linear ramp to F over 0.7 s,
+// 0.5 s hold, a 0.3 s linear release, then unloaded.
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "sensors/scan.h"
+#include "sensors/sensor_profile.h"
+#include "sensors/tactile_forward_model.h"
+
+namespace sedbridge::sensors {
+
+/// The rig's load protocol [s].
+struct PressProtocol {
+  double unloaded_s = 0.3;
+  double ramp_s = 0.7;
+  double hold_s = 0.5;
+  double release_s = 0.3;
+  /// Fraction of the peak force at time t since the first scan.
+  double LoadFraction(double t_s) const;
+  /// Middle of the hold [s].
+  double HoldMid_s() const { return unloaded_s + ramp_s + 0.5 * hold_s; }
+};
+
+struct CalibrationPress {
+  std::string name;               ///< log file name without directory, e.g. "press_03.log"
+  std::string log_path;           ///< resolved path of the log
+  ContactPrimitive object;        ///< the object at the peak force (force_N, traction x force)
+  std::vector<double> t_s;        ///< scan times since the first scan
+  std::vector<Eigen::VectorXd> readings_N;  ///< per scan, 3 x #taxels (x, y, z per taxel) [N]
+  std::vector<Scan> scans;        ///< the assembled scans themselves
+  /// The object at time t (force and traction scaled by the protocol).
+  ContactPrimitive ObjectAt(double t_s, const PressProtocol& protocol = {}) const;
+  /// Mean reading over scans with t in [t0, t1] (3 x #taxels) [N].
+  Eigen::VectorXd MeanReadings(double t0_s, double t1_s) const;
+};
+
+/// A scan's readings as forces per taxel [N]: x, y shear and z normal, 3 x #taxels
+/// (pressures times the taxel area). Invalid taxels read 0.
+Eigen::VectorXd ScanReadings_N(const Scan& scan, const SensorProfile& profile);
+
+/// Loads cases.json and decodes every log it names (paths relative to the JSON) with
+/// `profile`. Throws config::ConfigError naming file:line:column for a bad entry, and
+/// std::runtime_error for an unreadable or empty log.
+std::vector<CalibrationPress> LoadCalibrationPresses(const std::string& cases_json, const SensorProfile& profile);
+
+}  // namespace sedbridge::sensors

@@ -1,0 +1,238 @@
+#include "sensors/tactile_forward_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace sedbridge::sensors {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// Taxel sensing area averaged on 3 x 3 points (mid-point rule).
+constexpr int kAreaPoints = 3;
+// Cells further than this beyond the pad square carry no load (the pad ends there) [mm].
+constexpr double kGridMargin_mm = 1.0;
+
+double Rational(const RadialKernel& k, double rho_mm, int order) {
+  const double u = rho_mm / k.width_mm;
+  const double base = k.gain / std::pow(1.0 + u * u, k.power);
+  return order == 0 ? base : order == 1 ? base * u : base * u * u;
+}
+
+// Length of the line p + t d inside the square |x|, |y| <= half (slab clipping).
+double LengthInSquare(double px, double py, double dx, double dy, double half) {
+  double t0 = -1e9, t1 = 1e9;
+  const double p[2] = {px, py}, d[2] = {dx, dy};
+  for (int a = 0; a < 2; ++a) {
+    if (std::abs(d[a]) < 1e-12) {
+      if (std::abs(p[a]) > half) return 0;
+      continue;
+    }
+    double ta = (-half - p[a]) / d[a], tb = (half - p[a]) / d[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::max(t0, ta);
+    t1 = std::min(t1, tb);
+  }
+  return std::max(0.0, t1 - t0);
+}
+
+// Fraction of the cell [c - h/2, c + h/2] inside [-half, half] (continuous in half).
+double Coverage1d(double c, double h, double half) {
+  const double lo = std::max(c - 0.5 * h, -half), hi = std::min(c + 0.5 * h, half);
+  return std::clamp((hi - lo) / h, 0.0, 1.0);
+}
+
+}  // namespace
+
+ContactShape ContactShapeFromName(const std::string& name) {
+  if (name == "sphere") return ContactShape::kSphere;
+  if (name == "cylinder") return ContactShape::kCylinder;
+  if (name == "flat") return ContactShape::kFlat;
+  throw std::invalid_argument("unknown contact shape '" + name + "' (sphere, cylinder, flat)");
+}
+
+const char* ContactShapeName(ContactShape shape) {
+  switch (shape) {
+    case ContactShape::kSphere: return "sphere";
+    case ContactShape::kCylinder: return "cylinder";
+    case ContactShape::kFlat: return "flat";
+  }
+  return "?";
+}
+
+TactileForwardModel::TactileForwardModel(const SensorProfile& profile, const TactileModelParams& params)
+    : TactileForwardModel(profile.taxels, profile.taxel_width_mm, profile.taxel_height_mm, params) {
+  if (profile.axes != 3)
+    throw std::invalid_argument("the tactile forward model needs a three-axis profile ('" + profile.name + "' has " +
+                                std::to_string(profile.axes) + " axis)");
+}
+
+TactileForwardModel::TactileForwardModel(std::vector<TaxelPosition> taxels, double taxel_width_mm,
+                                         double taxel_height_mm, const TactileModelParams& params)
+    : taxels_(std::move(taxels)), taxel_w_mm_(taxel_width_mm), taxel_h_mm_(taxel_height_mm), params_(params) {
+  if (taxels_.empty()) throw std::invalid_argument("forward model: no taxels");
+  if (!(params_.grid_mm > 0) || !(params_.pad_size_mm > 0) || !(params_.contact_modulus_kPa > 0))
+    throw std::invalid_argument("forward model: grid_mm, pad_size_mm and contact_modulus_kPa must be > 0");
+  CheckKernel(params_.normal, "normal");
+  CheckKernel(params_.spread, "spread");
+  CheckKernel(params_.shear, "shear");
+  CheckKernel(params_.shear_cross, "shear_cross");
+  CheckKernel(params_.shear_lift, "shear_lift");
+  const double h = params_.grid_mm;
+  const double half = 0.5 * params_.pad_size_mm + kGridMargin_mm;
+  // Anchor the grid on taxel 0 so that taxel-to-cell offsets of a regular layout are whole
+  // multiples of h (the kernel table is then exact, not interpolated).
+  const double ax = taxels_[0].x_mm, ay = taxels_[0].y_mm;
+  const int below_x = static_cast<int>(std::ceil((ax + half) / h)), below_y = static_cast<int>(std::ceil((ay + half) / h));
+  grid_x0_mm_ = ax - below_x * h;
+  grid_y0_mm_ = ay - below_y * h;
+  grid_n_ = static_cast<int>(std::ceil((half - std::min(grid_x0_mm_, grid_y0_mm_)) / h)) + 1;
+  BuildKernelTable();
+}
+
+Eigen::Vector2d TactileForwardModel::CellCentre_mm(int cell) const {
+  const double h = params_.grid_mm;
+  return {grid_x0_mm_ + (cell % grid_n_) * h, grid_y0_mm_ + (cell / grid_n_) * h};
+}
+
+void TactileForwardModel::BuildKernelTable() {
+  const double h = params_.grid_mm;
+  double reach = 0;  // largest |taxel - cell| component
+  for (const auto& t : taxels_) {
+    reach = std::max({reach, std::abs(t.x_mm - grid_x0_mm_), std::abs(t.y_mm - grid_y0_mm_),
+                      std::abs(t.x_mm - (grid_x0_mm_ + (grid_n_ - 1) * h)),
+                      std::abs(t.y_mm - (grid_y0_mm_ + (grid_n_ - 1) * h))});
+  }
+  table_half_ = static_cast<int>(std::ceil(reach / h)) + 1;
+  table_stride_ = 2 * table_half_ + 1;
+  table_.assign(static_cast<size_t>(table_stride_) * table_stride_ * 9, 0.0);
+  const double wx = taxel_w_mm_ / kAreaPoints, wy = taxel_h_mm_ / kAreaPoints;
+  const double inv = 1.0 / (kAreaPoints * kAreaPoints);
+  for (int j = -table_half_; j <= table_half_; ++j) {
+    for (int i = -table_half_; i <= table_half_; ++i) {
+      double* out = &table_[9 * ((i + table_half_) + (j + table_half_) * table_stride_)];
+      for (int sy = 0; sy < kAreaPoints; ++sy) {
+        for (int sx = 0; sx < kAreaPoints; ++sx) {
+          const double dx = i * h + (sx - 0.5 * (kAreaPoints - 1)) * wx;
+          const double dy = j * h + (sy - 0.5 * (kAreaPoints - 1)) * wy;
+          const double rho = std::hypot(dx, dy);
+          const double ex = rho > 1e-9 ? dx / rho : 0, ey = rho > 1e-9 ? dy / rho : 0;
+          const double kn = Rational(params_.normal, rho, 0), kr = Rational(params_.spread, rho, 1);
+          const double kt = Rational(params_.shear, rho, 0), kc = Rational(params_.shear_cross, rho, 2);
+          const double kl = Rational(params_.shear_lift, rho, 1);
+          // normal load -> x, y, z
+          out[0] += inv * kr * ex;
+          out[1] += inv * kr * ey;
+          out[2] += inv * kn;
+          // T_x -> x, y, z
+          out[3] += inv * (kt + kc * ex * ex);
+          out[4] += inv * kc * ey * ex;
+          out[5] += inv * kl * ex;
+          // T_y -> x, y, z
+          out[6] += inv * kc * ex * ey;
+          out[7] += inv * (kt + kc * ey * ey);
+          out[8] += inv * kl * ey;
+        }
+      }
+    }
+  }
+  taxel_base_.resize(taxels_.size());
+  for (size_t k = 0; k < taxels_.size(); ++k) {
+    const int oi = static_cast<int>(std::lround((taxels_[k].x_mm - grid_x0_mm_) / h));
+    const int oj = static_cast<int>(std::lround((taxels_[k].y_mm - grid_y0_mm_) / h));
+    taxel_base_[k] = (oi + table_half_) + (oj + table_half_) * table_stride_;
+  }
+}
+
+void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLoad>* loads) const {
+  loads->clear();
+  if (!(c.normal_force_N > 0) || !std::isfinite(c.normal_force_N)) return;
+  const double h = params_.grid_mm, half = 0.5 * params_.pad_size_mm;
+  const double E_N_mm2 = params_.contact_modulus_kPa * 1e-3;  // kPa -> N/mm^2
+  const double F = c.normal_force_N;
+  auto add_box = [&](double x_lo, double x_hi, double y_lo, double y_hi, auto&& weight) {
+    const int i0 = std::max(0, static_cast<int>(std::floor((x_lo - grid_x0_mm_) / h)));
+    const int i1 = std::min(grid_n_ - 1, static_cast<int>(std::ceil((x_hi - grid_x0_mm_) / h)));
+    const int j0 = std::max(0, static_cast<int>(std::floor((y_lo - grid_y0_mm_) / h)));
+    const int j1 = std::min(grid_n_ - 1, static_cast<int>(std::ceil((y_hi - grid_y0_mm_) / h)));
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) {
+        const double x = grid_x0_mm_ + i * h, y = grid_y0_mm_ + j * h;
+        const double w = weight(x, y) * Coverage1d(x, h, half + kGridMargin_mm) * Coverage1d(y, h, half + kGridMargin_mm);
+        if (w > 0) loads->push_back({i + j * grid_n_, w});
+      }
+  };
+  switch (c.shape) {
+    case ContactShape::kSphere: {
+      const double R = std::max(c.radius_mm, 1e-3);
+      // Patches narrower than the grid are widened to about one cell, so that every
+      // contact covers a few cells and the readings stay smooth in the pose.
+      const double a = std::hypot(std::cbrt(3.0 * F * R / (4.0 * E_N_mm2)), h);
+      add_box(c.x_mm - a, c.x_mm + a, c.y_mm - a, c.y_mm + a, [&](double x, double y) {
+        const double r2 = ((x - c.x_mm) * (x - c.x_mm) + (y - c.y_mm) * (y - c.y_mm)) / (a * a);
+        return r2 < 1 ? std::sqrt(1 - r2) : 0.0;
+      });
+      break;
+    }
+    case ContactShape::kCylinder: {
+      const double yaw = c.yaw_deg * kPi / 180.0, dx = std::cos(yaw), dy = std::sin(yaw);
+      const double L = LengthInSquare(c.x_mm, c.y_mm, dx, dy, half);
+      if (L <= 0) return;
+      const double R = std::max(c.radius_mm, 1e-3);
+      const double b = std::hypot(std::sqrt(4.0 * (F / L) * R / (kPi * E_N_mm2)), h);
+      add_box(-half, half, -half, half, [&](double x, double y) {
+        const double s = -(x - c.x_mm) * dy + (y - c.y_mm) * dx;
+        const double r2 = s * s / (b * b);
+        if (r2 >= 1) return 0.0;
+        return std::sqrt(1 - r2) * Coverage1d(x, h, half) * Coverage1d(y, h, half);
+      });
+      break;
+    }
+    case ContactShape::kFlat:
+      add_box(-half, half, -half, half,
+              [&](double x, double y) { return Coverage1d(x, h, half) * Coverage1d(y, h, half); });
+      break;
+  }
+  double sum = 0;
+  for (const auto& l : *loads) sum += l.normal_N;
+  if (!(sum > 0)) {
+    loads->clear();
+    return;
+  }
+  for (auto& l : *loads) l.normal_N *= F / sum;
+}
+
+void TactileForwardModel::Predict(const ContactPrimitive& c, Eigen::VectorXd* readings_N) const {
+  const int n = taxel_count();
+  readings_N->setZero(3 * n);
+  thread_local std::vector<SurfaceLoad> loads;
+  Patch(c, &loads);
+  if (loads.empty()) return;
+  const double tx = c.normal_force_N > 0 ? c.shear_x_N / c.normal_force_N : 0;
+  const double ty = c.normal_force_N > 0 ? c.shear_y_N / c.normal_force_N : 0;
+  const bool shear = tx != 0 || ty != 0;
+  double* out = readings_N->data();
+  for (int k = 0; k < n; ++k) {
+    double rx = 0, ry = 0, rz = 0;
+    const int base = taxel_base_[k];
+    for (const auto& l : loads) {
+      const int i = l.cell % grid_n_, j = l.cell / grid_n_;
+      const double* t = &table_[9 * (base - i - j * table_stride_)];
+      const double P = l.normal_N;
+      rx += P * t[0];
+      ry += P * t[1];
+      rz += P * t[2];
+      if (shear) {
+        rx += P * (tx * t[3] + ty * t[6]);
+        ry += P * (tx * t[4] + ty * t[7]);
+        rz += P * (tx * t[5] + ty * t[8]);
+      }
+    }
+    out[3 * k] = rx;
+    out[3 * k + 1] = ry;
+    out[3 * k + 2] = rz;
+  }
+}
+
+}  // namespace sedbridge::sensors

@@ -1,0 +1,100 @@
+#pragma once
+// The follower sensor as a forward model: a rigid object pressed into the sensor's elastomer
+// pad -> the three-axis reading of every taxel. Used by contact reconstruction (which inverts
+// it), by the simulated sensor (`pad: {model: kernel}`), and by `sedbridge fit-sensor`, which
+// calibrates its parameters to indentation-stage presses (config/sensors/rig_uskin_4x4/).
+//
+// Two stages, both linear in the load once the contact patch is known:
+//  1. Contact pressure on the pad surface (pad frame, z = 0), on a grid of spacing h:
+//       sphere   Hertz:  a = cbrt(3 F R / (4 E*)),  p ~ sqrt(1 - r^2/a^2)
+//       cylinder Hertz line contact of the rod's length inside the pad (L):
+//                b = sqrt(4 (F/L) R / (pi E*)),  p ~ sqrt(1 - s^2/b^2)
+//       flat     uniform over the pad square (side pad_size_mm)
+//     each scaled so the cells sum to the normal force F; a tangential force T (stroking)
+//     is spread over the same cells in proportion to p.
+//  2. Each surface load reaches every taxel through radial kernels of the in-plane offset
+//     d = taxel point - load point (rho = |d|, e = d / rho), averaged over the taxel's
+//     sensing area (3 x 3 points):
+//       normal P:      z += P Kn(rho),         xy += P Kr(rho) e       (outward spread)
+//       tangential T:  xy += Kt(rho) T + Kc(rho) e (e . T),  z += Kl(rho) (e . T)
+//     with Kn, Kt = A / (1 + (rho/s)^2)^q and Kr, Kl = A (rho/s) / (1 + (rho/s)^2)^q,
+//     Kc = A (rho/s)^2 / (1 + (rho/s)^2)^q (the Cerruti-like cross term).
+// The kernels are what a real sensor's elastomer does: part of the load never reaches the
+// taxels (sum of z readings < F), neighbours see a load between them, and the shear channels
+// respond to a purely normal press. Readings are per-taxel forces [N], as the uSkin profile
+// calibrates them (pressure x taxel area for Pa profiles).
+
+#include <Eigen/Core>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "sensors/sensor_profile.h"
+#include "sensors/tactile_model_params.h"
+
+namespace sedbridge::sensors {
+
+/// The contact shapes the model and the reconstruction know.
+enum class ContactShape { kSphere, kCylinder, kFlat };
+
+/// "sphere" | "cylinder" | "flat"; throws std::invalid_argument for anything else.
+ContactShape ContactShapeFromName(const std::string& name);
+const char* ContactShapeName(ContactShape shape);
+
+/// One object pressed onto the sensor pad, in the pad frame.
+struct ContactPrimitive {
+  ContactShape shape = ContactShape::kSphere;
+  double x_mm = 0;        ///< sphere: lowest point; cylinder: a point on the axis; flat: unused
+  double y_mm = 0;
+  double radius_mm = 5;   ///< sphere/cylinder radius
+  double yaw_deg = 0;     ///< cylinder axis direction (cos yaw, sin yaw, 0)
+  double normal_force_N = 0;  ///< pressing force (>= 0)
+  double shear_x_N = 0;   ///< total tangential force on the pad (object drags the pad along +x)
+  double shear_y_N = 0;
+};
+
+/// Surface load on one grid cell.
+struct SurfaceLoad {
+  int cell = 0;      ///< index into the model's load grid
+  double normal_N = 0;
+};
+
+class TactileForwardModel {
+ public:
+  /// @param taxels  taxel centres [mm] (profile.taxels)
+  /// @param taxel_width_mm/height_mm  sensing area of one taxel
+  /// @param params  model parameters (kernels precomputed here: a few ms)
+  TactileForwardModel(std::vector<TaxelPosition> taxels, double taxel_width_mm, double taxel_height_mm,
+                      const TactileModelParams& params);
+  /// From a 3-axis profile; throws std::invalid_argument for a normal-only profile.
+  TactileForwardModel(const SensorProfile& profile, const TactileModelParams& params);
+
+  int taxel_count() const { return static_cast<int>(taxels_.size()); }
+  const TactileModelParams& params() const { return params_; }
+
+  /// Readings [N] of every taxel: out(3 k + a), a = x, y, z. Resized to 3 * #taxels.
+  void Predict(const ContactPrimitive& contact, Eigen::VectorXd* readings_N) const;
+  /// The pressure patch on the load grid (cells sum to the normal force; empty if none).
+  void Patch(const ContactPrimitive& contact, std::vector<SurfaceLoad>* loads) const;
+  /// Centre of grid cell i in the pad frame [mm].
+  Eigen::Vector2d CellCentre_mm(int cell) const;
+
+ private:
+  void BuildKernelTable();
+
+  std::vector<TaxelPosition> taxels_;
+  double taxel_w_mm_, taxel_h_mm_;
+  TactileModelParams params_;
+  // Load grid: n x n cells of spacing h, anchored so that taxel 0's centre is a node.
+  int grid_n_ = 0;
+  double grid_x0_mm_ = 0, grid_y0_mm_ = 0;
+  // Taxel-area-averaged kernels tabulated on offsets (i, j) * h, |i|,|j| <= table_half_:
+  // 9 values per offset: normal -> (x, y, z), T_x -> (x, y, z), T_y -> (x, y, z).
+  int table_half_ = 0;
+  std::vector<double> table_;
+  // Per taxel, offset index of grid cell 0 and strides (table index = base + i*sx + j*sy).
+  std::vector<int> taxel_base_;
+  int table_stride_ = 0;
+};
+
+}  // namespace sedbridge::sensors

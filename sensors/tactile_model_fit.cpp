@@ -1,0 +1,166 @@
+#include "sensors/tactile_model_fit.h"
+
+#include <cmath>
+#include <stdexcept>
+#include <unsupported/Eigen/NonLinearOptimization>
+#include <unsupported/Eigen/NumericalDiff>
+
+#include "sensors/tactile_forward_model.h"
+
+namespace sedbridge::sensors {
+namespace {
+
+using Params = std::array<double, TactileModelParams::kCount>;
+
+// Strictly positive parameters are fitted as logarithms; kernel gains may have either sign.
+bool IsLogParameter(int i) { return i < 2 || (i >= 2 && (i - 2) % 3 != 0); }
+
+struct Window {
+  int press = 0;
+  double t_s = 0;
+  Eigen::VectorXd mean;
+};
+
+struct Problem {
+  const std::vector<CalibrationPress>* presses;
+  const SensorProfile* profile;
+  double grid_mm;
+  std::vector<Window> windows;
+  Eigen::VectorXd inv_sigma;  // per channel
+
+  Params ToParams(const Eigen::VectorXd& x) const {
+    Params p;
+    for (int i = 0; i < TactileModelParams::kCount; ++i) p[i] = IsLogParameter(i) ? std::exp(x[i]) : x[i];
+    return p;
+  }
+  Eigen::VectorXd ToUnknowns(const Params& p) const {
+    Eigen::VectorXd x(TactileModelParams::kCount);
+    for (int i = 0; i < TactileModelParams::kCount; ++i) x[i] = IsLogParameter(i) ? std::log(p[i]) : p[i];
+    return x;
+  }
+  int residual_count() const { return static_cast<int>(windows.size()) * static_cast<int>(inv_sigma.size()); }
+
+  void Residuals(const Params& p, Eigen::VectorXd* r) const {
+    const int m = static_cast<int>(inv_sigma.size());
+    r->resize(residual_count());
+    TactileModelParams params = TactileModelParams::FromArray(p, grid_mm);
+    try {
+      TactileForwardModel model(*profile, params);
+      Eigen::VectorXd pred;
+      for (size_t w = 0; w < windows.size(); ++w) {
+        model.Predict((*presses)[windows[w].press].ObjectAt(windows[w].t_s), &pred);
+        r->segment(w * m, m) = (pred - windows[w].mean).cwiseProduct(inv_sigma);
+      }
+    } catch (const std::invalid_argument&) {
+      r->setConstant(1e6);  // outside the model's domain: a wall for the solver
+    }
+  }
+};
+
+struct Functor {
+  using Scalar = double;
+  enum { InputsAtCompileTime = Eigen::Dynamic, ValuesAtCompileTime = Eigen::Dynamic };
+  using InputType = Eigen::VectorXd;
+  using ValueType = Eigen::VectorXd;
+  using JacobianType = Eigen::MatrixXd;
+  const Problem* problem;
+  int inputs() const { return TactileModelParams::kCount; }
+  int values() const { return problem->residual_count(); }
+  int operator()(const Eigen::VectorXd& x, Eigen::VectorXd& fvec) const {
+    problem->Residuals(problem->ToParams(x), &fvec);
+    return 0;
+  }
+};
+
+Problem MakeProblem(const std::vector<CalibrationPress>& presses, const SensorProfile& profile, double grid_mm,
+                    const FitOptions& options, bool hold_only) {
+  if (profile.axes != 3) throw std::invalid_argument("fit-sensor needs a three-axis profile");
+  Problem pr{&presses, &profile, grid_mm, {}, {}};
+  const int n = profile.taxel_count;
+  pr.inv_sigma.resize(3 * n);
+  for (int k = 0; k < n; ++k)
+    for (int a = 0; a < 3; ++a) {
+      double scale = std::abs(profile.calibration.scale_per_count[a]);
+      if (profile.calibration.unit != CalibrationUnit::kNewton) scale *= profile.taxel_area_mm2() * 1e-6 *
+          (profile.calibration.unit == CalibrationUnit::kKiloPascal ? 1e3 : 1.0);
+      pr.inv_sigma[3 * k + a] = 1.0 / (options.noise_counts * scale);
+    }
+  const PressProtocol protocol;
+  for (size_t i = 0; i < presses.size(); ++i) {
+    const double hold = protocol.HoldMid_s(), half = 0.4 * protocol.hold_s;
+    pr.windows.push_back({static_cast<int>(i), hold, presses[i].MeanReadings(hold - half, hold + half)});
+    if (hold_only) continue;
+    for (double t : options.ramp_times_s)
+      pr.windows.push_back({static_cast<int>(i), t,
+                            presses[i].MeanReadings(t - options.window_half_s, t + options.window_half_s)});
+  }
+  return pr;
+}
+
+}  // namespace
+
+TactileModelParams InitialTactileModelParams() {
+  TactileModelParams p;
+  // A start near the uSkin-like rig's answer: LM from far away can wander into point-load
+  // patches (E* -> infinity), where the data no longer constrain the kernels.
+  p.contact_modulus_kPa = 330;
+  p.pad_size_mm = 18.8;
+  p.normal = {2.0, 2.3, 3.0};
+  p.spread = {2.0, 2.0, 2.5};
+  p.shear = {0.3, 3.0, 1.7};
+  p.shear_cross = {0.1, 2.0, 2.0};
+  p.shear_lift = {2.5, 1.6, 2.3};
+  return p;
+}
+
+std::vector<PressFitReport> EvaluateTactileModel(const std::vector<CalibrationPress>& presses,
+                                                 const SensorProfile& profile, const TactileModelParams& params,
+                                                 const FitOptions& options) {
+  const Problem pr = MakeProblem(presses, profile, params.grid_mm, options, /*hold_only=*/true);
+  Eigen::VectorXd r;
+  pr.Residuals(params.ToArray(), &r);
+  const int m = static_cast<int>(pr.inv_sigma.size());
+  TactileForwardModel model(profile, params);
+  std::vector<PressFitReport> out;
+  for (size_t w = 0; w < pr.windows.size(); ++w) {
+    PressFitReport rep;
+    rep.name = presses[pr.windows[w].press].name;
+    for (int a = 0; a < 3; ++a) {
+      double s = 0;
+      for (int k = a; k < m; k += 3) s += r[w * m + k] * r[w * m + k];
+      rep.rms_sigma[a] = std::sqrt(s / (m / 3));
+    }
+    Eigen::VectorXd pred;
+    model.Predict(presses[pr.windows[w].press].ObjectAt(pr.windows[w].t_s), &pred);
+    for (int k = 2; k < m; k += 3) {
+      rep.measured_sum_z_N += pr.windows[w].mean[k];
+      rep.predicted_sum_z_N += pred[k];
+    }
+    out.push_back(rep);
+  }
+  return out;
+}
+
+FitReport FitTactileModel(const std::vector<CalibrationPress>& presses, const SensorProfile& profile,
+                          const TactileModelParams& initial, const FitOptions& options) {
+  const Problem pr = MakeProblem(presses, profile, initial.grid_mm, options, /*hold_only=*/false);
+  Functor f{&pr};
+  Eigen::NumericalDiff<Functor> numeric(f);
+  Eigen::LevenbergMarquardt<Eigen::NumericalDiff<Functor>> lm(numeric);
+  lm.parameters.maxfev = options.max_evaluations;
+  lm.parameters.xtol = 1e-8;
+  lm.parameters.ftol = 1e-10;
+  Eigen::VectorXd x = pr.ToUnknowns(initial.ToArray());
+  const auto status = lm.minimize(x);
+  FitReport rep;
+  rep.params = TactileModelParams::FromArray(pr.ToParams(x), initial.grid_mm);
+  rep.evaluations = static_cast<int>(lm.nfev);
+  rep.status = "Eigen LevenbergMarquardt status " + std::to_string(static_cast<int>(status));
+  Eigen::VectorXd r;
+  pr.Residuals(rep.params.ToArray(), &r);
+  rep.rms_sigma_all = std::sqrt(r.squaredNorm() / r.size());
+  rep.presses = EvaluateTactileModel(presses, profile, rep.params, options);
+  return rep;
+}
+
+}  // namespace sedbridge::sensors

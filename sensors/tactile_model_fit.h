@@ -1,0 +1,53 @@
+#pragma once
+// Calibrates the tactile forward model (tactile_forward_model.h) to indentation-stage
+// presses, as a lab calibrates a physical sensor: weighted nonlinear least squares
+// (Eigen's Levenberg–Marquardt, a MINPACK port that ships with Eigen: 17 unknowns and ~3000
+// residuals need nothing larger) over, per press, the mean reading of the hold and of two
+// windows on the ramp, each residual divided by the single-scan noise of its axis.
+
+#include <string>
+#include <vector>
+
+#include "sensors/calibration_press.h"
+#include "sensors/tactile_model_params.h"
+
+namespace sedbridge::sensors {
+
+struct FitOptions {
+  double noise_counts = 2;   ///< single-scan noise (1 sigma) of every raw reading [counts]
+  int max_evaluations = 4000;
+  /// Ramp windows (load fraction at their centre) besides the hold.
+  std::vector<double> ramp_times_s = {0.5, 0.8};
+  double window_half_s = 0.02;
+};
+
+struct PressFitReport {
+  std::string name;
+  /// RMS of (predicted - measured) over the hold window, per axis x, y, z, in units of
+  /// the single-scan noise: about 1 means "reproduced within noise".
+  double rms_sigma[3] = {0, 0, 0};
+  double measured_sum_z_N = 0;   ///< sum of normal readings in the hold
+  double predicted_sum_z_N = 0;
+};
+
+struct FitReport {
+  TactileModelParams params;
+  std::vector<PressFitReport> presses;
+  double rms_sigma_all = 0;  ///< over every residual used
+  int evaluations = 0;
+  std::string status;        ///< the solver's stop reason
+};
+
+/// Fits `initial` to `presses` (taken with `profile`). Deterministic.
+FitReport FitTactileModel(const std::vector<CalibrationPress>& presses, const SensorProfile& profile,
+                          const TactileModelParams& initial, const FitOptions& options = {});
+
+/// The hold-window report of `params` on `presses`, without fitting.
+std::vector<PressFitReport> EvaluateTactileModel(const std::vector<CalibrationPress>& presses,
+                                                 const SensorProfile& profile, const TactileModelParams& params,
+                                                 const FitOptions& options = {});
+
+/// Defaults a fit starts from (a soft pad, kernels of about one taxel pitch).
+TactileModelParams InitialTactileModelParams();
+
+}  // namespace sedbridge::sensors

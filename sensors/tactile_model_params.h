@@ -1,0 +1,50 @@
+#pragma once
+// Parameters of the follower sensor's forward model (sensors/tactile_forward_model.h): the
+// `forward_model` mapping of a sensor profile, calibrated by `sedbridge fit-sensor`.
+
+#include <array>
+#include <string>
+
+#include "config/yaml_reader.h"
+
+namespace sedbridge::sensors {
+
+/// A radial kernel A f(rho / s) / (1 + (rho/s)^2)^q.
+struct RadialKernel {
+  double gain = 0;      ///< A [-]
+  double width_mm = 1;  ///< s
+  double power = 1.5;   ///< q
+};
+
+/// Parameters of the model (sensor profile key `forward_model`, config/sensors/README.md).
+struct TactileModelParams {
+  double contact_modulus_kPa = 330;  ///< E* of the pad for the Hertz patches
+  double pad_size_mm = 18.8;         ///< side of the square sensing surface (flat, rod length)
+  RadialKernel normal;               ///< Kn: normal load -> z
+  RadialKernel spread;               ///< Kr: normal load -> outward x/y
+  RadialKernel shear;                ///< Kt: tangential load -> x/y along it
+  RadialKernel shear_cross;          ///< Kc: tangential load -> x/y along e (e . T)
+  RadialKernel shear_lift;           ///< Kl: tangential load -> z
+  double grid_mm = 0.235;            ///< load grid spacing h (pitch / 20 for uskin_4x4)
+
+  /// Parameters as a flat vector (the fit's unknowns) and back.
+  static constexpr int kCount = 17;
+  std::array<double, kCount> ToArray() const;
+  static TactileModelParams FromArray(const std::array<double, kCount>& a, double grid_mm);
+  static const std::array<const char*, kCount>& Names();
+};
+
+/// Throws std::invalid_argument unless gain is finite, width_mm > 0 and power > 0.
+void CheckKernel(const RadialKernel& kernel, const char* name);
+
+/// Parses a `forward_model` mapping:
+///   contact_modulus_kPa: 330
+///   pad_size_mm: 18.8
+///   grid_mm: 0.235
+///   kernels: {normal: [A, s_mm, q], spread: [...], shear: [...], shear_cross: [...],
+///             shear_lift: [...]}
+TactileModelParams ParseTactileModelParams(config::MapReader& reader);
+/// The same mapping as YAML text (what fit-sensor writes), indented by `indent` spaces.
+std::string TactileModelParamsYaml(const TactileModelParams& params, int indent);
+
+}  // namespace sedbridge::sensors

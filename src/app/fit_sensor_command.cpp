@@ -1,0 +1,74 @@
+// sedbridge fit-sensor: calibrates the follower sensor's forward model to indentation-stage
+// presses (a cases.json plus candump logs) and prints the `forward_model:` block for the
+// sensor profile, with how well each press is reproduced.
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "app/arg_parser.h"
+#include "app/command.h"
+#include "config/resource_path.h"
+#include "sensors/calibration_press.h"
+#include "sensors/tactile_model_fit.h"
+
+namespace sedbridge::app {
+namespace {
+
+using namespace sedbridge::sensors;
+
+void PrintReport(const std::vector<PressFitReport>& presses) {
+  std::printf("%-14s %8s %8s %8s %10s %10s\n", "press", "rms_x", "rms_y", "rms_z", "sum_z_N", "model_z_N");
+  for (const auto& p : presses)
+    std::printf("%-14s %8.2f %8.2f %8.2f %10.4f %10.4f\n", p.name.c_str(), p.rms_sigma[0], p.rms_sigma[1],
+                p.rms_sigma[2], p.measured_sum_z_N, p.predicted_sum_z_N);
+}
+
+int RunFitSensor(int argc, char** argv) {
+  ArgParser args("sedbridge fit-sensor",
+                 "Calibrates the follower sensor's forward model (sensors/tactile_forward_model.h:\n"
+                 "Hertz contact patches on the pad, spread to the taxels by fitted kernels) to\n"
+                 "indentation-stage presses of known objects at known forces, by Levenberg–Marquardt.\n"
+                 "Prints, per press, the hold-window RMS error per axis in units of the single-scan\n"
+                 "noise (about 1 = reproduced within noise) and the `forward_model:` YAML block.");
+  args.Option("cases", "JSON", "cases.json of the presses", "config/sensors/rig_uskin_4x4/cases.json")
+      .Option("profile", "PROFILE", "sensor profile the logs were recorded with", "uskin_4x4")
+      .Option("noise-counts", "N", "single-scan noise of a raw reading (1 sigma) [counts]", "2")
+      .Option("out", "YAML", "also write the forward_model block to this file")
+      .Flag("evaluate", "only report how well the profile's current forward_model reproduces the presses")
+      .Epilog("example:\n"
+              "  sedbridge fit-sensor --out fitted.yaml    # then paste into config/sensors/uskin_4x4.yaml");
+  if (!args.Parse(argc, argv)) return 0;
+  const SensorProfile profile = LoadNamedSensorProfile(args.Get("profile"));
+  const std::string cases = config::ResolveResource(args.Get("cases"));
+  std::printf("loading presses from %s ...\n", cases.c_str());
+  const auto presses = LoadCalibrationPresses(cases, profile);
+  FitOptions options;
+  options.noise_counts = args.GetDouble("noise-counts");
+  if (args.GetFlag("evaluate")) {
+    if (!profile.has_forward_model) throw UsageError("profile '" + profile.name + "' has no forward_model");
+    PrintReport(EvaluateTactileModel(presses, profile, profile.forward_model, options));
+    return 0;
+  }
+  std::printf("fitting %d parameters to %zu presses (hold + 2 ramp windows each) ...\n",
+              TactileModelParams::kCount, presses.size());
+  const TactileModelParams initial = profile.has_forward_model ? profile.forward_model : InitialTactileModelParams();
+  const FitReport rep = FitTactileModel(presses, profile, initial, options);
+  std::printf("%s after %d evaluations; RMS over all residuals %.2f sigma\n", rep.status.c_str(), rep.evaluations,
+              rep.rms_sigma_all);
+  PrintReport(rep.presses);
+  const std::string yaml = "forward_model:\n" + TactileModelParamsYaml(rep.params, 2);
+  std::printf("\n%s", yaml.c_str());
+  if (auto out = args.GetOptional("out")) {
+    std::ofstream f(*out);
+    if (!(f << yaml)) throw std::runtime_error("cannot write " + *out);
+  }
+  return 0;
+}
+
+}  // namespace
+
+SEDBRIDGE_COMMAND(fit_sensor, "fit-sensor", "calibrate the sensor forward model to indentation-stage presses",
+                  RunFitSensor);
+
+}  // namespace sedbridge::app
