@@ -1,0 +1,304 @@
+#include "bridge/contact_reconstruction.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <unsupported/Eigen/NonLinearOptimization>
+#include <unsupported/Eigen/NumericalDiff>
+
+#include "sensors/calibration_press.h"
+
+namespace sedbridge::bridge {
+namespace {
+
+using sensors::ContactPrimitive;
+using sensors::ContactShape;
+
+constexpr double kPi = 3.14159265358979323846;
+// Share of the pressing force the taxels' normal channels see (about 0.6 for the uSkin-like
+// rig); only used for the first guess of the force.
+constexpr double kGuessNormalGain = 0.6;
+
+int UnknownCount(ContactShape s, bool shear) {
+  const int base = s == ContactShape::kFlat ? 1 : 4;
+  return base + (shear ? 2 : 0);
+}
+
+// Unknowns <-> primitive. Sphere: x, y, log R, log F; cylinder: offset of the axis from
+// the pad centre along its normal, yaw, log R, log F; flat: log F; then T_x, T_y [N].
+Eigen::VectorXd ToUnknowns(const ContactPrimitive& p, bool shear) {
+  Eigen::VectorXd u(UnknownCount(p.shape, shear));
+  int i = 0;
+  switch (p.shape) {
+    case ContactShape::kSphere:
+      u[i++] = p.x_mm;
+      u[i++] = p.y_mm;
+      u[i++] = std::log(p.radius_mm);
+      break;
+    case ContactShape::kCylinder: {
+      const double yaw = p.yaw_deg * kPi / 180;
+      u[i++] = -p.x_mm * std::sin(yaw) + p.y_mm * std::cos(yaw);
+      u[i++] = yaw;
+      u[i++] = std::log(p.radius_mm);
+      break;
+    }
+    case ContactShape::kFlat: break;
+  }
+  u[i++] = std::log(std::max(p.normal_force_N, 1e-6));
+  if (shear) {
+    u[i++] = p.shear_x_N;
+    u[i++] = p.shear_y_N;
+  }
+  return u;
+}
+
+ContactPrimitive FromUnknowns(ContactShape shape, const Eigen::VectorXd& u, bool shear) {
+  ContactPrimitive p;
+  p.shape = shape;
+  int i = 0;
+  switch (shape) {
+    case ContactShape::kSphere:
+      p.x_mm = u[i++];
+      p.y_mm = u[i++];
+      p.radius_mm = std::exp(std::clamp(u[i++], -5.0, 6.0));
+      break;
+    case ContactShape::kCylinder: {
+      const double s = u[i++], yaw = u[i++];
+      p.x_mm = -s * std::sin(yaw);
+      p.y_mm = s * std::cos(yaw);
+      // Rods are axes, not arrows: report the yaw in [-90, 90).
+      double deg = std::remainder(yaw * 180 / kPi, 180.0);
+      if (deg >= 90) deg -= 180;
+      p.yaw_deg = deg;
+      p.radius_mm = std::exp(std::clamp(u[i++], -5.0, 6.0));
+      break;
+    }
+    case ContactShape::kFlat: p.radius_mm = 0; break;
+  }
+  p.normal_force_N = std::exp(std::clamp(u[i++], -20.0, 5.0));
+  if (shear) {
+    p.shear_x_N = u[i++];
+    p.shear_y_N = u[i++];
+  }
+  return p;
+}
+
+}  // namespace
+
+struct ContactReconstructor::Fit {
+  ContactPrimitive primitive;
+  double chi2 = std::numeric_limits<double>::infinity();
+  int unknowns = 0;
+  int evaluations = 0;
+  double Penalized() const { return chi2 + 2.0 * unknowns; }
+};
+
+ContactReconstructor::ContactReconstructor(const sensors::SensorProfile& profile, ReconstructionOptions options)
+    : profile_(profile),
+      options_(options),
+      model_(profile.has_forward_model
+                 ? sensors::TactileForwardModel(profile, profile.forward_model)
+                 : throw std::invalid_argument("sensor profile '" + profile.name +
+                                               "' has no forward_model: contact reconstruction needs a calibrated "
+                                               "sensor model (sedbridge fit-sensor)")) {
+  const int n = profile.taxel_count;
+  inv_sigma_.resize(3 * n);
+  full_scale_N_.resize(3 * n);
+  const auto& cal = profile.calibration;
+  for (int k = 0; k < n; ++k)
+    for (int a = 0; a < 3; ++a) {
+      // Counts -> N per taxel, whatever unit the profile calibrates to.
+      double n_per_count = std::abs(cal.scale_per_count[a]);
+      if (cal.unit != sensors::CalibrationUnit::kNewton)
+        n_per_count *= profile.taxel_area_mm2() * 1e-6 * (cal.unit == sensors::CalibrationUnit::kKiloPascal ? 1e3 : 1.0);
+      const double gain = cal.taxel_gain.empty() ? 1.0 : cal.taxel_gain[k];
+      inv_sigma_[3 * k + a] = 1.0 / (options_.noise_counts * n_per_count * gain);
+      full_scale_N_[3 * k + a] = (static_cast<double>(cal.saturation_high_counts) - cal.offset_counts[a]) * n_per_count * gain;
+    }
+}
+
+bool ContactReconstructor::Plausible(const ContactPrimitive& p) const {
+  if (!std::isfinite(p.x_mm) || !std::isfinite(p.y_mm) || !std::isfinite(p.normal_force_N) ||
+      !std::isfinite(p.shear_x_N) || !std::isfinite(p.shear_y_N))
+    return false;
+  if (p.shape != ContactShape::kFlat &&
+      (p.radius_mm < options_.min_radius_mm || p.radius_mm > options_.max_radius_mm))
+    return false;
+  return std::hypot(p.x_mm, p.y_mm) <= options_.max_offset_mm;
+}
+
+ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, const ContactPrimitive& start) const {
+  const bool shear = options_.fit_shear;
+  struct Functor {
+    using Scalar = double;
+    enum { InputsAtCompileTime = Eigen::Dynamic, ValuesAtCompileTime = Eigen::Dynamic };
+    using InputType = Eigen::VectorXd;
+    using ValueType = Eigen::VectorXd;
+    using JacobianType = Eigen::MatrixXd;
+    const ContactReconstructor* self;
+    ContactShape shape;
+    bool shear;
+    mutable int evaluations = 0;
+    mutable Eigen::VectorXd pred;
+    int inputs() const { return UnknownCount(shape, shear); }
+    int values() const { return static_cast<int>(self->obs_.size()); }
+    int operator()(const Eigen::VectorXd& u, Eigen::VectorXd& r) const {
+      ++evaluations;
+      self->model_.Predict(FromUnknowns(shape, u, shear), &pred);
+      r = (pred - self->obs_).cwiseProduct(self->weight_);
+      for (size_t k = 0; k < self->saturated_.size(); ++k)
+        if (self->saturated_[k]) {  // at least full scale on the normal axis
+          const int c = 3 * static_cast<int>(k) + 2;
+          r[c] = std::max(0.0, self->full_scale_N_[c] - pred[c]) * self->inv_sigma_[c];
+        }
+      return 0;
+    }
+  };
+  Functor f{this, shape, shear};
+  Eigen::NumericalDiff<Functor> numeric(f, 1e-6);
+  Eigen::LevenbergMarquardt<Eigen::NumericalDiff<Functor>> lm(numeric);
+  lm.parameters.maxfev = options_.max_evaluations;
+  lm.parameters.xtol = 1e-6;
+  lm.parameters.ftol = 1e-8;
+  ContactPrimitive s = start;
+  s.shape = shape;
+  if (shape == ContactShape::kFlat) s.x_mm = s.y_mm = 0;
+  Eigen::VectorXd u = ToUnknowns(s, shear);
+  lm.minimize(u);
+  Fit fit;
+  fit.primitive = FromUnknowns(shape, u, shear);
+  Eigen::VectorXd r;
+  f(u, r);
+  fit.chi2 = r.allFinite() ? r.squaredNorm() : std::numeric_limits<double>::infinity();
+  fit.unknowns = UnknownCount(shape, shear);
+  fit.evaluations = f.evaluations;
+  return fit;
+}
+
+const ContactEstimate& ContactReconstructor::Reconstruct(const sensors::Scan& scan) {
+  std::vector<uint8_t> saturated(scan.flags.size(), 0);
+  for (size_t k = 0; k < scan.flags.size(); ++k) saturated[k] = (scan.flags[k] & sensors::kTaxelSaturated) != 0;
+  return Reconstruct(sensors::ScanReadings_N(scan, profile_), scan.valid, saturated);
+}
+
+const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& readings_N,
+                                                         const std::vector<uint8_t>& valid,
+                                                         const std::vector<uint8_t>& saturated) {
+  ++counters_.scans;
+  estimate_ = ContactEstimate{};
+  const int n = profile_.taxel_count;
+  if (readings_N.size() != 3 * n || static_cast<int>(valid.size()) != n) {
+    estimate_.problem = "scan size does not match the profile";
+    ++counters_.fallbacks;
+    return estimate_;
+  }
+  obs_ = readings_N;
+  weight_ = inv_sigma_;
+  saturated_.assign(static_cast<size_t>(n), 0);
+  int usable = 0;
+  for (int k = 0; k < n; ++k) {
+    const bool sat = k < static_cast<int>(saturated.size()) && saturated[k];
+    const bool finite = std::isfinite(obs_[3 * k]) && std::isfinite(obs_[3 * k + 1]) && std::isfinite(obs_[3 * k + 2]);
+    if (sat) {
+      saturated_[static_cast<size_t>(k)] = 1;
+      ++counters_.saturated_taxels;
+    }
+    if (!valid[static_cast<size_t>(k)] || !finite) {
+      weight_.segment(3 * k, 3).setZero();
+      obs_.segment(3 * k, 3).setZero();
+    }
+    if ((valid[static_cast<size_t>(k)] && finite) || sat) ++usable;
+  }
+  if (usable < 4) {
+    estimate_.problem = "fewer than 4 usable taxels";
+    ++counters_.fallbacks;
+    have_last_ = false;
+    return estimate_;
+  }
+
+  // Moments of the normal readings: force, centroid, principal direction.
+  double sum_z = 0, mx = 0, my = 0;
+  for (int k = 0; k < n; ++k) {
+    const double z = weight_[3 * k + 2] > 0 ? std::max(0.0, obs_[3 * k + 2]) : (saturated_[k] ? full_scale_N_[3 * k + 2] : 0);
+    sum_z += z;
+    mx += z * profile_.taxels[k].x_mm;
+    my += z * profile_.taxels[k].y_mm;
+  }
+  if (sum_z < options_.min_force_N * kGuessNormalGain) {
+    ++counters_.no_contact;
+    estimate_.ok = true;  // "no contact" is a trustworthy answer
+    estimate_.primitive.normal_force_N = 0;
+    have_last_ = false;
+    return estimate_;
+  }
+  estimate_.contact = true;
+  ++counters_.fits;
+  mx /= sum_z;
+  my /= sum_z;
+  double sxx = 0, syy = 0, sxy = 0;
+  for (int k = 0; k < n; ++k) {
+    const double z = weight_[3 * k + 2] > 0 ? std::max(0.0, obs_[3 * k + 2]) : 0;
+    const double dx = profile_.taxels[k].x_mm - mx, dy = profile_.taxels[k].y_mm - my;
+    sxx += z * dx * dx;
+    syy += z * dy * dy;
+    sxy += z * dx * dy;
+  }
+  const double principal_yaw_deg = 0.5 * std::atan2(2 * sxy, sxx - syy) * 180 / kPi;
+
+  const double dof = std::max(1.0, static_cast<double>((weight_.array() > 0).count()));
+  auto accept = [&](const Fit& fit, bool warm) {
+    estimate_.primitive = fit.primitive;
+    estimate_.rms_sigma = std::sqrt(fit.chi2 / dof);
+    estimate_.warm_started = warm;
+    estimate_.ok = std::isfinite(fit.chi2) && estimate_.rms_sigma <= options_.max_rms_sigma && Plausible(fit.primitive);
+    if (!estimate_.ok) {
+      estimate_.problem = !Plausible(fit.primitive) ? "fit left the plausible domain" : "residual above max_rms_sigma";
+      ++counters_.fallbacks;
+      have_last_ = false;
+    } else {
+      last_ = fit.primitive;
+      have_last_ = true;
+    }
+  };
+
+  // Warm start: the last contact, refined. Kept while it explains the scan within noise.
+  if (have_last_) {
+    const Fit warm = FitShape(last_.shape, last_);
+    estimate_.evaluations += warm.evaluations;
+    if (std::isfinite(warm.chi2) && std::sqrt(warm.chi2 / dof) <= 0.5 * options_.max_rms_sigma &&
+        Plausible(warm.primitive)) {
+      ++counters_.warm_fits;
+      accept(warm, true);
+      return estimate_;
+    }
+  }
+
+  // Model selection from a few starts.
+  ContactPrimitive guess;
+  guess.x_mm = mx;
+  guess.y_mm = my;
+  guess.normal_force_N = sum_z / kGuessNormalGain;
+  Fit best;
+  auto consider = [&](ContactShape shape, double radius_mm, double yaw_deg) {
+    ContactPrimitive s = guess;
+    s.radius_mm = radius_mm;
+    s.yaw_deg = yaw_deg;
+    const Fit fit = FitShape(shape, s);
+    estimate_.evaluations += fit.evaluations;
+    if (Plausible(fit.primitive) && fit.Penalized() < best.Penalized()) best = fit;
+  };
+  for (double r : {3.0, 10.0}) consider(ContactShape::kSphere, r, 0);
+  for (double r : {1.0, 3.0}) consider(ContactShape::kCylinder, r, principal_yaw_deg);
+  consider(ContactShape::kCylinder, 1.5, principal_yaw_deg + 90);
+  consider(ContactShape::kFlat, 0, 0);
+  if (!std::isfinite(best.chi2)) {
+    estimate_.problem = "no shape fitted";
+    ++counters_.fallbacks;
+    have_last_ = false;
+    return estimate_;
+  }
+  accept(best, false);
+  return estimate_;
+}
+
+}  // namespace sedbridge::bridge

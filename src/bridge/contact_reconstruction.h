@@ -1,0 +1,104 @@
+#pragma once
+// Contact reconstruction: from one scan of the follower's three-axis sensor, the object that
+// touches it — shape (sphere, cylinder, flat), pad-frame position, radius, yaw, normal force
+// and tangential force — by inverting the calibrated forward model
+// (sensors/tactile_forward_model.h) with weighted nonlinear least squares.
+//
+// Solver: Eigen's Levenberg–Marquardt (unsupported/NonLinearOptimization, a MINPACK port that
+// ships with Eigen). The problem is dense and tiny (<= 6 unknowns, 48 residuals) and runs per
+// scan, so Ceres' strengths (sparsity, autodiff through a cost graph, robust losses) buy
+// nothing here and its setup cost per solve would.
+//
+// Per scan:
+//  - no contact: the normal readings sum below min_force_N x the model's gain -> force 0;
+//  - warm start: the last scan's shape and parameters, refined; kept while its residual is
+//    good (contacts move continuously, so this is the common path);
+//  - otherwise model selection: every shape from a few starts (moments of the normal
+//    readings), the least penalized residual (chi^2 + 2 x #unknowns) wins;
+//  - a fit whose RMS residual exceeds max_rms_sigma, or that leaves the plausible domain
+//    (position off the pad, radius outside [min, max]), is a fallback: the caller uses the
+//    pressure-map boundary condition instead, and it is counted.
+// Residuals are in units of the single-scan noise of each axis; invalid taxels carry no
+// weight, except saturated ones, which only say "at least full scale" (a one-sided residual:
+// hard contact there, not missing data).
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <string>
+
+#include "sensors/scan.h"
+#include "sensors/sensor_profile.h"
+#include "sensors/tactile_forward_model.h"
+
+namespace sedbridge::bridge {
+
+struct ReconstructionOptions {
+  double noise_counts = 2;        ///< single-scan noise (1 sigma) per raw reading [counts]
+  double min_force_N = 0.02;      ///< below this normal force: no contact
+  double max_rms_sigma = 4.0;     ///< worse fits fall back to the pressure map
+  double min_radius_mm = 0.3;     ///< plausible radii for spheres and rods
+  double max_radius_mm = 60;
+  double max_offset_mm = 14;      ///< contact centre within this of the pad centre
+  bool fit_shear = true;          ///< estimate the tangential force (three-axis sensors)
+  int max_evaluations = 400;      ///< per fit
+};
+
+/// What one scan says about the contact.
+struct ContactEstimate {
+  bool contact = false;       ///< something presses (force >= min_force_N)
+  bool ok = false;            ///< contact and a trustworthy fit (else: fall back)
+  sensors::ContactPrimitive primitive;  ///< pad frame; normal_force_N = 0 when no contact
+  double rms_sigma = 0;       ///< RMS residual in noise units (about 1 = within noise)
+  int evaluations = 0;        ///< forward-model evaluations this scan
+  bool warm_started = false;  ///< the last scan's estimate was refined, no model selection
+  std::string problem;        ///< why not ok
+};
+
+/// Counters since construction.
+struct ReconstructionCounters {
+  int64_t scans = 0;
+  int64_t no_contact = 0;
+  int64_t fits = 0;
+  int64_t warm_fits = 0;       ///< answered from the warm start alone
+  int64_t fallbacks = 0;       ///< poor or diverged fits
+  int64_t saturated_taxels = 0;
+};
+
+class ContactReconstructor {
+ public:
+  /// @param profile  three-axis profile with a `forward_model` (throws std::invalid_argument
+  ///                 otherwise)
+  ContactReconstructor(const sensors::SensorProfile& profile, ReconstructionOptions options = {});
+
+  /// Reconstructs the contact of one scan (conditioned values as the assembler gives them).
+  const ContactEstimate& Reconstruct(const sensors::Scan& scan);
+  /// Same from readings [N] (3 per taxel: x, y, z) with per-taxel validity and saturation.
+  const ContactEstimate& Reconstruct(const Eigen::VectorXd& readings_N, const std::vector<uint8_t>& valid,
+                                     const std::vector<uint8_t>& saturated = {});
+  /// Forgets the warm start.
+  void Reset() { have_last_ = false; }
+
+  const ReconstructionCounters& counters() const { return counters_; }
+  const sensors::TactileForwardModel& model() const { return model_; }
+  const ReconstructionOptions& options() const { return options_; }
+
+ private:
+  struct Fit;
+  Fit FitShape(sensors::ContactShape shape, const sensors::ContactPrimitive& start) const;
+  bool Plausible(const sensors::ContactPrimitive& p) const;
+
+  sensors::SensorProfile profile_;
+  ReconstructionOptions options_;
+  sensors::TactileForwardModel model_;
+  Eigen::VectorXd inv_sigma_;       // per channel [1/N]
+  Eigen::VectorXd full_scale_N_;    // per channel, saturation reading [N]
+  // The scan being fitted.
+  Eigen::VectorXd obs_, weight_;
+  std::vector<uint8_t> saturated_;
+  ContactEstimate estimate_;
+  bool have_last_ = false;
+  sensors::ContactPrimitive last_;
+  ReconstructionCounters counters_;
+};
+
+}  // namespace sedbridge::bridge
