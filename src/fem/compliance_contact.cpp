@@ -1,0 +1,436 @@
+#include "fem/compliance_contact.h"
+
+#include <omp.h>
+
+#include <Eigen/Cholesky>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <stdexcept>
+
+#include "fem/elastic_tet_force.h"
+#include "fem/linear_solver.h"
+#include "fem/system_matrix.h"
+
+namespace sedbridge::fem {
+namespace {
+
+// Bump when the cache layout or the meaning of W/G changes: old files then stop matching.
+constexpr std::uint64_t kCacheVersion = 1;
+constexpr char kCacheMagic[8] = {'S', 'E', 'D', 'B', 'W', 'C', 'M', 'P'};
+
+// FNV-1a, 64 bit: a content key for the cache (not a security hash).
+struct Fnv {
+  std::uint64_t h = 1469598103934665603ull;
+  void Bytes(const void* data, size_t n) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < n; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  }
+  template <typename T>
+  void Pod(const T& v) { Bytes(&v, sizeof v); }
+  template <typename T>
+  void Vector(const std::vector<T>& v) {
+    Pod(std::uint64_t(v.size()));
+    Bytes(v.data(), v.size() * sizeof(T));
+  }
+};
+
+}  // namespace
+
+ComplianceContact::ComplianceContact(const TetMesh& mesh, std::vector<std::unique_ptr<ForceTerm>> terms,
+                                     std::vector<int> candidate_nodes, std::vector<int> sed_vertices,
+                                     ComplianceContactOptions options)
+    : mesh_(mesh), terms_(std::move(terms)), candidates_(std::move(candidate_nodes)), options_(std::move(options)) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const ElasticTetForce* elastic = nullptr;
+  for (const auto& t : terms_) {
+    if (!t->JacobianIsConstant())
+      throw std::invalid_argument("compliance contact: term '" + t->name() + "' has a non-constant Jacobian");
+    if (!elastic) elastic = dynamic_cast<const ElasticTetForce*>(t.get());
+  }
+  if (!elastic || elastic->formulation() != ElasticFormulation::kLinear)
+    throw std::invalid_argument("compliance contact needs a linear elastic term (the compliance is K^-1 at rest)");
+  const int n = mesh.num_nodes();
+  {
+    std::set<int> unique(candidates_.begin(), candidates_.end());
+    if (unique.size() != candidates_.size() || (!unique.empty() && (*unique.begin() < 0 || *unique.rbegin() >= n)))
+      throw std::invalid_argument("compliance contact: candidate nodes must be unique mesh nodes");
+  }
+  sed_ = std::make_unique<VertexSedEvaluator>(*elastic, std::move(sed_vertices));
+  {
+    std::set<int> nodes;
+    for (int e : sed_->elements())
+      for (int v : mesh.tets[size_t(e)]) nodes.insert(v);
+    sed_nodes_.assign(nodes.begin(), nodes.end());
+  }
+
+  // K at rest from the model's own terms (quasi-static: stiffness only).
+  SystemMatrix K;
+  std::vector<std::pair<int, int>> pairs;
+  for (const auto& t : terms_) t->AppendCoupledNodes(pairs);
+  K.Build(n, pairs);
+  for (const auto& t : terms_) t->BindMatrix(K);
+  K.SetZero();
+  x_.resize(3 * n);
+  for (int i = 0; i < n; ++i) x_.segment<3>(3 * i) = mesh.rest_positions_m.col(i);
+  const Eigen::VectorXd v = Eigen::VectorXd::Zero(3 * n);
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(3 * n);
+  JacobianSink sink{&K, 1.0, 0.0};
+  const SystemState rest{x_, v, 0.0, false};
+  for (const auto& t : terms_) t->AddForce(rest, f, &sink);
+
+  // The key covers everything W and G depend on: K (mesh, materials, supports), which
+  // nodes are candidates and which the SED reads.
+  Fnv key;
+  key.Pod(kCacheVersion);
+  key.Pod(std::int64_t(n));
+  const auto& csr = K.csr();
+  key.Bytes(csr.outerIndexPtr(), size_t(csr.outerSize() + 1) * sizeof(int));
+  key.Bytes(csr.innerIndexPtr(), size_t(csr.nonZeros()) * sizeof(int));
+  key.Bytes(csr.valuePtr(), size_t(csr.nonZeros()) * sizeof(double));
+  key.Vector(candidates_);
+  key.Vector(sed_nodes_);
+
+  if (!options_.cache_dir.empty()) {
+    char name[64];
+    std::snprintf(name, sizeof name, "compliance_%016llx.bin", static_cast<unsigned long long>(key.h));
+    cache_file_ = (std::filesystem::path(options_.cache_dir) / name).string();
+  }
+  loaded_from_cache_ = !cache_file_.empty() && LoadCache(key.h);
+  if (!loaded_from_cache_) {
+    Precompute(K);
+    if (!cache_file_.empty()) SaveCache(key.h);
+  }
+
+  const int c = int(candidates_.size());
+  rest_c_.resize(3, c);
+  for (int j = 0; j < c; ++j) rest_c_.col(j) = mesh.rest_positions_m.col(candidates_[size_t(j)]);
+  f_c_ = u_c_ = u_t_ = Eigen::VectorXd::Zero(3 * c);
+  u_s_ = Eigen::VectorXd::Zero(Eigen::Index(3 * sed_nodes_.size()));
+  ResetWarmStart();
+  precompute_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+ComplianceContact::~ComplianceContact() = default;
+
+const std::vector<int>& ComplianceContact::sed_vertices() const { return sed_->vertices(); }
+
+Eigen::Map<const Eigen::Matrix3Xd> ComplianceContact::candidate_displacements_m() const {
+  return {u_c_.data(), 3, Eigen::Index(candidates_.size())};
+}
+
+void ComplianceContact::Precompute(const SystemMatrix& K) {
+  DirectLdltSolver solver;
+  solver.Prepare(K);
+  const int c = int(candidates_.size());
+  const int s = int(sed_nodes_.size());
+  W_.resize(3 * c, 3 * c);
+  G_.resize(3 * s, 3 * c);
+  bool ok = true;
+  const int threads = options_.precompute_threads > 0 ? options_.precompute_threads : omp_get_max_threads();
+  // One back-substitution per candidate dof (column of K^-1 H^T); columns are independent.
+  // DirectLdltSolver::Solve only reads the factor, so threads may share it.
+#pragma omp parallel num_threads(threads) reduction(&& : ok)
+  {
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(K.num_nodes() * 3), x;
+#pragma omp for schedule(dynamic, 8)
+    for (int col = 0; col < 3 * c; ++col) {
+      const int dof = 3 * candidates_[size_t(col / 3)] + col % 3;
+      b[dof] = 1.0;
+      x.setZero(b.size());
+      const LinearSolveReport r = solver.Solve(K, b, x);
+      b[dof] = 0.0;
+      ok = ok && r.converged && x.allFinite();
+      for (int j = 0; j < c; ++j) W_.block<3, 1>(3 * j, col) = x.segment<3>(3 * candidates_[size_t(j)]);
+      for (int j = 0; j < s; ++j) G_.block<3, 1>(3 * j, col) = x.segment<3>(3 * sed_nodes_[size_t(j)]);
+    }
+  }
+  if (!ok) throw std::invalid_argument("compliance contact: K is singular (does the model have a fixed support?)");
+  // W is symmetric in exact arithmetic; make it so in floating point (the Newton matrix
+  // is then symmetric positive definite, solved by Cholesky).
+  W_ = 0.5 * (W_ + W_.transpose()).eval();
+}
+
+bool ComplianceContact::LoadCache(std::uint64_t key) {
+  std::ifstream in(cache_file_, std::ios::binary);
+  if (!in) return false;  // no file yet: not a rejection
+  auto reject = [&](const char* why) {
+    cache_rejected_ = why;
+    return false;
+  };
+  char magic[8];
+  std::uint64_t version = 0, file_key = 0, checksum = 0;
+  std::int64_t w_rows = 0, g_rows = 0;
+  in.read(magic, 8);
+  in.read(reinterpret_cast<char*>(&version), sizeof version);
+  in.read(reinterpret_cast<char*>(&file_key), sizeof file_key);
+  in.read(reinterpret_cast<char*>(&w_rows), sizeof w_rows);
+  in.read(reinterpret_cast<char*>(&g_rows), sizeof g_rows);
+  if (!in || !std::equal(magic, magic + 8, kCacheMagic)) return reject("not a compliance cache file");
+  if (version != kCacheVersion || file_key != key) return reject("built for another model or version");
+  const std::int64_t c3 = 3 * std::int64_t(candidates_.size()), s3 = 3 * std::int64_t(sed_nodes_.size());
+  if (w_rows != c3 || g_rows != s3) return reject("sizes do not match");
+  Eigen::MatrixXd W(c3, c3), G(s3, c3);
+  in.read(reinterpret_cast<char*>(W.data()), std::streamsize(W.size() * sizeof(double)));
+  in.read(reinterpret_cast<char*>(G.data()), std::streamsize(G.size() * sizeof(double)));
+  in.read(reinterpret_cast<char*>(&checksum), sizeof checksum);
+  if (!in) return reject("truncated");
+  if (in.peek() != std::char_traits<char>::eof()) return reject("trailing bytes");
+  Fnv sum;
+  sum.Bytes(W.data(), size_t(W.size()) * sizeof(double));
+  sum.Bytes(G.data(), size_t(G.size()) * sizeof(double));
+  if (sum.h != checksum || !W.allFinite() || !G.allFinite()) return reject("checksum mismatch (corrupt)");
+  W_ = std::move(W);
+  G_ = std::move(G);
+  return true;
+}
+
+void ComplianceContact::SaveCache(std::uint64_t key) const {
+  // Best effort: a cache that cannot be written only costs the next start its precompute.
+  std::error_code ec;
+  std::filesystem::create_directories(options_.cache_dir, ec);
+  // Write beside, then rename: a reader never sees a half-written file.
+  const std::string tmp = cache_file_ + ".tmp" + std::to_string(std::uintptr_t(this));
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) return;
+    const std::uint64_t version = kCacheVersion;
+    const std::int64_t w_rows = W_.rows(), g_rows = G_.rows();
+    Fnv sum;
+    sum.Bytes(W_.data(), size_t(W_.size()) * sizeof(double));
+    sum.Bytes(G_.data(), size_t(G_.size()) * sizeof(double));
+    out.write(kCacheMagic, 8);
+    out.write(reinterpret_cast<const char*>(&version), sizeof version);
+    out.write(reinterpret_cast<const char*>(&key), sizeof key);
+    out.write(reinterpret_cast<const char*>(&w_rows), sizeof w_rows);
+    out.write(reinterpret_cast<const char*>(&g_rows), sizeof g_rows);
+    out.write(reinterpret_cast<const char*>(W_.data()), std::streamsize(W_.size() * sizeof(double)));
+    out.write(reinterpret_cast<const char*>(G_.data()), std::streamsize(G_.size() * sizeof(double)));
+    out.write(reinterpret_cast<const char*>(&sum.h), sizeof sum.h);
+    if (!out) {
+      out.close();
+      std::filesystem::remove(tmp, ec);
+      return;
+    }
+  }
+  std::filesystem::rename(tmp, cache_file_, ec);
+  if (ec) std::filesystem::remove(tmp, ec);
+}
+
+void ComplianceContact::ResetWarmStart() {
+  num_objects_ = -1;
+  lambda_N_.resize(0);
+  f_c_.setZero();
+  u_c_.setZero();
+}
+
+void ComplianceContact::CandidateDisplacements() {
+  u_c_.setZero();
+  for (int j : loaded_) u_c_.noalias() += W_.middleCols<3>(3 * j) * f_c_.segment<3>(3 * j);
+}
+
+const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::RigidObject>& objects, double t_s,
+                                                    const Eigen::Vector3d& tangential_force_N) {
+  result_.ok = result_.converged = false;
+  result_.iterations = 0;
+  result_.error.clear();
+  result_.contacts.clear();
+  result_.spring_force_N.setZero();
+  result_.tangential_force_N.setZero();
+  if (!tangential_force_N.allFinite() || !std::isfinite(t_s)) {
+    result_.error = "non-finite tangential force or time";
+    return result_;
+  }
+  const int c = int(candidates_.size());
+  const int no = int(objects.size());
+  if (no != num_objects_) {  // a different scene: no warm start
+    num_objects_ = no;
+    lambda_N_ = Eigen::VectorXd::Zero(Eigen::Index(c) * no);
+    normal_ = Eigen::Matrix3Xd::Zero(3, Eigen::Index(c) * no);
+  }
+  phi_m_.resize(lambda_N_.size());
+  const double k = options_.stiffness_N_m;
+
+  for (int it = 0; it <= options_.max_iterations; ++it) {
+    // 1. Displacements from the current forces: normal k*depth along each pair's normal,
+    // plus the tangential load in proportion to each node's normal force.
+    const double total = lambda_N_.sum();
+    const Eigen::Vector3d tau = total > 0 ? Eigen::Vector3d(tangential_force_N / total) : Eigen::Vector3d::Zero();
+    loaded_.clear();
+    f_c_.setZero();
+    u_t_.setZero();
+    for (int j = 0; j < c; ++j) {
+      double node_lambda = 0;
+      for (int o = 0; o < no; ++o) {
+        const int p = j * no + o;
+        if (lambda_N_[p] > 0) {
+          f_c_.segment<3>(3 * j) += lambda_N_[p] * normal_.col(p);
+          node_lambda += lambda_N_[p];
+        }
+      }
+      if (node_lambda > 0) {
+        loaded_.push_back(j);
+        f_c_.segment<3>(3 * j) += node_lambda * tau;
+        if (total > 0 && !tau.isZero(0.0))
+          u_t_.noalias() += W_.middleCols<3>(3 * j) * (node_lambda * tau);
+      }
+    }
+    CandidateDisplacements();
+
+    // 2. Gaps and normals at the current positions; how far the forces are from k*depth.
+    active_.clear();
+    double largest = 0, mismatch = 0;
+    for (int j = 0; j < c; ++j) {
+      const Eigen::Vector3d x = rest_c_.col(j) + u_c_.segment<3>(3 * j);
+      for (int o = 0; o < no; ++o) {
+        const int p = j * no + o;
+        const geometry::SdfSample s = objects[size_t(o)].Evaluate(x, t_s);
+        phi_m_[p] = s.distance_m;
+        if (!std::isfinite(s.distance_m) || !s.normal.allFinite()) {
+          result_.error = "non-finite signed distance (object pose?)";
+          ResetWarmStart();
+          return result_;
+        }
+        if (s.distance_m < 0) {
+          const double target = -k * s.distance_m;
+          mismatch = std::max(mismatch, (target * s.normal - lambda_N_[p] * normal_.col(p)).norm());
+          largest = std::max(largest, target);
+          normal_.col(p) = s.normal;
+          active_.push_back(p);
+        } else {
+          mismatch = std::max(mismatch, lambda_N_[p]);
+          normal_.col(p) = s.normal;
+        }
+      }
+    }
+    result_.iterations = it;
+    if (mismatch <= options_.relative_tolerance * largest || (active_.empty() && mismatch == 0)) {
+      result_.converged = true;
+      break;
+    }
+    if (it == options_.max_iterations) break;
+
+    // 3. The contact problem with the gaps linearized about the current positions
+    // (normals frozen, tangential part held) is a convex QP in the normal forces:
+    //   min 1/2 l^T (N^T W N + I/k) l + q^T l,  l >= 0,
+    // whose optimality conditions are exactly the penalty law l_p = k max(0, -gap_p).
+    // Solved by a primal active-set method (Lawson-Hanson style): the objective falls at
+    // every change of the active set, so it cannot cycle (a plain semismooth Newton on
+    // max(0, .) does cycle here: N^T W N is not an M-matrix).
+    if (!SolveLinearizedQp(no)) {
+      result_.error = "contact solve produced NaN";
+      ResetWarmStart();
+      return result_;
+    }
+  }
+
+  // Report what the positions say (k * depth at the final gaps), as PenaltyContactForce.
+  const double total = lambda_N_.sum();
+  for (int p : active_) {
+    const int i = p / no;
+    const double spring = -k * phi_m_[p];
+    result_.contacts.push_back({candidates_[size_t(i)], p % no, normal_.col(p), -phi_m_[p], spring, spring});
+    result_.spring_force_N += spring * normal_.col(p);
+  }
+  if (total > 0) result_.tangential_force_N = tangential_force_N;
+
+  // 3. SED from the displacements of the nodes it reads.
+  u_s_.setZero();
+  for (int j : loaded_) u_s_.noalias() += G_.middleCols<3>(3 * j) * f_c_.segment<3>(3 * j);
+  for (size_t a = 0; a < sed_nodes_.size(); ++a) {
+    const int v = sed_nodes_[a];
+    x_.segment<3>(3 * v) = mesh_.rest_positions_m.col(v) + u_s_.segment<3>(3 * Eigen::Index(a));
+  }
+  for (int j = 0; j < c; ++j) x_.segment<3>(3 * candidates_[size_t(j)]) = rest_c_.col(j) + u_c_.segment<3>(3 * j);
+  sed_->Evaluate(x_, result_.sed_Pa);
+  result_.ok = true;
+  return result_;
+}
+
+bool ComplianceContact::SolveLinearizedQp(int no) {
+  const double k = options_.stiffness_N_m;
+  const Eigen::Index pairs = lambda_N_.size();
+  // Predicted gap of pair p for forces l: phi_p + n_p . (W N l + u_t - u)_p.
+  auto predicted_displacements = [&](const std::vector<int>& set, const Eigen::VectorXd& l) {
+    u_new_ = u_t_;
+    for (int p : set)
+      if (l[p] != 0) u_new_.noalias() += W_.middleCols<3>(3 * (p / no)) * (l[p] * normal_.col(p));
+  };
+  passive_.clear();
+  for (Eigen::Index p = 0; p < pairs; ++p)
+    if (lambda_N_[p] > 0) passive_.push_back(int(p));
+  std::vector<int> before_add;
+  int most_violated = -1;
+  bool batch_added = false;
+  largest_ = 0;
+  for (int inner = 0; inner < 4 * int(pairs) + 10; ++inner) {
+    // Unconstrained minimizer on the passive set.
+    const int m = int(passive_.size());
+    J_.resize(m, m);
+    rhs_.resize(m);
+    for (int a = 0; a < m; ++a) {
+      const int p = passive_[size_t(a)], i = p / no;
+      const Eigen::Vector3d np = normal_.col(p);
+      rhs_[a] = -phi_m_[p] + np.dot(u_c_.segment<3>(3 * i) - u_t_.segment<3>(3 * i));
+      wn_.noalias() = np.transpose() * W_.middleRows<3>(3 * i);  // n_p^T W, one row
+      for (int b = 0; b <= a; ++b) {
+        const int q = passive_[size_t(b)];
+        J_(a, b) = wn_.segment<3>(3 * (q / no)).dot(normal_.col(q).transpose());
+      }
+      J_(a, a) += 1.0 / k;
+    }
+    z_ = m ? Eigen::VectorXd(J_.selfadjointView<Eigen::Lower>().llt().solve(rhs_)) : Eigen::VectorXd();
+    if (!z_.allFinite()) return false;
+    // Infeasible: step from l toward z until the first force reaches zero, drop it.
+    double alpha = 1;
+    for (int a = 0; a < m; ++a)
+      if (z_[a] <= 0) alpha = std::min(alpha, lambda_N_[passive_[size_t(a)]] / (lambda_N_[passive_[size_t(a)]] - z_[a]));
+    if (alpha < 1) {
+      if (alpha <= 0 && batch_added) {
+        // A pair added in the last batch wants a negative force at once: add only the
+        // most violated one instead (Lawson-Hanson's rule, which always makes progress).
+        passive_ = before_add;
+        passive_.push_back(most_violated);
+        batch_added = false;
+        continue;
+      }
+      std::vector<int> kept;
+      for (int a = 0; a < m; ++a) {
+        const int p = passive_[size_t(a)];
+        lambda_N_[p] += alpha * (z_[a] - lambda_N_[p]);
+        if (z_[a] <= 0 && lambda_N_[p] <= 1e-14 * (1 + std::abs(z_[a]))) lambda_N_[p] = 0;
+        if (lambda_N_[p] > 0) kept.push_back(p);
+      }
+      passive_.swap(kept);
+      batch_added = false;
+      continue;
+    }
+    for (int a = 0; a < m; ++a) lambda_N_[passive_[size_t(a)]] = z_[a];
+    // Optimal on the passive set: any other pair predicted to penetrate joins it.
+    predicted_displacements(passive_, lambda_N_);
+    for (int a = 0; a < m; ++a) largest_ = std::max(largest_, z_[a]);
+    const double gap_tolerance = 1e-3 * options_.relative_tolerance * std::max(largest_, 1e-12) / k;
+    before_add = passive_;
+    most_violated = -1;
+    double worst = -gap_tolerance;
+    std::vector<char> in_passive(size_t(pairs), 0);
+    for (int p : passive_) in_passive[size_t(p)] = 1;
+    for (Eigen::Index p = 0; p < pairs; ++p) {
+      if (in_passive[size_t(p)]) continue;
+      const int i = int(p) / no;
+      const double gap = phi_m_[p] + normal_.col(p).dot(u_new_.segment<3>(3 * i) - u_c_.segment<3>(3 * i));
+      if (gap < -gap_tolerance) passive_.push_back(int(p));
+      if (gap < worst) worst = gap, most_violated = int(p);
+    }
+    if (most_violated < 0) return true;
+    batch_added = passive_.size() > before_add.size() + 1;
+  }
+  return true;  // out of inner iterations: the outer loop reports non-convergence
+}
+
+}  // namespace sedbridge::fem

@@ -1,0 +1,141 @@
+#pragma once
+// Contact at haptic rates by the compliance method (the idea of SOFA's
+// PrecomputedConstraintCorrection): for a linear, quasi-static model with the bone fixed the
+// displacement is u = K^-1 f, and contact forces act only on a known set of candidate
+// nodes (the skin facing the pad). So two dense blocks of K^-1, computed once (one
+// back-substitution per candidate dof) and cached on disk, answer every step:
+//   W = H K^-1 H^T   3c x 3c   candidate displacements from candidate forces (compliance)
+//   G = S K^-1 H^T   3s x 3c   displacements of the s nodes the Merkel-layer SED reads
+// A step solves the paper's penalty law f_i = k max(0, -phi(x_i)) n(x_i) (SDF and normal at
+// the CURRENT node position x = X + u, as PenaltyContactForce in a quasi-static solve) on
+// this small system by a semismooth Newton iteration over the active contacts' normal
+// force magnitudes, warm-started from the last step, then the Merkel SED from G f.
+// Same equilibrium as the full FE quasi-static Newton solve with PenaltyContactForce on
+// the same candidate nodes, up to round-off.
+//
+// Units: SI throughout (m, N, Pa).
+
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fem/force_term.h"
+#include "fem/penalty_contact_force.h"
+#include "fem/strain_energy_density.h"
+#include "fem/tet_mesh.h"
+#include "geometry/rigid_object.h"
+
+namespace sedbridge::fem {
+
+struct ComplianceContactOptions {
+  double stiffness_N_m = 1e4;      ///< k_contact per node (paper: 1e4 N/m)
+  int max_iterations = 60;         ///< Newton iterations per step
+  /// Converged when every contact's normal force matches k * depth at the new positions
+  /// to this fraction of the largest contact force (and the active set is unchanged).
+  double relative_tolerance = 1e-10;
+  /// Folder for the precompute cache (created if missing); empty = no disk cache.
+  std::string cache_dir;
+  /// OpenMP threads for the precompute's back-substitutions; 0 = OpenMP's default.
+  int precompute_threads = 0;
+};
+
+/// One contact step's answer. Contacts are (node, object) pairs, as PenaltyContactForce.
+struct ComplianceStepResult {
+  bool ok = false;          ///< false: bad input (non-finite pose/force); nothing else is valid
+  bool converged = false;   ///< Newton met relative_tolerance within max_iterations
+  int iterations = 0;
+  std::string error;
+  std::vector<ActiveContact> contacts;  ///< node = mesh node index, object = index into objects
+  Eigen::Vector3d spring_force_N = Eigen::Vector3d::Zero();  ///< sum k depth n on the skin (model frame)
+  Eigen::Vector3d tangential_force_N = Eigen::Vector3d::Zero();  ///< tangential load applied (model frame)
+  Eigen::VectorXd sed_Pa;   ///< SED per vertex, in the order of sed_vertices()
+};
+
+class ComplianceContact {
+ public:
+  /// @param mesh            rest mesh (must outlive this object)
+  /// @param terms           the model's own force terms: a linear ElasticTetForce plus
+  ///                        constant-Jacobian supports (the fixed bone coupling); K is
+  ///                        assembled from them at rest
+  /// @param candidate_nodes nodes that may touch (mesh indices, unique)
+  /// @param sed_vertices    nodes where the SED is wanted (the Merkel layer's vertices)
+  /// @param options         contact stiffness, iteration control, cache folder
+  /// Throws std::invalid_argument if the model is not linear with a constant K, or K is
+  /// singular (no support).
+  ComplianceContact(const TetMesh& mesh, std::vector<std::unique_ptr<ForceTerm>> terms,
+                    std::vector<int> candidate_nodes, std::vector<int> sed_vertices,
+                    ComplianceContactOptions options = {});
+  ~ComplianceContact();
+
+  /// Contact with rigid objects (model frame, posed at time t_s), plus an optional total
+  /// tangential load [N, model frame] spread over the contacts in proportion to their
+  /// normal force (ignored while nothing touches). Warm-started from the last call.
+  const ComplianceStepResult& Step(const std::vector<geometry::RigidObject>& objects, double t_s = 0.0,
+                                   const Eigen::Vector3d& tangential_force_N = Eigen::Vector3d::Zero());
+  const ComplianceStepResult& last() const { return result_; }
+  /// Forgets the warm start (the next step starts from no contact).
+  void ResetWarmStart();
+
+  /// Displacement of each candidate after the last step [m], 3 x #candidates.
+  Eigen::Map<const Eigen::Matrix3Xd> candidate_displacements_m() const;
+  /// Positions of all nodes where the last step defines them (candidates and SED nodes;
+  /// every other node stays at rest) [m], 3 * #nodes.
+  const Eigen::VectorXd& positions_m() const { return x_; }
+
+  const std::vector<int>& candidate_nodes() const { return candidates_; }
+  const std::vector<int>& sed_vertices() const;
+  /// Nodes whose displacement the SED needs (those of the elements around sed_vertices).
+  const std::vector<int>& sed_nodes() const { return sed_nodes_; }
+  /// W [m/N] and G [m/N] (see the file comment).
+  const Eigen::MatrixXd& compliance_m_N() const { return W_; }
+  const Eigen::MatrixXd& sed_node_map_m_N() const { return G_; }
+
+  const ComplianceContactOptions& options() const { return options_; }
+  /// Wall time of the precompute (or cache load) [s] and where it came from.
+  double precompute_s() const { return precompute_s_; }
+  bool loaded_from_cache() const { return loaded_from_cache_; }
+  /// Cache file used (empty without cache_dir).
+  const std::string& cache_file() const { return cache_file_; }
+  /// Why an existing cache file was not used (empty if none was rejected).
+  const std::string& cache_rejected_reason() const { return cache_rejected_; }
+
+ private:
+  void Precompute(const SystemMatrix& K);
+  bool LoadCache(std::uint64_t key);
+  void SaveCache(std::uint64_t key) const;
+  /// u_c = W f_c over the candidates whose force is non-zero.
+  void CandidateDisplacements();
+  /// One convex QP for the normal forces with the gaps linearized at the current
+  /// positions (see the .cpp); updates lambda_N_. False on NaN.
+  bool SolveLinearizedQp(int num_objects);
+
+  const TetMesh& mesh_;
+  std::vector<std::unique_ptr<ForceTerm>> terms_;
+  std::vector<int> candidates_;
+  std::vector<int> sed_nodes_;
+  ComplianceContactOptions options_;
+  std::unique_ptr<VertexSedEvaluator> sed_;
+  Eigen::MatrixXd W_, G_;
+  double precompute_s_ = 0;
+  bool loaded_from_cache_ = false;
+  std::string cache_file_, cache_rejected_;
+
+  // Per-step state: contact pairs p = candidate * #objects + object.
+  int num_objects_ = -1;
+  Eigen::VectorXd lambda_N_;          // normal force magnitude per pair (warm start)
+  Eigen::Matrix3Xd normal_;           // unit normal per pair (direction of its force)
+  Eigen::VectorXd phi_m_;             // signed distance per pair at the current positions
+  Eigen::VectorXd f_c_, u_c_, u_t_;   // candidate forces, displacements, tangential part
+  std::vector<int> active_, loaded_;  // pairs penetrating now; candidates with a force
+  Eigen::MatrixXd J_;
+  Eigen::VectorXd rhs_, z_, u_new_, u_s_;
+  Eigen::RowVectorXd wn_;
+  std::vector<int> passive_;
+  double largest_ = 0;
+  Eigen::Matrix3Xd rest_c_;
+  Eigen::VectorXd x_;
+  ComplianceStepResult result_;
+};
+
+}  // namespace sedbridge::fem

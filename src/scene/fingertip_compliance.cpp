@@ -1,0 +1,233 @@
+#include "scene/fingertip_compliance.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <stdexcept>
+
+#include "fem/elastic_tet_force.h"
+#include "fem/mesh_topology.h"
+
+namespace sedbridge::scene {
+
+FingertipComplianceOptions ComplianceOptionsFromScene(const SceneDescription& d) {
+  auto refuse = [](const std::string& why) {
+    throw std::invalid_argument("the compliance contact solver needs a linear quasi-static scene with the bone fixed: " +
+                                why);
+  };
+  if (d.elasticity != fem::ElasticFormulation::kLinear) refuse("the scene is corotational");
+  if (d.integrator.kind != fem::IntegratorKind::kQuasiStatic) refuse("the scene is dynamic (backward Euler)");
+  if (!d.bone) refuse("the scene has no bone section (K would be singular)");
+  if (d.bone->motion) refuse("the bone is tracked");
+  if (d.friction) refuse("the scene has friction springs");
+  if (d.surface_traction) refuse("the scene has surface traction");
+  FingertipComplianceOptions o;
+  o.bone = d.bone->spring;
+  if (d.contact) o.contact.stiffness_N_m = d.contact->params.stiffness_N_m;
+  return o;
+}
+
+const char* ToString(PressStatus s) {
+  switch (s) {
+    case PressStatus::kReached: return "reached";
+    case PressStatus::kMaxDepth: return "max_depth";
+    case PressStatus::kPatchEdge: return "patch_edge";
+    case PressStatus::kNoContact: return "no_contact";
+    case PressStatus::kAboveTarget: return "above_target";
+    case PressStatus::kInvalidInput: return "invalid_input";
+    case PressStatus::kNotConverged: return "not_converged";
+  }
+  return "?";
+}
+
+FingertipCompliance::FingertipCompliance(const model::FingertipModel& m, FingertipComplianceOptions options)
+    : model_(m), options_(std::move(options)) {
+  const Eigen::Matrix3Xd& rest = m.soft.rest_positions_m;
+  const Eigen::Vector3d z_pad = m.pad_frame.model_from_pad.linear().col(2);
+
+  // Candidates: skin facing the pad, not deeper than max_depth_mm below the origin.
+  const auto normals = fem::VertexNormals(m.skin_triangles, rest, m.skin_nodes);
+  std::vector<int> candidates;
+  candidate_index_.assign(size_t(m.num_soft_nodes()), -1);
+  for (size_t k = 0; k < m.skin_nodes.size(); ++k) {
+    const int n = m.skin_nodes[k];
+    const double depth_mm = -m.pad_frame.ToPad(rest.col(n)).z() * 1e3;
+    if (normals[k].dot(z_pad) >= options_.min_facing && depth_mm <= options_.max_depth_mm) {
+      candidate_index_[size_t(n)] = int(candidates.size());
+      candidates.push_back(n);
+    } else {
+      outside_skin_.push_back(n);
+    }
+  }
+  if (candidates.empty()) throw std::invalid_argument("compliance contact: no skin node faces the pad");
+  on_edge_.assign(candidates.size(), 0);
+  for (const auto& t : m.skin_triangles)
+    for (int a = 0; a < 3; ++a) {
+      const int i = candidate_index_[size_t(t[size_t(a)])];
+      if (i < 0) continue;
+      for (int b = 0; b < 3; ++b)
+        if (candidate_index_[size_t(t[size_t(b)])] < 0) on_edge_[size_t(i)] = 1;
+    }
+
+  // The model's own support, as FingertipScene builds it.
+  std::vector<std::unique_ptr<fem::ForceTerm>> terms;
+  terms.push_back(std::make_unique<fem::ElasticTetForce>(m.soft, fem::ElasticFormulation::kLinear));
+  std::vector<Eigen::Vector3d> bone_normals;
+  if (options_.bone.anisotropy != 1.0) {
+    const std::set<int> attached(m.attached_nodes.begin(), m.attached_nodes.end());
+    std::vector<fem::Triangle> interface;
+    for (const auto& f : fem::BoundaryFaces(m.soft.tets, rest))
+      if (attached.count(f[0]) && attached.count(f[1]) && attached.count(f[2])) interface.push_back(f);
+    bone_normals = fem::VertexNormals(interface, rest, m.attached_nodes);
+  }
+  terms.push_back(std::make_unique<fem::BoneCouplingForce>(rest, m.attached_nodes, bone_normals, options_.bone));
+  contact_ = std::make_unique<fem::ComplianceContact>(m.soft, std::move(terms), std::move(candidates), m.merkel_nodes,
+                                                      options_.contact);
+
+  merkel_rest_pad_mm_.resize(3, Eigen::Index(m.merkel_nodes.size()));
+  for (size_t k = 0; k < m.merkel_nodes.size(); ++k)
+    merkel_rest_pad_mm_.col(Eigen::Index(k)) = m.pad_frame.ToPad(rest.col(m.merkel_nodes[k])) * 1e3;
+}
+
+std::vector<geometry::RigidObject> FingertipCompliance::ToModel(const std::vector<geometry::RigidObject>& objects) const {
+  std::vector<geometry::RigidObject> out;
+  out.reserve(objects.size());
+  for (const auto& o : objects) out.push_back({o.name, o.shape, o.trajectory.Transformed(model_.pad_frame.model_from_pad)});
+  return out;
+}
+
+const fem::ComplianceStepResult& FingertipCompliance::Step(const std::vector<geometry::RigidObject>& objects_pad,
+                                                           double t_s, const Eigen::Vector2d& tangential_pad_N) {
+  const Eigen::Vector3d t_model = model_.pad_frame.model_from_pad.linear() *
+                                  Eigen::Vector3d(tangential_pad_N.x(), tangential_pad_N.y(), 0.0);
+  return contact_->Step(ToModel(objects_pad), t_s, t_model);
+}
+
+double FingertipCompliance::normal_force_N() const {
+  const Eigen::Vector3d z_pad = model_.pad_frame.model_from_pad.linear().col(2);
+  return -z_pad.dot(contact_->last().spring_force_N);
+}
+
+bool FingertipCompliance::TouchesOutsidePatch(const std::vector<geometry::RigidObject>& objects_model) const {
+  for (const auto& c : contact_->last().contacts)
+    if (on_edge_[size_t(candidate_index_[size_t(c.node)])]) return true;
+  // Skin outside the patch moves little where the contact is: inside an object at rest
+  // means it would be in contact in the full model.
+  for (int n : outside_skin_)
+    for (const auto& o : objects_model)
+      if (o.Evaluate(model_.soft.rest_positions_m.col(n), 0.0).distance_m < 0) return true;
+  return false;
+}
+
+PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry::RigidObject>& objects_pad,
+                                                     double target_N, const PressToForceOptions& opt,
+                                                     const Eigen::Vector2d& tangential_pad_N) {
+  PressToForceResult r;
+  r.target_force_N = target_N;
+  if (!(std::isfinite(target_N) && target_N > 0) || objects_pad.empty() || !tangential_pad_N.allFinite() ||
+      !(opt.max_indentation_mm > 0) || !(opt.relative_tolerance > 0)) {
+    r.message = "target force must be finite and > 0, with at least one object";
+    return r;
+  }
+  std::vector<Eigen::Isometry3d> touch;
+  for (const auto& o : objects_pad) {
+    touch.push_back(o.trajectory.Pose(0.0));
+    if (!touch.back().matrix().allFinite()) {
+      r.message = "non-finite object pose";
+      return r;
+    }
+  }
+  std::vector<geometry::RigidObject> pushed = objects_pad;
+  std::vector<geometry::RigidObject> last_model;
+  bool solve_failed = false, solve_unconverged = false;
+  // Normal force at indentation d [mm] (objects translated by -d along z_pad).
+  auto force_at = [&](double d_mm) {
+    for (size_t k = 0; k < pushed.size(); ++k)
+      pushed[k].trajectory = geometry::Trajectory(Eigen::Translation3d(0, 0, -d_mm * 1e-3) * touch[k]);
+    last_model = ToModel(pushed);
+    const Eigen::Vector3d t_model = model_.pad_frame.model_from_pad.linear() *
+                                    Eigen::Vector3d(tangential_pad_N.x(), tangential_pad_N.y(), 0.0);
+    const fem::ComplianceStepResult& s = contact_->Step(last_model, 0.0, t_model);
+    ++r.iterations;
+    if (!s.ok) solve_failed = true;
+    if (!s.converged) solve_unconverged = true;
+    return s.ok ? normal_force_N() : 0.0;
+  };
+  auto finish = [&](PressStatus status, double d_mm, double f_N, const std::string& why) {
+    // The contact state must be the answer's: re-solve where the answer is if the last
+    // evaluation was elsewhere.
+    if (r.indentation_mm != d_mm || r.iterations == 0) f_N = force_at(d_mm);
+    r.indentation_mm = d_mm;
+    r.force_N = f_N;
+    r.status = status;
+    std::set<int> nodes;
+    for (const auto& c : contact_->last().contacts) nodes.insert(c.node);
+    r.active_nodes = int(nodes.size());
+    if (status == PressStatus::kReached && TouchesOutsidePatch(last_model)) {
+      r.status = PressStatus::kPatchEdge;
+      r.message = "contact reaches the edge of the candidate patch (object near the pad's edge)";
+    } else if (status == PressStatus::kReached && solve_unconverged) {
+      r.status = PressStatus::kNotConverged;
+      r.message = "a contact solve did not converge";
+    } else {
+      r.message = why;
+    }
+    r.reached = r.status == PressStatus::kReached;
+    if (r.reached) last_indentation_mm_ = d_mm, last_target_N_ = target_N;
+    return r;
+  };
+  const double tol = opt.relative_tolerance * target_N;
+  auto evaluate = [&](double d_mm) {
+    const double f = force_at(d_mm);
+    r.indentation_mm = d_mm;
+    return f;
+  };
+
+  double lo = 0, f_lo = evaluate(0.0);
+  if (solve_failed) return finish(PressStatus::kInvalidInput, 0.0, 0.0, contact_->last().error);
+  if (std::abs(f_lo - target_N) <= tol) return finish(PressStatus::kReached, 0.0, f_lo, "");
+  if (f_lo > target_N) return finish(PressStatus::kAboveTarget, 0.0, f_lo, "objects press harder than the target at indentation 0");
+
+  // Bracket: start from the last answer scaled as Hertz (F ~ d^1.5), then grow.
+  double guess = 0.5;
+  if (last_indentation_mm_ > 0) guess = last_indentation_mm_ * std::pow(target_N / last_target_N_, 2.0 / 3.0);
+  guess = std::clamp(guess, 1e-3, opt.max_indentation_mm);
+  double hi = guess, f_hi = evaluate(hi);
+  while (f_hi < target_N) {
+    if (hi >= opt.max_indentation_mm) {
+      if (f_hi <= 0) return finish(PressStatus::kNoContact, hi, f_hi, "nothing touches the patch up to max_indentation_mm");
+      return finish(PressStatus::kMaxDepth, hi, f_hi, "target not reached at max_indentation_mm");
+    }
+    if (r.iterations >= opt.max_iterations) return finish(PressStatus::kNotConverged, hi, f_hi, "bracketing ran out of iterations");
+    lo = hi, f_lo = f_hi;
+    hi = std::min(opt.max_indentation_mm, std::max(2.0 * hi, hi + 0.05));
+    f_hi = evaluate(hi);
+  }
+  if (std::abs(f_hi - target_N) <= tol) return finish(PressStatus::kReached, hi, f_hi, "");
+
+  // Illinois (regula falsi that halves the stale end's weight): secant speed on a
+  // monotone force curve with kinks where contacts join, never leaves the bracket.
+  int stale = 0;
+  while (r.iterations < opt.max_iterations) {
+    double d = hi - (f_hi - target_N) * (hi - lo) / (f_hi - f_lo);
+    if (!(d > lo && d < hi)) d = 0.5 * (lo + hi);
+    const double f = evaluate(d);
+    if (solve_failed) return finish(PressStatus::kInvalidInput, d, f, contact_->last().error);
+    if (std::abs(f - target_N) <= tol) return finish(PressStatus::kReached, d, f, "");
+    if (hi - lo < 1e-12) return finish(PressStatus::kNotConverged, d, f, "bracket collapsed before the force matched");
+    if (f < target_N) {
+      lo = d, f_lo = f;
+      if (stale == -1) f_hi = target_N + 0.5 * (f_hi - target_N);
+      stale = -1;
+    } else {
+      hi = d, f_hi = f;
+      if (stale == 1) f_lo = target_N + 0.5 * (f_lo - target_N);
+      stale = 1;
+    }
+  }
+  return finish(PressStatus::kNotConverged, r.indentation_mm, contact_->last().ok ? normal_force_N() : 0.0,
+                "root find ran out of iterations");
+}
+
+}  // namespace sedbridge::scene

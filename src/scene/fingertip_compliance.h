@@ -1,0 +1,118 @@
+#pragma once
+// Contact on a fingertip model by the compliance method (fem/compliance_contact.h), in the
+// pad frame: the candidate contact nodes are the skin facing the pad, the SED is the
+// Merkel layer's (same vertex order as scene::MerkelLayer and the bridge's
+// FeStep::merkel_rest_pad_mm). For a linear, quasi-static scene with the bone fixed it
+// gives the full FE penalty-contact answer at haptic rates; PressToForce finds the
+// indentation at which objects reach a given force (contact reconstruction, issue 11).
+//
+// Units: SI inside; names carry the unit at the boundaries (depth_mm, force_N, sed_Pa).
+
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "fem/bone_coupling_force.h"
+#include "fem/compliance_contact.h"
+#include "geometry/rigid_object.h"
+#include "model/fingertip_model.h"
+#include "scene/scene_description.h"
+
+namespace sedbridge::scene {
+
+struct FingertipComplianceOptions {
+  /// Candidate nodes: skin whose outward normal . z_pad >= min_facing and that lies at
+  /// most max_depth_mm below the pad-frame origin (as config/bridge traction's keys).
+  double min_facing = 0.5;
+  double max_depth_mm = 6.0;
+  /// Bone coupling (the model's support; paper: k 200 N/m, isotropic).
+  fem::SpringDamperParams bone;
+  /// k_contact [N/m], iteration control, cache folder (fem::ComplianceContactOptions).
+  fem::ComplianceContactOptions contact;
+};
+
+/// Options for a scene that asks for the compliance method; throws std::invalid_argument
+/// naming what the scene has that the method cannot do (corotational, backward Euler, a
+/// tracked bone, friction, surface traction, no bone).
+FingertipComplianceOptions ComplianceOptionsFromScene(const SceneDescription& scene);
+
+enum class PressStatus {
+  kReached,       ///< force within tolerance of the target
+  kMaxDepth,      ///< max_indentation_mm reached below the target force
+  kPatchEdge,     ///< contact reaches the edge of the candidate patch (or touches skin that
+                  ///< is not a candidate): the answer is not the full FE's; move the object
+  kNoContact,     ///< nothing touches up to max_indentation_mm (object off the pad)
+  kAboveTarget,   ///< already above the target at indentation 0 (objects start inside the skin)
+  kInvalidInput,  ///< target not finite and > 0, no objects, non-finite pose
+  kNotConverged,  ///< the root find or a contact solve ran out of iterations
+};
+const char* ToString(PressStatus status);
+
+struct PressToForceOptions {
+  double relative_tolerance = 1e-6;   ///< |force - target| <= this * target
+  double max_indentation_mm = 5.0;    ///< deepest push tried
+  int max_iterations = 60;            ///< contact solves in one call
+};
+
+struct PressToForceResult {
+  PressStatus status = PressStatus::kInvalidInput;
+  bool reached = false;          ///< status == kReached
+  double target_force_N = 0;
+  double force_N = 0;            ///< normal force reached (along -z_pad, on the skin)
+  double indentation_mm = 0;     ///< push along -z_pad from the poses at first touch
+  int iterations = 0;            ///< contact solves used
+  int active_nodes = 0;          ///< skin nodes in contact at the answer
+  std::string message;           ///< why, when not reached
+};
+
+class FingertipCompliance {
+ public:
+  /// Builds (or loads from options.contact.cache_dir) the precompute for `model`, which
+  /// must outlive this object. Startup on model B: about a second without the cache.
+  FingertipCompliance(const model::FingertipModel& model, FingertipComplianceOptions options = {});
+
+  /// Contact with objects posed in the pad frame at time t_s, plus a total tangential load
+  /// [N] along pad x and y spread over the contacts in proportion to their normal force
+  /// (a stroking follower sensor measures shear). Warm-started from the last call.
+  const fem::ComplianceStepResult& Step(const std::vector<geometry::RigidObject>& objects_pad_frame,
+                                        double t_s = 0.0, const Eigen::Vector2d& tangential_pad_N = Eigen::Vector2d::Zero());
+  /// Normal force of the last step: the spring forces' component along -z_pad [N].
+  double normal_force_N() const;
+
+  /// Pushes the objects (pad-frame poses at first touch, their trajectory at t = 0) along
+  /// -z_pad until their total normal force is target_force_N; the state of the last step
+  /// (SED, contacts) is then the answer's. Never throws for bad input: see status.
+  /// Warm-started from the last call's indentation.
+  PressToForceResult PressToForce(const std::vector<geometry::RigidObject>& objects_pad_at_touch,
+                                  double target_force_N, const PressToForceOptions& options = {},
+                                  const Eigen::Vector2d& tangential_pad_N = Eigen::Vector2d::Zero());
+
+  /// Merkel SED of the last step [Pa], per vertex in model.merkel_nodes order.
+  const Eigen::VectorXd& sed_Pa() const { return contact_->last().sed_Pa; }
+  /// Merkel vertex rest positions in the pad frame [mm], 3 x #vertices.
+  const Eigen::Matrix3Xd& merkel_rest_pad_mm() const { return merkel_rest_pad_mm_; }
+  /// 1 for candidate nodes on the edge of the patch (next to non-candidate skin).
+  const std::vector<char>& candidate_on_edge() const { return on_edge_; }
+
+  const fem::ComplianceContact& contact() const { return *contact_; }
+  fem::ComplianceContact& contact() { return *contact_; }
+  const model::FingertipModel& model() const { return model_; }
+
+ private:
+  /// Contact pairs of the last step touching the patch edge, or skin outside the patch at
+  /// rest positions: the candidate set is then too small for this contact.
+  bool TouchesOutsidePatch(const std::vector<geometry::RigidObject>& objects_model) const;
+  std::vector<geometry::RigidObject> ToModel(const std::vector<geometry::RigidObject>& objects_pad) const;
+
+  const model::FingertipModel& model_;
+  FingertipComplianceOptions options_;
+  std::unique_ptr<fem::ComplianceContact> contact_;
+  Eigen::Matrix3Xd merkel_rest_pad_mm_;
+  std::vector<char> on_edge_;           // per candidate
+  std::vector<int> candidate_index_;    // per soft node: index into candidates, or -1
+  std::vector<int> outside_skin_;       // skin nodes that are not candidates
+  double last_indentation_mm_ = -1, last_target_N_ = 0;
+};
+
+}  // namespace sedbridge::scene

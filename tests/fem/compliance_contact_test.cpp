@@ -1,0 +1,240 @@
+// The compliance method must give the full FE answer: a block on rollers, a sphere or a
+// plane pressed onto its top, solved (a) by the quasi-static Newton solve with
+// PenaltyContactForce and (b) by ComplianceContact on the top nodes. Also: tangential
+// load, warm start, and the disk cache (round trip, corrupt file).
+
+#include "fem/compliance_contact.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <fstream>
+
+#include "fem/box_mesh.h"
+#include "fem/elastic_tet_force.h"
+#include "fem/simulation.h"
+#include "fem_test_util.h"
+
+namespace sedbridge::fem {
+namespace {
+
+constexpr double kSide = 0.008, kHeight = 0.006, kContactK = 1e4;
+
+TetMesh Block() { return MakeBoxMesh({kSide, kSide, kHeight}, {6, 6, 4}, testing::Skin(1e5, 0.4)); }
+
+std::vector<std::unique_ptr<ForceTerm>> BlockTerms(const TetMesh& mesh) {
+  std::vector<std::unique_ptr<ForceTerm>> terms;
+  terms.push_back(std::make_unique<ElasticTetForce>(mesh, ElasticFormulation::kLinear));
+  testing::AddRollerSupport(mesh, terms, 1e6);
+  return terms;
+}
+
+// Mid-height nodes: an SED layer inside the block (like the Merkel layer under the skin).
+std::vector<int> SedVertices(const TetMesh& mesh) { return testing::NodesWhere(mesh, 2, 0.5 * kHeight); }
+
+geometry::RigidObject SphereAbove(double radius, double depth, double x = 0.5 * kSide) {
+  const Eigen::Isometry3d pose(Eigen::Translation3d(x, 0.5 * kSide, kHeight + radius - depth));
+  return {"sphere", std::make_shared<geometry::SphereSdf>(radius), geometry::Trajectory(pose)};
+}
+
+geometry::RigidObject PlaneAbove(double depth) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(0.1, Eigen::Vector3d::UnitX()).toRotationMatrix() *
+                  Eigen::Vector3d(1, -1, -1).asDiagonal();  // tilted, normal ~ -z, solid above
+  pose.translation() = Eigen::Vector3d(0.5 * kSide, 0.5 * kSide, kHeight - depth);
+  return {"plane", std::make_shared<geometry::PlaneSdf>(), geometry::Trajectory(pose)};
+}
+
+struct FullAnswer {
+  Eigen::VectorXd x;
+  Eigen::Vector3d spring_force;
+  Eigen::VectorXd sed;
+  size_t contacts = 0;
+};
+
+FullAnswer FullFe(const TetMesh& mesh, const std::vector<geometry::RigidObject>& objects) {
+  auto terms = BlockTerms(mesh);
+  const auto top = testing::NodesWhere(mesh, 2, kHeight);
+  terms.push_back(std::make_unique<PenaltyContactForce>(top, objects, ContactParams{kContactK, 0.0}));
+  auto* contact = static_cast<PenaltyContactForce*>(terms.back().get());
+  IntegratorSettings s;
+  s.kind = IntegratorKind::kQuasiStatic;
+  s.newton_iterations = 100;
+  s.newton_tolerance_m = 1e-15;
+  Simulation sim(mesh, std::move(terms), s, MakeLinearSolver("ldlt", {}));
+  const StepReport r = sim.Step(1.0);
+  EXPECT_TRUE(r.converged);
+  sim.TotalForce();  // contact state at the converged positions
+  FullAnswer a;
+  a.x = sim.positions_m();
+  a.spring_force = contact->TotalSpringForce();
+  a.contacts = contact->active_contacts().size();
+  ElasticTetForce elastic(mesh, ElasticFormulation::kLinear);
+  VertexSedEvaluator sed(elastic, SedVertices(mesh));
+  sed.Evaluate(a.x, a.sed);
+  return a;
+}
+
+ComplianceContact MakeCompliance(const TetMesh& mesh, ComplianceContactOptions o = {}) {
+  o.stiffness_N_m = kContactK;
+  return ComplianceContact(mesh, BlockTerms(mesh), testing::NodesWhere(mesh, 2, kHeight), SedVertices(mesh), o);
+}
+
+double RelativeError(const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return (a - b).norm() / b.norm(); }
+
+void ExpectSameAsFullFe(const std::vector<geometry::RigidObject>& objects) {
+  const TetMesh mesh = Block();
+  const FullAnswer full = FullFe(mesh, objects);
+  ASSERT_GT(full.contacts, 3u);
+  ComplianceContact cc = MakeCompliance(mesh);
+  const ComplianceStepResult& r = cc.Step(objects);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_TRUE(r.converged);
+  EXPECT_EQ(r.contacts.size(), full.contacts);
+  // Displacement of the candidate (top) nodes.
+  Eigen::VectorXd u_full(3 * cc.candidate_nodes().size()), u_cc(u_full.size());
+  for (size_t j = 0; j < cc.candidate_nodes().size(); ++j) {
+    const int n = cc.candidate_nodes()[j];
+    u_full.segment<3>(3 * Eigen::Index(j)) = full.x.segment<3>(3 * n) - mesh.rest_positions_m.col(n);
+    u_cc.segment<3>(3 * Eigen::Index(j)) = cc.candidate_displacements_m().col(Eigen::Index(j));
+  }
+  EXPECT_LT(RelativeError(u_cc, u_full), 1e-6);
+  EXPECT_LT((r.spring_force_N - full.spring_force).norm() / full.spring_force.norm(), 1e-6);
+  EXPECT_LT(RelativeError(r.sed_Pa, full.sed), 1e-6);
+  EXPECT_GT(full.sed.maxCoeff(), 0.0);
+}
+
+TEST(ComplianceContact, SphereEqualsFullFePenaltySolve) {
+  ExpectSameAsFullFe({SphereAbove(0.004, 0.0004)});
+}
+
+TEST(ComplianceContact, TiltedPlaneEqualsFullFePenaltySolve) { ExpectSameAsFullFe({PlaneAbove(0.0002)}); }
+
+TEST(ComplianceContact, TwoObjectsEqualFullFePenaltySolve) {
+  ExpectSameAsFullFe({SphereAbove(0.002, 0.0003, 0.25 * kSide), SphereAbove(0.002, 0.0002, 0.75 * kSide)});
+}
+
+TEST(ComplianceContact, NoContactGivesZeroAndRejectsNonFiniteInput) {
+  const TetMesh mesh = Block();
+  ComplianceContact cc = MakeCompliance(mesh);
+  const ComplianceStepResult& r = cc.Step({SphereAbove(0.004, -0.001)});
+  ASSERT_TRUE(r.ok);
+  EXPECT_TRUE(r.contacts.empty());
+  EXPECT_LT(r.sed_Pa.cwiseAbs().maxCoeff(), 1e-12);
+  const ComplianceStepResult& bad = cc.Step({SphereAbove(0.004, 0.0002)}, 0.0, Eigen::Vector3d(NAN, 0, 0));
+  EXPECT_FALSE(bad.ok);
+  EXPECT_FALSE(bad.error.empty());
+}
+
+TEST(ComplianceContact, WarmStartReachesTheColdAnswerInFewerIterations) {
+  const TetMesh mesh = Block();
+  ComplianceContact warm = MakeCompliance(mesh), cold = MakeCompliance(mesh);
+  warm.Step({SphereAbove(0.004, 0.00040)});
+  const int warm_iterations = warm.Step({SphereAbove(0.004, 0.00041)}).iterations;
+  const ComplianceStepResult& c = cold.Step({SphereAbove(0.004, 0.00041)});
+  EXPECT_LT(warm_iterations, c.iterations);
+  EXPECT_LT((warm.last().spring_force_N - c.spring_force_N).norm(), 1e-9 * c.spring_force_N.norm());
+}
+
+TEST(ComplianceContact, TangentialLoadIsCarriedByTheContactsAndShearsTheBlock) {
+  const TetMesh mesh = Block();
+  ComplianceContact cc = MakeCompliance(mesh);
+  const Eigen::Vector3d shear(0.05, 0, 0);
+  const ComplianceStepResult& r = cc.Step({SphereAbove(0.004, 0.0004)}, 0.0, shear);
+  ASSERT_TRUE(r.ok && r.converged);
+  EXPECT_EQ(r.tangential_force_N, shear);
+  // The contact nodes move along +x on average; without contact the load is not applied.
+  double mean_ux = 0;
+  for (const auto& c : r.contacts) {
+    const auto& nodes = cc.candidate_nodes();
+    const auto j = std::find(nodes.begin(), nodes.end(), c.node) - nodes.begin();
+    mean_ux += cc.candidate_displacements_m()(0, j) / double(r.contacts.size());
+  }
+  EXPECT_GT(mean_ux, 1e-6);
+  const ComplianceStepResult& none = cc.Step({SphereAbove(0.004, -0.001)}, 0.0, shear);
+  EXPECT_TRUE(none.tangential_force_N.isZero());
+  EXPECT_EQ(cc.candidate_displacements_m().norm(), 0.0);
+}
+
+TEST(ComplianceContact, RefusesCorotationalModel) {
+  const TetMesh mesh = Block();
+  std::vector<std::unique_ptr<ForceTerm>> terms;
+  terms.push_back(std::make_unique<ElasticTetForce>(mesh, ElasticFormulation::kCorotational));
+  testing::AddRollerSupport(mesh, terms, 1e6);
+  EXPECT_THROW(ComplianceContact(mesh, std::move(terms), testing::NodesWhere(mesh, 2, kHeight), {}),
+               std::invalid_argument);
+}
+
+class ComplianceCache : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("compliance_cache_test_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::remove_all(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  ComplianceContactOptions Options() const {
+    ComplianceContactOptions o;
+    o.cache_dir = dir_.string();
+    return o;
+  }
+  std::filesystem::path dir_;
+};
+
+TEST_F(ComplianceCache, RoundTripGivesIdenticalResults) {
+  const TetMesh mesh = Block();
+  const std::vector<geometry::RigidObject> sphere{SphereAbove(0.004, 0.0004)};
+  ComplianceContact first = MakeCompliance(mesh, Options());
+  EXPECT_FALSE(first.loaded_from_cache());
+  ASSERT_TRUE(std::filesystem::exists(first.cache_file()));
+  ComplianceContact second = MakeCompliance(mesh, Options());
+  EXPECT_TRUE(second.loaded_from_cache());
+  EXPECT_EQ(second.cache_file(), first.cache_file());
+  EXPECT_EQ(first.compliance_m_N(), second.compliance_m_N());
+  EXPECT_EQ(first.sed_node_map_m_N(), second.sed_node_map_m_N());
+  const Eigen::VectorXd sed = first.Step(sphere).sed_Pa;
+  EXPECT_EQ(second.Step(sphere).sed_Pa, sed);
+  // A different model (stiffer material) must not pick up this file.
+  TetMesh stiffer = Block();
+  stiffer.materials[0].youngs_modulus_Pa *= 2;
+  ComplianceContact other = MakeCompliance(stiffer, Options());
+  EXPECT_FALSE(other.loaded_from_cache());
+  EXPECT_NE(other.cache_file(), first.cache_file());
+}
+
+TEST_F(ComplianceCache, CorruptFileIsRejectedAndRebuilt) {
+  const TetMesh mesh = Block();
+  const std::vector<geometry::RigidObject> sphere{SphereAbove(0.004, 0.0004)};
+  ComplianceContact first = MakeCompliance(mesh, Options());
+  const Eigen::VectorXd sed = first.Step(sphere).sed_Pa;
+  const std::string file = first.cache_file();
+  {  // flip one byte in the middle of the payload
+    std::fstream f(file, std::ios::in | std::ios::out | std::ios::binary);
+    f.seekg(0, std::ios::end);
+    const auto size = f.tellg();
+    f.seekp(size / 2);
+    char byte = 0;
+    f.seekg(size / 2);
+    f.read(&byte, 1);
+    byte = char(byte ^ 0x5a);
+    f.seekp(size / 2);
+    f.write(&byte, 1);
+  }
+  ComplianceContact rebuilt = MakeCompliance(mesh, Options());
+  EXPECT_FALSE(rebuilt.loaded_from_cache());
+  EXPECT_NE(rebuilt.cache_rejected_reason(), "");
+  EXPECT_EQ(rebuilt.Step(sphere).sed_Pa, sed);
+  ComplianceContact again = MakeCompliance(mesh, Options());  // the rewritten file is good
+  EXPECT_TRUE(again.loaded_from_cache());
+  // A truncated file too.
+  std::filesystem::resize_file(file, std::filesystem::file_size(file) / 3);
+  ComplianceContact truncated = MakeCompliance(mesh, Options());
+  EXPECT_FALSE(truncated.loaded_from_cache());
+  EXPECT_EQ(truncated.Step(sphere).sed_Pa, sed);
+}
+
+}  // namespace
+}  // namespace sedbridge::fem

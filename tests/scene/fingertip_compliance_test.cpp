@@ -1,0 +1,144 @@
+// The compliance method on a fingertip model (B_coarse, to keep the test short) against the
+// full FE quasi-static penalty-contact solve of the same scene, and PressToForce: reaches a
+// target force, flags what it cannot reach, never answers NaN.
+
+#include "scene/fingertip_compliance.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <set>
+
+#include "scene/fingertip_scene.h"
+
+namespace sedbridge::scene {
+namespace {
+
+const model::FingertipModel& Model() {
+  static const model::FingertipModel m = model::LoadFingertipModel("B_coarse");
+  return m;
+}
+
+std::string Scene(const std::string& object) {
+  return "model: B_coarse\nelasticity: linear\n"
+         "dynamics: {integrator: quasi_static, steps: 1, newton_iterations: 100, newton_tolerance_mm: 1.0e-12}\n"
+         "solver: {type: ldlt}\nbone: {mode: fixed}\n"
+         "contact:\n  stiffness_N_m: 10000\n  objects: [" + object + "]\noutputs: {merkel_sed: true}\n";
+}
+
+geometry::RigidObject Sphere(double radius_mm, const Eigen::Vector3d& center_mm) {
+  return {"sphere", std::make_shared<geometry::SphereSdf>(radius_mm * 1e-3),
+          geometry::Trajectory(Eigen::Isometry3d(Eigen::Translation3d(center_mm * 1e-3)))};
+}
+
+void ExpectSameAsFullFe(const std::string& object) {
+  const SceneDescription d = ParseSceneDescription(Scene(object), "test");
+  FingertipScene full(d, Model());
+  const fem::StepReport report = full.Step();
+  ASSERT_TRUE(report.converged);
+  full.simulation().TotalForce();  // contact state at the converged positions
+  const auto& full_contacts = full.contact()->active_contacts();
+  ASSERT_GT(full_contacts.size(), 5u);
+
+  FingertipCompliance cc(Model(), ComplianceOptionsFromScene(d));
+  const fem::ComplianceStepResult& r = cc.Step(d.contact->objects_pad_frame);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_TRUE(r.converged);
+  // Same contacts (every full-FE contact is a candidate: the comparison is meaningful).
+  std::set<int> a, b;
+  for (const auto& c : full_contacts) a.insert(c.node);
+  for (const auto& c : r.contacts) b.insert(c.node);
+  EXPECT_EQ(a, b);
+
+  const auto& nodes = cc.contact().candidate_nodes();
+  Eigen::VectorXd u_full(3 * nodes.size()), u_cc(u_full.size());
+  const Eigen::VectorXd& x = full.simulation().positions_m();
+  for (size_t j = 0; j < nodes.size(); ++j) {
+    u_full.segment<3>(3 * Eigen::Index(j)) = x.segment<3>(3 * nodes[j]) - Model().soft.rest_positions_m.col(nodes[j]);
+    u_cc.segment<3>(3 * Eigen::Index(j)) = cc.contact().candidate_displacements_m().col(Eigen::Index(j));
+  }
+  EXPECT_LT((u_cc - u_full).norm() / u_full.norm(), 1e-6);
+  const Eigen::Vector3d f_full = full.contact()->TotalSpringForce();
+  EXPECT_LT((r.spring_force_N - f_full).norm() / f_full.norm(), 1e-6);
+  const Eigen::VectorXd& sed_full = full.merkel()->sed_Pa();
+  ASSERT_EQ(r.sed_Pa.size(), sed_full.size());
+  EXPECT_LT((r.sed_Pa - sed_full).norm() / sed_full.norm(), 1e-6);
+  EXPECT_LT((r.sed_Pa - sed_full).cwiseAbs().maxCoeff() / sed_full.maxCoeff(), 1e-6);
+  // Same Merkel vertex order as the scene's layer.
+  EXPECT_EQ(cc.merkel_rest_pad_mm(), full.merkel()->rest_pad_mm());
+}
+
+TEST(FingertipCompliance, SpherePressEqualsFullFe) {
+  ExpectSameAsFullFe("{shape: sphere, radius_mm: 8, position_mm: [0, 1, 6.5]}");
+}
+
+TEST(FingertipCompliance, PlanePressEqualsFullFe) {
+  ExpectSameAsFullFe("{shape: plane, rpy_deg: [180, 0, 0], position_mm: [0, 0, -1.2]}");
+}
+
+TEST(FingertipCompliance, RefusesScenesItCannotSolve) {
+  const std::string base = "model: B_coarse\ndynamics: {integrator: quasi_static}\nbone: {mode: fixed}\n";
+  EXPECT_THROW(ComplianceOptionsFromScene(ParseSceneDescription(base + "elasticity: corotational\n", "t")),
+               std::invalid_argument);
+  EXPECT_THROW(ComplianceOptionsFromScene(ParseSceneDescription(
+                   "model: B_coarse\nelasticity: linear\nbone: {mode: fixed}\n", "t")),  // backward Euler
+               std::invalid_argument);
+  EXPECT_NO_THROW(ComplianceOptionsFromScene(ParseSceneDescription(base + "elasticity: linear\n", "t")));
+}
+
+TEST(FingertipCompliance, PressToForceReachesTheTargetAndWarmStarts) {
+  FingertipCompliance cc(Model());
+  const std::vector<geometry::RigidObject> sphere{Sphere(5, {0, 1, 5})};
+  const PressToForceResult r = cc.PressToForce(sphere, 0.5);
+  ASSERT_TRUE(r.reached) << ToString(r.status) << ": " << r.message;
+  EXPECT_NEAR(r.force_N, 0.5, 1e-4 * 0.5);
+  EXPECT_NEAR(cc.normal_force_N(), r.force_N, 1e-12);  // the state is the answer's
+  EXPECT_GT(r.indentation_mm, 0.0);
+  EXPECT_LT(r.indentation_mm, 5.0);
+  EXPECT_GT(r.active_nodes, 0);
+  EXPECT_TRUE(cc.sed_Pa().allFinite());
+  EXPECT_GT(cc.sed_Pa().maxCoeff(), 0.0);
+  // More force, deeper; warm-started from the last answer.
+  const PressToForceResult deeper = cc.PressToForce(sphere, 0.6);
+  ASSERT_TRUE(deeper.reached) << deeper.message;
+  EXPECT_NEAR(deeper.force_N, 0.6, 1e-4 * 0.6);
+  EXPECT_GT(deeper.indentation_mm, r.indentation_mm);
+  EXPECT_LE(deeper.iterations, r.iterations);
+  // Two objects and a shear load.
+  const PressToForceResult two =
+      cc.PressToForce({Sphere(3, {-3, 1, 3}), Sphere(3, {3, 1, 3})}, 0.4, {}, Eigen::Vector2d(0.05, 0));
+  ASSERT_TRUE(two.reached) << ToString(two.status) << ": " << two.message;
+  EXPECT_NEAR(two.force_N, 0.4, 1e-4 * 0.4);
+  std::set<int> objects;
+  for (const auto& c : cc.contact().last().contacts) objects.insert(c.object);
+  EXPECT_EQ(objects.size(), 2u);
+}
+
+TEST(FingertipCompliance, PressToForceFlagsWhatItCannotReach) {
+  FingertipCompliance cc(Model());
+  auto expect_flagged = [&](const PressToForceResult& r, PressStatus status) {
+    EXPECT_FALSE(r.reached);
+    EXPECT_EQ(r.status, status) << ToString(r.status) << ": " << r.message;
+    EXPECT_TRUE(std::isfinite(r.force_N));
+    EXPECT_TRUE(std::isfinite(r.indentation_mm));
+    EXPECT_FALSE(r.message.empty());
+  };
+  const std::vector<geometry::RigidObject> sphere{Sphere(5, {0, 1, 5})};
+  PressToForceOptions shallow;
+  shallow.max_indentation_mm = 0.3;
+  expect_flagged(cc.PressToForce(sphere, 20.0, shallow), PressStatus::kMaxDepth);
+  expect_flagged(cc.PressToForce({Sphere(5, {40, 0, 5})}, 0.5), PressStatus::kNoContact);
+  expect_flagged(cc.PressToForce(sphere, std::nan("")), PressStatus::kInvalidInput);
+  expect_flagged(cc.PressToForce(sphere, -1.0), PressStatus::kInvalidInput);
+  expect_flagged(cc.PressToForce({}, 1.0), PressStatus::kInvalidInput);
+  expect_flagged(cc.PressToForce({Sphere(5, {0, 1, 4})}, 0.1), PressStatus::kAboveTarget);
+  // Off the side of the pad: the sphere meets skin that does not face the pad.
+  const PressToForceResult edge = cc.PressToForce({Sphere(3, {8.5, 1, 0})}, 0.3);
+  EXPECT_FALSE(edge.reached);
+  EXPECT_TRUE(std::isfinite(edge.force_N));
+  // Still usable afterwards.
+  EXPECT_TRUE(cc.PressToForce(sphere, 0.5).reached);
+}
+
+}  // namespace
+}  // namespace sedbridge::scene
