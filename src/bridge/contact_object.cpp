@@ -1,0 +1,37 @@
+#include "bridge/contact_object.h"
+
+#include <memory>
+
+namespace sedbridge::bridge {
+namespace {
+// A rod long enough to cross the sensor pad (20 mm), not the whole finger.
+constexpr double kRodHalfLength_m = 10e-3;
+}  // namespace
+
+geometry::RigidObject ToRigidObject(const sensors::ContactPrimitive& p) {
+  geometry::RigidObject o;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  const double r_m = p.radius_mm * 1e-3;
+  switch (p.shape) {
+    case sensors::ContactShape::kSphere:
+      o.name = "sphere";
+      o.shape = std::make_shared<geometry::SphereSdf>(r_m);
+      pose.translation() = Eigen::Vector3d(p.x_mm * 1e-3, p.y_mm * 1e-3, r_m);
+      break;
+    case sensors::ContactShape::kCylinder:
+      o.name = "cylinder";
+      o.shape = std::make_shared<geometry::CylinderSdf>(r_m, kRodHalfLength_m);
+      pose.linear() = geometry::RotationFromRpyDeg(Eigen::Vector3d(0, 0, p.yaw_deg));
+      pose.translation() = Eigen::Vector3d(p.x_mm * 1e-3, p.y_mm * 1e-3, r_m);
+      break;
+    case sensors::ContactShape::kFlat:
+      o.name = "flat";
+      o.shape = std::make_shared<geometry::PlaneSdf>();
+      pose.linear() = geometry::RotationFromRpyDeg(Eigen::Vector3d(180, 0, 0));  // solid above z = 0
+      break;
+  }
+  o.trajectory = geometry::Trajectory(pose);
+  return o;
+}
+
+}  // namespace sedbridge::bridge

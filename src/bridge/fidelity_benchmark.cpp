@@ -1,0 +1,138 @@
+#include "bridge/fidelity_benchmark.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "bridge/bridge_config.h"
+#include "bridge/contact_object.h"
+#include "bridge/reduced_linear_fe_step.h"
+#include "bridge/scene_fe_step.h"
+#include "bridge/taxel_values.h"
+#include "display/display_profile.h"
+#include "display/sed_to_command_mapping.h"
+#include "model/fingertip_model.h"
+#include "scene/fingertip_compliance.h"
+
+namespace sedbridge::bridge {
+namespace {
+
+display::SedField Field(const Eigen::Matrix3Xd& pad_mm, const Eigen::VectorXd& sed) {
+  display::SedField f;
+  for (Eigen::Index i = 0; i < pad_mm.cols(); ++i) {
+    f.x_mm.push_back(pad_mm(0, i));
+    f.y_mm.push_back(pad_mm(1, i));
+    f.z_mm.push_back(pad_mm(2, i));
+    f.sed_Pa.push_back(sed[i]);
+  }
+  return f;
+}
+
+double RelL2(const Eigen::VectorXd& a, const Eigen::VectorXd& ref) {
+  const double den = ref.norm();
+  return den > 0 ? (a - ref).norm() / den : (a.norm() > 0 ? 1.0 : 0.0);
+}
+
+MethodError Compare(const Eigen::Matrix3Xd& pad_mm, const Eigen::VectorXd& s, const Eigen::VectorXd& truth,
+                    const display::SedToCommandMapping& mapping) {
+  MethodError e;
+  Eigen::Index is = 0, it = 0;
+  const double ms = s.maxCoeff(&is), mt = truth.maxCoeff(&it);
+  e.peak_ratio = mt > 0 ? ms / mt : 0;
+  e.rel_l2 = RelL2(s, truth);
+  e.peak_offset_mm = (pad_mm.col(is).head<2>() - pad_mm.col(it).head<2>()).norm();
+  const auto cs = mapping.Map(Field(pad_mm, s)).requested, ct = mapping.Map(Field(pad_mm, truth)).requested;
+  e.command_rel_l2 = RelL2(Eigen::Map<const Eigen::VectorXd>(cs.data(), Eigen::Index(cs.size())),
+                           Eigen::Map<const Eigen::VectorXd>(ct.data(), Eigen::Index(ct.size())));
+  return e;
+}
+
+}  // namespace
+
+FidelityBenchmark::FidelityBenchmark(const std::string& model_name, const sensors::SensorProfile& profile,
+                                     const std::string& display_name, const std::string& cache_dir)
+    : profile_(profile) {
+  model_ = std::make_unique<model::FingertipModel>(model::LoadFingertipModel(model_name));
+  scene::FingertipComplianceOptions options;
+  options.contact.cache_dir = cache_dir;
+  leader_ = std::make_unique<scene::FingertipCompliance>(*model_, options);
+  // The pressure-map bridge exactly as the default config runs it.
+  const BridgeConfig config = LoadBridgeConfig(DefaultBridgeConfigPath());
+  const PadRegistration registration(profile.taxels);
+  map_step_ = std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(model_name, "fast"), profile, registration,
+                                                    config.traction);
+  conditioner_ = std::make_unique<ScanConditioner>(profile, registration, config.conditioning);
+  mapping_ = std::make_unique<display::SedToCommandMapping>(
+      display::LoadDisplayProfile(ResolveDisplayProfilePath(display_name)));
+}
+
+FidelityBenchmark::~FidelityBenchmark() = default;
+
+FidelityRow FidelityBenchmark::Run(const sensors::CalibrationPress& press, FidelityMaps* maps) {
+  FidelityRow row;
+  row.name = press.name;
+  row.scans = static_cast<int>(press.scans.size());
+  // The scan of peak measured normal force.
+  size_t peak = 0;
+  double best = -1;
+  for (size_t i = 0; i < press.readings_N.size(); ++i) {
+    double z = 0;
+    for (Eigen::Index k = 2; k < press.readings_N[i].size(); k += 3) z += press.readings_N[i][k];
+    if (z > best) best = z, peak = i;
+  }
+  row.truth_object = press.ObjectAt(press.t_s[peak]);
+
+  // Reconstruction through the press up to the peak, as the live bridge would run it.
+  ContactReconstructor recon(profile_);
+  std::vector<double> us;
+  ContactEstimate at_peak;
+  for (size_t i = 0; i <= peak; ++i) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const ContactEstimate& e = recon.Reconstruct(press.scans[i]);
+    us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
+    if (i == peak) at_peak = e;
+  }
+  std::sort(us.begin(), us.end());
+  row.recon_median_us = us[us.size() / 2];
+  row.recon_max_us = us.back();
+  row.fallbacks = static_cast<int>(recon.counters().fallbacks);
+  row.recon_object = at_peak.primitive;
+  row.recon_ok = at_peak.ok && at_peak.contact;
+  row.recon_rms_sigma = at_peak.rms_sigma;
+
+  maps->merkel_pad_mm = leader_->merkel_rest_pad_mm();
+  // Truth.
+  {
+    const auto r = leader_->PressToForce({ToRigidObject(row.truth_object)}, row.truth_object.normal_force_N, {},
+                                         Eigen::Vector2d(row.truth_object.shear_x_N, row.truth_object.shear_y_N));
+    row.truth_press = scene::ToString(r.status);
+    maps->truth = leader_->sed_Pa();
+  }
+  // Pressure map.
+  {
+    TaxelValues values;
+    const ConditioningReport rep = conditioner_->Condition(press.scans[peak], &values);
+    const MerkelSedResult& r = map_step_->Step(values);
+    maps->map = rep.usable && r.ok ? *r.sed_Pa : Eigen::VectorXd::Zero(maps->truth.size());
+  }
+  // Reconstructed contact.
+  if (row.recon_ok) {
+    leader_->contact().ResetWarmStart();
+    const auto r = leader_->PressToForce({ToRigidObject(row.recon_object)}, row.recon_object.normal_force_N, {},
+                                         Eigen::Vector2d(row.recon_object.shear_x_N, row.recon_object.shear_y_N));
+    row.recon_press = scene::ToString(r.status);
+    maps->recon = leader_->sed_Pa();
+  } else {
+    row.recon_press = "fallback: " + at_peak.problem;
+    maps->recon = maps->map;
+  }
+  leader_->contact().ResetWarmStart();
+  row.truth_max_sed_Pa = maps->truth.maxCoeff();
+  row.map_max_sed_Pa = maps->map.maxCoeff();
+  row.recon_max_sed_Pa = maps->recon.maxCoeff();
+  row.map_error = Compare(maps->merkel_pad_mm, maps->map, maps->truth, *mapping_);
+  row.recon_error = Compare(maps->merkel_pad_mm, maps->recon, maps->truth, *mapping_);
+  return row;
+}
+
+}  // namespace sedbridge::bridge

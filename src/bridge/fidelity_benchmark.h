@@ -1,0 +1,88 @@
+#pragma once
+// The fidelity benchmark: what the bridge delivers to the leader against what the leader
+// would feel touching the same object (docs/bridge-fidelity.md).
+//
+// Per case (a recorded press of the follower's sensor with its known object and force):
+//   truth   the object pressed on the leader's fingertip model (penalty contact by the
+//           compliance method, linear quasi-static, bone fixed), same pad-frame pose, at the
+//           true force, tangential load included;
+//   map     today's bridge: the peak scan as a pressure-map boundary condition
+//           (ReducedLinearFeStep, the default bridge config's conditioning);
+//   recon   the contact reconstructed from the scans (ContactReconstructor, warm-started
+//           through the press) pressed on the same model at the force it estimates; a scan
+//           whose fit falls back uses the map's answer, as the bridge would.
+// Metrics at the scan of peak measured force, over the Merkel vertices: peak SED ratio
+// (method / truth), relative L2 error, distance between the peak locations (pad-frame x, y),
+// and the relative L2 error of the display command (display profile's mapping).
+
+#include <Eigen/Core>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bridge/contact_reconstruction.h"
+#include "sensors/calibration_press.h"
+
+namespace sedbridge::scene {
+class FingertipCompliance;
+}
+namespace sedbridge::model {
+struct FingertipModel;
+}
+namespace sedbridge::display {
+class SedToCommandMapping;
+}
+
+namespace sedbridge::bridge {
+
+class FeStep;
+class ScanConditioner;
+
+struct MethodError {
+  double peak_ratio = 0;       ///< max SED / max truth SED
+  double rel_l2 = 0;           ///< |s - s_truth| / |s_truth| over the Merkel layer
+  double peak_offset_mm = 0;   ///< pad-frame x-y distance between the peaks
+  double command_rel_l2 = 0;   ///< same as rel_l2, on the display command
+};
+
+struct FidelityRow {
+  std::string name;
+  sensors::ContactPrimitive truth_object;  ///< at the peak scan's force
+  sensors::ContactPrimitive recon_object;  ///< estimate at the peak scan
+  bool recon_ok = false;               ///< false: fell back to the map
+  double recon_rms_sigma = 0;
+  double truth_max_sed_Pa = 0, map_max_sed_Pa = 0, recon_max_sed_Pa = 0;
+  std::string truth_press, recon_press;  ///< PressToForce status
+  MethodError map_error, recon_error;
+  double recon_median_us = 0, recon_max_us = 0;  ///< reconstruction time per scan
+  int scans = 0, fallbacks = 0;
+};
+
+/// The three Merkel-layer maps of one case [Pa], model.merkel_nodes order.
+struct FidelityMaps {
+  Eigen::Matrix3Xd merkel_pad_mm;
+  Eigen::VectorXd truth, map, recon;
+};
+
+class FidelityBenchmark {
+ public:
+  /// @param model_name     leader model ("B")
+  /// @param profile        follower sensor profile (with forward_model)
+  /// @param display_name   display profile for the command metric ("suction_4x4")
+  /// @param cache_dir      compliance precompute cache ("" = none)
+  FidelityBenchmark(const std::string& model_name, const sensors::SensorProfile& profile,
+                    const std::string& display_name, const std::string& cache_dir);
+  ~FidelityBenchmark();
+
+  FidelityRow Run(const sensors::CalibrationPress& press, FidelityMaps* maps);
+
+ private:
+  sensors::SensorProfile profile_;
+  std::unique_ptr<model::FingertipModel> model_;
+  std::unique_ptr<scene::FingertipCompliance> leader_;
+  std::unique_ptr<FeStep> map_step_;
+  std::unique_ptr<ScanConditioner> conditioner_;
+  std::unique_ptr<display::SedToCommandMapping> mapping_;
+};
+
+}  // namespace sedbridge::bridge

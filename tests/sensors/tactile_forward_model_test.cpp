@@ -1,0 +1,123 @@
+// The follower sensor's forward model: physics of the kernels, and the shipped calibration
+// against the indentation-stage presses (config/sensors/rig_uskin_4x4/).
+#include "sensors/tactile_forward_model.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <fstream>
+
+#include "config/resource_path.h"
+#include "sensors/calibration_press.h"
+#include "sensors/tactile_model_fit.h"
+
+namespace sedbridge::sensors {
+namespace {
+
+SensorProfile Uskin() { return LoadNamedSensorProfile("uskin_4x4"); }
+
+TEST(TactileForwardModel, ShippedProfileHasACalibratedModel) {
+  const SensorProfile p = Uskin();
+  ASSERT_TRUE(p.has_forward_model);
+  EXPECT_GT(p.forward_model.contact_modulus_kPa, 0);
+}
+
+TEST(TactileForwardModel, PatchCarriesTheForce) {
+  const SensorProfile p = Uskin();
+  TactileForwardModel m(p, p.forward_model);
+  for (ContactShape s : {ContactShape::kSphere, ContactShape::kCylinder, ContactShape::kFlat}) {
+    ContactPrimitive c;
+    c.shape = s;
+    c.radius_mm = 2;
+    c.yaw_deg = 30;
+    c.normal_force_N = 0.7;
+    std::vector<SurfaceLoad> loads;
+    m.Patch(c, &loads);
+    double sum = 0;
+    for (const auto& l : loads) sum += l.normal_N;
+    EXPECT_NEAR(sum, 0.7, 1e-12) << ContactShapeName(s);
+  }
+}
+
+TEST(TactileForwardModel, CentredSphereIsSymmetricAndShearPointsOutward) {
+  const SensorProfile p = Uskin();
+  TactileForwardModel m(p, p.forward_model);
+  ContactPrimitive c;
+  c.radius_mm = 5;
+  c.normal_force_N = 0.8;
+  Eigen::VectorXd r;
+  m.Predict(c, &r);
+  // Taxels 5, 6, 9, 10 are the inner four: same normal reading, shear away from the load.
+  for (int k : {6, 9, 10}) EXPECT_NEAR(r[3 * k + 2], r[3 * 5 + 2], 1e-9);
+  EXPECT_LT(r[3 * 5], 0);  // taxel 5 at (-2.35, -2.35): outward is -x
+  EXPECT_GT(r[3 * 6], 0);
+  double sum_z = 0;
+  for (int k = 0; k < 16; ++k) sum_z += r[3 * k + 2];
+  EXPECT_LT(sum_z, 0.8);  // part of the load never reaches the taxels
+  EXPECT_GT(sum_z, 0.3);
+}
+
+TEST(TactileForwardModel, SphereRadiusChangesThePattern) {
+  // The information the old Winkler sensor lacked: at equal force, a sharper sphere has a
+  // larger shear-to-normal ratio on the inner taxels.
+  const SensorProfile p = Uskin();
+  TactileForwardModel m(p, p.forward_model);
+  ContactPrimitive a, b;
+  a.radius_mm = 2;
+  b.radius_mm = 10;
+  a.normal_force_N = b.normal_force_N = 0.8;
+  Eigen::VectorXd ra, rb;
+  m.Predict(a, &ra);
+  m.Predict(b, &rb);
+  EXPECT_GT(std::abs(ra[3 * 5]) / ra[3 * 5 + 2], 1.2 * std::abs(rb[3 * 5]) / rb[3 * 5 + 2]);
+}
+
+TEST(TactileForwardModel, ZeroForceGivesZero) {
+  const SensorProfile p = Uskin();
+  TactileForwardModel m(p, p.forward_model);
+  ContactPrimitive c;
+  Eigen::VectorXd r;
+  m.Predict(c, &r);
+  EXPECT_EQ(r.size(), 48);
+  EXPECT_EQ(r.norm(), 0.0);
+  c.normal_force_N = std::nan("");
+  m.Predict(c, &r);
+  EXPECT_EQ(r.norm(), 0.0);
+}
+
+TEST(TactileForwardModel, RejectsBadKernels) {
+  const SensorProfile p = Uskin();
+  TactileModelParams bad = p.forward_model;
+  bad.normal.width_mm = 0;
+  EXPECT_THROW(TactileForwardModel(p, bad), std::invalid_argument);
+}
+
+TEST(TactileForwardModel, ReproducesEveryRigPressWithinNoise) {
+  const SensorProfile p = Uskin();
+  const auto presses =
+      LoadCalibrationPresses(config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), p);
+  ASSERT_EQ(presses.size(), 21u);
+  for (const auto& r : EvaluateTactileModel(presses, p, p.forward_model)) {
+    // RMS of the hold-window error in units of the single-scan noise.
+    for (int a = 0; a < 3; ++a) EXPECT_LT(r.rms_sigma[a], 1.0) << r.name << " axis " << a;
+    EXPECT_NEAR(r.predicted_sum_z_N, r.measured_sum_z_N, 0.03 * r.measured_sum_z_N + 0.005) << r.name;
+  }
+}
+
+TEST(CalibrationPress, BadCasesFileNamesTheLocation) {
+  const std::string path = ::testing::TempDir() + "/cases_bad_" + std::to_string(getpid()) + ".json";
+  {
+    std::ofstream f(path);
+    f << "{\"cases\": [{\"object\": {\"shape\": \"cone\", \"position_mm\": [0, 0]}, \"force_N\": 1, \"log\": \"x.log\"}]}";
+  }
+  try {
+    LoadCalibrationPresses(path, Uskin());
+    FAIL() << "expected an error";
+  } catch (const std::exception& e) {
+    EXPECT_NE(std::string(e.what()).find(":1:"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace sedbridge::sensors
