@@ -42,9 +42,10 @@ BridgeConfig Parse(const config::YamlDocument& doc) {
     MapReader f = r.Child("fe");
     c.model = f.Optional<std::string>("model", c.model);
     c.preset = f.OptionalChoice("preset", {"fast", "balanced", "accurate"}, c.preset);
-    c.fe_step = f.OptionalChoice("step", {"scene", "reduced"}, c.fe_step);
-    if (c.fe_step == "reduced" && c.preset != "fast")
-      f.Fail(f.Node("step"), "'step: reduced' needs 'preset: fast' (a linear model)");
+    c.fe_step = f.OptionalChoice("step", {"scene", "reduced", "contact"}, c.fe_step);
+    c.compliance_cache_dir = f.Optional<std::string>("compliance_cache", c.compliance_cache_dir);
+    if ((c.fe_step == "reduced" || c.fe_step == "contact") && c.preset != "fast")
+      f.Fail(f.Node("step"), "'step: reduced' and 'step: contact' need 'preset: fast' (a linear model)");
     f.Finish();
   }
   if (r.Has("registration")) {

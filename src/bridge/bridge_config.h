@@ -25,6 +25,8 @@ struct BridgeConfig {
   std::string model = "B";      ///< model name or path (model::LoadFingertipModel)
   std::string preset = "fast";  ///< fast | balanced | accurate
   std::string fe_step = "scene";  ///< scene (SceneFeStep) | reduced (ReducedLinearFeStep, preset fast only)
+                                  ///< | contact (ContactFeStep: reconstructed contact, preset fast only)
+  std::string compliance_cache_dir = "out/cache";  ///< fe.compliance_cache: precompute cache of fe.step contact
 
   // registration:
   PadRegistrationParams registration;

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "bridge/reduced_linear_fe_step.h"
+#include "bridge/contact_fe_step.h"
 #include "bridge/scene_fe_step.h"
 #include "scene/vtu_writer.h"
 #include "sensors/scan_assembler.h"
@@ -14,6 +15,13 @@
 namespace sedbridge::bridge {
 
 std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::SensorProfile& profile) {
+  if (config.fe_step == "contact") {
+    // The pressure map stays as the fallback for scans the reconstruction cannot explain.
+    BridgeConfig map = config;
+    map.fe_step = "reduced";
+    return std::make_unique<ContactFeStep>(config.model, profile, PadRegistration(profile.taxels, config.registration),
+                                           MakeFeStep(map, profile), config.compliance_cache_dir);
+  }
   if (config.fe_step == "reduced")
     return std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, config.preset), profile,
                                                  PadRegistration(profile.taxels, config.registration), config.traction);

@@ -49,6 +49,7 @@ ConditioningReport ScanConditioner::Condition(const sensors::Scan& scan, TaxelVa
   if (has_shear_ && !shear) return reject("3-axis profile but the scan carries no shear");
 
   out->scan_utime = scan.utime;
+  out->scan = &scan;
   out->pressure_Pa.assign(n, 0.0);
   out->shear_x_Pa.assign(shear ? n : 0, 0.0);
   out->shear_y_Pa.assign(shear ? n : 0, 0.0);

@@ -35,6 +35,10 @@ struct TaxelValues {
   std::vector<double> shear_x_Pa;    ///< per taxel along pad x (after registration); empty = normal only
   std::vector<double> shear_y_Pa;    ///< per taxel along pad y
   double total_force_N = 0;          ///< measured normal force: sum_i pressure_Pa[i] * pad area_i
+  /// The scan these values came from, unconditioned (contact reconstruction reads the raw
+  /// readings and saturation flags). Set by ScanConditioner::Condition; valid only while
+  /// that scan lives (one pipeline step).
+  const sensors::Scan* scan = nullptr;
 };
 
 enum class InvalidTaxelPolicy { kFill, kZero };

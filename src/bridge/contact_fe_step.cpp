@@ -1,0 +1,76 @@
+#include "bridge/contact_fe_step.h"
+
+#include "bridge/contact_object.h"
+#include "model/fingertip_model.h"
+#include "scene/fingertip_compliance.h"
+
+namespace sedbridge::bridge {
+
+ContactFeStep::ContactFeStep(const std::string& model_name, const sensors::SensorProfile& profile,
+                             const PadRegistration& registration, std::unique_ptr<FeStep> fallback,
+                             const std::string& cache_dir, ReconstructionOptions options)
+    : fallback_(std::move(fallback)), registration_(registration) {
+  reconstructor_ = std::make_unique<ContactReconstructor>(profile, options);
+  model_ = std::make_unique<model::FingertipModel>(model::LoadFingertipModel(model_name));
+  scene::FingertipComplianceOptions leader_options;
+  leader_options.contact.cache_dir = cache_dir;
+  leader_ = std::make_unique<scene::FingertipCompliance>(*model_, leader_options);
+  zero_sed_ = Eigen::VectorXd::Zero(leader_->merkel_rest_pad_mm().cols());
+}
+
+ContactFeStep::~ContactFeStep() = default;
+
+const Eigen::Matrix3Xd& ContactFeStep::merkel_rest_pad_mm() const { return leader_->merkel_rest_pad_mm(); }
+
+std::string ContactFeStep::Describe() const {
+  return "contact reconstruction -> compliance press on " + model_id() + " (" +
+         std::to_string(leader_->contact().candidate_nodes().size()) + " candidate nodes), fallback: " +
+         fallback_->Describe();
+}
+
+const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
+  ++counters_.steps;
+  if (!values.scan) return fallback_->Step(values);
+  estimate_ = reconstructor_->Reconstruct(*values.scan);
+  // Into the leader's pad frame.
+  sensors::ContactPrimitive& p = estimate_.primitive;
+  const double scale = registration_.params().scale;
+  const Eigen::Vector2d xy = registration_.ToPad(Eigen::Vector2d(p.x_mm, p.y_mm));
+  const Eigen::Vector2d shear = registration_.RotateToPad(Eigen::Vector2d(p.shear_x_N, p.shear_y_N));
+  p.x_mm = xy.x();
+  p.y_mm = xy.y();
+  p.radius_mm *= scale;
+  p.yaw_deg += registration_.params().rotation_deg;
+  p.shear_x_N = shear.x();
+  p.shear_y_N = shear.y();
+
+  if (estimate_.ok && !estimate_.contact) {
+    ++counters_.no_contact;
+    leader_->contact().ResetWarmStart();
+    result_ = MerkelSedResult{};
+    result_.ok = true;
+    result_.sed_Pa = &zero_sed_;
+    return result_;
+  }
+  if (!estimate_.ok) {
+    ++counters_.fit_fallbacks;
+    return fallback_->Step(values);
+  }
+  const auto press = leader_->PressToForce({ToRigidObject(p)}, p.normal_force_N, {}, Eigen::Vector2d(p.shear_x_N, p.shear_y_N));
+  if (!press.reached) {
+    ++counters_.press_fallbacks;
+    estimate_.ok = false;
+    estimate_.problem = std::string("leader press: ") + scene::ToString(press.status) + ": " + press.message;
+    return fallback_->Step(values);
+  }
+  ++counters_.pressed;
+  result_ = MerkelSedResult{};
+  result_.ok = true;
+  result_.sed_Pa = &leader_->sed_Pa();
+  result_.applied_force_N = press.force_N;
+  result_.report.converged = true;
+  result_.report.newton_iterations = press.iterations;
+  return result_;
+}
+
+}  // namespace sedbridge::bridge

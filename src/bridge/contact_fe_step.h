@@ -1,0 +1,73 @@
+#pragma once
+// FeStep by contact reconstruction (bridge config `fe.step: contact`): each scan's contact
+// is reconstructed through the follower sensor's forward model (contact_reconstruction.h),
+// registered into the leader's pad frame, and the object is pressed onto the leader's
+// fingertip model with the paper's penalty contact by the compliance method
+// (scene::FingertipCompliance::PressToForce), force-matched to the sensor's estimate and
+// carrying its tangential force. The contact pressure on the leader's pad then comes from
+// the leader's own pad mechanics, not from the taxels.
+//
+// No contact -> zero SED without a solve. A fit that falls back, or a press that cannot
+// reach the force (object beyond the pad's patch), uses the pressure-map step (`fallback`),
+// and is counted.
+
+#include <memory>
+#include <string>
+
+#include "bridge/contact_reconstruction.h"
+#include "bridge/fe_step.h"
+#include "bridge/pad_registration.h"
+
+namespace sedbridge::model {
+struct FingertipModel;
+}
+namespace sedbridge::scene {
+class FingertipCompliance;
+}
+
+namespace sedbridge::bridge {
+
+struct ContactStepCounters {
+  int64_t steps = 0;
+  int64_t no_contact = 0;
+  int64_t pressed = 0;             ///< answered by the reconstructed contact
+  int64_t fit_fallbacks = 0;       ///< reconstruction not trusted -> pressure map
+  int64_t press_fallbacks = 0;     ///< force not reachable on the leader -> pressure map
+};
+
+class ContactFeStep final : public FeStep {
+ public:
+  /// @param model_name  leader fingertip model (linear, bone fixed: the compliance method)
+  /// @param profile     three-axis sensor profile with a forward_model
+  /// @param registration  sensor pad -> leader pad frame
+  /// @param fallback    pressure-map step for scans the reconstruction cannot explain
+  /// @param cache_dir   compliance precompute cache ("" = none)
+  ContactFeStep(const std::string& model_name, const sensors::SensorProfile& profile,
+                const PadRegistration& registration, std::unique_ptr<FeStep> fallback,
+                const std::string& cache_dir, ReconstructionOptions options = {});
+  ~ContactFeStep() override;
+
+  /// Needs values.scan (set by ScanConditioner); without it the fallback answers.
+  const MerkelSedResult& Step(const TaxelValues& values) override;
+  const Eigen::Matrix3Xd& merkel_rest_pad_mm() const override;
+  const std::string& model_id() const override { return fallback_->model_id(); }
+  std::string Describe() const override;
+
+  /// The last scan's estimate in the leader's pad frame.
+  const ContactEstimate& last_estimate() const { return estimate_; }
+  const ContactStepCounters& counters() const { return counters_; }
+  const ContactReconstructor& reconstructor() const { return *reconstructor_; }
+
+ private:
+  std::unique_ptr<model::FingertipModel> model_;
+  std::unique_ptr<scene::FingertipCompliance> leader_;
+  std::unique_ptr<ContactReconstructor> reconstructor_;
+  std::unique_ptr<FeStep> fallback_;
+  PadRegistration registration_;
+  ContactEstimate estimate_;
+  ContactStepCounters counters_;
+  Eigen::VectorXd zero_sed_;
+  MerkelSedResult result_;
+};
+
+}  // namespace sedbridge::bridge
