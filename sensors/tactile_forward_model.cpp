@@ -200,18 +200,26 @@ void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLo
     loads->clear();
     return;
   }
-  for (auto& l : *loads) l.normal_N *= F / sum;
+  const double tx = c.shear_x_N / F, ty = c.shear_y_N / F;
+  for (auto& l : *loads) {
+    l.normal_N *= F / sum;
+    l.shear_x_N = tx * l.normal_N;
+    l.shear_y_N = ty * l.normal_N;
+  }
 }
 
 void TactileForwardModel::Predict(const ContactPrimitive& c, Eigen::VectorXd* readings_N) const {
-  const int n = taxel_count();
-  readings_N->setZero(3 * n);
   thread_local std::vector<SurfaceLoad> loads;
   Patch(c, &loads);
+  Respond(loads, readings_N);
+}
+
+void TactileForwardModel::Respond(const std::vector<SurfaceLoad>& loads, Eigen::VectorXd* readings_N) const {
+  const int n = taxel_count();
+  readings_N->setZero(3 * n);
   if (loads.empty()) return;
-  const double tx = c.normal_force_N > 0 ? c.shear_x_N / c.normal_force_N : 0;
-  const double ty = c.normal_force_N > 0 ? c.shear_y_N / c.normal_force_N : 0;
-  const bool shear = tx != 0 || ty != 0;
+  bool shear = false;
+  for (const auto& l : loads) shear = shear || l.shear_x_N != 0 || l.shear_y_N != 0;
   double* out = readings_N->data();
   for (int k = 0; k < n; ++k) {
     double rx = 0, ry = 0, rz = 0;
@@ -224,9 +232,9 @@ void TactileForwardModel::Predict(const ContactPrimitive& c, Eigen::VectorXd* re
       ry += P * t[1];
       rz += P * t[2];
       if (shear) {
-        rx += P * (tx * t[3] + ty * t[6]);
-        ry += P * (tx * t[4] + ty * t[7]);
-        rz += P * (tx * t[5] + ty * t[8]);
+        rx += l.shear_x_N * t[3] + l.shear_y_N * t[6];
+        ry += l.shear_x_N * t[4] + l.shear_y_N * t[7];
+        rz += l.shear_x_N * t[5] + l.shear_y_N * t[8];
       }
     }
     out[3 * k] = rx;

@@ -56,7 +56,9 @@ struct ContactPrimitive {
 /// Surface load on one grid cell.
 struct SurfaceLoad {
   int cell = 0;      ///< index into the model's load grid
-  double normal_N = 0;
+  double normal_N = 0;   ///< pressing force on the cell [N]
+  double shear_x_N = 0;  ///< tangential force on the cell [N], pad frame
+  double shear_y_N = 0;
 };
 
 class TactileForwardModel {
@@ -74,9 +76,15 @@ class TactileForwardModel {
 
   /// Readings [N] of every taxel: out(3 k + a), a = x, y, z. Resized to 3 * #taxels.
   void Predict(const ContactPrimitive& contact, Eigen::VectorXd* readings_N) const;
-  /// The pressure patch on the load grid (cells sum to the normal force; empty if none).
+  /// The pressure patch on the load grid (cells sum to the normal force and the tangential
+  /// force; empty if none).
   void Patch(const ContactPrimitive& contact, std::vector<SurfaceLoad>* loads) const;
-  /// Centre of grid cell i in the pad frame [mm].
+  /// Readings [N] for arbitrary surface loads on the grid (the simulated sensor's pad
+  /// pressure, for one): out(3 k + a). Resized to 3 * #taxels.
+  void Respond(const std::vector<SurfaceLoad>& loads, Eigen::VectorXd* readings_N) const;
+  /// Load grid: cell_count() cells of cell_size_mm() side; centre of cell i [mm].
+  int cell_count() const { return grid_n_ * grid_n_; }
+  double cell_size_mm() const { return params_.grid_mm; }
   Eigen::Vector2d CellCentre_mm(int cell) const;
 
  private:

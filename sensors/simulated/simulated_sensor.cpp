@@ -81,6 +81,11 @@ SimulatedSensorConfig LoadSimulatedSensorScene(const std::string& path,
   c.duration_s = Positive(s, "duration_s", 1.0);
   if (s.Has("pad")) {
     config::MapReader p = s.Child("pad");
+    c.pad.mechanics = p.OptionalChoice("model", {"winkler", "kernel"}, "winkler") == "kernel" ? PadMechanics::kKernel
+                                                                                            : PadMechanics::kWinkler;
+    if (c.pad.mechanics == PadMechanics::kKernel && !c.profile.has_forward_model)
+      p.Fail(p.Node("model"), "'model: kernel' needs a sensor profile with a forward_model (profile '" +
+                                  c.profile.name + "' has none)");
     c.pad.thickness_m = Positive(p, "thickness_mm", 3.0) * 1e-3;
     c.pad.youngs_modulus_Pa = Positive(p, "youngs_modulus_kPa", 300.0) * 1e3;
     c.pad.poisson_ratio = p.Optional<double>("poisson_ratio", 0.0);
@@ -122,6 +127,8 @@ SimulatedSensor::SimulatedSensor(SimulatedSensorConfig config)
     for (int j = 0; j < n; ++j)
       sub_offsets_m_.push_back({((i + 0.5) / n - 0.5) * p.taxel_width_mm * 1e-3,
                                 ((j + 0.5) / n - 0.5) * p.taxel_height_mm * 1e-3});
+  if (config_.pad.mechanics == PadMechanics::kKernel)
+    kernel_model_ = std::make_shared<const TactileForwardModel>(p, p.forward_model);
   if (config_.pad.smoothing_m > 0) {
     const int t = p.taxel_count;
     smoothing_.assign(static_cast<size_t>(t) * t, 0.0);
@@ -139,7 +146,54 @@ SimulatedSensor::SimulatedSensor(SimulatedSensorConfig config)
   }
 }
 
+TaxelTractions SimulatedSensor::EvaluateKernel(double t_s) const {
+  const SensorProfile& p = config_.profile;
+  const PadModel& pad = config_.pad;
+  const TactileForwardModel& model = *kernel_model_;
+  const double stiffness = pad.EffectiveModulus_Pa() / pad.thickness_m;  // Pa per m
+  const double cell_m2 = model.cell_size_mm() * model.cell_size_mm() * 1e-6;
+  const double half_mm = 0.5 * p.forward_model.pad_size_mm;
+  const Eigen::Matrix3d pad_from_scene = pad.scene_from_pad.linear().transpose();
+  const Eigen::Vector3d inward = -pad.scene_from_pad.linear().col(2);
+  std::vector<SurfaceLoad> loads;
+  for (int cell = 0; cell < model.cell_count(); ++cell) {
+    const Eigen::Vector2d xy = model.CellCentre_mm(cell);
+    if (std::abs(xy.x()) > half_mm || std::abs(xy.y()) > half_mm) continue;  // no pad there
+    const Eigen::Vector3d q = pad.scene_from_pad * Eigen::Vector3d(xy.x() * 1e-3, xy.y() * 1e-3, 0);
+    double depth = 0;
+    const geometry::RigidObject* deepest = nullptr;
+    for (const auto& obj : config_.objects) {
+      const double d = PenetrationAlong(obj, q, inward, t_s);
+      if (d > depth) depth = d, deepest = &obj;
+    }
+    if (!deepest) continue;
+    SurfaceLoad l;
+    l.cell = cell;
+    l.normal_N = stiffness * depth * cell_m2;
+    if (pad.friction_coefficient > 0) {
+      const Eigen::Vector3d v = pad_from_scene * deepest->trajectory.PointVelocity(q, t_s);
+      const double speed = std::hypot(v.x(), v.y());
+      if (speed > 1e-6) {
+        l.shear_x_N = pad.friction_coefficient * l.normal_N * v.x() / speed;
+        l.shear_y_N = pad.friction_coefficient * l.normal_N * v.y() / speed;
+      }
+    }
+    loads.push_back(l);
+  }
+  Eigen::VectorXd r;
+  model.Respond(loads, &r);
+  const double area_m2 = p.taxel_area_mm2() * 1e-6;
+  TaxelTractions out;
+  for (int k = 0; k < p.taxel_count; ++k) {
+    out.shear_x_Pa.push_back(r[3 * k] / area_m2);
+    out.shear_y_Pa.push_back(r[3 * k + 1] / area_m2);
+    out.pressure_Pa.push_back(r[3 * k + 2] / area_m2);
+  }
+  return out;
+}
+
 TaxelTractions SimulatedSensor::Evaluate(double t_s) const {
+  if (kernel_model_) return EvaluateKernel(t_s);
   const SensorProfile& p = config_.profile;
   const PadModel& pad = config_.pad;
   const int taxels = p.taxel_count;

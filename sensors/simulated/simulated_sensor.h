@@ -21,6 +21,7 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <memory>
 #include <random>
 #include <string>
 #include <vector>
@@ -29,11 +30,22 @@
 #include "sensors/can_frame.h"
 #include "sensors/frame_source.h"
 #include "sensors/sensor_profile.h"
+#include "sensors/tactile_forward_model.h"
 #include "sensors/taxel_codec.h"
 
 namespace sedbridge::sensors {
 
+/// How the pad turns contact into taxel readings.
+enum class PadMechanics {
+  kWinkler,  ///< each taxel averages the Winkler pressure over its own area (no spreading)
+  kKernel,   ///< Winkler pressure on the forward model's grid, spread to the taxels by the
+             ///< profile's calibrated kernels (sensors/tactile_forward_model.h): neighbours
+             ///< respond, shear channels see normal presses, part of the load is lost, as in
+             ///< a real elastomer. Needs a profile with `forward_model`.
+};
+
 struct PadModel {
+  PadMechanics mechanics = PadMechanics::kWinkler;  ///< key `model: winkler | kernel`
   double thickness_m = 3e-3;         ///< elastomer layer thickness h
   double youngs_modulus_Pa = 300e3;  ///< E of the elastomer
   double poisson_ratio = 0.0;        ///< nu, in [0, 0.5)
@@ -74,7 +86,7 @@ struct SimulatedSensorConfig {
 ///     interface: can0               # optional
 ///     start_utime: 1700000000000000 # optional
 ///     duration_s: 2.0
-///     pad: {thickness_mm: 3, youngs_modulus_kPa: 300, poisson_ratio: 0.0,
+///     pad: {model: winkler, thickness_mm: 3, youngs_modulus_kPa: 300, poisson_ratio: 0.0,
 ///           friction_coefficient: 0.5, subsamples: 3, smoothing_mm: 0,
 ///           position_mm: [0, 0, 0], rpy_deg: [0, 0, 0]}
 ///     noise: {seed: 1, stddev_counts: 2, dropout_probability: 0.0, bit_error_probability: 0.0}
@@ -126,6 +138,9 @@ class SimulatedSensor {
   std::vector<Eigen::Vector2d> sub_offsets_m_;
   // Row-normalised Gaussian smoothing weights between taxels (empty = off).
   std::vector<double> smoothing_;
+  // PadMechanics::kKernel only.
+  std::shared_ptr<const TactileForwardModel> kernel_model_;
+  TaxelTractions EvaluateKernel(double t_s) const;
 };
 
 /// The simulated sensor as a FrameSource (as fast as possible; frames carry simulated

@@ -42,6 +42,7 @@ void PrintReplaySummary(const ReplayResult& r, const std::string& out) {
               "%.3f ms\n",
               r.setup_s, static_cast<long long>(c.scans), r.wall_s, r.wall_s > 0 ? c.scans / r.wall_s : 0.0,
               r.latency.p50_ms, r.latency.p99_ms, r.latency.max_ms);
+  if (!r.fe_counters.empty()) std::printf("%s\n", r.fe_counters.c_str());
   std::printf("LCM: %lld messages published (%lld errors)\n", static_cast<long long>(r.published),
               static_cast<long long>(r.publish_errors));
   if (!out.empty()) std::printf("wrote %s/{summary.csv, peak_merkel_sed.csv, peak_command.csv, peak_taxels.csv, bridge.lcmlog}\n", out.c_str());

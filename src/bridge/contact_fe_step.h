@@ -52,6 +52,7 @@ class ContactFeStep final : public FeStep {
   const Eigen::Matrix3Xd& merkel_rest_pad_mm() const override;
   const std::string& model_id() const override { return fallback_->model_id(); }
   std::string Describe() const override;
+  std::string CountersLine() const override;
 
   /// The last scan's estimate in the leader's pad frame.
   const ContactEstimate& last_estimate() const { return estimate_; }

@@ -32,6 +32,8 @@ class FeStep {
   virtual const std::string& model_id() const = 0;
   /// One line, e.g. "scene B (fast): 1642 soft nodes, ldlt".
   virtual std::string Describe() const = 0;
+  /// One line of implementation counters for the run summary ("" = nothing to say).
+  virtual std::string CountersLine() const { return ""; }
 };
 
 }  // namespace sedbridge::bridge

@@ -106,7 +106,7 @@ FidelityRow FidelityBenchmark::Run(const sensors::CalibrationPress& press, Fidel
     const auto r = leader_->PressToForce({ToRigidObject(row.truth_object)}, row.truth_object.normal_force_N, {},
                                          Eigen::Vector2d(row.truth_object.shear_x_N, row.truth_object.shear_y_N));
     row.truth_press = scene::ToString(r.status);
-    if (!r.reached) row.truth_press += std::string(" (") + r.message + ", F " + std::to_string(r.force_N) + " N at " + std::to_string(r.indentation_mm) + " mm)";
+    if (!r.reached) row.truth_press += " (" + std::to_string(r.force_N) + " N at " + std::to_string(r.indentation_mm) + " mm)";
     maps->truth = leader_->sed_Pa();
   }
   // Pressure map.

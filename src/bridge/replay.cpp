@@ -150,6 +150,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   result.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
   pipeline.SetSensorCounters(assembler.counters(), source.Stats());
   pipeline.Shutdown(last_utime);
+  result.fe_counters = pipeline.fe().CountersLine();
   if (options.on_finish) options.on_finish(pipeline);
 
   result.counters = pipeline.counters();

@@ -1,0 +1,104 @@
+#!/usr/bin/python3
+"""Plots of the fidelity benchmark (written by `sedbridge fidelity --out DIR`).
+
+Usage: plot_fidelity.py DIR
+
+Reads DIR/fidelity.csv and DIR/maps/<case>.csv and writes
+  DIR/maps/<case>.png     Merkel-layer SED under the pad, side by side: truth (object pressed
+                          on the leader's model) | pressure-map bridge | reconstructed-contact
+                          bridge, one colour scale (the truth's), pad frame (x lateral, y toward
+                          the tip), the true object's position marked
+  DIR/fidelity_summary.png  per case: peak SED ratio and relative L2 error of both bridges,
+                          with the issue's target bands
+
+Run with /usr/bin/python3 (needs matplotlib; Debian: python3-matplotlib).
+"""
+import csv
+import math
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def read(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def plot_case(row, maps_dir):
+    name = row["case"].rsplit(".", 1)[0]
+    path = os.path.join(maps_dir, name + ".csv")
+    if not os.path.exists(path):
+        return
+    m = read(path)
+    # The pad: Merkel vertices within 6 mm of the pad plane, under the sensor's footprint.
+    m = [r for r in m if float(r["z_mm"]) > -6.0 and abs(float(r["x_mm"])) < 12 and abs(float(r["y_mm"])) < 14]
+    x = [float(r["x_mm"]) for r in m]
+    y = [float(r["y_mm"]) for r in m]
+    vmax = max(1e-9, max(float(r["truth_sed_Pa"]) for r in m))
+    fig, axes = plt.subplots(1, 3, figsize=(12, 4.4), constrained_layout=True)
+    titles = [("truth_sed_Pa", "truth: object on the leader"),
+              ("map_sed_Pa", "bridge: pressure map"),
+              ("recon_sed_Pa", "bridge: reconstructed contact")]
+    sc = None
+    for ax, (key, title) in zip(axes, titles):
+        v = [float(r[key]) for r in m]
+        sc = ax.scatter(x, y, c=v, s=9, cmap="viridis", vmin=0, vmax=vmax)
+        ax.set_title("%s\nmax %.0f Pa" % (title, max(v)), fontsize=10)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x [mm]")
+        ax.plot([float(row["x_mm"])], [float(row["y_mm"])], "r+", ms=10)
+    axes[0].set_ylabel("y [mm]")
+    fig.colorbar(sc, ax=axes, shrink=0.8, label="Merkel SED [Pa] (truth's scale)")
+    obj = row["shape"]
+    if row["shape"] != "flat":
+        obj += " R %.1f mm" % float(row["radius_mm"])
+    fig.suptitle("%s: %s at (%.1f, %.1f) mm, %.2f N; reconstructed %s, peak ratio map %.2f / recon %.2f"
+                 % (row["case"], obj, float(row["x_mm"]), float(row["y_mm"]), float(row["force_N"]),
+                    row["recon_shape"], float(row["map_peak_ratio"]), float(row["recon_peak_ratio"])), fontsize=10)
+    fig.savefig(os.path.join(maps_dir, name + ".png"), dpi=90)
+    plt.close(fig)
+
+
+def plot_summary(rows, out):
+    names = [r["case"].rsplit(".", 1)[0].replace("press_", "") for r in rows]
+    fig, (a, b) = plt.subplots(2, 1, figsize=(11, 6.5), sharex=True, constrained_layout=True)
+    idx = range(len(rows))
+    w = 0.38
+
+    def clip(v):
+        return min(v, 3.0) if math.isfinite(v) else 3.0
+    a.bar([i - w / 2 for i in idx], [clip(float(r["map_peak_ratio"])) for r in rows], w, label="pressure map")
+    a.bar([i + w / 2 for i in idx], [clip(float(r["recon_peak_ratio"])) for r in rows], w, label="reconstructed contact")
+    a.axhspan(0.8, 1.25, color="green", alpha=0.15, label="target 0.8-1.25")
+    a.set_ylabel("peak SED ratio (bridge / truth)\n(clipped at 3)")
+    a.legend(fontsize=8, loc="upper left")
+    b.bar([i - w / 2 for i in idx], [clip(float(r["map_rel_l2"])) for r in rows], w)
+    b.bar([i + w / 2 for i in idx], [clip(float(r["recon_rel_l2"])) for r in rows], w)
+    b.axhline(0.25, color="green", ls="--", label="target <= 0.25")
+    b.set_ylabel("relative L2 error\nover the Merkel layer")
+    b.set_xticks(list(idx))
+    b.set_xticklabels(["%s\n%s" % (n, r["shape"][:3]) for n, r in zip(names, rows)], fontsize=8)
+    b.legend(fontsize=8)
+    fig.suptitle("Fidelity at the scan of peak force (%d presses)" % len(rows))
+    fig.savefig(out, dpi=90)
+    plt.close(fig)
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit(__doc__)
+    d = sys.argv[1]
+    rows = read(os.path.join(d, "fidelity.csv"))
+    for r in rows:
+        plot_case(r, os.path.join(d, "maps"))
+    plot_summary(rows, os.path.join(d, "fidelity_summary.png"))
+    print("plots: %s/fidelity_summary.png, %s/maps/*.png" % (d, d))
+
+
+if __name__ == "__main__":
+    main()
