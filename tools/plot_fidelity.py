@@ -10,6 +10,7 @@ Reads DIR/fidelity.csv and DIR/maps/<case>.csv and writes
                           the tip), the true object's position marked
   DIR/fidelity_summary.png  per case: peak SED ratio and relative L2 error of both bridges,
                           with the issue's target bands
+  DIR/fidelity_table.md   the same as a Markdown table (docs/bridge-fidelity.md)
 
 Run with /usr/bin/python3 (needs matplotlib; Debian: python3-matplotlib).
 """
@@ -89,6 +90,29 @@ def plot_summary(rows, out):
     plt.close(fig)
 
 
+def write_table(rows, out):
+    with open(out, "w") as f:
+        f.write("| case | object | F [N] | reconstructed | truth max SED [Pa] | map: peak ratio / L2 / offset [mm] "
+                "| recon: peak ratio / L2 / offset [mm] | recon cmd L2 | truth press |\n")
+        f.write("|---|---|---|---|---|---|---|---|---|\n")
+        for r in rows:
+            obj = r["shape"] if r["shape"] == "flat" else "%s R%.1f" % (r["shape"], float(r["radius_mm"]))
+            if r["shape"] == "cylinder":
+                obj += " yaw %.0f" % float(r["yaw_deg"])
+            obj += " (%.1f, %.1f)" % (float(r["x_mm"]), float(r["y_mm"]))
+            rec = r["recon_shape"]
+            if r["recon_shape"] != "flat":
+                rec += " R%.2f" % float(r["recon_radius_mm"])
+            rec += " (%.2f, %.2f) %.3f N" % (float(r["recon_x_mm"]), float(r["recon_y_mm"]), float(r["recon_force_N"]))
+            if r["recon_ok"] != "1":
+                rec += " **fallback**"
+            f.write("| %s | %s | %.2f | %s | %.0f | %.2f / %.2f / %.1f | %.2f / %.2f / %.1f | %.2f | %s |\n" % (
+                r["case"].rsplit(".", 1)[0], obj, float(r["force_N"]), rec, float(r["truth_max_sed_Pa"]),
+                float(r["map_peak_ratio"]), float(r["map_rel_l2"]), float(r["map_peak_offset_mm"]),
+                float(r["recon_peak_ratio"]), float(r["recon_rel_l2"]), float(r["recon_peak_offset_mm"]),
+                float(r["recon_command_rel_l2"]), r["truth_press"].split(" ")[0]))
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
@@ -97,6 +121,7 @@ def main():
     for r in rows:
         plot_case(r, os.path.join(d, "maps"))
     plot_summary(rows, os.path.join(d, "fidelity_summary.png"))
+    write_table(rows, os.path.join(d, "fidelity_table.md"))
     print("plots: %s/fidelity_summary.png, %s/maps/*.png" % (d, d))
 
 

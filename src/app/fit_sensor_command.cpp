@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <fstream>
 #include <string>
+#include <vector>
 
 #include "app/arg_parser.h"
 #include "app/command.h"
@@ -35,6 +36,7 @@ int RunFitSensor(int argc, char** argv) {
       .Option("profile", "PROFILE", "sensor profile the logs were recorded with", "uskin_4x4")
       .Option("noise-counts", "N", "single-scan noise of a raw reading (1 sigma) [counts]", "2")
       .Option("out", "YAML", "also write the forward_model block to this file")
+      .Option("hold-out", "LOGS", "comma-separated logs left out of the fit and reported after it (validation)")
       .Flag("evaluate", "only report how well the profile's current forward_model reproduces the presses")
       .Epilog("example:\n"
               "  sedbridge fit-sensor --out fitted.yaml    # then paste into config/sensors/uskin_4x4.yaml");
@@ -42,7 +44,19 @@ int RunFitSensor(int argc, char** argv) {
   const SensorProfile profile = LoadNamedSensorProfile(args.Get("profile"));
   const std::string cases = config::ResolveResource(args.Get("cases"));
   std::printf("loading presses from %s ...\n", cases.c_str());
-  const auto presses = LoadCalibrationPresses(cases, profile);
+  auto presses = LoadCalibrationPresses(cases, profile);
+  std::vector<CalibrationPress> held_out;
+  if (auto list = args.GetOptional("hold-out")) {
+    const std::string names = "," + *list + ",";
+    for (auto it = presses.begin(); it != presses.end();)
+      if (names.find("," + it->name + ",") != std::string::npos) {
+        held_out.push_back(std::move(*it));
+        it = presses.erase(it);
+      } else {
+        ++it;
+      }
+    if (held_out.empty()) throw UsageError("--hold-out names no log of " + cases);
+  }
   FitOptions options;
   options.noise_counts = args.GetDouble("noise-counts");
   if (args.GetFlag("evaluate")) {
@@ -57,6 +71,10 @@ int RunFitSensor(int argc, char** argv) {
   std::printf("%s after %d evaluations; RMS over all residuals %.2f sigma\n", rep.status.c_str(), rep.evaluations,
               rep.rms_sigma_all);
   PrintReport(rep.presses);
+  if (!held_out.empty()) {
+    std::printf("\nheld out (not fitted):\n");
+    PrintReport(EvaluateTactileModel(held_out, profile, rep.params, options));
+  }
   const std::string yaml = "forward_model:\n" + TactileModelParamsYaml(rep.params, 2);
   std::printf("\n%s", yaml.c_str());
   if (auto out = args.GetOptional("out")) {

@@ -14,7 +14,7 @@ TEST(BridgeConfig, ShippedDefaultLoadsWithEveryKey) {
   EXPECT_EQ(c.sensor_profile, "uskin_4x4");
   EXPECT_EQ(c.model, "B");
   EXPECT_EQ(c.preset, "fast");
-  EXPECT_EQ(c.fe_step, "reduced");
+  EXPECT_EQ(c.fe_step, "contact");
   EXPECT_EQ(c.display_profile, "suction_4x4");
   EXPECT_DOUBLE_EQ(c.status_Hz, 10);
   EXPECT_DOUBLE_EQ(c.conditioning.noise_floor_Pa, 150);
