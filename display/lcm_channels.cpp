@@ -15,7 +15,7 @@ bool IsUpperSnake(const std::string& name) {
 }
 
 void LcmChannels::Validate() const {
-  for (const std::string* c : {&tactile_scan, &sed, &command, &status, &sa1_rate})
+  for (const std::string* c : {&tactile_scan, &sed, &command, &status, &sa1_rate, &contact})
     if (!IsUpperSnake(*c))
       throw std::invalid_argument("LCM channel '" + *c + "' is not UPPER_SNAKE");
 }
@@ -40,6 +40,7 @@ LcmSettings ParseLcmSettings(config::MapReader& r) {
     read("command", s.channels.command);
     read("status", s.channels.status);
     read("sa1_rate", s.channels.sa1_rate);
+    read("contact", s.channels.contact);
     c.Finish();
   }
   r.Finish();

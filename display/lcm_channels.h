@@ -17,6 +17,7 @@ struct LcmChannels {
   std::string command = "DISPLAY_COMMAND";        ///< lcmt_display_command
   std::string status = "BRIDGE_STATUS";           ///< lcmt_bridge_status
   std::string sa1_rate = "SA1_RATE_ESTIMATE";     ///< lcmt_sa1_rate_estimate
+  std::string contact = "CONTACT_ESTIMATE";       ///< lcmt_contact_estimate (bridge fe.step: contact)
 
   /// Throws std::invalid_argument naming the first channel that is not UPPER_SNAKE.
   void Validate() const;

@@ -129,6 +129,12 @@ ScanOutcome BridgePipeline::ProcessScan(const sensors::Scan& scan, int64_t now_u
   ++window_commands_;
   outcome.max_command = c.value.empty() ? 0 : *std::max_element(c.value.begin(), c.value.end());
   outcome.stepped = true;
+  // After the command, so the contact report stays out of the scan-to-command latency.
+  if (const lcmt_contact_estimate* m = fe_->contact_message()) {
+    lcmt_contact_estimate msg = *m;
+    msg.utime = now_utime;
+    display_->publisher().Publish(display_->publisher().channels().contact, msg);
+  }
   if (fault_state_ == 2) fault_state_ = 0, fault_message_.clear();
   MaybePublishStatus(now_utime);
   return outcome;

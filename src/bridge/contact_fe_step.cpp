@@ -49,9 +49,32 @@ std::string ContactFeStep::CountersLine() const {
   return line;
 }
 
+void ContactFeStep::FillMessage(const TaxelValues& values, bool fallback, double indentation_mm) {
+  const sensors::ContactPrimitive& p = estimate_.primitive;
+  message_ = lcmt_contact_estimate{};
+  message_.utime = values.scan_utime;
+  message_.source_scan_utime = values.scan_utime;
+  message_.shape = !estimate_.contact ? 0 : p.shape == sensors::ContactShape::kSphere ? 1
+                                          : p.shape == sensors::ContactShape::kCylinder ? 2 : 3;
+  message_.x_mm = static_cast<float>(p.x_mm);
+  message_.y_mm = static_cast<float>(p.y_mm);
+  message_.radius_mm = static_cast<float>(p.radius_mm);
+  message_.yaw_deg = static_cast<float>(p.yaw_deg);
+  message_.normal_force_N = static_cast<float>(p.normal_force_N);
+  message_.shear_x_N = static_cast<float>(p.shear_x_N);
+  message_.shear_y_N = static_cast<float>(p.shear_y_N);
+  message_.residual_rms_sigma = static_cast<float>(estimate_.rms_sigma);
+  message_.fallback = fallback ? 1 : 0;
+  message_.indentation_mm = static_cast<float>(indentation_mm);
+}
+
 const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
   ++counters_.steps;
-  if (!values.scan) return fallback_->Step(values);
+  if (!values.scan) {
+    estimate_ = ContactEstimate{};
+    FillMessage(values, true, 0);
+    return fallback_->Step(values);
+  }
   estimate_ = reconstructor_->Reconstruct(*values.scan);
   // Into the leader's pad frame.
   sensors::ContactPrimitive& p = estimate_.primitive;
@@ -71,10 +94,12 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
     result_ = MerkelSedResult{};
     result_.ok = true;
     result_.sed_Pa = &zero_sed_;
+    FillMessage(values, false, 0);
     return result_;
   }
   if (!estimate_.ok) {
     ++counters_.fit_fallbacks;
+    FillMessage(values, true, 0);
     return fallback_->Step(values);
   }
   const auto press = leader_->PressToForce({ToRigidObject(p)}, p.normal_force_N, {}, Eigen::Vector2d(p.shear_x_N, p.shear_y_N));
@@ -87,8 +112,10 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
     if (std::getenv("SEDBRIDGE_DEBUG_CONTACT")) std::fprintf(stderr, "press fallback: %s F %.3f target %.3f at %.3f mm\n", scene::ToString(press.status), press.force_N, p.normal_force_N, press.indentation_mm);
     estimate_.ok = false;
     estimate_.problem = std::string("leader press: ") + scene::ToString(press.status) + ": " + press.message;
+    FillMessage(values, true, 0);
     return fallback_->Step(values);
   }
+  FillMessage(values, false, press.indentation_mm);
   ++counters_.pressed;
   result_ = MerkelSedResult{};
   result_.ok = true;

@@ -53,6 +53,7 @@ class ContactFeStep final : public FeStep {
   const std::string& model_id() const override { return fallback_->model_id(); }
   std::string Describe() const override;
   std::string CountersLine() const override;
+  const lcmt_contact_estimate* contact_message() const override { return &message_; }
 
   /// The last scan's estimate in the leader's pad frame.
   const ContactEstimate& last_estimate() const { return estimate_; }
@@ -60,6 +61,8 @@ class ContactFeStep final : public FeStep {
   const ContactReconstructor& reconstructor() const { return *reconstructor_; }
 
  private:
+  void FillMessage(const TaxelValues& values, bool fallback, double indentation_mm);
+
   std::unique_ptr<model::FingertipModel> model_;
   std::unique_ptr<scene::FingertipCompliance> leader_;
   std::unique_ptr<ContactReconstructor> reconstructor_;
@@ -69,6 +72,7 @@ class ContactFeStep final : public FeStep {
   ContactStepCounters counters_;
   Eigen::VectorXd zero_sed_;
   MerkelSedResult result_;
+  lcmt_contact_estimate message_{};
 };
 
 }  // namespace sedbridge::bridge

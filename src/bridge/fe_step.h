@@ -8,6 +8,7 @@
 #include <string>
 
 #include "bridge/taxel_values.h"
+#include "sedbridge/lcmt_contact_estimate.hpp"
 #include "fem/simulation.h"
 
 namespace sedbridge::bridge {
@@ -34,6 +35,9 @@ class FeStep {
   virtual std::string Describe() const = 0;
   /// One line of implementation counters for the run summary ("" = nothing to say).
   virtual std::string CountersLine() const { return ""; }
+  /// The last step's reconstructed contact (leader pad frame), or null when this step
+  /// does not reconstruct contacts.
+  virtual const lcmt_contact_estimate* contact_message() const { return nullptr; }
 };
 
 }  // namespace sedbridge::bridge

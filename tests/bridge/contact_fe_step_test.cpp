@@ -1,0 +1,95 @@
+// fe.step contact end to end: the example log (a sphere) through the bridge with the
+// reconstructed contact pressed on B_coarse, CONTACT_ESTIMATE on LCM, and the step against
+// the pressure map on a calibration-rig press.
+#include "bridge/contact_fe_step.h"
+
+#include <gtest/gtest.h>
+
+#include <lcm/lcm-cpp.hpp>
+
+#include "bridge/reduced_linear_fe_step.h"
+#include "bridge/replay.h"
+#include "bridge/scene_fe_step.h"
+#include "bridge_test_util.h"
+#include "sedbridge/lcmt_contact_estimate.hpp"
+#include "sensors/calibration_press.h"
+#include "sensors/candump_log.h"
+
+namespace sedbridge::bridge {
+namespace {
+
+BridgeConfig ContactConfig() {
+  BridgeConfig c = testing::TestConfig();
+  c.fe_step = "contact";
+  c.compliance_cache_dir = "";
+  return c;
+}
+
+TEST(ContactFeStep, ExampleLogPublishesContactEstimates) {
+  const BridgeConfig config = ContactConfig();
+  sensors::CandumpLogSource source(testing::ExampleLogPath());
+  std::vector<lcmt_contact_estimate> got;
+  struct Sink {
+    std::vector<lcmt_contact_estimate>* out;
+    void On(const lcm::ReceiveBuffer*, const std::string&, const lcmt_contact_estimate* m) { out->push_back(*m); }
+  } sink{&got};
+  lcm::LCM* lcm = nullptr;
+  ReplayOptions options;
+  options.on_start = [&](BridgePipeline& p) {
+    lcm = &p.display().publisher().lcm();
+    lcm->subscribe(config.lcm.channels.contact, &Sink::On, &sink);
+  };
+  options.on_scan = [&](const ScanOutcome&, BridgePipeline&) {
+    while (lcm && lcm->handleTimeout(0) > 0) {
+    }
+  };
+  const ReplayResult r = RunReplay(config, source, options);
+  ASSERT_EQ(got.size(), size_t(r.counters.steps));
+  int spheres = 0, none = 0;
+  for (const auto& m : got) {
+    if (m.shape == 1 && !m.fallback) {
+      ++spheres;
+XX
+      EXPECT_GT(m.normal_force_N, 0);
+    }
+    none += m.shape == 0;
+  }
+  EXPECT_GT(spheres, 100);
+  EXPECT_GT(none, 100);  // quiet at both ends: no contact, no solve
+  EXPECT_NE(r.fe_counters.find("pressed on the leader"), std::string::npos);
+}
+
+TEST(ContactFeStep, RigSphereFarSharperThanThePressureMap) {
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
+  const auto presses = sensors::LoadCalibrationPresses(
+      config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), profile);
+  const auto& press = presses[3];  // sphere R 5 mm, centred, 0.8 N
+  const BridgeConfig config = ContactConfig();
+  const PadRegistration registration(profile.taxels, config.registration);
+  auto map = std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, "fast"), profile,
+                                                   registration, config.traction);
+  ReducedLinearFeStep map_only(BridgeSceneDescription(config.model, "fast"), profile, registration, config.traction);
+  ContactFeStep step(config.model, profile, registration, std::move(map), "");
+  ScanConditioner conditioner(profile, registration, config.conditioning);
+  TaxelValues values;
+  double contact_max = 0, map_max = 0;
+  for (size_t i = 0; i < press.scans.size(); ++i) {
+    ASSERT_TRUE(conditioner.Condition(press.scans[i], &values).usable);
+    const MerkelSedResult& r = step.Step(values);
+    ASSERT_TRUE(r.ok) << i;
+    ASSERT_TRUE(r.sed_Pa->allFinite());
+    if (i == 120) {
+      contact_max = r.sed_Pa->maxCoeff();
+      EXPECT_EQ(step.last_estimate().primitive.shape, sensors::ContactShape::kSphere);
+      EXPECT_NEAR(step.last_estimate().primitive.normal_force_N, 0.8, 0.04);
+      EXPECT_NEAR(r.applied_force_N, 0.8, 0.04);
+      map_max = map_only.Step(values).sed_Pa->maxCoeff();
+    }
+    if (i < 20) EXPECT_EQ(r.sed_Pa->maxCoeff(), 0.0) << "no contact before the press";
+  }
+  EXPECT_GT(contact_max, 5 * map_max);
+  EXPECT_EQ(step.counters().fit_fallbacks, 0);
+}
+
+}  // namespace
+}  // namespace sedbridge::bridge
