@@ -89,6 +89,17 @@ TactileForwardModel::TactileForwardModel(std::vector<TaxelPosition> taxels, doub
   grid_y0_mm_ = ay - below_y * h;
   grid_n_ = static_cast<int>(std::ceil((half - std::min(grid_x0_mm_, grid_y0_mm_)) / h)) + 1;
   BuildKernelTable();
+  // Unit responses of the flat (the largest patch: every pad cell).
+  ContactPrimitive flat;
+  flat.shape = ContactShape::kFlat;
+  flat.normal_force_N = 1;
+  std::vector<SurfaceLoad> loads;
+  Patch(flat, &loads);
+  Respond(loads, &flat_normal_);
+  for (auto& l : loads) l.shear_x_N = l.normal_N, l.normal_N = 0;
+  Respond(loads, &flat_shear_x_);
+  for (auto& l : loads) l.shear_y_N = l.shear_x_N, l.shear_x_N = 0;
+  Respond(loads, &flat_shear_y_);
 }
 
 Eigen::Vector2d TactileForwardModel::CellCentre_mm(int cell) const {
@@ -181,12 +192,32 @@ void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLo
       if (L <= 0) return;
       const double R = std::max(c.radius_mm, 1e-3);
       const double b = std::hypot(std::sqrt(4.0 * (F / L) * R / (kPi * E_N_mm2)), h);
-      add_box(-half, half, -half, half, [&](double x, double y) {
+      auto weight = [&](double x, double y) {
         const double s = -(x - c.x_mm) * dy + (y - c.y_mm) * dx;
         const double r2 = s * s / (b * b);
         if (r2 >= 1) return 0.0;
         return std::sqrt(1 - r2) * Coverage1d(x, h, half) * Coverage1d(y, h, half);
-      });
+      };
+      // Only the band |s| < b around the axis, row by row (or column by column for a rod
+      // closer to the x axis), not the whole pad.
+      const bool by_rows = std::abs(dy) >= std::abs(dx);
+      for (int line = 0; line < grid_n_; ++line) {
+        const double along = (by_rows ? grid_y0_mm_ : grid_x0_mm_) + line * h;
+        if (std::abs(along) > half + h) continue;
+        const double slope = by_rows ? -dy : dx;  // ds per unit of the scanned coordinate
+        const double centre = by_rows ? c.x_mm + (along - c.y_mm) * dx / dy : c.y_mm + (along - c.x_mm) * dy / dx;
+        const double reach = b / std::abs(slope) + h;
+        const double lo = centre - reach, hi = centre + reach;
+        const double origin = by_rows ? grid_x0_mm_ : grid_y0_mm_;
+        const int k0 = std::max(0, static_cast<int>(std::floor((lo - origin) / h)));
+        const int k1 = std::min(grid_n_ - 1, static_cast<int>(std::ceil((hi - origin) / h)));
+        for (int k = k0; k <= k1; ++k) {
+          const int i = by_rows ? k : line, j = by_rows ? line : k;
+          const double x = grid_x0_mm_ + i * h, y = grid_y0_mm_ + j * h;
+          const double w = weight(x, y);
+          if (w > 0) loads->push_back({i + j * grid_n_, w});
+        }
+      }
       break;
     }
     case ContactShape::kFlat:
@@ -209,6 +240,14 @@ void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLo
 }
 
 void TactileForwardModel::Predict(const ContactPrimitive& c, Eigen::VectorXd* readings_N) const {
+  if (c.shape == ContactShape::kFlat && flat_normal_.size() > 0) {
+    if (!(c.normal_force_N > 0) || !std::isfinite(c.normal_force_N)) {
+      readings_N->setZero(3 * taxel_count());
+      return;
+    }
+    *readings_N = c.normal_force_N * flat_normal_ + c.shear_x_N * flat_shear_x_ + c.shear_y_N * flat_shear_y_;
+    return;
+  }
   thread_local std::vector<SurfaceLoad> loads;
   Patch(c, &loads);
   Respond(loads, readings_N);

@@ -103,6 +103,8 @@ class TactileForwardModel {
   // Per taxel, offset index of grid cell 0 and strides (table index = base + i*sx + j*sy).
   std::vector<int> taxel_base_;
   int table_stride_ = 0;
+  // A flat's readings are linear in (F, T_x, T_y) with a fixed patch: unit responses.
+  Eigen::VectorXd flat_normal_, flat_shear_x_, flat_shear_y_;
 };
 
 }  // namespace sedbridge::sensors

@@ -1,6 +1,7 @@
 #include "bridge/contact_fe_step.h"
 
 #include <cstdio>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 
@@ -39,13 +40,16 @@ std::string ContactFeStep::Describe() const {
 
 std::string ContactFeStep::CountersLine() const {
   const auto& r = reconstructor_->counters();
-  char line[256];
+  const LatencySummary rt = recon_time_.Run(), pt = press_time_.Run();
+  char line[512];
   std::snprintf(line, sizeof line,
                 "contact: %lld scans pressed on the leader, %lld no contact, %lld fit fallbacks, %lld press fallbacks "
-                "(pressure map); %lld of %lld fits warm-started",
+                "(pressure map); %lld of %lld fits warm-started; reconstruction median %.3f / p99 %.3f ms, "
+                "leader press median %.3f / p99 %.3f ms",
                 static_cast<long long>(counters_.pressed), static_cast<long long>(counters_.no_contact),
                 static_cast<long long>(counters_.fit_fallbacks), static_cast<long long>(counters_.press_fallbacks),
-                static_cast<long long>(r.warm_fits), static_cast<long long>(r.fits));
+                static_cast<long long>(r.warm_fits), static_cast<long long>(r.fits), rt.p50_ms, rt.p99_ms, pt.p50_ms,
+                pt.p99_ms);
   return line;
 }
 
@@ -75,7 +79,10 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
     FillMessage(values, true, 0);
     return fallback_->Step(values);
   }
+  const auto t0 = std::chrono::steady_clock::now();
   estimate_ = reconstructor_->Reconstruct(*values.scan);
+  const auto t1 = std::chrono::steady_clock::now();
+  recon_time_.Add(std::chrono::duration_cast<std::chrono::microseconds>(t1 - t0).count());
   // Into the leader's pad frame.
   sensors::ContactPrimitive& p = estimate_.primitive;
   const double scale = registration_.params().scale;
@@ -103,6 +110,7 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
     return fallback_->Step(values);
   }
   const auto press = leader_->PressToForce({ToRigidObject(p)}, p.normal_force_N, {}, Eigen::Vector2d(p.shear_x_N, p.shear_y_N));
+  press_time_.Add(std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - t1).count());
   // A press whose last solve converged on the force is an answer even if a trial solve
   // on the way did not.
   const bool matched = press.status == scene::PressStatus::kNotConverged && leader_->contact().last().converged &&

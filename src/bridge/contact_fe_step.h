@@ -16,6 +16,7 @@
 
 #include "bridge/contact_reconstruction.h"
 #include "bridge/fe_step.h"
+#include "bridge/latency_stats.h"
 #include "bridge/pad_registration.h"
 
 namespace sedbridge::model {
@@ -59,6 +60,10 @@ class ContactFeStep final : public FeStep {
   const ContactEstimate& last_estimate() const { return estimate_; }
   const ContactStepCounters& counters() const { return counters_; }
   const ContactReconstructor& reconstructor() const { return *reconstructor_; }
+  /// Wall time per step of the two stages: reconstruction, and the press on the leader
+  /// (contact solves + Merkel SED), over the scans that reached them.
+  LatencySummary reconstruction_time() const { return recon_time_.Run(); }
+  LatencySummary press_time() const { return press_time_.Run(); }
 
  private:
   void FillMessage(const TaxelValues& values, bool fallback, double indentation_mm);
@@ -73,6 +78,7 @@ class ContactFeStep final : public FeStep {
   Eigen::VectorXd zero_sed_;
   MerkelSedResult result_;
   lcmt_contact_estimate message_{};
+  LatencyStats recon_time_{100000}, press_time_{100000};
 };
 
 }  // namespace sedbridge::bridge

@@ -127,7 +127,8 @@ bool ContactReconstructor::Plausible(const ContactPrimitive& p) const {
   return std::hypot(p.x_mm, p.y_mm) <= options_.max_offset_mm;
 }
 
-ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, const ContactPrimitive& start) const {
+ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, const ContactPrimitive& start,
+                                                         int max_evaluations) const {
   const bool shear = options_.fit_shear;
   struct Functor {
     using Scalar = double;
@@ -157,7 +158,7 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
   Functor f{this, shape, shear};
   Eigen::NumericalDiff<Functor> numeric(f, 1e-6);
   Eigen::LevenbergMarquardt<Eigen::NumericalDiff<Functor>> lm(numeric);
-  lm.parameters.maxfev = options_.max_evaluations;
+  lm.parameters.maxfev = max_evaluations > 0 ? max_evaluations : options_.max_evaluations;
   lm.parameters.xtol = 1e-6;
   lm.parameters.ftol = 1e-8;
   ContactPrimitive s = start;
@@ -229,6 +230,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     estimate_.ok = true;  // "no contact" is a trustworthy answer
     estimate_.primitive.normal_force_N = 0;
     have_last_ = false;
+    explored_ = 0;
     return estimate_;
   }
   estimate_.contact = true;
@@ -254,50 +256,77 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     if (!estimate_.ok) {
       estimate_.problem = !Plausible(fit.primitive) ? "fit left the plausible domain" : "residual above max_rms_sigma";
       ++counters_.fallbacks;
-      have_last_ = false;
+      // Amortized selection keeps a plausible best guess to refine while it explores.
+      have_last_ = options_.selection == ModelSelection::kAmortized && Plausible(fit.primitive);
+      if (have_last_) last_ = fit.primitive;
     } else {
       last_ = fit.primitive;
       have_last_ = true;
     }
   };
 
-  // Warm start: the last contact, refined. Kept while it explains the scan within noise.
-  if (have_last_) {
-    const Fit warm = FitShape(last_.shape, last_);
-    estimate_.evaluations += warm.evaluations;
-    if (std::isfinite(warm.chi2) && std::sqrt(warm.chi2 / dof) <= 0.5 * options_.max_rms_sigma &&
-        Plausible(warm.primitive)) {
-      ++counters_.warm_fits;
-      accept(warm, true);
-      return estimate_;
-    }
-  }
-
-  // Model selection from a few starts.
+  // The model-selection starts: shape, radius, yaw (from the moments of the normal readings).
   ContactPrimitive guess;
   guess.x_mm = mx;
   guess.y_mm = my;
   guess.normal_force_N = sum_z / kGuessNormalGain;
-  Fit best;
-  auto consider = [&](ContactShape shape, double radius_mm, double yaw_deg) {
-    ContactPrimitive s = guess;
-    s.radius_mm = radius_mm;
-    s.yaw_deg = yaw_deg;
-    const Fit fit = FitShape(shape, s);
-    estimate_.evaluations += fit.evaluations;
-    if (Plausible(fit.primitive) && fit.Penalized() < best.Penalized()) best = fit;
+  struct Start {
+    ContactShape shape;
+    double radius_mm, yaw_deg;
   };
-  for (double r : {3.0, 10.0}) consider(ContactShape::kSphere, r, 0);
-  for (double r : {1.0, 3.0}) consider(ContactShape::kCylinder, r, principal_yaw_deg);
-  consider(ContactShape::kCylinder, 1.5, principal_yaw_deg + 90);
-  consider(ContactShape::kFlat, 0, 0);
+  const Start starts[] = {{ContactShape::kSphere, 3.0, 0},
+                          {ContactShape::kCylinder, 1.0, principal_yaw_deg},
+                          {ContactShape::kFlat, 0, 0},
+                          {ContactShape::kSphere, 10.0, 0},
+                          {ContactShape::kCylinder, 3.0, principal_yaw_deg},
+                          {ContactShape::kCylinder, 1.5, principal_yaw_deg + 90}};
+  constexpr int kStarts = sizeof(starts) / sizeof(starts[0]);
+  auto fit_start = [&](const Start& s) {
+    ContactPrimitive p = guess;
+    p.radius_mm = s.radius_mm;
+    p.yaw_deg = s.yaw_deg;
+    const Fit fit = FitShape(s.shape, p, options_.explore_evaluations);
+    estimate_.evaluations += fit.evaluations;
+    return fit;
+  };
+  auto better = [&](const Fit& a, const Fit& b) {  // a better than b
+    return Plausible(a.primitive) && std::isfinite(a.chi2) && (!std::isfinite(b.chi2) || a.Penalized() < b.Penalized());
+  };
+
+  Fit best;
+  bool warm_won = false;
+  if (have_last_) {
+    best = FitShape(last_.shape, last_);
+    estimate_.evaluations += best.evaluations;
+    warm_won = Plausible(best.primitive);
+    if (!warm_won) best = Fit{};
+  }
+  const bool settled = warm_won && explored_ >= kStarts && std::sqrt(best.chi2 / dof) <= options_.settle_rms_sigma;
+  if (options_.selection == ModelSelection::kFull && !(warm_won && std::sqrt(best.chi2 / dof) <= 0.5 * options_.max_rms_sigma)) {
+    // Every start, now.
+    for (const Start& s : starts) {
+      const Fit fit = fit_start(s);
+      if (better(fit, best)) best = fit, warm_won = false;
+    }
+  } else if (options_.selection == ModelSelection::kAmortized && !settled) {
+    // One start a scan (two at first touch), rotating, so a scan costs at most a warm fit
+    // and one or two cold ones; the winner is kept and refined by the next scans.
+    const int tries = have_last_ ? 1 : 2;
+    for (int t = 0; t < tries; ++t) {
+      const Fit fit = fit_start(starts[next_start_]);
+      next_start_ = (next_start_ + 1) % kStarts;
+      ++explored_;
+      if (better(fit, best)) best = fit, warm_won = false;
+    }
+  }
   if (!std::isfinite(best.chi2)) {
     estimate_.problem = "no shape fitted";
     ++counters_.fallbacks;
     have_last_ = false;
     return estimate_;
   }
-  accept(best, false);
+  if (warm_won) ++counters_.warm_fits;
+  accept(best, warm_won);
   return estimate_;
 }
 

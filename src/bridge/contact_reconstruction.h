@@ -11,10 +11,12 @@
 //
 // Per scan:
 //  - no contact: the normal readings sum below min_force_N x the model's gain -> force 0;
-//  - warm start: the last scan's shape and parameters, refined; kept while its residual is
-//    good (contacts move continuously, so this is the common path);
-//  - otherwise model selection: every shape from a few starts (moments of the normal
-//    readings), the least penalized residual (chi^2 + 2 x #unknowns) wins;
+//  - warm start: the last scan's shape and parameters, refined (contacts move
+//    continuously, so this is the common path);
+//  - model selection among starts of every shape (moments of the normal readings), the
+//    least penalized residual (chi^2 + 2 x #unknowns) winning: amortized (default) tries one
+//    start per scan until all were tried in the contact episode and the fit is within
+//    noise, so a scan costs at most about two fits; full tries them all at once;
 //  - a fit whose RMS residual exceeds max_rms_sigma, or that leaves the plausible domain
 //    (position off the pad, radius outside [min, max]), is a fallback: the caller uses the
 //    pressure-map boundary condition instead, and it is counted.
@@ -32,7 +34,17 @@
 
 namespace sedbridge::bridge {
 
+/// How the shape is chosen among sphere, cylinder and flat.
+enum class ModelSelection {
+  kFull,       ///< every start whenever the warm start does not explain the scan (cold
+               ///< single scans: tests, offline)
+  kAmortized,  ///< one start per scan, rotating, until all were tried in a contact episode
+               ///< or while the residual is above settle_rms_sigma: bounded cost per scan
+};
+
 struct ReconstructionOptions {
+  ModelSelection selection = ModelSelection::kAmortized;
+  double settle_rms_sigma = 1.6;  ///< amortized: keep exploring while the fit is worse
   double noise_counts = 2;        ///< single-scan noise (1 sigma) per raw reading [counts]
   double min_force_N = 0.02;      ///< below this normal force: no contact
   double max_rms_sigma = 4.0;     ///< worse fits fall back to the pressure map
@@ -40,7 +52,8 @@ struct ReconstructionOptions {
   double max_radius_mm = 60;
   double max_offset_mm = 14;      ///< contact centre within this of the pad centre
   bool fit_shear = true;          ///< estimate the tangential force (three-axis sensors)
-  int max_evaluations = 400;      ///< per fit
+  int max_evaluations = 400;      ///< per warm fit
+  int explore_evaluations = 150;  ///< per cold start of the model selection
 };
 
 /// What one scan says about the contact.
@@ -76,7 +89,10 @@ class ContactReconstructor {
   const ContactEstimate& Reconstruct(const Eigen::VectorXd& readings_N, const std::vector<uint8_t>& valid,
                                      const std::vector<uint8_t>& saturated = {});
   /// Forgets the warm start.
-  void Reset() { have_last_ = false; }
+  void Reset() {
+    have_last_ = false;
+    explored_ = 0;
+  }
 
   const ReconstructionCounters& counters() const { return counters_; }
   const sensors::TactileForwardModel& model() const { return model_; }
@@ -84,7 +100,7 @@ class ContactReconstructor {
 
  private:
   struct Fit;
-  Fit FitShape(sensors::ContactShape shape, const sensors::ContactPrimitive& start) const;
+  Fit FitShape(sensors::ContactShape shape, const sensors::ContactPrimitive& start, int max_evaluations = 0) const;
   bool Plausible(const sensors::ContactPrimitive& p) const;
 
   sensors::SensorProfile profile_;
@@ -98,6 +114,8 @@ class ContactReconstructor {
   ContactEstimate estimate_;
   bool have_last_ = false;
   sensors::ContactPrimitive last_;
+  int next_start_ = 0;   // amortized selection: next start to try
+  int explored_ = 0;     // starts tried in this contact episode
   ReconstructionCounters counters_;
 };
 

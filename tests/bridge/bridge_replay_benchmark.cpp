@@ -1,5 +1,5 @@
-// Replay at maximum speed through the whole bridge on model B (scene-based and reduced FE
-// step) and B_coarse: scans/s and the
+// Replay at maximum speed through the whole bridge on model B (scene-based, reduced and
+// reconstructed-contact FE step) and B_coarse: scans/s and the
 // per-scan latency (assembler emit -> command published) median / p99 as counters.
 //   build/tests/bridge/bridge_replay_benchmark --benchmark_counters_tabular=true
 // OMP_NUM_THREADS=1 is what the bridge commands use (--threads 1).
@@ -44,6 +44,8 @@ void BM_ReplayExampleLog(benchmark::State& state, const std::string& model, cons
 BENCHMARK_CAPTURE(BM_ReplayExampleLog, B_scene, std::string("B"), std::string("scene"))
     ->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK_CAPTURE(BM_ReplayExampleLog, B_reduced, std::string("B"), std::string("reduced"))
+    ->Unit(benchmark::kMillisecond)->Iterations(3);
+BENCHMARK_CAPTURE(BM_ReplayExampleLog, B_contact, std::string("B"), std::string("contact"))
     ->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK_CAPTURE(BM_ReplayExampleLog, B_coarse_scene, std::string("B_coarse"), std::string("scene"))
     ->Unit(benchmark::kMillisecond)->Iterations(3);

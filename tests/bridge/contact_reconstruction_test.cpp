@@ -232,8 +232,9 @@ namespace {
 
 // Objects the rig did not press: random spheres, rods and flats over the pad at random
 // forces, rendered by the calibrated forward model with 2-count noise, reconstructed from
-// one scan each (cold start, as at first touch).
-TEST(ContactReconstruction, UnseenObjectsFromOneNoisyScan) {
+// the same object held for `scans` scans (1: a cold single scan with full model selection;
+// 8: the bridge's default amortized selection, one start per scan).
+void UnseenObjects(ModelSelection selection, int scans) {
   sensors::TactileForwardModel model(Uskin(), Uskin().forward_model);
   std::mt19937_64 rng(11);
   std::uniform_real_distribution<double> u(0, 1);
@@ -255,8 +256,11 @@ TEST(ContactReconstruction, UnseenObjectsFromOneNoisyScan) {
     }
     Eigen::VectorXd reading;
     model.Predict(c, &reading);
-    ContactReconstructor r(Uskin());
-    const ContactEstimate& e = r.Reconstruct(Noisy(reading, &rng), std::vector<uint8_t>(16, 1));
+    ReconstructionOptions options;
+    options.selection = selection;
+    ContactReconstructor r(Uskin(), options);
+    ContactEstimate e;
+    for (int s = 0; s < scans; ++s) e = r.Reconstruct(Noisy(reading, &rng), std::vector<uint8_t>(16, 1));
     ++cases;
     ASSERT_TRUE(e.ok) << i << ": " << e.problem;
     EXPECT_NEAR(e.primitive.normal_force_N, c.normal_force_N, 0.05 * c.normal_force_N) << i;
@@ -272,6 +276,9 @@ TEST(ContactReconstruction, UnseenObjectsFromOneNoisyScan) {
   // Large spheres and thick rods can look alike on a 4.7 mm grid; most must be told apart.
   EXPECT_GE(shape_right, cases * 8 / 10);
 }
+
+TEST(ContactReconstruction, UnseenObjectsFromOneNoisyScan) { UnseenObjects(ModelSelection::kFull, 1); }
+TEST(ContactReconstruction, UnseenObjectsHeldForEightScans) { UnseenObjects(ModelSelection::kAmortized, 8); }
 
 }  // namespace
 }  // namespace sedbridge::bridge

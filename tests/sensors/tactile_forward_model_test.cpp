@@ -121,3 +121,25 @@ TEST(CalibrationPress, BadCasesFileNamesTheLocation) {
 
 }  // namespace
 }  // namespace sedbridge::sensors
+
+namespace sedbridge::sensors {
+namespace {
+
+TEST(TactileForwardModel, FlatShortcutEqualsThePatch) {
+  const SensorProfile p = Uskin();
+  TactileForwardModel m(p, p.forward_model);
+  ContactPrimitive c;
+  c.shape = ContactShape::kFlat;
+  c.normal_force_N = 1.3;
+  c.shear_x_N = 0.2;
+  c.shear_y_N = -0.1;
+  Eigen::VectorXd fast, slow;
+  m.Predict(c, &fast);
+  std::vector<SurfaceLoad> loads;
+  m.Patch(c, &loads);
+  m.Respond(loads, &slow);
+  EXPECT_LT((fast - slow).norm(), 1e-12 * slow.norm());
+}
+
+}  // namespace
+}  // namespace sedbridge::sensors
