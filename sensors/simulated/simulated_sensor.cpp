@@ -146,7 +146,7 @@ SimulatedSensor::SimulatedSensor(SimulatedSensorConfig config)
   }
 }
 
-TaxelTractions SimulatedSensor::EvaluateKernel(double t_s) const {
+void SimulatedSensor::KernelLoads(double t_s, std::vector<SurfaceLoad>* loads) const {
   const SensorProfile& p = config_.profile;
   const PadModel& pad = config_.pad;
   const TactileForwardModel& model = *kernel_model_;
@@ -155,7 +155,7 @@ TaxelTractions SimulatedSensor::EvaluateKernel(double t_s) const {
   const double half_mm = 0.5 * p.forward_model.pad_size_mm;
   const Eigen::Matrix3d pad_from_scene = pad.scene_from_pad.linear().transpose();
   const Eigen::Vector3d inward = -pad.scene_from_pad.linear().col(2);
-  std::vector<SurfaceLoad> loads;
+  loads->clear();
   for (int cell = 0; cell < model.cell_count(); ++cell) {
     const Eigen::Vector2d xy = model.CellCentre_mm(cell);
     if (std::abs(xy.x()) > half_mm || std::abs(xy.y()) > half_mm) continue;  // no pad there
@@ -178,8 +178,24 @@ TaxelTractions SimulatedSensor::EvaluateKernel(double t_s) const {
         l.shear_y_N = pad.friction_coefficient * l.normal_N * v.y() / speed;
       }
     }
-    loads.push_back(l);
+    loads->push_back(l);
   }
+}
+
+Eigen::Vector3d SimulatedSensor::TotalLoad_N(double t_s) const {
+  Eigen::Vector3d total = Eigen::Vector3d::Zero();
+  if (!kernel_model_) return total;
+  std::vector<SurfaceLoad> loads;
+  KernelLoads(t_s, &loads);
+  for (const auto& l : loads) total += Eigen::Vector3d(l.shear_x_N, l.shear_y_N, l.normal_N);
+  return total;
+}
+
+TaxelTractions SimulatedSensor::EvaluateKernel(double t_s) const {
+  const SensorProfile& p = config_.profile;
+  const TactileForwardModel& model = *kernel_model_;
+  std::vector<SurfaceLoad> loads;
+  KernelLoads(t_s, &loads);
   Eigen::VectorXd r;
   model.Respond(loads, &r);
   const double area_m2 = p.taxel_area_mm2() * 1e-6;

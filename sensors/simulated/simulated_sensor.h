@@ -113,6 +113,9 @@ class SimulatedSensor {
 
   /// Taxel tractions at time t (no noise).
   TaxelTractions Evaluate(double t_s) const;
+  /// Total load the objects put on the pad at time t, pad frame [N] (the ground truth a
+  /// load cell would read): x, y tangential, z pressing. Kernel pad model only (zero else).
+  Eigen::Vector3d TotalLoad_N(double t_s) const;
   /// Ideal raw readings for `tractions` (inverse of the profile calibration, rounded).
   std::vector<int32_t> ToRawCounts(const TaxelTractions& tractions) const;
 
@@ -141,6 +144,7 @@ class SimulatedSensor {
   // PadMechanics::kKernel only.
   std::shared_ptr<const TactileForwardModel> kernel_model_;
   TaxelTractions EvaluateKernel(double t_s) const;
+  void KernelLoads(double t_s, std::vector<SurfaceLoad>* loads) const;
 };
 
 /// The simulated sensor as a FrameSource (as fast as possible; frames carry simulated

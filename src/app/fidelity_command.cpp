@@ -31,29 +31,37 @@ int RunFidelity(int argc, char** argv) {
       .Option("display", "PROFILE", "display profile for the command metric", "suction_4x4")
       .Option("out", "DIR", "output folder", "out/fidelity")
       .Option("cache-dir", "DIR", "compliance precompute cache", "out/cache")
+      .Flag("synthetic", "run the synthetic set instead (simulated sensor, kernel pad model: shapes the rig did not press)")
       .Flag("no-plots", "skip the PNG plots");
   if (!args.Parse(argc, argv)) return 0;
   const std::string out = args.Get("out");
   std::filesystem::create_directories(out + "/maps");
   const auto profile = sensors::LoadNamedSensorProfile(args.Get("profile"));
-  const auto presses = sensors::LoadCalibrationPresses(config::ResolveResource(args.Get("cases")), profile);
+  std::vector<FidelityCase> presses;
+  if (args.GetFlag("synthetic")) {
+    std::printf("fidelity: simulating the synthetic set ...\n");
+    presses = SyntheticFidelityCases(profile);
+  } else {
+    for (const auto& p : sensors::LoadCalibrationPresses(config::ResolveResource(args.Get("cases")), profile))
+      presses.push_back(FromCalibrationPress(p));
+  }
   std::printf("fidelity: %zu presses, model %s, building the leader's compliance ...\n", presses.size(),
               args.Get("model").c_str());
   FidelityBenchmark bench(args.Get("model"), profile, args.Get("display"), args.Get("cache-dir"));
   std::ofstream csv(out + "/fidelity.csv");
-  csv << "case,shape,x_mm,y_mm,radius_mm,yaw_deg,force_N,recon_ok,recon_shape,recon_x_mm,recon_y_mm,recon_radius_mm,"
+  csv << "case,label,shape,x_mm,y_mm,radius_mm,yaw_deg,force_N,recon_ok,recon_shape,recon_x_mm,recon_y_mm,recon_radius_mm,"
          "recon_yaw_deg,recon_force_N,recon_shear_x_N,recon_shear_y_N,recon_rms_sigma,truth_max_sed_Pa,map_max_sed_Pa,"
          "recon_max_sed_Pa,map_peak_ratio,map_rel_l2,map_peak_offset_mm,map_command_rel_l2,recon_peak_ratio,"
          "recon_rel_l2,recon_peak_offset_mm,recon_command_rel_l2,recon_median_us,recon_max_us,truth_press,recon_press\n";
-  std::printf("%-13s %-8s %6s | %-8s %6s %5s %6s | map: %5s %5s %5s | recon: %5s %5s %5s\n", "case", "object", "F_N",
+  std::printf("%-16s %-8s %6s | %-8s %6s %5s %6s | map: %5s %5s %5s | recon: %5s %5s %5s\n", "case", "object", "F_N",
               "recon", "R_mm", "dxy", "F_N", "peak", "L2", "off", "peak", "L2", "off");
   for (const auto& press : presses) {
     FidelityMaps maps;
     const FidelityRow r = bench.Run(press, &maps);
     const auto& t = r.truth_object;
     const auto& e = r.recon_object;
-    std::printf("%-13s %-8s %6.3f | %-8s %6.2f %5.2f %6.3f | map: %5.2f %5.2f %5.2f | recon: %5.2f %5.2f %5.2f%s\n",
-                r.name.c_str(), sensors::ContactShapeName(t.shape), t.normal_force_N,
+    std::printf("%-16s %-8s %6.3f | %-8s %6.2f %5.2f %6.3f | map: %5.2f %5.2f %5.2f | recon: %5.2f %5.2f %5.2f%s\n",
+                r.name.c_str(), r.truth_is_primitive ? sensors::ContactShapeName(t.shape) : "other", t.normal_force_N,
                 sensors::ContactShapeName(e.shape), e.radius_mm, std::hypot(e.x_mm - t.x_mm, e.y_mm - t.y_mm),
                 e.normal_force_N, r.map_error.peak_ratio, r.map_error.rel_l2, r.map_error.peak_offset_mm,
                 r.recon_error.peak_ratio, r.recon_error.rel_l2, r.recon_error.peak_offset_mm,
@@ -61,8 +69,8 @@ int RunFidelity(int argc, char** argv) {
     std::fflush(stdout);
     char line[2048];
     std::snprintf(line, sizeof line,
-                  "%s,%s,%g,%g,%g,%g,%g,%d,%s,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%s,%s\n",
-                  r.name.c_str(), sensors::ContactShapeName(t.shape), t.x_mm, t.y_mm, t.radius_mm, t.yaw_deg,
+                  "%s,\"%s\",%s,%g,%g,%g,%g,%g,%d,%s,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%s,%s\n",
+                  r.name.c_str(), r.label.c_str(), r.truth_is_primitive ? sensors::ContactShapeName(t.shape) : "other", t.x_mm, t.y_mm, t.radius_mm, t.yaw_deg,
                   t.normal_force_N, r.recon_ok ? 1 : 0, sensors::ContactShapeName(e.shape), e.x_mm, e.y_mm,
                   e.radius_mm, e.yaw_deg, e.normal_force_N, e.shear_x_N, e.shear_y_N, r.recon_rms_sigma,
                   r.truth_max_sed_Pa, r.map_max_sed_Pa, r.recon_max_sed_Pa, r.map_error.peak_ratio,
@@ -71,7 +79,7 @@ int RunFidelity(int argc, char** argv) {
                   r.recon_error.command_rel_l2, r.recon_median_us, r.recon_max_us, r.truth_press.c_str(),
                   r.recon_press.c_str());
     csv << line;
-    std::ofstream m(out + "/maps/" + r.name.substr(0, r.name.rfind('.')) + ".csv");
+    std::ofstream m(out + "/maps/" + r.name + ".csv");
     m << "x_mm,y_mm,z_mm,truth_sed_Pa,map_sed_Pa,recon_sed_Pa\n";
     for (Eigen::Index i = 0; i < maps.truth.size(); ++i)
       m << maps.merkel_pad_mm(0, i) << ',' << maps.merkel_pad_mm(1, i) << ',' << maps.merkel_pad_mm(2, i) << ','

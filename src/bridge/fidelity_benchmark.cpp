@@ -68,19 +68,31 @@ FidelityBenchmark::FidelityBenchmark(const std::string& model_name, const sensor
 
 FidelityBenchmark::~FidelityBenchmark() = default;
 
-FidelityRow FidelityBenchmark::Run(const sensors::CalibrationPress& press, FidelityMaps* maps) {
+FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps) {
   FidelityRow row;
   row.name = press.name;
+  row.label = press.label;
   row.scans = static_cast<int>(press.scans.size());
   // The scan of peak measured normal force.
   size_t peak = 0;
   double best = -1;
-  for (size_t i = 0; i < press.readings_N.size(); ++i) {
+  for (size_t i = 0; i < press.scans.size(); ++i) {
+    const Eigen::VectorXd r = sensors::ScanReadings_N(press.scans[i], profile_);
     double z = 0;
-    for (Eigen::Index k = 2; k < press.readings_N[i].size(); k += 3) z += press.readings_N[i][k];
+    for (Eigen::Index k = 2; k < r.size(); k += 3) z += r[k];
     if (z > best) best = z, peak = i;
   }
-  row.truth_object = press.ObjectAt(press.t_s[peak]);
+  row.truth_is_primitive = press.has_primitive;
+  row.truth_object = press.primitive;
+  row.truth_object.normal_force_N = press.load_N[peak].z();
+  row.truth_object.shear_x_N = press.load_N[peak].x();
+  row.truth_object.shear_y_N = press.load_N[peak].y();
+  if (press.has_primitive && press.primitive.shape != sensors::ContactShape::kFlat) {
+    // Where the object is at the peak (the sliding case moves).
+    const Eigen::Vector3d at = press.objects[0].trajectory.Pose(press.t_s[peak]).translation() * 1e3;
+    row.truth_object.x_mm = at.x();
+    row.truth_object.y_mm = at.y();
+  }
 
   // Reconstruction through the press up to the peak, as the live bridge would run it.
   ContactReconstructor recon(profile_);
@@ -103,7 +115,7 @@ FidelityRow FidelityBenchmark::Run(const sensors::CalibrationPress& press, Fidel
   maps->merkel_pad_mm = leader_->merkel_rest_pad_mm();
   // Truth.
   {
-    const auto r = leader_->PressToForce({ToRigidObject(row.truth_object)}, row.truth_object.normal_force_N, {},
+    const auto r = leader_->PressToForce(press.ObjectsAt(peak), row.truth_object.normal_force_N, {},
                                          Eigen::Vector2d(row.truth_object.shear_x_N, row.truth_object.shear_y_N));
     row.truth_press = scene::ToString(r.status);
     if (!r.reached) row.truth_press += " (" + std::to_string(r.force_N) + " N at " + std::to_string(r.indentation_mm) + " mm)";

@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "bridge/contact_reconstruction.h"
-#include "sensors/calibration_press.h"
+#include "bridge/fidelity_case.h"
 
 namespace sedbridge::scene {
 class FingertipCompliance;
@@ -47,7 +47,9 @@ struct MethodError {
 
 struct FidelityRow {
   std::string name;
-  sensors::ContactPrimitive truth_object;  ///< at the peak scan's force
+  std::string label;                   ///< the true object in words
+  bool truth_is_primitive = false;
+  sensors::ContactPrimitive truth_object;  ///< at the peak scan's force (load from the case)
   sensors::ContactPrimitive recon_object;  ///< estimate at the peak scan
   bool recon_ok = false;               ///< false: fell back to the map
   double recon_rms_sigma = 0;
@@ -74,7 +76,7 @@ class FidelityBenchmark {
                     const std::string& display_name, const std::string& cache_dir);
   ~FidelityBenchmark();
 
-  FidelityRow Run(const sensors::CalibrationPress& press, FidelityMaps* maps);
+  FidelityRow Run(const FidelityCase& c, FidelityMaps* maps);
 
  private:
   sensors::SensorProfile profile_;

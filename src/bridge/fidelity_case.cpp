@@ -1,0 +1,174 @@
+#include "bridge/fidelity_case.h"
+
+#include <cmath>
+#include <cstdio>
+
+#include "bridge/contact_object.h"
+#include "sensors/scan_assembler.h"
+#include "sensors/simulated/simulated_sensor.h"
+
+namespace sedbridge::bridge {
+namespace {
+
+// Synthetic press timing [s]: approach, ramp down, hold, release.
+constexpr double kRampStart_s = 0.2, kRampEnd_s = 0.7, kHoldEnd_s = 0.95, kEnd_s = 1.25;
+constexpr double kLift_mm = 0.3;  // objects start this far above the pad
+
+struct SyntheticSpec {
+  std::string name, label;
+  std::string objects_yaml;  // objects at t = 0 (lowest point kLift_mm above the pad), no motion
+  double depth_mm;           // penetration into the pad at the hold
+  double slide_x_mm = 0;     // lateral travel during the hold (sliding case)
+  double friction = 0;
+  bool primitive = false;
+  sensors::ContactPrimitive truth;  // shape, x, y, radius, yaw (force filled later)
+};
+
+std::string Motion(double depth_mm, double slide_x_mm) {
+  char m[512];
+  std::snprintf(m, sizeof m,
+                "motion: {keyframes: [{t_s: 0, offset_mm: [0, 0, 0]}, {t_s: %g, offset_mm: [0, 0, 0]}, "
+                "{t_s: %g, offset_mm: [0, 0, %g]}, {t_s: %g, offset_mm: [%g, 0, %g]}, {t_s: %g, offset_mm: [%g, 0, 0]}]}",
+                kRampStart_s, kRampEnd_s, -depth_mm, kHoldEnd_s, slide_x_mm, -depth_mm, kEnd_s, slide_x_mm);
+  return m;
+}
+
+sensors::ContactPrimitive Primitive(sensors::ContactShape s, double x, double y, double r, double yaw = 0) {
+  sensors::ContactPrimitive p;
+  p.shape = s;
+  p.x_mm = x;
+  p.y_mm = y;
+  p.radius_mm = r;
+  p.yaw_deg = yaw;
+  return p;
+}
+
+std::vector<SyntheticSpec> Specs() {
+  using sensors::ContactShape;
+  std::vector<SyntheticSpec> s;
+  auto sphere = [&](double r, double x, double y, double d) {
+    char name[64], label[64], yaml[256];
+    std::snprintf(name, sizeof name, "sphere_r%g_%g_%g", r, x, y);
+    std::snprintf(label, sizeof label, "sphere R%g (%g, %g)", r, x, y);
+    std::snprintf(yaml, sizeof yaml, "{shape: sphere, radius_mm: %g, position_mm: [%g, %g, %g]", r, x, y, r + kLift_mm);
+    s.push_back({name, label, yaml, d, 0, 0, true, Primitive(ContactShape::kSphere, x, y, r)});
+  };
+  auto rod = [&](double r, double yaw, double x, double y, double d) {
+    char name[64], label[64], yaml[256];
+    std::snprintf(name, sizeof name, "rod_r%g_yaw%g", r, yaw);
+    std::snprintf(label, sizeof label, "rod R%g yaw %g (%g, %g)", r, yaw, x, y);
+    std::snprintf(yaml, sizeof yaml,
+                  "{shape: cylinder, radius_mm: %g, length_mm: 40, position_mm: [%g, %g, %g], rpy_deg: [0, 0, %g]", r,
+                  x, y, r + kLift_mm, yaw);
+    s.push_back({name, label, yaml, d, 0, 0, true, Primitive(ContactShape::kCylinder, x, y, r, yaw)});
+  };
+  sphere(2, 3, -2, 0.8);
+  sphere(5, -1, 1, 0.5);
+  sphere(10, 2, 3, 0.4);
+  sphere(15, -2, -2, 0.35);
+  sphere(4, 5.5, -5.5, 0.5);
+  rod(0.5, 0, 0, 1, 0.3);
+  rod(1, 30, 1, -1, 0.25);
+  rod(3, 75, -1, 0, 0.2);
+  s.push_back({"flat", "flat", "{shape: plane, rpy_deg: [180, 0, 0], position_mm: [0, 0, 0.3]", 0.025, 0, 0, true,
+               Primitive(ContactShape::kFlat, 0, 0, 0)});
+  // A 10 mm cube with an edge (along x) or a corner pointing into the pad.
+  s.push_back({"box_edge", "box edge along x (0, 0)",
+               "{shape: box, size_mm: [10, 10, 10], rpy_deg: [45, 0, 0], position_mm: [0, 0, 7.371]", 0.3});
+  s.push_back({"box_corner", "box corner (1, -1)",
+               "{shape: box, size_mm: [10, 10, 10], rpy_deg: [45, 35.264, 0], position_mm: [1, -1, 8.960]", 1.0});
+  // Two contacts at once: objects_yaml holds two entries.
+  s.push_back({"two_spheres", "two spheres R3 (-4, -3) and (4, 3)",
+               "{shape: sphere, radius_mm: 3, position_mm: [-4, -3, 3.3]|{shape: sphere, radius_mm: 3, position_mm: [4, 3, 3.3]",
+               0.5});
+  // Stroking: a sphere pressed, then slid 4 mm along +x with friction 0.4.
+  s.push_back({"sliding_sphere", "sphere R5 sliding +x 4 mm (mu 0.4)",
+               "{shape: sphere, radius_mm: 5, position_mm: [-2, 0, 5.3]", 0.5, 4.0, 0.4, true,
+               Primitive(ContactShape::kSphere, 0, 0, 5)});
+  return s;
+}
+
+}  // namespace
+
+std::vector<geometry::RigidObject> FidelityCase::ObjectsAt(size_t k) const {
+  std::vector<geometry::RigidObject> out;
+  for (const auto& o : objects) {
+    Eigen::Isometry3d pose = o.trajectory.Pose(t_s[k]);
+    pose.translation().z() = o.trajectory.Pose(0.0).translation().z();
+    geometry::RigidObject p = o;
+    p.trajectory = geometry::Trajectory(pose);
+    out.push_back(p);
+  }
+  return out;
+}
+
+FidelityCase FromCalibrationPress(const sensors::CalibrationPress& press) {
+  FidelityCase c;
+  c.name = press.name.substr(0, press.name.rfind('.'));
+  const auto& o = press.object;
+  char label[96];
+  if (o.shape == sensors::ContactShape::kFlat)
+    std::snprintf(label, sizeof label, "flat");
+  else if (o.shape == sensors::ContactShape::kSphere)
+    std::snprintf(label, sizeof label, "sphere R%g (%g, %g)", o.radius_mm, o.x_mm, o.y_mm);
+  else
+    std::snprintf(label, sizeof label, "rod R%g yaw %g (%g, %g)", o.radius_mm, o.yaw_deg, o.x_mm, o.y_mm);
+  c.label = label;
+  c.scans = press.scans;
+  c.t_s = press.t_s;
+  for (double t : press.t_s) {
+    const sensors::ContactPrimitive at = press.ObjectAt(t);
+    c.load_N.emplace_back(at.shear_x_N, at.shear_y_N, at.normal_force_N);
+  }
+  c.objects = {ToRigidObject(o)};
+  c.has_primitive = true;
+  c.primitive = o;
+  return c;
+}
+
+std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& profile, uint64_t seed) {
+  std::vector<FidelityCase> cases;
+  for (const SyntheticSpec& spec : Specs()) {
+    sensors::SimulatedSensorConfig config;
+    config.profile = profile;
+    config.pad.mechanics = sensors::PadMechanics::kKernel;
+    config.pad.friction_coefficient = spec.friction;
+    config.noise.seed = seed;
+    config.noise.stddev_counts = 2;
+    config.duration_s = kEnd_s + 0.1;
+    std::string yaml = "[";
+    size_t start = 0;
+    for (;;) {  // entries separated by '|'
+      const size_t bar = spec.objects_yaml.find('|', start);
+      const std::string one = spec.objects_yaml.substr(start, bar == std::string::npos ? std::string::npos : bar - start);
+      yaml += one + ", " + Motion(spec.depth_mm + kLift_mm, spec.slide_x_mm) + "}";
+      if (bar == std::string::npos) break;
+      yaml += ", ";
+      start = bar + 1;
+    }
+    yaml += "]";
+    config.objects = geometry::ParseRigidObjects(YAML::Load(yaml), "synthetic:" + spec.name);
+    FidelityCase c;
+    c.name = spec.name;
+    c.label = spec.label;
+    c.objects = config.objects;
+    c.has_primitive = spec.primitive;
+    c.primitive = spec.truth;
+    sensors::SimulatedSensorSource source(config);
+    sensors::ScanAssembler assembler(profile);
+    while (auto f = source.Next(0)) assembler.Push(*f, &c.scans);
+    assembler.Flush(&c.scans);
+    const sensors::SimulatedSensor& sensor = source.sensor();
+    for (const auto& s : c.scans) {
+      // The scan's sample time (its frames follow it by a few 100 us).
+      const double rate = profile.scan_rate_Hz;
+      const double t = std::floor(1e-6 * static_cast<double>(s.utime - config.start_utime) * rate + 1e-6) / rate;
+      c.t_s.push_back(t);
+      c.load_N.push_back(sensor.TotalLoad_N(t));
+    }
+    cases.push_back(std::move(c));
+  }
+  return cases;
+}
+
+}  // namespace sedbridge::bridge

@@ -1,0 +1,50 @@
+#pragma once
+// One case of the fidelity benchmark (fidelity_benchmark.h): the follower sensor's scans of
+// a press and the truth behind them — the objects and the load they put on the sensor.
+//
+// Two sources:
+//  - calibration-rig presses (config/sensors/rig_uskin_4x4/): recorded scans, the object
+//    and force from cases.json, the load over time from the rig's protocol;
+//  - a synthetic set: the simulated sensor with the kernel pad model (Winkler contact
+//    pressure spread by the calibrated kernels, 2-count noise) pressed by shapes the rig did
+//    not use — spheres 2-15 mm, rods 0.5-3 mm at several yaws, a flat, a box edge and a box
+//    corner, two spheres at once, and a sphere sliding with friction. Its contact pressure
+//    is Winkler's, not the Hertz patch the reconstruction assumes: a model mismatch, on
+//    purpose.
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "geometry/rigid_object.h"
+#include "sensors/calibration_press.h"
+#include "sensors/scan.h"
+#include "sensors/sensor_profile.h"
+
+namespace sedbridge::bridge {
+
+struct FidelityCase {
+  std::string name;    ///< e.g. "press_03" or "edge_r1_yaw30"
+  std::string label;   ///< what the object is, for tables ("sphere R5 (0, 0)", "box corner")
+  std::vector<sensors::Scan> scans;
+  std::vector<double> t_s;             ///< per scan, since the first
+  std::vector<Eigen::Vector3d> load_N; ///< per scan: true load on the pad (x, y tangential, z normal)
+  /// True objects in the pad frame, posed at first touch (the leader's press pushes them
+  /// along -z_pad from here); given the x-y pose of scan `pose_scan`... see ObjectsAt.
+  std::vector<geometry::RigidObject> objects;
+  /// The truth as a primitive where it is one (rig presses, spheres, rods, flats).
+  bool has_primitive = false;
+  sensors::ContactPrimitive primitive;
+
+  /// The objects posed for the leader at scan k: the x-y (and orientation) they have at
+  /// that scan, lifted to their height at the first scan (above the pad).
+  std::vector<geometry::RigidObject> ObjectsAt(size_t k) const;
+};
+
+/// A calibration-rig press as a case.
+FidelityCase FromCalibrationPress(const sensors::CalibrationPress& press);
+
+/// The synthetic set (see the file comment), simulated with `profile` (needs forward_model).
+std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& profile, uint64_t seed = 1);
+
+}  // namespace sedbridge::bridge
