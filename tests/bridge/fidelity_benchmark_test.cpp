@@ -1,0 +1,34 @@
+// The fidelity benchmark on calibration-rig presses of the uSkin-like sensor: the
+// reconstructed contact meets issue 11's targets where the pressure map misses them.
+#include "bridge/fidelity_benchmark.h"
+
+#include <gtest/gtest.h>
+
+#include "config/resource_path.h"
+
+namespace sedbridge::bridge {
+namespace {
+
+TEST(FidelityBenchmark, RigPressesMeetTheTargetsWithReconstructedContact) {
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
+  const auto presses = sensors::LoadCalibrationPresses(
+      config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), profile);
+  FidelityBenchmark bench("B", profile, "suction_4x4", "");
+  // Spheres of 2.5, 5, 8 and 15 mm, a flat, and a stroke.
+  for (int i : {1, 3, 6, 9, 17, 19}) {
+    FidelityMaps maps;
+    const FidelityRow r = bench.Run(FromCalibrationPress(presses[size_t(i)]), &maps);
+    SCOPED_TRACE(r.name);
+    EXPECT_TRUE(r.recon_ok);
+    EXPECT_GT(r.recon_error.peak_ratio, 0.8);
+    EXPECT_LT(r.recon_error.peak_ratio, 1.25);
+    EXPECT_LT(r.recon_error.rel_l2, 0.25);
+    EXPECT_LE(r.recon_error.peak_offset_mm, 1.0);
+    // The pressure map delivers a small fraction of the peak.
+    EXPECT_LT(r.map_error.peak_ratio, 0.5);
+    EXPECT_GT(r.map_error.rel_l2, 0.5);
+  }
+}
+
+}  // namespace
+}  // namespace sedbridge::bridge
