@@ -31,7 +31,7 @@ def read(path):
 
 
 def plot_case(row, maps_dir):
-    name = row["case"].rsplit(".", 1)[0]
+    name = row["case"]
     path = os.path.join(maps_dir, name + ".csv")
     if not os.path.exists(path):
         return
@@ -52,31 +52,34 @@ def plot_case(row, maps_dir):
         ax.set_title("%s\nmax %.0f Pa" % (title, max(v)), fontsize=10)
         ax.set_aspect("equal")
         ax.set_xlabel("x [mm]")
-        ax.plot([float(row["x_mm"])], [float(row["y_mm"])], "r+", ms=10)
+        if row["shape"] != "other":
+            ax.plot([float(row["x_mm"])], [float(row["y_mm"])], "r+", ms=10)
     axes[0].set_ylabel("y [mm]")
     fig.colorbar(sc, ax=axes, shrink=0.8, label="Merkel SED [Pa] (truth's scale)")
-    obj = row["shape"]
-    if row["shape"] != "flat":
-        obj += " R %.1f mm" % float(row["radius_mm"])
-    fig.suptitle("%s: %s at (%.1f, %.1f) mm, %.2f N; reconstructed %s, peak ratio map %.2f / recon %.2f"
-                 % (row["case"], obj, float(row["x_mm"]), float(row["y_mm"]), float(row["force_N"]),
+    obj = row["label"]
+    fig.suptitle("%s: %s, %.2f N; reconstructed %s, peak ratio map %.2f / recon %.2f"
+                 % (row["case"], obj, float(row["force_N"]),
                     row["recon_shape"], float(row["map_peak_ratio"]), float(row["recon_peak_ratio"])), fontsize=10)
     fig.savefig(os.path.join(maps_dir, name + ".png"), dpi=90)
     plt.close(fig)
 
 
 def plot_summary(rows, out):
-    names = [r["case"].rsplit(".", 1)[0].replace("press_", "") for r in rows]
+    names = [r["case"].replace("press_", "") for r in rows]
     fig, (a, b) = plt.subplots(2, 1, figsize=(11, 6.5), sharex=True, constrained_layout=True)
     idx = range(len(rows))
     w = 0.38
 
     def clip(v):
         return min(v, 3.0) if math.isfinite(v) else 3.0
+    bad = [i for i, r in enumerate(rows) if not r["truth_press"].startswith("reached")]
+    for i in bad:
+        for ax in (a, b):
+            ax.axvspan(i - 0.5, i + 0.5, color="grey", alpha=0.25, lw=0)
     a.bar([i - w / 2 for i in idx], [clip(float(r["map_peak_ratio"])) for r in rows], w, label="pressure map")
     a.bar([i + w / 2 for i in idx], [clip(float(r["recon_peak_ratio"])) for r in rows], w, label="reconstructed contact")
     a.axhspan(0.8, 1.25, color="green", alpha=0.15, label="target 0.8-1.25")
-    a.set_ylabel("peak SED ratio (bridge / truth)\n(clipped at 3)")
+    a.set_ylabel("peak SED ratio (bridge / truth)\n(clipped at 3; grey: no valid truth)")
     a.legend(fontsize=8, loc="upper left")
     b.bar([i - w / 2 for i in idx], [clip(float(r["map_rel_l2"])) for r in rows], w)
     b.bar([i + w / 2 for i in idx], [clip(float(r["recon_rel_l2"])) for r in rows], w)
@@ -96,10 +99,7 @@ def write_table(rows, out):
                 "| recon: peak ratio / L2 / offset [mm] | recon cmd L2 | truth press |\n")
         f.write("|---|---|---|---|---|---|---|---|---|\n")
         for r in rows:
-            obj = r["shape"] if r["shape"] == "flat" else "%s R%.1f" % (r["shape"], float(r["radius_mm"]))
-            if r["shape"] == "cylinder":
-                obj += " yaw %.0f" % float(r["yaw_deg"])
-            obj += " (%.1f, %.1f)" % (float(r["x_mm"]), float(r["y_mm"]))
+            obj = r["label"]
             rec = r["recon_shape"]
             if r["recon_shape"] != "flat":
                 rec += " R%.2f" % float(r["recon_radius_mm"])
@@ -107,10 +107,19 @@ def write_table(rows, out):
             if r["recon_ok"] != "1":
                 rec += " **fallback**"
             f.write("| %s | %s | %.2f | %s | %.0f | %.2f / %.2f / %.1f | %.2f / %.2f / %.1f | %.2f | %s |\n" % (
-                r["case"].rsplit(".", 1)[0], obj, float(r["force_N"]), rec, float(r["truth_max_sed_Pa"]),
+                r["case"], obj, float(r["force_N"]), rec, float(r["truth_max_sed_Pa"]),
                 float(r["map_peak_ratio"]), float(r["map_rel_l2"]), float(r["map_peak_offset_mm"]),
                 float(r["recon_peak_ratio"]), float(r["recon_rel_l2"]), float(r["recon_peak_offset_mm"]),
                 float(r["recon_command_rel_l2"]), r["truth_press"].split(" ")[0]))
+        ok = [r for r in rows if r["truth_press"].startswith("reached")]
+        f.write("\nWith a valid truth (its press on the leader reached the force): %d of %d cases; "
+                "reconstructed contact within all three targets (peak ratio 0.8-1.25, L2 <= 0.25, offset <= 1 mm): "
+                "%d; pressure map: %d.\n" % (
+                    len(ok), len(rows),
+                    sum(1 for r in ok if 0.8 <= float(r["recon_peak_ratio"]) <= 1.25 and float(r["recon_rel_l2"]) <= 0.25
+                        and float(r["recon_peak_offset_mm"]) <= 1.0),
+                    sum(1 for r in ok if 0.8 <= float(r["map_peak_ratio"]) <= 1.25 and float(r["map_rel_l2"]) <= 0.25
+                        and float(r["map_peak_offset_mm"]) <= 1.0)))
 
 
 def main():

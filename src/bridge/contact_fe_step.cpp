@@ -10,11 +10,6 @@
 #include "scene/fingertip_compliance.h"
 
 namespace sedbridge::bridge {
-namespace {
-// Relative force mismatch accepted from a press whose root find reported a trial solve
-// that did not converge.
-constexpr double kForceMatch = 0.01;
-}  // namespace
 
 ContactFeStep::ContactFeStep(const std::string& model_name, const sensors::SensorProfile& profile,
                              const PadRegistration& registration, std::unique_ptr<FeStep> fallback,
@@ -111,11 +106,7 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
   }
   const auto press = leader_->PressToForce({ToRigidObject(p)}, p.normal_force_N, {}, Eigen::Vector2d(p.shear_x_N, p.shear_y_N));
   press_time_.Add(std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - t1).count());
-  // A press whose last solve converged on the force is an answer even if a trial solve
-  // on the way did not.
-  const bool matched = press.status == scene::PressStatus::kNotConverged && leader_->contact().last().converged &&
-                       std::abs(press.force_N - p.normal_force_N) <= kForceMatch * p.normal_force_N;
-  if (!press.reached && !matched) {
+  if (!PressAnswered(press, *leader_)) {
     ++counters_.press_fallbacks;
     if (std::getenv("SEDBRIDGE_DEBUG_CONTACT")) std::fprintf(stderr, "press fallback: %s F %.3f target %.3f at %.3f mm\n", scene::ToString(press.status), press.force_N, p.normal_force_N, press.indentation_mm);
     estimate_.ok = false;

@@ -1,5 +1,6 @@
 #include "bridge/contact_object.h"
 
+#include <cmath>
 #include <memory>
 
 namespace sedbridge::bridge {
@@ -32,6 +33,13 @@ geometry::RigidObject ToRigidObject(const sensors::ContactPrimitive& p) {
   }
   o.trajectory = geometry::Trajectory(pose);
   return o;
+}
+
+bool PressAnswered(const scene::PressToForceResult& press, const scene::FingertipCompliance& leader,
+                   double tolerance) {
+  if (press.reached) return true;
+  return press.status == scene::PressStatus::kNotConverged && leader.contact().last().converged &&
+         std::abs(press.force_N - press.target_force_N) <= tolerance * press.target_force_N;
 }
 
 }  // namespace sedbridge::bridge

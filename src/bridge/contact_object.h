@@ -4,6 +4,7 @@
 // the pad plane z = 0), ready for scene::FingertipCompliance::PressToForce.
 
 #include "geometry/rigid_object.h"
+#include "scene/fingertip_compliance.h"
 #include "sensors/tactile_forward_model.h"
 
 namespace sedbridge::bridge {
@@ -11,5 +12,11 @@ namespace sedbridge::bridge {
 /// Sphere: SphereSdf centred R above (x, y); cylinder: an infinite rod along (cos yaw,
 /// sin yaw, 0) resting on the pad plane; flat: the half-space above z = 0.
 geometry::RigidObject ToRigidObject(const sensors::ContactPrimitive& primitive);
+
+/// Whether a leader press answered: it reached the force, or its root find flagged a trial
+/// solve that did not converge while the last solve converged within `tolerance` (relative)
+/// of the target — the state left behind is then the answer.
+bool PressAnswered(const scene::PressToForceResult& press, const scene::FingertipCompliance& leader,
+                   double tolerance = 0.01);
 
 }  // namespace sedbridge::bridge

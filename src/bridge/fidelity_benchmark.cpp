@@ -117,7 +117,7 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
   {
     const auto r = leader_->PressToForce(press.ObjectsAt(peak), row.truth_object.normal_force_N, {},
                                          Eigen::Vector2d(row.truth_object.shear_x_N, row.truth_object.shear_y_N));
-    row.truth_press = scene::ToString(r.status);
+    row.truth_press = PressAnswered(r, *leader_) ? "reached" : scene::ToString(r.status);
     if (!r.reached) row.truth_press += " (" + std::to_string(r.force_N) + " N at " + std::to_string(r.indentation_mm) + " mm)";
     maps->truth = leader_->sed_Pa();
   }
@@ -133,7 +133,7 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
     leader_->contact().ResetWarmStart();
     const auto r = leader_->PressToForce({ToRigidObject(row.recon_object)}, row.recon_object.normal_force_N, {},
                                          Eigen::Vector2d(row.recon_object.shear_x_N, row.recon_object.shear_y_N));
-    row.recon_press = scene::ToString(r.status);
+    row.recon_press = PressAnswered(r, *leader_) ? "reached" : scene::ToString(r.status);
     maps->recon = leader_->sed_Pa();
   } else {
     row.recon_press = "fallback: " + at_peak.problem;
