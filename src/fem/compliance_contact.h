@@ -16,6 +16,7 @@
 // Units: SI throughout (m, N, Pa).
 
 #include <Eigen/Core>
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -33,7 +34,7 @@ struct ComplianceContactOptions {
   int max_iterations = 60;         ///< Newton iterations per step
   /// Converged when every contact's normal force matches k * depth at the new positions
   /// to this fraction of the largest contact force (and the active set is unchanged).
-  double relative_tolerance = 1e-10;
+  double relative_tolerance = 1e-8;
   /// Folder for the precompute cache (created if missing); empty = no disk cache.
   std::string cache_dir;
   /// OpenMP threads for the precompute's back-substitutions; 0 = OpenMP's default.
@@ -116,6 +117,13 @@ class ComplianceContact {
   std::vector<int> sed_nodes_;
   ComplianceContactOptions options_;
   std::unique_ptr<VertexSedEvaluator> sed_;
+  struct SedElement {
+    std::array<int, 4> node;  // indices into sed_nodes_
+    Eigen::Matrix<double, 4, 3> shape_gradients;
+    double mu_Pa, lambda_Pa;
+  };
+  std::vector<SedElement> sed_elements_;  // in the order of sed_->elements()
+  Eigen::VectorXd element_sed_;
   Eigen::MatrixXd W_, G_;
   double precompute_s_ = 0;
   bool loaded_from_cache_ = false;
@@ -131,6 +139,7 @@ class ComplianceContact {
   Eigen::MatrixXd J_;
   Eigen::VectorXd rhs_, z_, u_new_, u_s_;
   Eigen::RowVectorXd wn_;
+  Eigen::Matrix3Xd state_, mapped_, residual_, previous_mapped_, previous_residual_;  // Anderson(1)
   std::vector<int> passive_;
   double largest_ = 0;
   Eigen::Matrix3Xd rest_c_;

@@ -135,7 +135,7 @@ TEST(ComplianceContact, WarmStartReachesTheColdAnswerInFewerIterations) {
   const int warm_iterations = warm.Step({SphereAbove(0.004, 0.00041)}).iterations;
   const ComplianceStepResult& c = cold.Step({SphereAbove(0.004, 0.00041)});
   EXPECT_LT(warm_iterations, c.iterations);
-  EXPECT_LT((warm.last().spring_force_N - c.spring_force_N).norm(), 1e-9 * c.spring_force_N.norm());
+  EXPECT_LT((warm.last().spring_force_N - c.spring_force_N).norm(), 1e-7 * c.spring_force_N.norm());
 }
 
 TEST(ComplianceContact, TangentialLoadIsCarriedByTheContactsAndShearsTheBlock) {
