@@ -265,6 +265,17 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
     normal_ = Eigen::Matrix3Xd::Zero(3, Eigen::Index(c) * no);
   }
   phi_m_.resize(lambda_N_.size());
+  pose_inverse_.resize(size_t(no));
+  pose_rotation_.resize(size_t(no));
+  for (int o = 0; o < no; ++o) {
+    if (!objects[size_t(o)].shape) {
+      result_.error = "object without a shape";
+      return result_;
+    }
+    const Eigen::Isometry3d pose = objects[size_t(o)].trajectory.Pose(t_s);
+    pose_inverse_[size_t(o)] = pose.inverse();
+    pose_rotation_[size_t(o)] = pose.linear();
+  }
   const double k = options_.stiffness_N_m;
 
   bool have_previous = false;  // Anderson history valid (same contacts as last iteration)
@@ -303,7 +314,9 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
       const Eigen::Vector3d x = rest_c_.col(j) + u_c_.segment<3>(3 * j);
       for (int o = 0; o < no; ++o) {
         const int p = j * no + o;
-        const geometry::SdfSample s = objects[size_t(o)].Evaluate(x, t_s);
+        // As RigidObject::Evaluate, with the pose computed once a step.
+        geometry::SdfSample s = objects[size_t(o)].shape->Evaluate(pose_inverse_[size_t(o)] * x);
+        s.normal = pose_rotation_[size_t(o)] * s.normal;
         phi_m_[p] = s.distance_m;
         if (!std::isfinite(s.distance_m) || !s.normal.allFinite()) {
           result_.error = "non-finite signed distance (object pose?)";

@@ -16,6 +16,7 @@
 // Units: SI throughout (m, N, Pa).
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <array>
 #include <memory>
 #include <string>
@@ -143,6 +144,8 @@ class ComplianceContact {
   std::vector<int> passive_;
   double largest_ = 0;
   Eigen::Matrix3Xd rest_c_;
+  std::vector<Eigen::Isometry3d> pose_inverse_;  // per object, this step
+  std::vector<Eigen::Matrix3d> pose_rotation_;
   Eigen::VectorXd x_;
   ComplianceStepResult result_;
 };

@@ -109,15 +109,22 @@ double FingertipCompliance::normal_force_N() const {
   return -z_pad.dot(contact_->last().spring_force_N);
 }
 
+bool FingertipCompliance::AnyInside(const std::vector<geometry::RigidObject>& objects_model,
+                                    const std::vector<int>& nodes) const {
+  for (const auto& o : objects_model) {
+    const Eigen::Isometry3d object_from_model = o.trajectory.Pose(0.0).inverse();  // once, not per node
+    for (int n : nodes)
+      if (o.shape->Evaluate(object_from_model * model_.soft.rest_positions_m.col(n)).distance_m < 0) return true;
+  }
+  return false;
+}
+
 bool FingertipCompliance::TouchesOutsidePatch(const std::vector<geometry::RigidObject>& objects_model) const {
   for (const auto& c : contact_->last().contacts)
     if (on_edge_[size_t(candidate_index_[size_t(c.node)])]) return true;
   // Skin outside the patch moves little where the contact is: inside an object at rest
   // means it would be in contact in the full model.
-  for (int n : outside_skin_)
-    for (const auto& o : objects_model)
-      if (o.Evaluate(model_.soft.rest_positions_m.col(n), 0.0).distance_m < 0) return true;
-  return false;
+  return AnyInside(objects_model, outside_skin_);
 }
 
 PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry::RigidObject>& objects_pad,
@@ -184,10 +191,17 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
     return f;
   };
 
-  double lo = 0, f_lo = evaluate(0.0);
-  if (solve_failed) return finish(PressStatus::kInvalidInput, 0.0, 0.0, contact_->last().error);
-  if (std::abs(f_lo - target_N) <= tol) return finish(PressStatus::kReached, 0.0, f_lo, "");
-  if (f_lo > target_N) return finish(PressStatus::kAboveTarget, 0.0, f_lo, "objects press harder than the target at indentation 0");
+  // At indentation 0 the force is zero unless a candidate is inside an object at rest
+  // (no force, no displacement): then no solve is needed there.
+  double lo = 0, f_lo = 0;
+  for (size_t k = 0; k < pushed.size(); ++k) pushed[k].trajectory = geometry::Trajectory(touch[k]);
+  if (AnyInside(ToModel(pushed), contact_->candidate_nodes())) {
+    f_lo = evaluate(0.0);
+    if (solve_failed) return finish(PressStatus::kInvalidInput, 0.0, 0.0, contact_->last().error);
+    if (std::abs(f_lo - target_N) <= tol) return finish(PressStatus::kReached, 0.0, f_lo, "");
+    if (f_lo > target_N)
+      return finish(PressStatus::kAboveTarget, 0.0, f_lo, "objects press harder than the target at indentation 0");
+  }
 
   // Bracket: start from the last answer scaled as Hertz (F ~ d^1.5), then grow.
   double guess = 0.5;

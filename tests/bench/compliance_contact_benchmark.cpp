@@ -119,6 +119,38 @@ void SphereStep(benchmark::State& state) {
   Report(state, ms);
 }
 
+// The pad pressed flat by a plane (the paper's press), depth changing a little each step:
+// the largest patches (up to the whole candidate set).
+void PlaneStep(benchmark::State& state) {
+  omp_set_num_threads(1);
+  const double depth_mm = double(state.range(0)) / 100.0;
+  scene::FingertipCompliance& cc = Shared();
+  cc.contact().ResetWarmStart();
+  auto plane = [](double d_mm) {
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = Eigen::Vector3d(1, -1, -1).asDiagonal();  // solid above z_pad = -d
+    pose.translation() = Eigen::Vector3d(0, 0, -d_mm * 1e-3);
+    return geometry::RigidObject{"plane", std::make_shared<geometry::PlaneSdf>(), geometry::Trajectory(pose)};
+  };
+  std::vector<geometry::RigidObject> objects{plane(depth_mm)};
+  std::vector<double> ms;
+  double contacts = 0, iterations = 0;
+  int k = 0;
+  for (auto _ : state) {
+    objects[0] = plane(depth_mm * (1.0 + 0.05 * std::sin(0.05 * k++)));
+    const auto t0 = std::chrono::steady_clock::now();
+    const fem::ComplianceStepResult& r = cc.Step(objects);
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    if (!r.ok || !r.converged) state.SkipWithError("contact step failed");
+    contacts += double(r.contacts.size());
+    iterations += r.iterations;
+  }
+  state.counters["contacts"] = contacts / double(ms.size());
+  state.counters["iterations"] = iterations / double(ms.size());
+  state.counters["force_N"] = cc.normal_force_N();
+  Report(state, ms);
+}
+
 // Contact reconstruction's call: a sphere pressed to a force that changes each call.
 void PressToForce(benchmark::State& state) {
   omp_set_num_threads(1);
@@ -149,6 +181,8 @@ void Register() {
   // (radius mm, depth in 1/100 mm): patches from a few nodes to ~200.
   benchmark::RegisterBenchmark("SphereStep", SphereStep)
       ->Args({5, 50})->Args({8, 100})->Args({10, 200})->Args({20, 250})->Args({40, 300})
+      ->Iterations(2000)->Unit(benchmark::kMillisecond)->UseRealTime();
+  benchmark::RegisterBenchmark("PlaneStep", PlaneStep)->Arg(50)->Arg(100)->Arg(200)->Arg(300)
       ->Iterations(2000)->Unit(benchmark::kMillisecond)->UseRealTime();
   benchmark::RegisterBenchmark("PressToForce", PressToForce)->Iterations(500)->Unit(benchmark::kMillisecond)
       ->UseRealTime();
