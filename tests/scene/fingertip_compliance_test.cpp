@@ -9,7 +9,9 @@
 #include <cmath>
 #include <set>
 
+#include "config/config_error.h"
 #include "scene/fingertip_scene.h"
+#include "scene/press_experiment.h"
 
 namespace sedbridge::scene {
 namespace {
@@ -138,6 +140,53 @@ TEST(FingertipCompliance, PressToForceFlagsWhatItCannotReach) {
   EXPECT_TRUE(std::isfinite(edge.force_N));
   // Still usable afterwards.
   EXPECT_TRUE(cc.PressToForce(sphere, 0.5).reached);
+}
+
+// Scene integration: `solver: {type: compliance}` builds it; nothing else does.
+std::string PressScene(const std::string& solver) {
+  return "model: B_coarse\nelasticity: linear\n"
+         "dynamics: {integrator: quasi_static, steps: 3, newton_iterations: 100, newton_tolerance_mm: 1.0e-12}\n"
+         "solver: {type: " + solver + "}\nbone: {mode: fixed}\n"
+         "contact:\n  objects:\n    - {shape: plane, rpy_deg: [180, 0, 0], position_mm: [0, 0, 0], motion: {keyframes: "
+         "[{t_s: 0, offset_mm: [0, 0, 0]}, {t_s: 1.0, offset_mm: [0, 0, -1.2]}]}}\n";
+}
+
+TEST(FingertipComplianceScene, SceneThatDoesNotAskForItDoesNotBuildIt) {
+  FingertipScene full(ParseSceneDescription(PressScene("ldlt"), "test"), Model());
+  EXPECT_EQ(full.compliance(), nullptr);
+  FingertipScene dynamic(ParseSceneDescription("model: B_coarse\nbone: {}\n", "test"), Model());
+  EXPECT_EQ(dynamic.compliance(), nullptr);
+  FingertipScene cc(ParseSceneDescription(PressScene("compliance"), "test"), Model());
+  ASSERT_NE(cc.compliance(), nullptr);
+}
+
+TEST(FingertipComplianceScene, PressMatchesTheFullFeSceneStepByStep) {
+  FingertipScene full(ParseSceneDescription(PressScene("ldlt"), "test"), Model());
+  FingertipScene cc(ParseSceneDescription(PressScene("compliance"), "test"), Model());
+  PressOptions options;
+  const PressResult a = RunPress(full, options), b = RunPress(cc, options);
+  ASSERT_EQ(a.steps.size(), 3u);
+  ASSERT_EQ(b.steps.size(), 3u);
+  for (size_t k = 0; k < 3; ++k) {
+    EXPECT_TRUE(b.steps[k].report.converged);
+    EXPECT_DOUBLE_EQ(b.steps[k].t_s, a.steps[k].t_s);
+    EXPECT_NEAR(b.steps[k].force_N, a.steps[k].force_N, 1e-6 * a.steps[k].force_N);
+    EXPECT_NEAR(b.steps[k].contact_area_mm2, a.steps[k].contact_area_mm2, 1e-9);
+    EXPECT_LT((b.merkel_sed[k] - a.merkel_sed[k]).norm(), 1e-6 * a.merkel_sed[k].norm());
+  }
+  EXPECT_GT(b.steps[2].force_N, b.steps[1].force_N);
+  EXPECT_GT(b.steps[1].force_N, 0.0);
+}
+
+TEST(FingertipComplianceScene, ParseRefusesItWhereTheMethodDoesNotApply) {
+  try {
+    ParseSceneDescription("model: B_coarse\nsolver: {type: compliance}\nbone: {}\n", "bad.yaml");  // backward Euler
+    FAIL() << "expected a ConfigError";
+  } catch (const config::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.yaml:2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("compliance"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ParseSceneDescription("model: B_coarse\nsolver: {type: ldlt, cache_dir: x}\n", "t"), config::ConfigError);
 }
 
 }  // namespace
