@@ -40,6 +40,12 @@ struct Fnv {
   }
 };
 
+// y += A.middleCols<3>(3 j) * f as one fused pass over the rows (Eigen's generic 3-column
+// product path was the largest cost of a step with many contacts).
+void AddColumns3(const Eigen::MatrixXd& A, int j, const Eigen::Vector3d& f, Eigen::VectorXd& y) {
+  y.noalias() += A.col(3 * j) * f[0] + A.col(3 * j + 1) * f[1] + A.col(3 * j + 2) * f[2];
+}
+
 }  // namespace
 
 ComplianceContact::ComplianceContact(const TetMesh& mesh, std::vector<std::unique_ptr<ForceTerm>> terms,
@@ -242,7 +248,7 @@ void ComplianceContact::ResetWarmStart() {
 
 void ComplianceContact::CandidateDisplacements() {
   u_c_.setZero();
-  for (int j : loaded_) u_c_.noalias() += W_.middleCols<3>(3 * j) * f_c_.segment<3>(3 * j);
+  for (int j : loaded_) AddColumns3(W_, j, f_c_.segment<3>(3 * j), u_c_);
 }
 
 const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::RigidObject>& objects, double t_s,
@@ -279,6 +285,7 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
   const double k = options_.stiffness_N_m;
 
   bool have_previous = false;  // Anderson history valid (same contacts as last iteration)
+  prediction_valid_ = false;
   for (int it = 0; it <= options_.max_iterations; ++it) {
     // The iteration's state: force vector l_p n_p of every pair.
     state_ = normal_ * lambda_N_.asDiagonal();
@@ -302,10 +309,16 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
         loaded_.push_back(j);
         f_c_.segment<3>(3 * j) += node_lambda * tau;
         if (total > 0 && !tau.isZero(0.0))
-          u_t_.noalias() += W_.middleCols<3>(3 * j) * (node_lambda * tau);
+          AddColumns3(W_, j, node_lambda * tau, u_t_);
       }
     }
-    CandidateDisplacements();
+    // The QP's last prediction is exactly W f for these forces unless Anderson moved them
+    // or the tangential share changed with them.
+    if (prediction_valid_ && tangential_force_N.isZero(0.0))
+      u_c_.swap(u_new_);
+    else
+      CandidateDisplacements();
+    prediction_valid_ = false;
 
     // 2. Gaps and normals at the current positions; how far the forces are from k*depth.
     active_.clear();
@@ -372,6 +385,7 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
           const double norm = accelerated.col(p).norm();
           // Keep the QP's contact set and directions that stay outward of the object.
           if (lambda_N_[p] > 0 && norm > 0 && accelerated.col(p).dot(normal_.col(p)) > 0) {
+            prediction_valid_ = false;
             lambda_N_[p] = norm;
             normal_.col(p) = accelerated.col(p) / norm;
           }
@@ -395,7 +409,7 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
 
   // 3. SED from the displacements of the nodes it reads.
   u_s_.setZero();
-  for (int j : loaded_) u_s_.noalias() += G_.middleCols<3>(3 * j) * f_c_.segment<3>(3 * j);
+  for (int j : loaded_) AddColumns3(G_, j, f_c_.segment<3>(3 * j), u_s_);
   for (size_t a = 0; a < sed_nodes_.size(); ++a) {
     const int v = sed_nodes_[a];
     x_.segment<3>(3 * v) = mesh_.rest_positions_m.col(v) + u_s_.segment<3>(3 * Eigen::Index(a));
@@ -424,7 +438,7 @@ bool ComplianceContact::SolveLinearizedQp(int no) {
   auto predicted_displacements = [&](const std::vector<int>& set, const Eigen::VectorXd& l) {
     u_new_ = u_t_;
     for (int p : set)
-      if (l[p] != 0) u_new_.noalias() += W_.middleCols<3>(3 * (p / no)) * (l[p] * normal_.col(p));
+      if (l[p] != 0) AddColumns3(W_, p / no, l[p] * normal_.col(p), u_new_);
   };
   passive_.clear();
   for (Eigen::Index p = 0; p < pairs; ++p)
@@ -442,10 +456,9 @@ bool ComplianceContact::SolveLinearizedQp(int no) {
       const int p = passive_[size_t(a)], i = p / no;
       const Eigen::Vector3d np = normal_.col(p);
       rhs_[a] = -phi_m_[p] + np.dot(u_c_.segment<3>(3 * i) - u_t_.segment<3>(3 * i));
-      wn_.noalias() = np.transpose() * W_.middleRows<3>(3 * i);  // n_p^T W, one row
       for (int b = 0; b <= a; ++b) {
         const int q = passive_[size_t(b)];
-        J_(a, b) = wn_.segment<3>(3 * (q / no)).dot(normal_.col(q).transpose());
+        J_(a, b) = np.dot(W_.block<3, 3>(3 * i, 3 * (q / no)) * normal_.col(q));
       }
       J_(a, a) += 1.0 / k;
     }
@@ -492,7 +505,10 @@ bool ComplianceContact::SolveLinearizedQp(int no) {
       if (gap < -gap_tolerance) passive_.push_back(int(p));
       if (gap < worst) worst = gap, most_violated = int(p);
     }
-    if (most_violated < 0) return true;
+    if (most_violated < 0) {
+      prediction_valid_ = true;
+      return true;
+    }
     batch_added = passive_.size() > before_add.size() + 1;
   }
   return true;  // out of inner iterations: the outer loop reports non-convergence

@@ -139,7 +139,7 @@ class ComplianceContact {
   std::vector<int> active_, loaded_;  // pairs penetrating now; candidates with a force
   Eigen::MatrixXd J_;
   Eigen::VectorXd rhs_, z_, u_new_, u_s_;
-  Eigen::RowVectorXd wn_;
+  bool prediction_valid_ = false;  // u_new_ = W f of the current forces (QP's last prediction)
   Eigen::Matrix3Xd state_, mapped_, residual_, previous_mapped_, previous_residual_;  // Anderson(1)
   std::vector<int> passive_;
   double largest_ = 0;
