@@ -163,6 +163,7 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
     if (!s.converged) solve_unconverged = true;
     return s.ok ? normal_force_N() : 0.0;
   };
+  const char* kEdge = "contact reaches the edge of the candidate patch (object near the pad's edge)";
   auto finish = [&](PressStatus status, double d_mm, double f_N, const std::string& why) {
     // The contact state must be the answer's: re-solve where the answer is if the last
     // evaluation was elsewhere.
@@ -175,7 +176,7 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
     r.active_nodes = int(nodes.size());
     if (status == PressStatus::kReached && TouchesOutsidePatch(last_model)) {
       r.status = PressStatus::kPatchEdge;
-      r.message = "contact reaches the edge of the candidate patch (object near the pad's edge)";
+      r.message = kEdge;
     } else if (status == PressStatus::kReached && solve_unconverged) {
       r.status = PressStatus::kNotConverged;
       r.message = "a contact solve did not converge";
@@ -211,8 +212,12 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
   guess = std::clamp(guess, 1e-3, opt.max_indentation_mm);
   double hi = guess, f_hi = evaluate(hi);
   while (f_hi < target_N) {
+    // Below the target and already touching skin outside the patch: pushing deeper only
+    // leaves the patch further (e.g. an object beside the finger).
+    if (TouchesOutsidePatch(last_model)) return finish(PressStatus::kPatchEdge, hi, f_hi, kEdge);
     if (hi >= opt.max_indentation_mm) {
-      if (f_hi <= 0) return finish(PressStatus::kNoContact, hi, f_hi, "nothing touches the patch up to max_indentation_mm");
+      if (contact_->last().contacts.empty())
+        return finish(PressStatus::kNoContact, hi, f_hi, "nothing touches the patch up to max_indentation_mm");
       return finish(PressStatus::kMaxDepth, hi, f_hi, "target not reached at max_indentation_mm");
     }
     if (r.iterations >= opt.max_iterations) return finish(PressStatus::kNotConverged, hi, f_hi, "bracketing ran out of iterations");

@@ -136,7 +136,7 @@ TEST(FingertipCompliance, PressToForceFlagsWhatItCannotReach) {
   expect_flagged(cc.PressToForce({Sphere(5, {0, 1, 4})}, 0.1), PressStatus::kAboveTarget);
   // Off the side of the pad: the sphere meets skin that does not face the pad.
   const PressToForceResult edge = cc.PressToForce({Sphere(3, {8.5, 1, 0})}, 0.3);
-  EXPECT_FALSE(edge.reached);
+  expect_flagged(edge, PressStatus::kPatchEdge);
   EXPECT_TRUE(std::isfinite(edge.force_N));
   // Still usable afterwards.
   EXPECT_TRUE(cc.PressToForce(sphere, 0.5).reached);
