@@ -222,7 +222,10 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
     }
     if (r.iterations >= opt.max_iterations) return finish(PressStatus::kNotConverged, hi, f_hi, "bracketing ran out of iterations");
     lo = hi, f_lo = f_hi;
-    hi = std::min(opt.max_indentation_mm, std::max(2.0 * hi, hi + 0.05));
+    // Grow by the Hertz estimate (F ~ d^1.5) plus 5 % so that the next point likely
+    // brackets the target tightly; double when nothing pushes back yet.
+    const double grow = f_hi > 0 ? std::clamp(1.05 * std::pow(target_N / f_hi, 2.0 / 3.0), 1.05, 2.0) : 2.0;
+    hi = std::min(opt.max_indentation_mm, std::max(grow * hi, hi + 0.01));
     f_hi = evaluate(hi);
   }
   if (std::abs(f_hi - target_N) <= tol) return finish(PressStatus::kReached, hi, f_hi, "");
