@@ -1,6 +1,7 @@
 #include "fem/compliance_contact.h"
 
 #include <omp.h>
+#include <unistd.h>
 
 #include <Eigen/Cholesky>
 #include <algorithm>
@@ -212,7 +213,7 @@ void ComplianceContact::SaveCache(std::uint64_t key) const {
   std::error_code ec;
   std::filesystem::create_directories(options_.cache_dir, ec);
   // Write beside, then rename: a reader never sees a half-written file.
-  const std::string tmp = cache_file_ + ".tmp" + std::to_string(std::uintptr_t(this));
+  const std::string tmp = cache_file_ + ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(std::uintptr_t(this));
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) return;
