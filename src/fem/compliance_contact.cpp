@@ -23,6 +23,8 @@ namespace {
 
 // Bump when the cache layout or the meaning of W/G changes: old files then stop matching.
 constexpr std::uint64_t kCacheVersion = 1;
+// Exact contact's gap tolerance is relative_tolerance times this length.
+constexpr double kExactGapScale_m = 1e-3;
 constexpr char kCacheMagic[8] = {'S', 'E', 'D', 'B', 'W', 'C', 'M', 'P'};
 
 // FNV-1a, 64 bit: a content key for the cache (not a security hash).
@@ -285,6 +287,8 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
   }
   const double k = options_.stiffness_N_m;
 
+  const bool exact = options_.exact_contact;
+  bool converged_exact = false;
   bool have_previous = false;  // Anderson history valid (same contacts as last iteration)
   prediction_valid_ = false;
   for (int it = 0; it <= options_.max_iterations; ++it) {
@@ -322,8 +326,10 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
     prediction_valid_ = false;
 
     // 2. Gaps and normals at the current positions; how far the forces are from k*depth.
+    // Exact contact (no penetration, k -> infinity): forces only where the gap is closed,
+    // gaps >= 0 everywhere; the mismatch is then the gap error times a stiffness scale.
     active_.clear();
-    double largest = 0, mismatch = 0;
+    double largest = 0, mismatch = 0, gap_error = 0, turn = 0;
     for (int j = 0; j < c; ++j) {
       const Eigen::Vector3d x = rest_c_.col(j) + u_c_.segment<3>(3 * j);
       for (int o = 0; o < no; ++o) {
@@ -337,7 +343,16 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
           ResetWarmStart();
           return result_;
         }
-        if (s.distance_m < 0) {
+        if (exact) {
+          const double lp = lambda_N_[p];
+          gap_error = std::max(gap_error, lp > 0 ? std::abs(s.distance_m) : std::max(0.0, -s.distance_m));
+          if (lp > 0) {
+            turn = std::max(turn, lp * (s.normal - normal_.col(p)).norm());
+            largest = std::max(largest, lp);
+            active_.push_back(p);
+          }
+          normal_.col(p) = s.normal;
+        } else if (s.distance_m < 0) {
           const double target = -k * s.distance_m;
           mismatch = std::max(mismatch, (target * s.normal - lambda_N_[p] * normal_.col(p)).norm());
           largest = std::max(largest, target);
@@ -350,7 +365,14 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
       }
     }
     result_.iterations = it;
-    if (mismatch <= options_.relative_tolerance * largest || (active_.empty() && mismatch == 0)) {
+    if (exact) {
+      converged_exact = gap_error <= options_.relative_tolerance * kExactGapScale_m &&
+                        turn <= options_.relative_tolerance * largest;
+      if (converged_exact) {
+        result_.converged = true;
+        break;
+      }
+    } else if (mismatch <= options_.relative_tolerance * largest || (active_.empty() && mismatch == 0)) {
       result_.converged = true;
       break;
     }
@@ -402,8 +424,9 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
   const double total = lambda_N_.sum();
   for (int p : active_) {
     const int i = p / no;
-    const double spring = -k * phi_m_[p];
-    result_.contacts.push_back({candidates_[size_t(i)], p % no, normal_.col(p), -phi_m_[p], spring, spring});
+    const double spring = exact ? lambda_N_[p] : -k * phi_m_[p];
+    result_.contacts.push_back(
+        {candidates_[size_t(i)], p % no, normal_.col(p), std::max(0.0, -phi_m_[p]), spring, spring});
     result_.spring_force_N += spring * normal_.col(p);
   }
   if (total > 0) result_.tangential_force_N = tangential_force_N;
@@ -434,6 +457,9 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
 
 bool ComplianceContact::SolveLinearizedQp(int no) {
   const double k = options_.stiffness_N_m;
+  // Exact contact: no penalty compliance; a whisper of it keeps the Newton matrix definite
+  // when two contacts act on one node along dependent normals.
+  const double inverse_k = options_.exact_contact ? (W_.size() ? 1e-12 * W_.diagonal().maxCoeff() : 0.0) : 1.0 / k;
   const Eigen::Index pairs = lambda_N_.size();
   // Predicted gap of pair p for forces l: phi_p + n_p . (W N l + u_t - u)_p.
   auto predicted_displacements = [&](const std::vector<int>& set, const Eigen::VectorXd& l) {
@@ -461,7 +487,7 @@ bool ComplianceContact::SolveLinearizedQp(int no) {
         const int q = passive_[size_t(b)];
         J_(a, b) = np.dot(W_.block<3, 3>(3 * i, 3 * (q / no)) * normal_.col(q));
       }
-      J_(a, a) += 1.0 / k;
+      J_(a, a) += inverse_k;
     }
     z_ = m ? Eigen::VectorXd(J_.selfadjointView<Eigen::Lower>().llt().solve(rhs_)) : Eigen::VectorXd();
     if (!z_.allFinite()) return false;
@@ -493,7 +519,9 @@ bool ComplianceContact::SolveLinearizedQp(int no) {
     // Optimal on the passive set: any other pair predicted to penetrate joins it.
     predicted_displacements(passive_, lambda_N_);
     for (int a = 0; a < m; ++a) largest_ = std::max(largest_, z_[a]);
-    const double gap_tolerance = 1e-3 * options_.relative_tolerance * std::max(largest_, 1e-12) / k;
+    const double gap_tolerance = options_.exact_contact
+                                     ? 1e-3 * options_.relative_tolerance * kExactGapScale_m
+                                     : 1e-3 * options_.relative_tolerance * std::max(largest_, 1e-12) / k;
     before_add = passive_;
     most_violated = -1;
     double worst = -gap_tolerance;

@@ -8,10 +8,13 @@
 //   G = S K^-1 H^T   3s x 3c   displacements of the s nodes the Merkel-layer SED reads
 // A step solves the paper's penalty law f_i = k max(0, -phi(x_i)) n(x_i) (SDF and normal at
 // the CURRENT node position x = X + u, as PenaltyContactForce in a quasi-static solve) on
-// this small system by a semismooth Newton iteration over the active contacts' normal
-// force magnitudes, warm-started from the last step, then the Merkel SED from G f.
-// Same equilibrium as the full FE quasi-static Newton solve with PenaltyContactForce on
-// the same candidate nodes, up to round-off.
+// this small system: with the gaps linearized at the current positions it is a convex QP
+// in the contacts' normal force magnitudes (primal active set); outer iterations move the
+// linearization (normals of curved objects), Anderson-accelerated, and everything is
+// warm-started from the last step. Then the Merkel SED from G f. Same equilibrium as the
+// full FE quasi-static Newton solve with PenaltyContactForce on the same candidate nodes
+// (to relative_tolerance). Optional: exact (non-penetrating) contact, k -> infinity.
+// Not thread-safe (one instance per thread).
 //
 // Units: SI throughout (m, N, Pa).
 
@@ -32,6 +35,10 @@ namespace sedbridge::fem {
 
 struct ComplianceContactOptions {
   double stiffness_N_m = 1e4;      ///< k_contact per node (paper: 1e4 N/m)
+  /// Exact (rigid, non-penetrating) contact instead of the penalty law: gaps >= 0, forces
+  /// >= 0, a force only where the gap is closed (k -> infinity; stiffness_N_m unused).
+  /// Converged when gaps are within relative_tolerance * 1 mm of that.
+  bool exact_contact = false;
   int max_iterations = 60;         ///< Newton iterations per step
   /// Converged when every contact's normal force matches k * depth at the new positions
   /// to this fraction of the largest contact force (and the active set is unchanged).

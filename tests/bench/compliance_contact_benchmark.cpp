@@ -3,8 +3,10 @@
 // Run (Release build), one thread:
 //   OMP_NUM_THREADS=1 build/tests/bench/compliance_contact_benchmark
 //   SEDBRIDGE_BENCH_MODEL=B_coarse build/tests/bench/compliance_contact_benchmark --benchmark_filter=Step
-// Counters: median_ms / p99_ms per step, steps_per_s (from the median), contacts (active
-// nodes, mean), iterations (Newton, mean); precompute: seconds, candidates.
+// Counters: median_ms / p99_ms / max_ms per step (wall clock), cpu_median_ms / cpu_p99_ms
+// (this thread's CPU time: on a shared machine the wall-clock tail is mostly preemption),
+// steps_per_s (from the wall median), contacts (active nodes, mean), iterations (outer
+// Newton iterations, mean); precompute: seconds, candidates, SED nodes.
 
 #include <benchmark/benchmark.h>
 #include <omp.h>

@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 #include <filesystem>
 #include <fstream>
+#include <set>
 
 #include "fem/box_mesh.h"
 #include "fem/elastic_tet_force.h"
@@ -157,6 +158,44 @@ TEST(ComplianceContact, TangentialLoadIsCarriedByTheContactsAndShearsTheBlock) {
   EXPECT_TRUE(none.tangential_force_N.isZero());
   EXPECT_EQ(cc.candidate_displacements_m().norm(), 0.0);
 }
+
+// Exact contact is the penalty law's limit k -> infinity: no penetration, a force only
+// where the gap is closed, and the penalty answer approaches it from below as k grows.
+void ExpectExactContact(const geometry::RigidObject& object) {
+  const TetMesh mesh = Block();
+  ComplianceContactOptions exact_options;
+  exact_options.exact_contact = true;
+  ComplianceContact exact = MakeCompliance(mesh, exact_options);
+  const ComplianceStepResult& r = exact.Step({object});
+  ASSERT_TRUE(r.ok && r.converged) << r.error;
+  ASSERT_GT(r.contacts.size(), 3u);
+  // Gaps at the final positions: >= 0 everywhere, ~0 where there is a force.
+  std::set<int> touching;
+  for (const auto& c : r.contacts) {
+    EXPECT_GT(c.normal_force_N, 0.0);
+    touching.insert(c.node);
+  }
+  for (size_t j = 0; j < exact.candidate_nodes().size(); ++j) {
+    const Eigen::Vector3d x = mesh.rest_positions_m.col(exact.candidate_nodes()[j]) +
+                              exact.candidate_displacements_m().col(Eigen::Index(j));
+    const double gap = object.Evaluate(x, 0.0).distance_m;
+    EXPECT_GT(gap, -1e-10);
+    if (touching.count(exact.candidate_nodes()[j])) EXPECT_LT(std::abs(gap), 1e-10);
+  }
+  double previous = 0;
+  for (double k : {1e4, 1e6, 1e8}) {
+    ComplianceContactOptions o;
+    ComplianceContact penalty(mesh, BlockTerms(mesh), testing::NodesWhere(mesh, 2, kHeight), SedVertices(mesh),
+                              [&] { o.stiffness_N_m = k; return o; }());
+    const double f = penalty.Step({object}).spring_force_N.norm();
+    EXPECT_GT(f, previous);
+    previous = f;
+  }
+  EXPECT_LT(std::abs(previous - r.spring_force_N.norm()) / r.spring_force_N.norm(), 1e-3);
+}
+
+TEST(ComplianceContact, ExactContactPlaneIsThePenaltyLimit) { ExpectExactContact(PlaneAbove(0.0002)); }
+TEST(ComplianceContact, ExactContactSphereIsThePenaltyLimit) { ExpectExactContact(SphereAbove(0.004, 0.0004)); }
 
 TEST(ComplianceContact, RefusesCorotationalModel) {
   const TetMesh mesh = Block();
