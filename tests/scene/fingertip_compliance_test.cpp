@@ -116,6 +116,20 @@ TEST(FingertipCompliance, PressToForceReachesTheTargetAndWarmStarts) {
   EXPECT_EQ(objects.size(), 2u);
 }
 
+TEST(FingertipCompliance, ExactContactReachesTheForceAtLessIndentationThanPenalty) {
+  const std::vector<geometry::RigidObject> sphere{Sphere(5, {0, 1, 5})};
+  FingertipCompliance penalty(Model());
+  FingertipComplianceOptions o;
+  o.contact.exact_contact = true;
+  FingertipCompliance exact(Model(), o);
+  const PressToForceResult a = penalty.PressToForce(sphere, 0.5), b = exact.PressToForce(sphere, 0.5);
+  ASSERT_TRUE(a.reached && b.reached) << a.message << b.message;
+  EXPECT_NEAR(b.force_N, 0.5, 1e-4 * 0.5);
+  // The penalty lets the sphere sink in by f/k per node; exact contact does not.
+  EXPECT_LT(b.indentation_mm, a.indentation_mm);
+  for (const auto& c : exact.contact().last().contacts) EXPECT_LT(c.depth_m, 1e-9);
+}
+
 TEST(FingertipCompliance, PressToForceFlagsWhatItCannotReach) {
   FingertipCompliance cc(Model());
   auto expect_flagged = [&](const PressToForceResult& r, PressStatus status) {
