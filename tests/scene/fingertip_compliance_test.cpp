@@ -156,6 +156,47 @@ TEST(FingertipCompliance, PressToForceFlagsWhatItCannotReach) {
   EXPECT_TRUE(cc.PressToForce(sphere, 0.5).reached);
 }
 
+// Contact reconstruction will try arbitrary hypotheses: random spheres, boxes and planes
+// anywhere near the pad, random targets. Every answer is finite, flagged or on target.
+TEST(FingertipCompliance, PressToForceOnRandomHypothesesIsFiniteAndHonest) {
+  FingertipCompliance cc(Model());
+  std::srand(12);
+  auto uniform = [](double a, double b) { return a + (b - a) * double(std::rand()) / RAND_MAX; };
+  int reached = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    std::vector<geometry::RigidObject> objects;
+    const int kind = trial % 3;
+    const Eigen::Vector3d at(uniform(-12, 12), uniform(-10, 10), 0);
+    if (kind == 0) {
+      const double r = uniform(1, 20);
+      objects.push_back(Sphere(r, at + Eigen::Vector3d(0, 0, r)));
+    } else if (kind == 1) {
+      Eigen::Isometry3d pose(Eigen::Translation3d(1e-3 * (at + Eigen::Vector3d(0, 0, 5.5))));
+      pose.linear() = geometry::RotationFromRpyDeg({uniform(-20, 20), uniform(-20, 20), uniform(0, 90)});
+      objects.push_back({"box", std::make_shared<geometry::BoxSdf>(Eigen::Vector3d(4e-3, 3e-3, 5e-3), 0.0),
+                         geometry::Trajectory(pose)});
+    } else {
+      Eigen::Isometry3d pose(Eigen::Translation3d(0, 0, uniform(-0.5, 0.5) * 1e-3));
+      pose.linear() = geometry::RotationFromRpyDeg({180 + uniform(-10, 10), uniform(-10, 10), 0});
+      objects.push_back({"plane", std::make_shared<geometry::PlaneSdf>(), geometry::Trajectory(pose)});
+    }
+    const double target = uniform(0.01, 4.0);
+    const PressToForceResult r = cc.PressToForce(objects, target);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + ToString(r.status) + " " + r.message);
+    EXPECT_TRUE(std::isfinite(r.force_N));
+    EXPECT_TRUE(std::isfinite(r.indentation_mm));
+    EXPECT_TRUE(cc.sed_Pa().allFinite());
+    EXPECT_EQ(r.reached, r.status == PressStatus::kReached);
+    if (r.reached) {
+      ++reached;
+      EXPECT_NEAR(r.force_N, target, 1e-4 * target);
+    } else {
+      EXPECT_FALSE(r.message.empty());
+    }
+  }
+  EXPECT_GT(reached, 10);
+}
+
 // Scene integration: `solver: {type: compliance}` builds it; nothing else does.
 std::string PressScene(const std::string& solver) {
   return "model: B_coarse\nelasticity: linear\n"
