@@ -62,6 +62,8 @@ ComplianceContact::ComplianceContact(const TetMesh& mesh, std::vector<std::uniqu
       throw std::invalid_argument("compliance contact: term '" + t->name() + "' has a non-constant Jacobian");
     if (!elastic) elastic = dynamic_cast<const ElasticTetForce*>(t.get());
   }
+  if (options_.exact_contact && options_.friction_anisotropy > 0)
+    throw std::invalid_argument("compliance contact: pseudo friction needs the penalty law (not exact_contact)");
   if (!elastic || elastic->formulation() != ElasticFormulation::kLinear)
     throw std::invalid_argument("compliance contact needs a linear elastic term (the compliance is K^-1 at rest)");
   const int n = mesh.num_nodes();
@@ -242,6 +244,23 @@ void ComplianceContact::SaveCache(std::uint64_t key) const {
   if (ec) std::filesystem::remove(tmp, ec);
 }
 
+size_t ComplianceContact::num_anchors() const {
+  return size_t(std::count(anchored_.begin(), anchored_.end(), char(1)));
+}
+
+void ComplianceContact::EndStep() {
+  if (!(options_.friction_anisotropy > 0) || !result_.ok || num_objects_ <= 0) return;
+  const int no = num_objects_;
+  std::vector<char> next(anchored_.size(), 0);
+  for (const int p : active_) {
+    const Eigen::Vector3d x = rest_c_.col(p / no) + u_c_.segment<3>(3 * (p / no));
+    // Touched in this step: anchor where it is; anchored contacts keep their anchor.
+    if (!anchored_[size_t(p)]) anchor_.col(p) = pose_inverse_[size_t(p % no)] * x;
+    next[size_t(p)] = 1;
+  }
+  anchored_.swap(next);
+}
+
 void ComplianceContact::ResetWarmStart() {
   num_objects_ = -1;
   lambda_N_.resize(0);
@@ -268,12 +287,19 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
   }
   const int c = int(candidates_.size());
   const int no = int(objects.size());
-  if (no != num_objects_) {  // a different scene: no warm start
+  if (no != num_objects_) {  // a different scene: no warm start, no anchors
     num_objects_ = no;
-    lambda_N_ = Eigen::VectorXd::Zero(Eigen::Index(c) * no);
-    normal_ = Eigen::Matrix3Xd::Zero(3, Eigen::Index(c) * no);
+    const Eigen::Index pairs = Eigen::Index(c) * no;
+    lambda_N_ = Eigen::VectorXd::Zero(pairs);
+    normal_ = Eigen::Matrix3Xd::Zero(3, pairs);
+    anchored_.assign(size_t(pairs), 0);
+    sticking_.assign(size_t(pairs), 0);
+    anchor_ = anchor_world_ = friction_ = friction_target_ = Eigen::Matrix3Xd::Zero(3, pairs);
   }
+  const bool friction = options_.friction_anisotropy > 0;
+  const double k_t = options_.friction_anisotropy * options_.stiffness_N_m;
   phi_m_.resize(lambda_N_.size());
+  pose_.resize(size_t(no));
   pose_inverse_.resize(size_t(no));
   pose_rotation_.resize(size_t(no));
   for (int o = 0; o < no; ++o) {
@@ -282,6 +308,7 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
       return result_;
     }
     const Eigen::Isometry3d pose = objects[size_t(o)].trajectory.Pose(t_s);
+    pose_[size_t(o)] = pose;
     pose_inverse_[size_t(o)] = pose.inverse();
     pose_rotation_[size_t(o)] = pose.linear();
   }
@@ -294,28 +321,29 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
   for (int it = 0; it <= options_.max_iterations; ++it) {
     // The iteration's state: force vector l_p n_p of every pair.
     state_ = normal_ * lambda_N_.asDiagonal();
+    if (friction) state_ += friction_;
     // 1. Displacements from the current forces: normal k*depth along each pair's normal,
     // plus the tangential load in proportion to each node's normal force.
     const double total = lambda_N_.sum();
     const Eigen::Vector3d tau = total > 0 ? Eigen::Vector3d(tangential_force_N / total) : Eigen::Vector3d::Zero();
     loaded_.clear();
     f_c_.setZero();
-    u_t_.setZero();
     for (int j = 0; j < c; ++j) {
       double node_lambda = 0;
+      bool rubbing = false;
       for (int o = 0; o < no; ++o) {
         const int p = j * no + o;
         if (lambda_N_[p] > 0) {
           f_c_.segment<3>(3 * j) += lambda_N_[p] * normal_.col(p);
           node_lambda += lambda_N_[p];
         }
+        if (friction && !friction_.col(p).isZero(0.0)) {
+          f_c_.segment<3>(3 * j) += friction_.col(p);
+          rubbing = true;
+        }
       }
-      if (node_lambda > 0) {
-        loaded_.push_back(j);
-        f_c_.segment<3>(3 * j) += node_lambda * tau;
-        if (total > 0 && !tau.isZero(0.0))
-          AddColumns3(W_, j, node_lambda * tau, u_t_);
-      }
+      if (node_lambda > 0 || rubbing) loaded_.push_back(j);
+      if (node_lambda > 0) f_c_.segment<3>(3 * j) += node_lambda * tau;
     }
     // The QP's last prediction is exactly W f for these forces unless Anderson moved them
     // or the tangential share changed with them.
@@ -358,9 +386,27 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
           largest = std::max(largest, target);
           normal_.col(p) = s.normal;
           active_.push_back(p);
+          if (friction && anchored_[size_t(p)]) {
+            // The spring PseudoFrictionForce applies here (no Coulomb cap).
+            anchor_world_.col(p) = pose_[size_t(o)] * anchor_.col(p);
+            const Eigen::Matrix3d tangential = Eigen::Matrix3d::Identity() - s.normal * s.normal.transpose();
+            const Eigen::Vector3d ft = -k_t * (tangential * (x - anchor_world_.col(p)));
+            sticking_[size_t(p)] = 1;
+            friction_target_.col(p) = ft;
+            mismatch = std::max(mismatch, (ft - friction_.col(p)).norm());
+          } else if (friction) {
+            sticking_[size_t(p)] = 0;
+            friction_target_.col(p).setZero();
+            mismatch = std::max(mismatch, friction_.col(p).norm());
+          }
         } else {
           mismatch = std::max(mismatch, lambda_N_[p]);
           normal_.col(p) = s.normal;
+          if (friction) {
+            sticking_[size_t(p)] = 0;
+            friction_target_.col(p).setZero();
+            mismatch = std::max(mismatch, friction_.col(p).norm());
+          }
         }
       }
     }
@@ -385,7 +431,7 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
     // Solved by a primal active-set method (Lawson-Hanson style): the objective falls at
     // every change of the active set, so it cannot cycle (a plain semismooth Newton on
     // max(0, .) does cycle here: N^T W N is not an M-matrix).
-    if (!SolveLinearizedQp(no)) {
+    if (!SolveLinearizedQp(no, tau)) {
       result_.error = "contact solve produced NaN";
       ResetWarmStart();
       return result_;
@@ -396,7 +442,7 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
     // it superlinear in practice.
     mapped_ = normal_ * lambda_N_.asDiagonal();
     residual_ = mapped_ - state_;
-    const bool same_support = have_previous && ((mapped_.colwise().squaredNorm().array() > 0) ==
+    const bool same_support = !friction && have_previous && ((mapped_.colwise().squaredNorm().array() > 0) ==
                                                 (previous_mapped_.colwise().squaredNorm().array() > 0)).all();
     if (same_support) {
       const Eigen::Matrix3Xd dr = residual_ - previous_residual_;
@@ -430,6 +476,9 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
     result_.spring_force_N += spring * normal_.col(p);
   }
   if (total > 0) result_.tangential_force_N = tangential_force_N;
+  result_.friction_force_N.setZero();
+  if (friction)
+    for (Eigen::Index p = 0; p < friction_.cols(); ++p) result_.friction_force_N += friction_.col(p);
 
   // 3. SED from the displacements of the nodes it reads.
   u_s_.setZero();
@@ -455,49 +504,104 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
   return result_;
 }
 
-bool ComplianceContact::SolveLinearizedQp(int no) {
+bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau) {
   const double k = options_.stiffness_N_m;
+  const bool friction = options_.friction_anisotropy > 0;
+  const double k_t = options_.friction_anisotropy * k;
   // Exact contact: no penalty compliance; a whisper of it keeps the Newton matrix definite
   // when two contacts act on one node along dependent normals.
   const double inverse_k = options_.exact_contact ? (W_.size() ? 1e-12 * W_.diagonal().maxCoeff() : 0.0) : 1.0 / k;
   const Eigen::Index pairs = lambda_N_.size();
-  // Predicted gap of pair p for forces l: phi_p + n_p . (W N l + u_t - u)_p.
+  const int c = int(candidates_.size());
+
+  // Forces held fixed in this QP: the tangential load (shares of the current normal
+  // forces). u_t_ = W held.
+  held_.setZero(3 * c);
+  for (Eigen::Index p = 0; p < pairs; ++p)
+    if (lambda_N_[p] > 0) held_.segment<3>(3 * (int(p) / no)) += lambda_N_[p] * tau;
+  u_t_.setZero(3 * c);
+  for (int j = 0; j < c; ++j)
+    if (!held_.segment<3>(3 * j).isZero(0.0)) AddColumns3(W_, j, held_.segment<3>(3 * j), u_t_);
+
+  // Rows: force lambda_r along dir_r at node_r with "gap" g_r (linearized about the
+  // current positions) and compliance c_r: lambda_r = -g_r(new) / c_r. Normal rows are
+  // bounded (lambda >= 0: the penalty never pulls); friction rows (two tangent directions
+  // of an anchored contact, gap = offset from the anchor) are free.
+  bounded_rows_ = int(pairs);
+  int rows = int(pairs);
+  if (friction)
+    for (Eigen::Index p = 0; p < pairs; ++p) rows += sticking_[size_t(p)] ? 2 : 0;
+  row_node_.resize(size_t(rows));
+  row_dir_.resize(3, rows);
+  row_gap_.resize(rows);
+  row_lambda_.resize(rows);
+  row_compliance_.resize(rows);
+  for (Eigen::Index p = 0; p < pairs; ++p) {
+    row_node_[size_t(p)] = int(p) / no;
+    row_dir_.col(p) = normal_.col(p);
+    row_gap_[p] = phi_m_[p];
+    row_lambda_[p] = lambda_N_[p];
+    row_compliance_[p] = inverse_k;
+  }
+  if (friction) {
+    int r = int(pairs);
+    for (Eigen::Index p = 0; p < pairs; ++p) {
+      if (!sticking_[size_t(p)]) continue;
+      const int j = int(p) / no;
+      const Eigen::Vector3d n = normal_.col(p);
+      const Eigen::Vector3d t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+      const Eigen::Vector3d offset = rest_c_.col(j) + u_c_.segment<3>(3 * j) - anchor_world_.col(p);
+      for (const Eigen::Vector3d& t : {t1, t2}) {
+        row_node_[size_t(r)] = j;
+        row_dir_.col(r) = t;
+        row_gap_[r] = t.dot(offset);
+        row_lambda_[r] = t.dot(friction_.col(p));
+        row_compliance_[r] = 1.0 / k_t;
+        ++r;
+      }
+    }
+  }
+
+  // Predicted displacements for row forces l: u_t + sum_r l_r W dir_r.
   auto predicted_displacements = [&](const std::vector<int>& set, const Eigen::VectorXd& l) {
     u_new_ = u_t_;
-    for (int p : set)
-      if (l[p] != 0) AddColumns3(W_, p / no, l[p] * normal_.col(p), u_new_);
+    for (int r : set)
+      if (l[r] != 0) AddColumns3(W_, row_node_[size_t(r)], l[r] * row_dir_.col(r), u_new_);
   };
   passive_.clear();
-  for (Eigen::Index p = 0; p < pairs; ++p)
-    if (lambda_N_[p] > 0) passive_.push_back(int(p));
+  for (int r = 0; r < rows; ++r)
+    if (r >= bounded_rows_ || row_lambda_[r] > 0) passive_.push_back(r);
   std::vector<int> before_add;
   int most_violated = -1;
   bool batch_added = false;
   largest_ = 0;
-  for (int inner = 0; inner < 4 * int(pairs) + 10; ++inner) {
+  bool solved = false;
+  for (int inner = 0; inner < 4 * rows + 10; ++inner) {
     // Unconstrained minimizer on the passive set.
     const int m = int(passive_.size());
     J_.resize(m, m);
     rhs_.resize(m);
     for (int a = 0; a < m; ++a) {
-      const int p = passive_[size_t(a)], i = p / no;
-      const Eigen::Vector3d np = normal_.col(p);
-      rhs_[a] = -phi_m_[p] + np.dot(u_c_.segment<3>(3 * i) - u_t_.segment<3>(3 * i));
+      const int r = passive_[size_t(a)], i = row_node_[size_t(r)];
+      const Eigen::Vector3d dr = row_dir_.col(r);
+      rhs_[a] = -row_gap_[r] + dr.dot(u_c_.segment<3>(3 * i) - u_t_.segment<3>(3 * i));
       for (int b = 0; b <= a; ++b) {
         const int q = passive_[size_t(b)];
-        J_(a, b) = np.dot(W_.block<3, 3>(3 * i, 3 * (q / no)) * normal_.col(q));
+        J_(a, b) = dr.dot(W_.block<3, 3>(3 * i, 3 * row_node_[size_t(q)]) * row_dir_.col(q));
       }
-      J_(a, a) += inverse_k;
+      J_(a, a) += row_compliance_[r];
     }
     z_ = m ? Eigen::VectorXd(J_.selfadjointView<Eigen::Lower>().llt().solve(rhs_)) : Eigen::VectorXd();
     if (!z_.allFinite()) return false;
-    // Infeasible: step from l toward z until the first force reaches zero, drop it.
+    // Infeasible: step from l toward z until the first bounded force reaches zero, drop it.
     double alpha = 1;
-    for (int a = 0; a < m; ++a)
-      if (z_[a] <= 0) alpha = std::min(alpha, lambda_N_[passive_[size_t(a)]] / (lambda_N_[passive_[size_t(a)]] - z_[a]));
+    for (int a = 0; a < m; ++a) {
+      const int r = passive_[size_t(a)];
+      if (r < bounded_rows_ && z_[a] <= 0) alpha = std::min(alpha, row_lambda_[r] / (row_lambda_[r] - z_[a]));
+    }
     if (alpha < 1) {
       if (alpha <= 0 && batch_added) {
-        // A pair added in the last batch wants a negative force at once: add only the
+        // A row added in the last batch wants a negative force at once: add only the
         // most violated one instead (Lawson-Hanson's rule, which always makes progress).
         passive_ = before_add;
         passive_.push_back(most_violated);
@@ -506,41 +610,60 @@ bool ComplianceContact::SolveLinearizedQp(int no) {
       }
       std::vector<int> kept;
       for (int a = 0; a < m; ++a) {
-        const int p = passive_[size_t(a)];
-        lambda_N_[p] += alpha * (z_[a] - lambda_N_[p]);
-        if (z_[a] <= 0 && lambda_N_[p] <= 1e-14 * (1 + std::abs(z_[a]))) lambda_N_[p] = 0;
-        if (lambda_N_[p] > 0) kept.push_back(p);
+        const int r = passive_[size_t(a)];
+        row_lambda_[r] += alpha * (z_[a] - row_lambda_[r]);
+        if (r >= bounded_rows_) {
+          kept.push_back(r);
+          continue;
+        }
+        if (z_[a] <= 0 && row_lambda_[r] <= 1e-14 * (1 + std::abs(z_[a]))) row_lambda_[r] = 0;
+        if (row_lambda_[r] > 0) kept.push_back(r);
       }
       passive_.swap(kept);
       batch_added = false;
       continue;
     }
-    for (int a = 0; a < m; ++a) lambda_N_[passive_[size_t(a)]] = z_[a];
-    // Optimal on the passive set: any other pair predicted to penetrate joins it.
-    predicted_displacements(passive_, lambda_N_);
-    for (int a = 0; a < m; ++a) largest_ = std::max(largest_, z_[a]);
+    for (int a = 0; a < m; ++a) row_lambda_[passive_[size_t(a)]] = z_[a];
+    // Optimal on the passive set: any other normal row predicted to penetrate joins it.
+    predicted_displacements(passive_, row_lambda_);
+    for (int a = 0; a < m; ++a)
+      if (passive_[size_t(a)] < bounded_rows_) largest_ = std::max(largest_, z_[a]);
     const double gap_tolerance = options_.exact_contact
                                      ? 1e-3 * options_.relative_tolerance * kExactGapScale_m
                                      : 1e-3 * options_.relative_tolerance * std::max(largest_, 1e-12) / k;
     before_add = passive_;
     most_violated = -1;
     double worst = -gap_tolerance;
-    std::vector<char> in_passive(size_t(pairs), 0);
-    for (int p : passive_) in_passive[size_t(p)] = 1;
-    for (Eigen::Index p = 0; p < pairs; ++p) {
-      if (in_passive[size_t(p)]) continue;
-      const int i = int(p) / no;
-      const double gap = phi_m_[p] + normal_.col(p).dot(u_new_.segment<3>(3 * i) - u_c_.segment<3>(3 * i));
-      if (gap < -gap_tolerance) passive_.push_back(int(p));
-      if (gap < worst) worst = gap, most_violated = int(p);
+    std::vector<char> in_passive(size_t(rows), 0);
+    for (int r : passive_) in_passive[size_t(r)] = 1;
+    for (int r = 0; r < bounded_rows_; ++r) {
+      if (in_passive[size_t(r)]) continue;
+      const int i = row_node_[size_t(r)];
+      const double gap = row_gap_[r] + row_dir_.col(r).dot(u_new_.segment<3>(3 * i) - u_c_.segment<3>(3 * i));
+      if (gap < -gap_tolerance) passive_.push_back(r);
+      if (gap < worst) worst = gap, most_violated = r;
     }
     if (most_violated < 0) {
-      prediction_valid_ = true;
-      return true;
+      solved = true;
+      break;
     }
     batch_added = passive_.size() > before_add.size() + 1;
   }
-  return true;  // out of inner iterations: the outer loop reports non-convergence
+  // Back to pairs: normal forces, and the friction of spring pairs from their rows.
+  for (Eigen::Index p = 0; p < pairs; ++p) lambda_N_[p] = std::max(0.0, row_lambda_[p]);
+  if (friction) {
+    friction_.setZero();
+    int r = bounded_rows_;
+    for (Eigen::Index p = 0; p < pairs; ++p) {
+      if (!sticking_[size_t(p)]) continue;
+      friction_.col(p) = row_lambda_[r] * row_dir_.col(r) + row_lambda_[r + 1] * row_dir_.col(r + 1);
+      r += 2;
+    }
+  }
+  // u_new_ = W f for exactly these forces when the set settled (reused as the next
+  // iteration's displacements).
+  prediction_valid_ = solved;
+  return true;  // not solved: out of inner iterations, the outer loop reports non-convergence
 }
 
 }  // namespace sedbridge::fem

@@ -39,6 +39,12 @@ struct ComplianceContactOptions {
   /// >= 0, a force only where the gap is closed (k -> infinity; stiffness_N_m unused).
   /// Converged when gaps are within relative_tolerance * 1 mm of that.
   bool exact_contact = false;
+  /// Pseudo-friction springs (as PseudoFrictionForce with coulomb_mu = 0): a contact that
+  /// existed at the last EndStep() is tied tangentially to where it touched the object,
+  /// stiffness friction_anisotropy * k. 0 = frictionless. Not with exact_contact. The
+  /// Coulomb cap (sliding anchors) is not supported: the quasi-static full FE Newton
+  /// diverges on it too (tried: a plane slid over a block, mu 0.2 and 1.0).
+  double friction_anisotropy = 0.0;
   int max_iterations = 60;         ///< Newton iterations per step
   /// Converged when every contact's normal force matches k * depth at the new positions
   /// to this fraction of the largest contact force (and the active set is unchanged).
@@ -58,6 +64,7 @@ struct ComplianceStepResult {
   std::vector<ActiveContact> contacts;  ///< node = mesh node index, object = index into objects
   Eigen::Vector3d spring_force_N = Eigen::Vector3d::Zero();  ///< sum k depth n on the skin (model frame)
   Eigen::Vector3d tangential_force_N = Eigen::Vector3d::Zero();  ///< tangential load applied (model frame)
+  Eigen::Vector3d friction_force_N = Eigen::Vector3d::Zero();    ///< sum of pseudo-friction spring forces
   Eigen::VectorXd sed_Pa;   ///< SED per vertex, in the order of sed_vertices()
 };
 
@@ -83,8 +90,12 @@ class ComplianceContact {
   const ComplianceStepResult& Step(const std::vector<geometry::RigidObject>& objects, double t_s = 0.0,
                                    const Eigen::Vector3d& tangential_force_N = Eigen::Vector3d::Zero());
   const ComplianceStepResult& last() const { return result_; }
-  /// Forgets the warm start (the next step starts from no contact).
+  /// Forgets the warm start (the next step starts from no contact) and friction anchors.
   void ResetWarmStart();
+  /// Accepts the last step for pseudo friction (as a simulation's EndStep): contacts
+  /// anchor where they touch now, sliding anchors move. No-op without friction.
+  void EndStep();
+  size_t num_anchors() const;
 
   /// Displacement of each candidate after the last step [m], 3 x #candidates.
   Eigen::Map<const Eigen::Matrix3Xd> candidate_displacements_m() const;
@@ -117,7 +128,7 @@ class ComplianceContact {
   void CandidateDisplacements();
   /// One convex QP for the normal forces with the gaps linearized at the current
   /// positions (see the .cpp); updates lambda_N_. False on NaN.
-  bool SolveLinearizedQp(int num_objects);
+  bool SolveLinearizedQp(int num_objects, const Eigen::Vector3d& tau);
 
   const TetMesh& mesh_;
   std::vector<std::unique_ptr<ForceTerm>> terms_;
@@ -147,11 +158,22 @@ class ComplianceContact {
   Eigen::MatrixXd J_;
   Eigen::VectorXd rhs_, z_, u_new_, u_s_;
   bool prediction_valid_ = false;  // u_new_ = W f of the current forces (QP's last prediction)
+  // Pseudo friction, per pair: anchor in the object's frame, current spring force, the
+  // force the law asks at the current positions, and whether a spring acts (anchored and
+  // in contact).
+  std::vector<char> anchored_, sticking_;
+  Eigen::Matrix3Xd anchor_, anchor_world_, friction_, friction_target_;
+  // QP rows: the normal row of every pair, then two tangential rows per sticking pair.
+  std::vector<int> row_node_;
+  Eigen::Matrix3Xd row_dir_;
+  Eigen::VectorXd row_gap_, row_lambda_, row_compliance_;
+  int bounded_rows_ = 0;
+  Eigen::VectorXd held_;  // forces held fixed during a QP (the tangential load)
   Eigen::Matrix3Xd state_, mapped_, residual_, previous_mapped_, previous_residual_;  // Anderson(1)
   std::vector<int> passive_;
   double largest_ = 0;
   Eigen::Matrix3Xd rest_c_;
-  std::vector<Eigen::Isometry3d> pose_inverse_;  // per object, this step
+  std::vector<Eigen::Isometry3d> pose_, pose_inverse_;  // per object, this step
   std::vector<Eigen::Matrix3d> pose_rotation_;
   Eigen::VectorXd x_;
   ComplianceStepResult result_;
