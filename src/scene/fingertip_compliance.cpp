@@ -20,13 +20,15 @@ FingertipComplianceOptions ComplianceOptionsFromScene(const SceneDescription& d)
   if (d.integrator.kind != fem::IntegratorKind::kQuasiStatic) refuse("the scene is dynamic (backward Euler)");
   if (!d.bone) refuse("the scene has no bone section (K would be singular)");
   if (d.bone->motion) refuse("the bone is tracked");
-  if (d.friction) refuse("the scene has friction springs");
+  if (d.friction && d.friction->coulomb_mu > 0)
+    refuse("friction.coulomb_mu > 0 (only sticking pseudo-friction springs are supported)");
   if (d.surface_traction) refuse("the scene has surface traction");
   if (d.outputs.full_sed) refuse("outputs.full_sed needs every node's displacement (the method has the pad's and the Merkel layer's)");
   FingertipComplianceOptions o;
   o.bone = d.bone->spring;
   if (d.contact) o.contact.stiffness_N_m = d.contact->params.stiffness_N_m;
   o.contact.cache_dir = d.solver_cache_dir;
+  if (d.friction) o.contact.friction_anisotropy = d.friction->anisotropy;
   return o;
 }
 

@@ -34,7 +34,7 @@ struct FingertipComplianceOptions {
 
 /// Options for a scene that asks for the compliance method; throws std::invalid_argument
 /// naming what the scene has that the method cannot do (corotational, backward Euler, a
-/// tracked bone, friction, surface traction, no bone).
+/// tracked bone, friction with coulomb_mu > 0, surface traction, no bone, full_sed).
 FingertipComplianceOptions ComplianceOptionsFromScene(const SceneDescription& scene);
 
 enum class PressStatus {

@@ -73,6 +73,7 @@ fem::StepReport FingertipScene::Step() {
     r.converged = c.ok && c.converged;
     r.finite = c.ok;
     if (c.ok) simulation_->SetPositions(compliance_->contact().positions_m());
+    compliance_->contact().EndStep();  // friction anchors, as the simulation's EndStep
     if (merkel_) merkel_->Evaluate(simulation_->positions_m());
     return r;
   }

@@ -198,12 +198,12 @@ TEST(FingertipCompliance, PressToForceOnRandomHypothesesIsFiniteAndHonest) {
 }
 
 // Scene integration: `solver: {type: compliance}` builds it; nothing else does.
-std::string PressScene(const std::string& solver) {
+std::string PressScene(const std::string& solver, const std::string& extra = "", double slide_mm = 0) {
   return "model: B_coarse\nelasticity: linear\n"
          "dynamics: {integrator: quasi_static, steps: 3, newton_iterations: 100, newton_tolerance_mm: 1.0e-12}\n"
          "solver: {type: " + solver + "}\nbone: {mode: fixed}\n"
          "contact:\n  objects:\n    - {shape: plane, rpy_deg: [180, 0, 0], position_mm: [0, 0, 0], motion: {keyframes: "
-         "[{t_s: 0, offset_mm: [0, 0, 0]}, {t_s: 1.0, offset_mm: [0, 0, -1.2]}]}}\n";
+         "[{t_s: 0, offset_mm: [0, 0, 0]}, {t_s: 1.0, offset_mm: [" + std::to_string(slide_mm) + ", 0, -1.2]}]}}\n" + extra;
 }
 
 TEST(FingertipComplianceScene, SceneThatDoesNotAskForItDoesNotBuildIt) {
@@ -215,9 +215,9 @@ TEST(FingertipComplianceScene, SceneThatDoesNotAskForItDoesNotBuildIt) {
   ASSERT_NE(cc.compliance(), nullptr);
 }
 
-TEST(FingertipComplianceScene, PressMatchesTheFullFeSceneStepByStep) {
-  FingertipScene full(ParseSceneDescription(PressScene("ldlt"), "test"), Model());
-  FingertipScene cc(ParseSceneDescription(PressScene("compliance"), "test"), Model());
+void ExpectPressLikeFullFe(const std::string& extra, double slide_mm, PressResult* out = nullptr) {
+  FingertipScene full(ParseSceneDescription(PressScene("ldlt", extra, slide_mm), "test"), Model());
+  FingertipScene cc(ParseSceneDescription(PressScene("compliance", extra, slide_mm), "test"), Model());
   PressOptions options;
   const PressResult a = RunPress(full, options), b = RunPress(cc, options);
   ASSERT_EQ(a.steps.size(), 3u);
@@ -231,6 +231,19 @@ TEST(FingertipComplianceScene, PressMatchesTheFullFeSceneStepByStep) {
   }
   EXPECT_GT(b.steps[2].force_N, b.steps[1].force_N);
   EXPECT_GT(b.steps[1].force_N, 0.0);
+  if (out) *out = b;
+}
+
+TEST(FingertipComplianceScene, PressMatchesTheFullFeSceneStepByStep) { ExpectPressLikeFullFe("", 0.0); }
+
+TEST(FingertipComplianceScene, PressWithStickingFrictionWhileSlidingMatchesTheFullFe) {
+  PressResult with;
+  ExpectPressLikeFullFe("friction: {anisotropy: 0.3}\n", 0.3, &with);
+  ASSERT_EQ(with.merkel_sed.size(), 3u);
+  // The springs matter: without them the sliding plane leaves another SED.
+  FingertipScene frictionless(ParseSceneDescription(PressScene("compliance", "", 0.3), "test"), Model());
+  const PressResult without = RunPress(frictionless, {});
+  EXPECT_GT((with.merkel_sed[2] - without.merkel_sed[2]).norm(), 1e-2 * without.merkel_sed[2].norm());
 }
 
 TEST(FingertipComplianceScene, ParseRefusesItWhereTheMethodDoesNotApply) {
@@ -242,6 +255,9 @@ TEST(FingertipComplianceScene, ParseRefusesItWhereTheMethodDoesNotApply) {
     EXPECT_NE(std::string(e.what()).find("compliance"), std::string::npos) << e.what();
   }
   EXPECT_THROW(ParseSceneDescription("model: B_coarse\nsolver: {type: ldlt, cache_dir: x}\n", "t"), config::ConfigError);
+  EXPECT_THROW(ParseSceneDescription(PressScene("compliance", "friction: {anisotropy: 0.3, coulomb_mu: 0.5}\n"), "t"),
+               config::ConfigError);
+  EXPECT_NO_THROW(ParseSceneDescription(PressScene("compliance", "friction: {anisotropy: 0.3}\n"), "t"));
 }
 
 }  // namespace
