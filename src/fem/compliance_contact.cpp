@@ -491,13 +491,19 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
   // Linear SED straight from the displacement gradient (same value as ElementSed with
   // R = I, a third of its work: this is most of a step with few contacts).
   element_sed_.resize(Eigen::Index(sed_elements_.size()));
+  const double* u = u_s_.data();
   for (size_t e = 0; e < sed_elements_.size(); ++e) {
     const SedElement& se = sed_elements_[e];
-    Eigen::Matrix3d H = u_s_.segment<3>(3 * se.node[0]) * se.shape_gradients.row(0);
-    for (int a = 1; a < 4; ++a) H.noalias() += u_s_.segment<3>(3 * se.node[size_t(a)]) * se.shape_gradients.row(a);
-    const Eigen::Matrix3d eps = 0.5 * (H + H.transpose());
-    const double tr = eps.trace();
-    element_sed_[Eigen::Index(e)] = se.mu_Pa * eps.squaredNorm() + 0.5 * se.lambda_Pa * tr * tr;
+    double H[3][3] = {};  // displacement gradient sum_a u_a g_a^T, plain loops (hot)
+    for (int a = 0; a < 4; ++a) {
+      const double* ua = u + 3 * se.node[size_t(a)];
+      for (int r = 0; r < 3; ++r)
+        for (int q = 0; q < 3; ++q) H[r][q] += ua[r] * se.shape_gradients(a, q);
+    }
+    const double e01 = 0.5 * (H[0][1] + H[1][0]), e02 = 0.5 * (H[0][2] + H[2][0]), e12 = 0.5 * (H[1][2] + H[2][1]);
+    const double tr = H[0][0] + H[1][1] + H[2][2];
+    const double eps_eps = H[0][0] * H[0][0] + H[1][1] * H[1][1] + H[2][2] * H[2][2] + 2 * (e01 * e01 + e02 * e02 + e12 * e12);
+    element_sed_[Eigen::Index(e)] = se.mu_Pa * eps_eps + 0.5 * se.lambda_Pa * tr * tr;
   }
   sed_->AverageToVertices(element_sed_, result_.sed_Pa);
   result_.ok = true;
