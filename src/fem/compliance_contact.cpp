@@ -1,6 +1,7 @@
 #include "fem/compliance_contact.h"
 
 #include <omp.h>
+#include <unistd.h>
 
 #include <Eigen/Cholesky>
 #include <algorithm>
@@ -22,6 +23,8 @@ namespace {
 
 // Bump when the cache layout or the meaning of W/G changes: old files then stop matching.
 constexpr std::uint64_t kCacheVersion = 1;
+// Exact contact's gap tolerance is relative_tolerance times this length.
+constexpr double kExactGapScale_m = 1e-3;
 constexpr char kCacheMagic[8] = {'S', 'E', 'D', 'B', 'W', 'C', 'M', 'P'};
 
 // FNV-1a, 64 bit: a content key for the cache (not a security hash).
@@ -40,6 +43,12 @@ struct Fnv {
   }
 };
 
+// y += A.middleCols<3>(3 j) * f as one fused pass over the rows (Eigen's generic 3-column
+// product path was the largest cost of a step with many contacts).
+void AddColumns3(const Eigen::MatrixXd& A, int j, const Eigen::Vector3d& f, Eigen::VectorXd& y) {
+  y.noalias() += A.col(3 * j) * f[0] + A.col(3 * j + 1) * f[1] + A.col(3 * j + 2) * f[2];
+}
+
 }  // namespace
 
 ComplianceContact::ComplianceContact(const TetMesh& mesh, std::vector<std::unique_ptr<ForceTerm>> terms,
@@ -53,6 +62,8 @@ ComplianceContact::ComplianceContact(const TetMesh& mesh, std::vector<std::uniqu
       throw std::invalid_argument("compliance contact: term '" + t->name() + "' has a non-constant Jacobian");
     if (!elastic) elastic = dynamic_cast<const ElasticTetForce*>(t.get());
   }
+  if (options_.exact_contact && options_.friction_anisotropy > 0)
+    throw std::invalid_argument("compliance contact: pseudo friction needs the penalty law (not exact_contact)");
   if (!elastic || elastic->formulation() != ElasticFormulation::kLinear)
     throw std::invalid_argument("compliance contact needs a linear elastic term (the compliance is K^-1 at rest)");
   const int n = mesh.num_nodes();
@@ -67,6 +78,17 @@ ComplianceContact::ComplianceContact(const TetMesh& mesh, std::vector<std::uniqu
     for (int e : sed_->elements())
       for (int v : mesh.tets[size_t(e)]) nodes.insert(v);
     sed_nodes_.assign(nodes.begin(), nodes.end());
+    std::vector<int> local(size_t(n), -1);
+    for (size_t a = 0; a < sed_nodes_.size(); ++a) local[size_t(sed_nodes_[a])] = int(a);
+    for (int e : sed_->elements()) {
+      const TetElement& te = elastic->elements()[size_t(e)];
+      SedElement se;
+      for (int a = 0; a < 4; ++a) se.node[size_t(a)] = local[size_t(mesh.tets[size_t(e)][size_t(a)])];
+      se.shape_gradients = te.shape_gradients;
+      se.mu_Pa = te.mu_Pa;
+      se.lambda_Pa = te.lambda_Pa;
+      sed_elements_.push_back(se);
+    }
   }
 
   // K at rest from the model's own terms (quasi-static: stiffness only).
@@ -195,7 +217,7 @@ void ComplianceContact::SaveCache(std::uint64_t key) const {
   std::error_code ec;
   std::filesystem::create_directories(options_.cache_dir, ec);
   // Write beside, then rename: a reader never sees a half-written file.
-  const std::string tmp = cache_file_ + ".tmp" + std::to_string(std::uintptr_t(this));
+  const std::string tmp = cache_file_ + ".tmp" + std::to_string(::getpid()) + "_" + std::to_string(std::uintptr_t(this));
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) return;
@@ -222,6 +244,23 @@ void ComplianceContact::SaveCache(std::uint64_t key) const {
   if (ec) std::filesystem::remove(tmp, ec);
 }
 
+size_t ComplianceContact::num_anchors() const {
+  return size_t(std::count(anchored_.begin(), anchored_.end(), char(1)));
+}
+
+void ComplianceContact::EndStep() {
+  if (!(options_.friction_anisotropy > 0) || !result_.ok || num_objects_ <= 0) return;
+  const int no = num_objects_;
+  std::vector<char> next(anchored_.size(), 0);
+  for (const int p : active_) {
+    const Eigen::Vector3d x = rest_c_.col(p / no) + u_c_.segment<3>(3 * (p / no));
+    // Touched in this step: anchor where it is; anchored contacts keep their anchor.
+    if (!anchored_[size_t(p)]) anchor_.col(p) = pose_inverse_[size_t(p % no)] * x;
+    next[size_t(p)] = 1;
+  }
+  anchored_.swap(next);
+}
+
 void ComplianceContact::ResetWarmStart() {
   num_objects_ = -1;
   lambda_N_.resize(0);
@@ -231,7 +270,7 @@ void ComplianceContact::ResetWarmStart() {
 
 void ComplianceContact::CandidateDisplacements() {
   u_c_.setZero();
-  for (int j : loaded_) u_c_.noalias() += W_.middleCols<3>(3 * j) * f_c_.segment<3>(3 * j);
+  for (int j : loaded_) AddColumns3(W_, j, f_c_.segment<3>(3 * j), u_c_);
 }
 
 const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::RigidObject>& objects, double t_s,
@@ -248,68 +287,138 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
   }
   const int c = int(candidates_.size());
   const int no = int(objects.size());
-  if (no != num_objects_) {  // a different scene: no warm start
+  if (no != num_objects_) {  // a different scene: no warm start, no anchors
     num_objects_ = no;
-    lambda_N_ = Eigen::VectorXd::Zero(Eigen::Index(c) * no);
-    normal_ = Eigen::Matrix3Xd::Zero(3, Eigen::Index(c) * no);
+    const Eigen::Index pairs = Eigen::Index(c) * no;
+    lambda_N_ = Eigen::VectorXd::Zero(pairs);
+    normal_ = Eigen::Matrix3Xd::Zero(3, pairs);
+    anchored_.assign(size_t(pairs), 0);
+    sticking_.assign(size_t(pairs), 0);
+    anchor_ = anchor_world_ = friction_ = friction_target_ = Eigen::Matrix3Xd::Zero(3, pairs);
   }
+  const bool friction = options_.friction_anisotropy > 0;
+  const double k_t = options_.friction_anisotropy * options_.stiffness_N_m;
   phi_m_.resize(lambda_N_.size());
+  pose_.resize(size_t(no));
+  pose_inverse_.resize(size_t(no));
+  pose_rotation_.resize(size_t(no));
+  for (int o = 0; o < no; ++o) {
+    if (!objects[size_t(o)].shape) {
+      result_.error = "object without a shape";
+      return result_;
+    }
+    const Eigen::Isometry3d pose = objects[size_t(o)].trajectory.Pose(t_s);
+    pose_[size_t(o)] = pose;
+    pose_inverse_[size_t(o)] = pose.inverse();
+    pose_rotation_[size_t(o)] = pose.linear();
+  }
   const double k = options_.stiffness_N_m;
 
+  const bool exact = options_.exact_contact;
+  bool converged_exact = false;
+  bool have_previous = false;  // Anderson history valid (same contacts as last iteration)
+  prediction_valid_ = false;
   for (int it = 0; it <= options_.max_iterations; ++it) {
+    // The iteration's state: force vector l_p n_p of every pair.
+    state_ = normal_ * lambda_N_.asDiagonal();
+    if (friction) state_ += friction_;
     // 1. Displacements from the current forces: normal k*depth along each pair's normal,
     // plus the tangential load in proportion to each node's normal force.
     const double total = lambda_N_.sum();
     const Eigen::Vector3d tau = total > 0 ? Eigen::Vector3d(tangential_force_N / total) : Eigen::Vector3d::Zero();
     loaded_.clear();
     f_c_.setZero();
-    u_t_.setZero();
     for (int j = 0; j < c; ++j) {
       double node_lambda = 0;
+      bool rubbing = false;
       for (int o = 0; o < no; ++o) {
         const int p = j * no + o;
         if (lambda_N_[p] > 0) {
           f_c_.segment<3>(3 * j) += lambda_N_[p] * normal_.col(p);
           node_lambda += lambda_N_[p];
         }
+        if (friction && !friction_.col(p).isZero(0.0)) {
+          f_c_.segment<3>(3 * j) += friction_.col(p);
+          rubbing = true;
+        }
       }
-      if (node_lambda > 0) {
-        loaded_.push_back(j);
-        f_c_.segment<3>(3 * j) += node_lambda * tau;
-        if (total > 0 && !tau.isZero(0.0))
-          u_t_.noalias() += W_.middleCols<3>(3 * j) * (node_lambda * tau);
-      }
+      if (node_lambda > 0 || rubbing) loaded_.push_back(j);
+      if (node_lambda > 0) f_c_.segment<3>(3 * j) += node_lambda * tau;
     }
-    CandidateDisplacements();
+    // The QP's last prediction is exactly W f for these forces unless Anderson moved them
+    // or the tangential share changed with them.
+    if (prediction_valid_ && tangential_force_N.isZero(0.0))
+      u_c_.swap(u_new_);
+    else
+      CandidateDisplacements();
+    prediction_valid_ = false;
 
     // 2. Gaps and normals at the current positions; how far the forces are from k*depth.
+    // Exact contact (no penetration, k -> infinity): forces only where the gap is closed,
+    // gaps >= 0 everywhere; the mismatch is then the gap error times a stiffness scale.
     active_.clear();
-    double largest = 0, mismatch = 0;
+    double largest = 0, mismatch = 0, gap_error = 0, turn = 0;
     for (int j = 0; j < c; ++j) {
       const Eigen::Vector3d x = rest_c_.col(j) + u_c_.segment<3>(3 * j);
       for (int o = 0; o < no; ++o) {
         const int p = j * no + o;
-        const geometry::SdfSample s = objects[size_t(o)].Evaluate(x, t_s);
+        // As RigidObject::Evaluate, with the pose computed once a step.
+        geometry::SdfSample s = objects[size_t(o)].shape->Evaluate(pose_inverse_[size_t(o)] * x);
+        s.normal = pose_rotation_[size_t(o)] * s.normal;
         phi_m_[p] = s.distance_m;
         if (!std::isfinite(s.distance_m) || !s.normal.allFinite()) {
           result_.error = "non-finite signed distance (object pose?)";
           ResetWarmStart();
           return result_;
         }
-        if (s.distance_m < 0) {
+        if (exact) {
+          const double lp = lambda_N_[p];
+          gap_error = std::max(gap_error, lp > 0 ? std::abs(s.distance_m) : std::max(0.0, -s.distance_m));
+          if (lp > 0) {
+            turn = std::max(turn, lp * (s.normal - normal_.col(p)).norm());
+            largest = std::max(largest, lp);
+            active_.push_back(p);
+          }
+          normal_.col(p) = s.normal;
+        } else if (s.distance_m < 0) {
           const double target = -k * s.distance_m;
           mismatch = std::max(mismatch, (target * s.normal - lambda_N_[p] * normal_.col(p)).norm());
           largest = std::max(largest, target);
           normal_.col(p) = s.normal;
           active_.push_back(p);
+          if (friction && anchored_[size_t(p)]) {
+            // The spring PseudoFrictionForce applies here (no Coulomb cap).
+            anchor_world_.col(p) = pose_[size_t(o)] * anchor_.col(p);
+            const Eigen::Matrix3d tangential = Eigen::Matrix3d::Identity() - s.normal * s.normal.transpose();
+            const Eigen::Vector3d ft = -k_t * (tangential * (x - anchor_world_.col(p)));
+            sticking_[size_t(p)] = 1;
+            friction_target_.col(p) = ft;
+            mismatch = std::max(mismatch, (ft - friction_.col(p)).norm());
+          } else if (friction) {
+            sticking_[size_t(p)] = 0;
+            friction_target_.col(p).setZero();
+            mismatch = std::max(mismatch, friction_.col(p).norm());
+          }
         } else {
           mismatch = std::max(mismatch, lambda_N_[p]);
           normal_.col(p) = s.normal;
+          if (friction) {
+            sticking_[size_t(p)] = 0;
+            friction_target_.col(p).setZero();
+            mismatch = std::max(mismatch, friction_.col(p).norm());
+          }
         }
       }
     }
     result_.iterations = it;
-    if (mismatch <= options_.relative_tolerance * largest || (active_.empty() && mismatch == 0)) {
+    if (exact) {
+      converged_exact = gap_error <= options_.relative_tolerance * kExactGapScale_m &&
+                        turn <= options_.relative_tolerance * largest;
+      if (converged_exact) {
+        result_.converged = true;
+        break;
+      }
+    } else if (mismatch <= options_.relative_tolerance * largest || (active_.empty() && mismatch == 0)) {
       result_.converged = true;
       break;
     }
@@ -322,77 +431,183 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
     // Solved by a primal active-set method (Lawson-Hanson style): the objective falls at
     // every change of the active set, so it cannot cycle (a plain semismooth Newton on
     // max(0, .) does cycle here: N^T W N is not an M-matrix).
-    if (!SolveLinearizedQp(no)) {
+    if (!SolveLinearizedQp(no, tau)) {
       result_.error = "contact solve produced NaN";
       ResetWarmStart();
       return result_;
     }
+    // The QP freezes the normals; they turn as the skin slides over a curved object, and
+    // that outer iteration converges only linearly (rate ~0.3 measured on B). Anderson
+    // acceleration of depth 1 on the force vectors, while the contact set holds, makes
+    // it superlinear in practice.
+    mapped_ = normal_ * lambda_N_.asDiagonal();
+    residual_ = mapped_ - state_;
+    const bool same_support = !friction && have_previous && ((mapped_.colwise().squaredNorm().array() > 0) ==
+                                                (previous_mapped_.colwise().squaredNorm().array() > 0)).all();
+    if (same_support) {
+      const Eigen::Matrix3Xd dr = residual_ - previous_residual_;
+      const double dd = dr.squaredNorm();
+      const double gamma = dd > 0 ? (residual_.cwiseProduct(dr)).sum() / dd : 0.0;
+      if (std::isfinite(gamma) && std::abs(gamma) < 10) {
+        const Eigen::Matrix3Xd accelerated = mapped_ - gamma * (mapped_ - previous_mapped_);
+        for (Eigen::Index p = 0; p < accelerated.cols(); ++p) {
+          const double norm = accelerated.col(p).norm();
+          // Keep the QP's contact set and directions that stay outward of the object.
+          if (lambda_N_[p] > 0 && norm > 0 && accelerated.col(p).dot(normal_.col(p)) > 0) {
+            prediction_valid_ = false;
+            lambda_N_[p] = norm;
+            normal_.col(p) = accelerated.col(p) / norm;
+          }
+        }
+      }
+    }
+    previous_mapped_ = mapped_;
+    previous_residual_ = residual_;
+    have_previous = true;
   }
 
   // Report what the positions say (k * depth at the final gaps), as PenaltyContactForce.
   const double total = lambda_N_.sum();
   for (int p : active_) {
     const int i = p / no;
-    const double spring = -k * phi_m_[p];
-    result_.contacts.push_back({candidates_[size_t(i)], p % no, normal_.col(p), -phi_m_[p], spring, spring});
+    const double spring = exact ? lambda_N_[p] : -k * phi_m_[p];
+    result_.contacts.push_back(
+        {candidates_[size_t(i)], p % no, normal_.col(p), std::max(0.0, -phi_m_[p]), spring, spring});
     result_.spring_force_N += spring * normal_.col(p);
   }
   if (total > 0) result_.tangential_force_N = tangential_force_N;
+  result_.friction_force_N.setZero();
+  if (friction)
+    for (Eigen::Index p = 0; p < friction_.cols(); ++p) result_.friction_force_N += friction_.col(p);
 
   // 3. SED from the displacements of the nodes it reads.
   u_s_.setZero();
-  for (int j : loaded_) u_s_.noalias() += G_.middleCols<3>(3 * j) * f_c_.segment<3>(3 * j);
+  for (int j : loaded_) AddColumns3(G_, j, f_c_.segment<3>(3 * j), u_s_);
   for (size_t a = 0; a < sed_nodes_.size(); ++a) {
     const int v = sed_nodes_[a];
     x_.segment<3>(3 * v) = mesh_.rest_positions_m.col(v) + u_s_.segment<3>(3 * Eigen::Index(a));
   }
   for (int j = 0; j < c; ++j) x_.segment<3>(3 * candidates_[size_t(j)]) = rest_c_.col(j) + u_c_.segment<3>(3 * j);
-  sed_->Evaluate(x_, result_.sed_Pa);
+  // Linear SED straight from the displacement gradient (same value as ElementSed with
+  // R = I, a third of its work: this is most of a step with few contacts).
+  element_sed_.resize(Eigen::Index(sed_elements_.size()));
+  const double* u = u_s_.data();
+  for (size_t e = 0; e < sed_elements_.size(); ++e) {
+    const SedElement& se = sed_elements_[e];
+    double H[3][3] = {};  // displacement gradient sum_a u_a g_a^T, plain loops (hot)
+    for (int a = 0; a < 4; ++a) {
+      const double* ua = u + 3 * se.node[size_t(a)];
+      for (int r = 0; r < 3; ++r)
+        for (int q = 0; q < 3; ++q) H[r][q] += ua[r] * se.shape_gradients(a, q);
+    }
+    const double e01 = 0.5 * (H[0][1] + H[1][0]), e02 = 0.5 * (H[0][2] + H[2][0]), e12 = 0.5 * (H[1][2] + H[2][1]);
+    const double tr = H[0][0] + H[1][1] + H[2][2];
+    const double eps_eps = H[0][0] * H[0][0] + H[1][1] * H[1][1] + H[2][2] * H[2][2] + 2 * (e01 * e01 + e02 * e02 + e12 * e12);
+    element_sed_[Eigen::Index(e)] = se.mu_Pa * eps_eps + 0.5 * se.lambda_Pa * tr * tr;
+  }
+  sed_->AverageToVertices(element_sed_, result_.sed_Pa);
   result_.ok = true;
   return result_;
 }
 
-bool ComplianceContact::SolveLinearizedQp(int no) {
+bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau) {
   const double k = options_.stiffness_N_m;
+  const bool friction = options_.friction_anisotropy > 0;
+  const double k_t = options_.friction_anisotropy * k;
+  // Exact contact: no penalty compliance; a whisper of it keeps the Newton matrix definite
+  // when two contacts act on one node along dependent normals.
+  const double inverse_k = options_.exact_contact ? (W_.size() ? 1e-12 * W_.diagonal().maxCoeff() : 0.0) : 1.0 / k;
   const Eigen::Index pairs = lambda_N_.size();
-  // Predicted gap of pair p for forces l: phi_p + n_p . (W N l + u_t - u)_p.
+  const int c = int(candidates_.size());
+
+  // Forces held fixed in this QP: the tangential load (shares of the current normal
+  // forces). u_t_ = W held.
+  held_.setZero(3 * c);
+  for (Eigen::Index p = 0; p < pairs; ++p)
+    if (lambda_N_[p] > 0) held_.segment<3>(3 * (int(p) / no)) += lambda_N_[p] * tau;
+  u_t_.setZero(3 * c);
+  for (int j = 0; j < c; ++j)
+    if (!held_.segment<3>(3 * j).isZero(0.0)) AddColumns3(W_, j, held_.segment<3>(3 * j), u_t_);
+
+  // Rows: force lambda_r along dir_r at node_r with "gap" g_r (linearized about the
+  // current positions) and compliance c_r: lambda_r = -g_r(new) / c_r. Normal rows are
+  // bounded (lambda >= 0: the penalty never pulls); friction rows (two tangent directions
+  // of an anchored contact, gap = offset from the anchor) are free.
+  bounded_rows_ = int(pairs);
+  int rows = int(pairs);
+  if (friction)
+    for (Eigen::Index p = 0; p < pairs; ++p) rows += sticking_[size_t(p)] ? 2 : 0;
+  row_node_.resize(size_t(rows));
+  row_dir_.resize(3, rows);
+  row_gap_.resize(rows);
+  row_lambda_.resize(rows);
+  row_compliance_.resize(rows);
+  for (Eigen::Index p = 0; p < pairs; ++p) {
+    row_node_[size_t(p)] = int(p) / no;
+    row_dir_.col(p) = normal_.col(p);
+    row_gap_[p] = phi_m_[p];
+    row_lambda_[p] = lambda_N_[p];
+    row_compliance_[p] = inverse_k;
+  }
+  if (friction) {
+    int r = int(pairs);
+    for (Eigen::Index p = 0; p < pairs; ++p) {
+      if (!sticking_[size_t(p)]) continue;
+      const int j = int(p) / no;
+      const Eigen::Vector3d n = normal_.col(p);
+      const Eigen::Vector3d t1 = n.unitOrthogonal(), t2 = n.cross(t1);
+      const Eigen::Vector3d offset = rest_c_.col(j) + u_c_.segment<3>(3 * j) - anchor_world_.col(p);
+      for (const Eigen::Vector3d& t : {t1, t2}) {
+        row_node_[size_t(r)] = j;
+        row_dir_.col(r) = t;
+        row_gap_[r] = t.dot(offset);
+        row_lambda_[r] = t.dot(friction_.col(p));
+        row_compliance_[r] = 1.0 / k_t;
+        ++r;
+      }
+    }
+  }
+
+  // Predicted displacements for row forces l: u_t + sum_r l_r W dir_r.
   auto predicted_displacements = [&](const std::vector<int>& set, const Eigen::VectorXd& l) {
     u_new_ = u_t_;
-    for (int p : set)
-      if (l[p] != 0) u_new_.noalias() += W_.middleCols<3>(3 * (p / no)) * (l[p] * normal_.col(p));
+    for (int r : set)
+      if (l[r] != 0) AddColumns3(W_, row_node_[size_t(r)], l[r] * row_dir_.col(r), u_new_);
   };
   passive_.clear();
-  for (Eigen::Index p = 0; p < pairs; ++p)
-    if (lambda_N_[p] > 0) passive_.push_back(int(p));
+  for (int r = 0; r < rows; ++r)
+    if (r >= bounded_rows_ || row_lambda_[r] > 0) passive_.push_back(r);
   std::vector<int> before_add;
   int most_violated = -1;
   bool batch_added = false;
   largest_ = 0;
-  for (int inner = 0; inner < 4 * int(pairs) + 10; ++inner) {
+  bool solved = false;
+  for (int inner = 0; inner < 4 * rows + 10; ++inner) {
     // Unconstrained minimizer on the passive set.
     const int m = int(passive_.size());
     J_.resize(m, m);
     rhs_.resize(m);
     for (int a = 0; a < m; ++a) {
-      const int p = passive_[size_t(a)], i = p / no;
-      const Eigen::Vector3d np = normal_.col(p);
-      rhs_[a] = -phi_m_[p] + np.dot(u_c_.segment<3>(3 * i) - u_t_.segment<3>(3 * i));
-      wn_.noalias() = np.transpose() * W_.middleRows<3>(3 * i);  // n_p^T W, one row
+      const int r = passive_[size_t(a)], i = row_node_[size_t(r)];
+      const Eigen::Vector3d dr = row_dir_.col(r);
+      rhs_[a] = -row_gap_[r] + dr.dot(u_c_.segment<3>(3 * i) - u_t_.segment<3>(3 * i));
       for (int b = 0; b <= a; ++b) {
         const int q = passive_[size_t(b)];
-        J_(a, b) = wn_.segment<3>(3 * (q / no)).dot(normal_.col(q).transpose());
+        J_(a, b) = dr.dot(W_.block<3, 3>(3 * i, 3 * row_node_[size_t(q)]) * row_dir_.col(q));
       }
-      J_(a, a) += 1.0 / k;
+      J_(a, a) += row_compliance_[r];
     }
     z_ = m ? Eigen::VectorXd(J_.selfadjointView<Eigen::Lower>().llt().solve(rhs_)) : Eigen::VectorXd();
     if (!z_.allFinite()) return false;
-    // Infeasible: step from l toward z until the first force reaches zero, drop it.
+    // Infeasible: step from l toward z until the first bounded force reaches zero, drop it.
     double alpha = 1;
-    for (int a = 0; a < m; ++a)
-      if (z_[a] <= 0) alpha = std::min(alpha, lambda_N_[passive_[size_t(a)]] / (lambda_N_[passive_[size_t(a)]] - z_[a]));
+    for (int a = 0; a < m; ++a) {
+      const int r = passive_[size_t(a)];
+      if (r < bounded_rows_ && z_[a] <= 0) alpha = std::min(alpha, row_lambda_[r] / (row_lambda_[r] - z_[a]));
+    }
     if (alpha < 1) {
       if (alpha <= 0 && batch_added) {
-        // A pair added in the last batch wants a negative force at once: add only the
+        // A row added in the last batch wants a negative force at once: add only the
         // most violated one instead (Lawson-Hanson's rule, which always makes progress).
         passive_ = before_add;
         passive_.push_back(most_violated);
@@ -401,36 +616,60 @@ bool ComplianceContact::SolveLinearizedQp(int no) {
       }
       std::vector<int> kept;
       for (int a = 0; a < m; ++a) {
-        const int p = passive_[size_t(a)];
-        lambda_N_[p] += alpha * (z_[a] - lambda_N_[p]);
-        if (z_[a] <= 0 && lambda_N_[p] <= 1e-14 * (1 + std::abs(z_[a]))) lambda_N_[p] = 0;
-        if (lambda_N_[p] > 0) kept.push_back(p);
+        const int r = passive_[size_t(a)];
+        row_lambda_[r] += alpha * (z_[a] - row_lambda_[r]);
+        if (r >= bounded_rows_) {
+          kept.push_back(r);
+          continue;
+        }
+        if (z_[a] <= 0 && row_lambda_[r] <= 1e-14 * (1 + std::abs(z_[a]))) row_lambda_[r] = 0;
+        if (row_lambda_[r] > 0) kept.push_back(r);
       }
       passive_.swap(kept);
       batch_added = false;
       continue;
     }
-    for (int a = 0; a < m; ++a) lambda_N_[passive_[size_t(a)]] = z_[a];
-    // Optimal on the passive set: any other pair predicted to penetrate joins it.
-    predicted_displacements(passive_, lambda_N_);
-    for (int a = 0; a < m; ++a) largest_ = std::max(largest_, z_[a]);
-    const double gap_tolerance = 1e-3 * options_.relative_tolerance * std::max(largest_, 1e-12) / k;
+    for (int a = 0; a < m; ++a) row_lambda_[passive_[size_t(a)]] = z_[a];
+    // Optimal on the passive set: any other normal row predicted to penetrate joins it.
+    predicted_displacements(passive_, row_lambda_);
+    for (int a = 0; a < m; ++a)
+      if (passive_[size_t(a)] < bounded_rows_) largest_ = std::max(largest_, z_[a]);
+    const double gap_tolerance = options_.exact_contact
+                                     ? 1e-3 * options_.relative_tolerance * kExactGapScale_m
+                                     : 1e-3 * options_.relative_tolerance * std::max(largest_, 1e-12) / k;
     before_add = passive_;
     most_violated = -1;
     double worst = -gap_tolerance;
-    std::vector<char> in_passive(size_t(pairs), 0);
-    for (int p : passive_) in_passive[size_t(p)] = 1;
-    for (Eigen::Index p = 0; p < pairs; ++p) {
-      if (in_passive[size_t(p)]) continue;
-      const int i = int(p) / no;
-      const double gap = phi_m_[p] + normal_.col(p).dot(u_new_.segment<3>(3 * i) - u_c_.segment<3>(3 * i));
-      if (gap < -gap_tolerance) passive_.push_back(int(p));
-      if (gap < worst) worst = gap, most_violated = int(p);
+    std::vector<char> in_passive(size_t(rows), 0);
+    for (int r : passive_) in_passive[size_t(r)] = 1;
+    for (int r = 0; r < bounded_rows_; ++r) {
+      if (in_passive[size_t(r)]) continue;
+      const int i = row_node_[size_t(r)];
+      const double gap = row_gap_[r] + row_dir_.col(r).dot(u_new_.segment<3>(3 * i) - u_c_.segment<3>(3 * i));
+      if (gap < -gap_tolerance) passive_.push_back(r);
+      if (gap < worst) worst = gap, most_violated = r;
     }
-    if (most_violated < 0) return true;
+    if (most_violated < 0) {
+      solved = true;
+      break;
+    }
     batch_added = passive_.size() > before_add.size() + 1;
   }
-  return true;  // out of inner iterations: the outer loop reports non-convergence
+  // Back to pairs: normal forces, and the friction of spring pairs from their rows.
+  for (Eigen::Index p = 0; p < pairs; ++p) lambda_N_[p] = std::max(0.0, row_lambda_[p]);
+  if (friction) {
+    friction_.setZero();
+    int r = bounded_rows_;
+    for (Eigen::Index p = 0; p < pairs; ++p) {
+      if (!sticking_[size_t(p)]) continue;
+      friction_.col(p) = row_lambda_[r] * row_dir_.col(r) + row_lambda_[r + 1] * row_dir_.col(r + 1);
+      r += 2;
+    }
+  }
+  // u_new_ = W f for exactly these forces when the set settled (reused as the next
+  // iteration's displacements).
+  prediction_valid_ = solved;
+  return true;  // not solved: out of inner iterations, the outer loop reports non-convergence
 }
 
 }  // namespace sedbridge::fem

@@ -8,14 +8,19 @@
 //   G = S K^-1 H^T   3s x 3c   displacements of the s nodes the Merkel-layer SED reads
 // A step solves the paper's penalty law f_i = k max(0, -phi(x_i)) n(x_i) (SDF and normal at
 // the CURRENT node position x = X + u, as PenaltyContactForce in a quasi-static solve) on
-// this small system by a semismooth Newton iteration over the active contacts' normal
-// force magnitudes, warm-started from the last step, then the Merkel SED from G f.
-// Same equilibrium as the full FE quasi-static Newton solve with PenaltyContactForce on
-// the same candidate nodes, up to round-off.
+// this small system: with the gaps linearized at the current positions it is a convex QP
+// in the contacts' normal force magnitudes (primal active set); outer iterations move the
+// linearization (normals of curved objects), Anderson-accelerated, and everything is
+// warm-started from the last step. Then the Merkel SED from G f. Same equilibrium as the
+// full FE quasi-static Newton solve with PenaltyContactForce on the same candidate nodes
+// (to relative_tolerance). Optional: exact (non-penetrating) contact, k -> infinity.
+// Not thread-safe (one instance per thread).
 //
 // Units: SI throughout (m, N, Pa).
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <array>
 #include <memory>
 #include <string>
 #include <vector>
@@ -30,10 +35,20 @@ namespace sedbridge::fem {
 
 struct ComplianceContactOptions {
   double stiffness_N_m = 1e4;      ///< k_contact per node (paper: 1e4 N/m)
+  /// Exact (rigid, non-penetrating) contact instead of the penalty law: gaps >= 0, forces
+  /// >= 0, a force only where the gap is closed (k -> infinity; stiffness_N_m unused).
+  /// Converged when gaps are within relative_tolerance * 1 mm of that.
+  bool exact_contact = false;
+  /// Pseudo-friction springs (as PseudoFrictionForce with coulomb_mu = 0): a contact that
+  /// existed at the last EndStep() is tied tangentially to where it touched the object,
+  /// stiffness friction_anisotropy * k. 0 = frictionless. Not with exact_contact. The
+  /// Coulomb cap (sliding anchors) is not supported: the quasi-static full FE Newton
+  /// diverges on it too (tried: a plane slid over a block, mu 0.2 and 1.0).
+  double friction_anisotropy = 0.0;
   int max_iterations = 60;         ///< Newton iterations per step
   /// Converged when every contact's normal force matches k * depth at the new positions
   /// to this fraction of the largest contact force (and the active set is unchanged).
-  double relative_tolerance = 1e-10;
+  double relative_tolerance = 1e-8;
   /// Folder for the precompute cache (created if missing); empty = no disk cache.
   std::string cache_dir;
   /// OpenMP threads for the precompute's back-substitutions; 0 = OpenMP's default.
@@ -49,6 +64,7 @@ struct ComplianceStepResult {
   std::vector<ActiveContact> contacts;  ///< node = mesh node index, object = index into objects
   Eigen::Vector3d spring_force_N = Eigen::Vector3d::Zero();  ///< sum k depth n on the skin (model frame)
   Eigen::Vector3d tangential_force_N = Eigen::Vector3d::Zero();  ///< tangential load applied (model frame)
+  Eigen::Vector3d friction_force_N = Eigen::Vector3d::Zero();    ///< sum of pseudo-friction spring forces
   Eigen::VectorXd sed_Pa;   ///< SED per vertex, in the order of sed_vertices()
 };
 
@@ -74,8 +90,12 @@ class ComplianceContact {
   const ComplianceStepResult& Step(const std::vector<geometry::RigidObject>& objects, double t_s = 0.0,
                                    const Eigen::Vector3d& tangential_force_N = Eigen::Vector3d::Zero());
   const ComplianceStepResult& last() const { return result_; }
-  /// Forgets the warm start (the next step starts from no contact).
+  /// Forgets the warm start (the next step starts from no contact) and friction anchors.
   void ResetWarmStart();
+  /// Accepts the last step for pseudo friction (as a simulation's EndStep): contacts
+  /// anchor where they touch now, sliding anchors move. No-op without friction.
+  void EndStep();
+  size_t num_anchors() const;
 
   /// Displacement of each candidate after the last step [m], 3 x #candidates.
   Eigen::Map<const Eigen::Matrix3Xd> candidate_displacements_m() const;
@@ -108,7 +128,7 @@ class ComplianceContact {
   void CandidateDisplacements();
   /// One convex QP for the normal forces with the gaps linearized at the current
   /// positions (see the .cpp); updates lambda_N_. False on NaN.
-  bool SolveLinearizedQp(int num_objects);
+  bool SolveLinearizedQp(int num_objects, const Eigen::Vector3d& tau);
 
   const TetMesh& mesh_;
   std::vector<std::unique_ptr<ForceTerm>> terms_;
@@ -116,6 +136,13 @@ class ComplianceContact {
   std::vector<int> sed_nodes_;
   ComplianceContactOptions options_;
   std::unique_ptr<VertexSedEvaluator> sed_;
+  struct SedElement {
+    std::array<int, 4> node;  // indices into sed_nodes_
+    Eigen::Matrix<double, 4, 3> shape_gradients;
+    double mu_Pa, lambda_Pa;
+  };
+  std::vector<SedElement> sed_elements_;  // in the order of sed_->elements()
+  Eigen::VectorXd element_sed_;
   Eigen::MatrixXd W_, G_;
   double precompute_s_ = 0;
   bool loaded_from_cache_ = false;
@@ -130,10 +157,24 @@ class ComplianceContact {
   std::vector<int> active_, loaded_;  // pairs penetrating now; candidates with a force
   Eigen::MatrixXd J_;
   Eigen::VectorXd rhs_, z_, u_new_, u_s_;
-  Eigen::RowVectorXd wn_;
+  bool prediction_valid_ = false;  // u_new_ = W f of the current forces (QP's last prediction)
+  // Pseudo friction, per pair: anchor in the object's frame, current spring force, the
+  // force the law asks at the current positions, and whether a spring acts (anchored and
+  // in contact).
+  std::vector<char> anchored_, sticking_;
+  Eigen::Matrix3Xd anchor_, anchor_world_, friction_, friction_target_;
+  // QP rows: the normal row of every pair, then two tangential rows per sticking pair.
+  std::vector<int> row_node_;
+  Eigen::Matrix3Xd row_dir_;
+  Eigen::VectorXd row_gap_, row_lambda_, row_compliance_;
+  int bounded_rows_ = 0;
+  Eigen::VectorXd held_;  // forces held fixed during a QP (the tangential load)
+  Eigen::Matrix3Xd state_, mapped_, residual_, previous_mapped_, previous_residual_;  // Anderson(1)
   std::vector<int> passive_;
   double largest_ = 0;
   Eigen::Matrix3Xd rest_c_;
+  std::vector<Eigen::Isometry3d> pose_, pose_inverse_;  // per object, this step
+  std::vector<Eigen::Matrix3d> pose_rotation_;
   Eigen::VectorXd x_;
   ComplianceStepResult result_;
 };

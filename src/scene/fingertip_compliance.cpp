@@ -20,11 +20,15 @@ FingertipComplianceOptions ComplianceOptionsFromScene(const SceneDescription& d)
   if (d.integrator.kind != fem::IntegratorKind::kQuasiStatic) refuse("the scene is dynamic (backward Euler)");
   if (!d.bone) refuse("the scene has no bone section (K would be singular)");
   if (d.bone->motion) refuse("the bone is tracked");
-  if (d.friction) refuse("the scene has friction springs");
+  if (d.friction && d.friction->coulomb_mu > 0)
+    refuse("friction.coulomb_mu > 0 (only sticking pseudo-friction springs are supported)");
   if (d.surface_traction) refuse("the scene has surface traction");
+  if (d.outputs.full_sed) refuse("outputs.full_sed needs every node's displacement (the method has the pad's and the Merkel layer's)");
   FingertipComplianceOptions o;
   o.bone = d.bone->spring;
   if (d.contact) o.contact.stiffness_N_m = d.contact->params.stiffness_N_m;
+  o.contact.cache_dir = d.solver_cache_dir;
+  if (d.friction) o.contact.friction_anisotropy = d.friction->anisotropy;
   return o;
 }
 
@@ -109,15 +113,22 @@ double FingertipCompliance::normal_force_N() const {
   return -z_pad.dot(contact_->last().spring_force_N);
 }
 
+bool FingertipCompliance::AnyInside(const std::vector<geometry::RigidObject>& objects_model,
+                                    const std::vector<int>& nodes) const {
+  for (const auto& o : objects_model) {
+    const Eigen::Isometry3d object_from_model = o.trajectory.Pose(0.0).inverse();  // once, not per node
+    for (int n : nodes)
+      if (o.shape->Evaluate(object_from_model * model_.soft.rest_positions_m.col(n)).distance_m < 0) return true;
+  }
+  return false;
+}
+
 bool FingertipCompliance::TouchesOutsidePatch(const std::vector<geometry::RigidObject>& objects_model) const {
   for (const auto& c : contact_->last().contacts)
     if (on_edge_[size_t(candidate_index_[size_t(c.node)])]) return true;
   // Skin outside the patch moves little where the contact is: inside an object at rest
   // means it would be in contact in the full model.
-  for (int n : outside_skin_)
-    for (const auto& o : objects_model)
-      if (o.Evaluate(model_.soft.rest_positions_m.col(n), 0.0).distance_m < 0) return true;
-  return false;
+  return AnyInside(objects_model, outside_skin_);
 }
 
 PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry::RigidObject>& objects_pad,
@@ -154,6 +165,7 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
     if (!s.converged) solve_unconverged = true;
     return s.ok ? normal_force_N() : 0.0;
   };
+  const char* kEdge = "contact reaches the edge of the candidate patch (object near the pad's edge)";
   auto finish = [&](PressStatus status, double d_mm, double f_N, const std::string& why) {
     // The contact state must be the answer's: re-solve where the answer is if the last
     // evaluation was elsewhere.
@@ -166,7 +178,7 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
     r.active_nodes = int(nodes.size());
     if (status == PressStatus::kReached && TouchesOutsidePatch(last_model)) {
       r.status = PressStatus::kPatchEdge;
-      r.message = "contact reaches the edge of the candidate patch (object near the pad's edge)";
+      r.message = kEdge;
     } else if (status == PressStatus::kReached && solve_unconverged) {
       r.status = PressStatus::kNotConverged;
       r.message = "a contact solve did not converge";
@@ -184,10 +196,17 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
     return f;
   };
 
-  double lo = 0, f_lo = evaluate(0.0);
-  if (solve_failed) return finish(PressStatus::kInvalidInput, 0.0, 0.0, contact_->last().error);
-  if (std::abs(f_lo - target_N) <= tol) return finish(PressStatus::kReached, 0.0, f_lo, "");
-  if (f_lo > target_N) return finish(PressStatus::kAboveTarget, 0.0, f_lo, "objects press harder than the target at indentation 0");
+  // At indentation 0 the force is zero unless a candidate is inside an object at rest
+  // (no force, no displacement): then no solve is needed there.
+  double lo = 0, f_lo = 0;
+  for (size_t k = 0; k < pushed.size(); ++k) pushed[k].trajectory = geometry::Trajectory(touch[k]);
+  if (AnyInside(ToModel(pushed), contact_->candidate_nodes())) {
+    f_lo = evaluate(0.0);
+    if (solve_failed) return finish(PressStatus::kInvalidInput, 0.0, 0.0, contact_->last().error);
+    if (std::abs(f_lo - target_N) <= tol) return finish(PressStatus::kReached, 0.0, f_lo, "");
+    if (f_lo > target_N)
+      return finish(PressStatus::kAboveTarget, 0.0, f_lo, "objects press harder than the target at indentation 0");
+  }
 
   // Bracket: start from the last answer scaled as Hertz (F ~ d^1.5), then grow.
   double guess = 0.5;
@@ -195,13 +214,20 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
   guess = std::clamp(guess, 1e-3, opt.max_indentation_mm);
   double hi = guess, f_hi = evaluate(hi);
   while (f_hi < target_N) {
+    // Below the target and already touching skin outside the patch: pushing deeper only
+    // leaves the patch further (e.g. an object beside the finger).
+    if (TouchesOutsidePatch(last_model)) return finish(PressStatus::kPatchEdge, hi, f_hi, kEdge);
     if (hi >= opt.max_indentation_mm) {
-      if (f_hi <= 0) return finish(PressStatus::kNoContact, hi, f_hi, "nothing touches the patch up to max_indentation_mm");
+      if (contact_->last().contacts.empty())
+        return finish(PressStatus::kNoContact, hi, f_hi, "nothing touches the patch up to max_indentation_mm");
       return finish(PressStatus::kMaxDepth, hi, f_hi, "target not reached at max_indentation_mm");
     }
     if (r.iterations >= opt.max_iterations) return finish(PressStatus::kNotConverged, hi, f_hi, "bracketing ran out of iterations");
     lo = hi, f_lo = f_hi;
-    hi = std::min(opt.max_indentation_mm, std::max(2.0 * hi, hi + 0.05));
+    // Grow by the Hertz estimate (F ~ d^1.5) plus 5 % so that the next point likely
+    // brackets the target tightly; double when nothing pushes back yet.
+    const double grow = f_hi > 0 ? std::clamp(1.05 * std::pow(target_N / f_hi, 2.0 / 3.0), 1.05, 2.0) : 2.0;
+    hi = std::min(opt.max_indentation_mm, std::max(grow * hi, hi + 0.01));
     f_hi = evaluate(hi);
   }
   if (std::abs(f_hi - target_N) <= tol) return finish(PressStatus::kReached, hi, f_hi, "");

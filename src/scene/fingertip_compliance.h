@@ -34,7 +34,7 @@ struct FingertipComplianceOptions {
 
 /// Options for a scene that asks for the compliance method; throws std::invalid_argument
 /// naming what the scene has that the method cannot do (corotational, backward Euler, a
-/// tracked bone, friction, surface traction, no bone).
+/// tracked bone, friction with coulomb_mu > 0, surface traction, no bone, full_sed).
 FingertipComplianceOptions ComplianceOptionsFromScene(const SceneDescription& scene);
 
 enum class PressStatus {
@@ -103,6 +103,8 @@ class FingertipCompliance {
   /// Contact pairs of the last step touching the patch edge, or skin outside the patch at
   /// rest positions: the candidate set is then too small for this contact.
   bool TouchesOutsidePatch(const std::vector<geometry::RigidObject>& objects_model) const;
+  /// True if any of `nodes` lies inside an object at its rest position (poses at t = 0).
+  bool AnyInside(const std::vector<geometry::RigidObject>& objects_model, const std::vector<int>& nodes) const;
   std::vector<geometry::RigidObject> ToModel(const std::vector<geometry::RigidObject>& objects_pad) const;
 
   const model::FingertipModel& model_;

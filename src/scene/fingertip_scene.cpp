@@ -51,13 +51,32 @@ void FingertipScene::Build() {
     traction_ = traction.get();
     terms.push_back(std::move(traction));
   }
+  const bool compliance = d.solver == "compliance";
+  // With the compliance solver the simulation is never stepped (it keeps the state and the
+  // terms others read); its linear solver is never factorized.
   simulation_ = std::make_unique<fem::Simulation>(m.soft, std::move(terms), d.integrator,
-                                                  fem::MakeLinearSolver(d.solver, d.pcg));
+                                                  fem::MakeLinearSolver(compliance ? "ldlt" : d.solver, d.pcg));
   if (d.outputs.merkel_sed) merkel_ = std::make_unique<MerkelLayer>(m, *simulation_->elastic());
+  if (compliance) compliance_ = std::make_unique<FingertipCompliance>(m, ComplianceOptionsFromScene(d));
   skin_area_m2_ = fem::VertexAreas(m.skin_triangles, m.soft.rest_positions_m);
 }
 
 fem::StepReport FingertipScene::Step() {
+  if (compliance_) {
+    compliance_t_s_ += description_.dt_s;
+    static const std::vector<geometry::RigidObject> kNone;
+    const fem::ComplianceStepResult& c =
+        compliance_->Step(description_.contact ? description_.contact->objects_pad_frame : kNone, compliance_t_s_);
+    fem::StepReport r;
+    r.t_s = compliance_t_s_;
+    r.newton_iterations = c.iterations;
+    r.converged = c.ok && c.converged;
+    r.finite = c.ok;
+    if (c.ok) simulation_->SetPositions(compliance_->contact().positions_m());
+    compliance_->contact().EndStep();  // friction anchors, as the simulation's EndStep
+    if (merkel_) merkel_->Evaluate(simulation_->positions_m());
+    return r;
+  }
   const fem::StepReport r = simulation_->Step(description_.dt_s);
   if (merkel_) merkel_->Evaluate(simulation_->positions_m());
   return r;
@@ -69,10 +88,18 @@ std::vector<std::string> FingertipScene::BuiltEffects() const {
   return names;
 }
 
+double FingertipScene::time_s() const { return compliance_ ? compliance_t_s_ : simulation_->time_s(); }
+
+Eigen::Vector3d FingertipScene::ContactSpringForce_N() const {
+  if (compliance_) return compliance_->contact().last().spring_force_N;
+  return contact_ ? contact_->TotalSpringForce() : Eigen::Vector3d::Zero();
+}
+
 double FingertipScene::ContactArea_m2() const {
-  if (!contact_) return 0.0;
+  if (!contact_ && !compliance_) return 0.0;
   std::set<int> nodes;
-  for (const auto& c : contact_->active_contacts()) nodes.insert(c.node);
+  for (const auto& c : compliance_ ? compliance_->contact().last().contacts : contact_->active_contacts())
+    nodes.insert(c.node);
   double area = 0;
   for (int n : nodes) area += skin_area_m2_[n];
   return area;

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "fem/penalty_contact_force.h"
+#include "scene/fingertip_compliance.h"
 #include "fem/simulation.h"
 #include "fem/surface_traction_force.h"
 #include "model/fingertip_model.h"
@@ -32,6 +33,14 @@ class FingertipScene {
 
   /// Built effects, or null when the scene does not use them.
   fem::PenaltyContactForce* contact() const { return contact_; }
+  /// The compliance contact solver, built only for `solver.type: compliance`. Step() then
+  /// solves contact with it (the simulation's positions are set from it: the pad's and
+  /// the Merkel layer's nodes move, the others stay at rest).
+  FingertipCompliance* compliance() const { return compliance_.get(); }
+  /// Time (quasi-static: load parameter) after the last step [s].
+  double time_s() const;
+  /// Sum of contact spring forces k depth n on the skin after the last step [N, model frame].
+  Eigen::Vector3d ContactSpringForce_N() const;
   fem::SurfaceTractionForce* traction() const { return traction_; }
   MerkelLayer* merkel() const { return merkel_.get(); }
   const fem::ElasticTetForce& elastic() const { return *simulation_->elastic(); }
@@ -52,6 +61,8 @@ class FingertipScene {
   fem::PenaltyContactForce* contact_ = nullptr;
   fem::SurfaceTractionForce* traction_ = nullptr;
   std::unique_ptr<MerkelLayer> merkel_;
+  std::unique_ptr<FingertipCompliance> compliance_;
+  double compliance_t_s_ = 0;
   Eigen::VectorXd skin_area_m2_;
 };
 

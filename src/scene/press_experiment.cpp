@@ -36,10 +36,10 @@ PressResult RunPress(FingertipScene& scene, const PressOptions& options) {
     rec.report = scene.Step();
     rec.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     rec.step = k;
-    rec.t_s = scene.simulation().time_s();
-    scene.simulation().TotalForce();  // contact set at the converged state
+    rec.t_s = scene.time_s();
+    if (!scene.compliance()) scene.simulation().TotalForce();  // contact set at the converged state
     rec.displacement_mm = (object.trajectory.Pose(rec.t_s).translation() - start).norm() * 1e3;
-    rec.force_N = scene.contact()->TotalSpringForceMagnitude();
+    rec.force_N = scene.ContactSpringForce_N().norm();
     rec.contact_area_mm2 = scene.ContactArea_m2() * 1e6;
     rec.max_merkel_sed_Pa = scene.merkel()->sed_Pa().size() ? scene.merkel()->sed_Pa().maxCoeff() : 0.0;
     result.merkel_sed.push_back(scene.merkel()->sed_Pa());

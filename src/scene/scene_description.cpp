@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "config/yaml_reader.h"
+#include "scene/fingertip_compliance.h"
 
 namespace sedbridge::scene {
 namespace {
@@ -62,7 +63,12 @@ SceneDescription Parse(const config::YamlDocument& doc) {
   if (r.Has("solver")) {
     MapReader so = r.Child("solver");
     solver_type_given = so.Has("type");
-    if (so.Has("type")) s.solver = so.RequiredChoice("type", {"ldlt", "pcg_jacobi", "pcg_warp", "pcg_warp_ichol"});
+    if (so.Has("type"))
+      s.solver = so.RequiredChoice("type", {"ldlt", "pcg_jacobi", "pcg_warp", "pcg_warp_ichol", "compliance"});
+    if (so.Has("cache_dir")) {
+      if (s.solver != "compliance") so.Fail(so.Node("cache_dir"), "'cache_dir' is for solver type 'compliance'");
+      s.solver_cache_dir = so.Required<std::string>("cache_dir");
+    }
     s.pcg.relative_tolerance = Positive(so, "tolerance", s.pcg.relative_tolerance);
     s.pcg.max_iterations = so.Optional<int>("max_iterations", s.pcg.max_iterations);
     if (s.pcg.max_iterations < 1) so.Fail(so.Node("max_iterations"), "'max_iterations' must be >= 1");
@@ -120,6 +126,14 @@ SceneDescription Parse(const config::YamlDocument& doc) {
     s.outputs.vtu_every = o.Optional<int>("vtu_every", s.outputs.vtu_every);
     if (s.outputs.vtu_every < 0) o.Fail(o.Node("vtu_every"), "'vtu_every' must be >= 0");
     o.Finish();
+  }
+  // The compliance solver exists only for linear quasi-static scenes: say so at the key.
+  if (s.solver == "compliance") {
+    try {
+      ComplianceOptionsFromScene(s);
+    } catch (const std::invalid_argument& e) {
+      r.Fail(r.Node("solver"), e.what());
+    }
   }
   r.Finish();
   return s;

@@ -9,7 +9,9 @@
 #include <cmath>
 #include <set>
 
+#include "config/config_error.h"
 #include "scene/fingertip_scene.h"
+#include "scene/press_experiment.h"
 
 namespace sedbridge::scene {
 namespace {
@@ -114,6 +116,20 @@ TEST(FingertipCompliance, PressToForceReachesTheTargetAndWarmStarts) {
   EXPECT_EQ(objects.size(), 2u);
 }
 
+TEST(FingertipCompliance, ExactContactReachesTheForceAtLessIndentationThanPenalty) {
+  const std::vector<geometry::RigidObject> sphere{Sphere(5, {0, 1, 5})};
+  FingertipCompliance penalty(Model());
+  FingertipComplianceOptions o;
+  o.contact.exact_contact = true;
+  FingertipCompliance exact(Model(), o);
+  const PressToForceResult a = penalty.PressToForce(sphere, 0.5), b = exact.PressToForce(sphere, 0.5);
+  ASSERT_TRUE(a.reached && b.reached) << a.message << b.message;
+  EXPECT_NEAR(b.force_N, 0.5, 1e-4 * 0.5);
+  // The penalty lets the sphere sink in by f/k per node; exact contact does not.
+  EXPECT_LT(b.indentation_mm, a.indentation_mm);
+  for (const auto& c : exact.contact().last().contacts) EXPECT_LT(c.depth_m, 1e-9);
+}
+
 TEST(FingertipCompliance, PressToForceFlagsWhatItCannotReach) {
   FingertipCompliance cc(Model());
   auto expect_flagged = [&](const PressToForceResult& r, PressStatus status) {
@@ -134,10 +150,114 @@ TEST(FingertipCompliance, PressToForceFlagsWhatItCannotReach) {
   expect_flagged(cc.PressToForce({Sphere(5, {0, 1, 4})}, 0.1), PressStatus::kAboveTarget);
   // Off the side of the pad: the sphere meets skin that does not face the pad.
   const PressToForceResult edge = cc.PressToForce({Sphere(3, {8.5, 1, 0})}, 0.3);
-  EXPECT_FALSE(edge.reached);
+  expect_flagged(edge, PressStatus::kPatchEdge);
   EXPECT_TRUE(std::isfinite(edge.force_N));
   // Still usable afterwards.
   EXPECT_TRUE(cc.PressToForce(sphere, 0.5).reached);
+}
+
+// Contact reconstruction will try arbitrary hypotheses: random spheres, boxes and planes
+// anywhere near the pad, random targets. Every answer is finite, flagged or on target.
+TEST(FingertipCompliance, PressToForceOnRandomHypothesesIsFiniteAndHonest) {
+  FingertipCompliance cc(Model());
+  std::srand(12);
+  auto uniform = [](double a, double b) { return a + (b - a) * double(std::rand()) / RAND_MAX; };
+  int reached = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    std::vector<geometry::RigidObject> objects;
+    const int kind = trial % 3;
+    const Eigen::Vector3d at(uniform(-12, 12), uniform(-10, 10), 0);
+    if (kind == 0) {
+      const double r = uniform(1, 20);
+      objects.push_back(Sphere(r, at + Eigen::Vector3d(0, 0, r)));
+    } else if (kind == 1) {
+      Eigen::Isometry3d pose(Eigen::Translation3d(1e-3 * (at + Eigen::Vector3d(0, 0, 5.5))));
+      pose.linear() = geometry::RotationFromRpyDeg({uniform(-20, 20), uniform(-20, 20), uniform(0, 90)});
+      objects.push_back({"box", std::make_shared<geometry::BoxSdf>(Eigen::Vector3d(4e-3, 3e-3, 5e-3), 0.0),
+                         geometry::Trajectory(pose)});
+    } else {
+      Eigen::Isometry3d pose(Eigen::Translation3d(0, 0, uniform(-0.5, 0.5) * 1e-3));
+      pose.linear() = geometry::RotationFromRpyDeg({180 + uniform(-10, 10), uniform(-10, 10), 0});
+      objects.push_back({"plane", std::make_shared<geometry::PlaneSdf>(), geometry::Trajectory(pose)});
+    }
+    const double target = uniform(0.01, 4.0);
+    const PressToForceResult r = cc.PressToForce(objects, target);
+    SCOPED_TRACE("trial " + std::to_string(trial) + ": " + ToString(r.status) + " " + r.message);
+    EXPECT_TRUE(std::isfinite(r.force_N));
+    EXPECT_TRUE(std::isfinite(r.indentation_mm));
+    EXPECT_TRUE(cc.sed_Pa().allFinite());
+    EXPECT_EQ(r.reached, r.status == PressStatus::kReached);
+    if (r.reached) {
+      ++reached;
+      EXPECT_NEAR(r.force_N, target, 1e-4 * target);
+    } else {
+      EXPECT_FALSE(r.message.empty());
+    }
+  }
+  EXPECT_GT(reached, 10);
+}
+
+// Scene integration: `solver: {type: compliance}` builds it; nothing else does.
+std::string PressScene(const std::string& solver, const std::string& extra = "", double slide_mm = 0) {
+  return "model: B_coarse\nelasticity: linear\n"
+         "dynamics: {integrator: quasi_static, steps: 3, newton_iterations: 100, newton_tolerance_mm: 1.0e-12}\n"
+         "solver: {type: " + solver + "}\nbone: {mode: fixed}\n"
+         "contact:\n  objects:\n    - {shape: plane, rpy_deg: [180, 0, 0], position_mm: [0, 0, 0], motion: {keyframes: "
+         "[{t_s: 0, offset_mm: [0, 0, 0]}, {t_s: 1.0, offset_mm: [" + std::to_string(slide_mm) + ", 0, -1.2]}]}}\n" + extra;
+}
+
+TEST(FingertipComplianceScene, SceneThatDoesNotAskForItDoesNotBuildIt) {
+  FingertipScene full(ParseSceneDescription(PressScene("ldlt"), "test"), Model());
+  EXPECT_EQ(full.compliance(), nullptr);
+  FingertipScene dynamic(ParseSceneDescription("model: B_coarse\nbone: {}\n", "test"), Model());
+  EXPECT_EQ(dynamic.compliance(), nullptr);
+  FingertipScene cc(ParseSceneDescription(PressScene("compliance"), "test"), Model());
+  ASSERT_NE(cc.compliance(), nullptr);
+}
+
+void ExpectPressLikeFullFe(const std::string& extra, double slide_mm, PressResult* out = nullptr) {
+  FingertipScene full(ParseSceneDescription(PressScene("ldlt", extra, slide_mm), "test"), Model());
+  FingertipScene cc(ParseSceneDescription(PressScene("compliance", extra, slide_mm), "test"), Model());
+  PressOptions options;
+  const PressResult a = RunPress(full, options), b = RunPress(cc, options);
+  ASSERT_EQ(a.steps.size(), 3u);
+  ASSERT_EQ(b.steps.size(), 3u);
+  for (size_t k = 0; k < 3; ++k) {
+    EXPECT_TRUE(b.steps[k].report.converged);
+    EXPECT_DOUBLE_EQ(b.steps[k].t_s, a.steps[k].t_s);
+    EXPECT_NEAR(b.steps[k].force_N, a.steps[k].force_N, 1e-6 * a.steps[k].force_N);
+    EXPECT_NEAR(b.steps[k].contact_area_mm2, a.steps[k].contact_area_mm2, 1e-9);
+    EXPECT_LT((b.merkel_sed[k] - a.merkel_sed[k]).norm(), 1e-6 * a.merkel_sed[k].norm());
+  }
+  EXPECT_GT(b.steps[2].force_N, b.steps[1].force_N);
+  EXPECT_GT(b.steps[1].force_N, 0.0);
+  if (out) *out = b;
+}
+
+TEST(FingertipComplianceScene, PressMatchesTheFullFeSceneStepByStep) { ExpectPressLikeFullFe("", 0.0); }
+
+TEST(FingertipComplianceScene, PressWithStickingFrictionWhileSlidingMatchesTheFullFe) {
+  PressResult with;
+  ExpectPressLikeFullFe("friction: {anisotropy: 0.3}\n", 0.3, &with);
+  ASSERT_EQ(with.merkel_sed.size(), 3u);
+  // The springs matter: without them the sliding plane leaves another SED.
+  FingertipScene frictionless(ParseSceneDescription(PressScene("compliance", "", 0.3), "test"), Model());
+  const PressResult without = RunPress(frictionless, {});
+  EXPECT_GT((with.merkel_sed[2] - without.merkel_sed[2]).norm(), 1e-2 * without.merkel_sed[2].norm());
+}
+
+TEST(FingertipComplianceScene, ParseRefusesItWhereTheMethodDoesNotApply) {
+  try {
+    ParseSceneDescription("model: B_coarse\nsolver: {type: compliance}\nbone: {}\n", "bad.yaml");  // backward Euler
+    FAIL() << "expected a ConfigError";
+  } catch (const config::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("bad.yaml:2"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("compliance"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ParseSceneDescription("model: B_coarse\nsolver: {type: ldlt, cache_dir: x}\n", "t"), config::ConfigError);
+  EXPECT_THROW(ParseSceneDescription(PressScene("compliance", "friction: {anisotropy: 0.3, coulomb_mu: 0.5}\n"), "t"),
+               config::ConfigError);
+  EXPECT_NO_THROW(ParseSceneDescription(PressScene("compliance", "friction: {anisotropy: 0.3}\n"), "t"));
 }
 
 }  // namespace
