@@ -18,6 +18,7 @@
 
 #include "app/arg_parser.h"
 #include "app/command.h"
+#include "app/lcm_url.h"
 #include "config/config_error.h"
 #include "config/resource_path.h"
 #include "display/display_log_frames.h"
@@ -105,7 +106,9 @@ void Show(const std::string& frame, bool clear) {
 
 int RunLive(const ArgParser& args, const LcmChannels& ch, LayoutSource& layouts,
             const HeatmapStyle& style, bool clear) {
-  const std::string url = args.Get("url");
+  auto flag = args.GetOptional("lcm-url");
+  if (!flag) flag = args.GetOptional("url");
+  const std::string url = ChooseLcmUrl(flag, kDefaultLcmUrl, "default").url;
   lcm::LCM lcm(url);
   if (!lcm.good()) {
     std::fprintf(stderr, "display-view: cannot open LCM at '%s'\n", url.c_str());
@@ -206,7 +209,9 @@ int RunDisplayView(int argc, char** argv) {
                  "field below it. Live from LCM, or from an LCM event log (--log), as a\n"
                  "terminal replay or as PNG frames / a GIF animation.");
   args.Option("log", "FILE", "read this LCM event log instead of listening live")
-      .Option("url", "URL", "LCM URL to listen on (live mode)", kDefaultLcmUrl)
+      .Option("lcm-url", "URL", "live: LCM URL to listen on; default: $LCM_DEFAULT_URL if set, else " +
+                                    std::string(kDefaultLcmUrl))
+      .Option("url", "URL", "same as --lcm-url (older name)")
       .Option("profile", "YAML", "display profile for the layout (default: from display_id)")
       .Option("command-channel", "NAME", "display command channel", "DISPLAY_COMMAND")
       .Option("sed-channel", "NAME", "Merkel SED channel", "FINGERTIP_SED")

@@ -6,6 +6,7 @@
 
 #include "app/arg_parser.h"
 #include "app/command.h"
+#include "app/lcm_url.h"
 #include "app/plot_runner.h"
 #include "app/replay_output_options.h"
 #include "bridge/bridge_config.h"
@@ -57,7 +58,7 @@ int RunReplayCommand(int argc, char** argv) {
       .Option("config", "BRIDGE.yaml", "bridge config", "config/bridge/default.yaml")
       .Option("speed", "S|max", "max = as fast as possible; 1 = recorded timing; 2 = twice as fast", "max")
       .Option("out", "DIR", "output folder", "out/replay")
-      .Option("lcm-url", "URL", "also publish live on this LCM URL (e.g. udpm://239.255.76.67:7667?ttl=0)", "memq://")
+      .Option("lcm-url", "URL", LcmUrlHelp("memq:// (the log file only); e.g. udpm://239.255.76.67:7667?ttl=1"))
       .Option("threads", "N", "OpenMP threads for the FE step (1 is fastest for a small model on a busy machine)", "1")
       .Option("vtu-every", "N", "also write frames.pvd + frame_*.vtu every N scans (ParaView)", "0")
       .Flag("no-plots", "write CSV and the LCM log only")

@@ -5,6 +5,7 @@
 
 #include "app/arg_parser.h"
 #include "app/command.h"
+#include "app/lcm_url.h"
 #include "app/plot_runner.h"
 #include "app/replay_output_options.h"
 #include "bridge/bridge_config.h"
@@ -28,7 +29,7 @@ int RunSimulateCommand(int argc, char** argv) {
       .Option("config", "BRIDGE.yaml", "bridge config", "config/bridge/default.yaml")
       .Option("out", "DIR", "output folder (same files as replay)", "out/simulate")
       .Option("duration-s", "S", "override the scene's duration [s]")
-      .Option("lcm-url", "URL", "also publish live on this LCM URL", "memq://")
+      .Option("lcm-url", "URL", LcmUrlHelp("memq:// (the log file only)"))
       .Option("threads", "N", "OpenMP threads for the FE step", "1")
       .Option("vtu-every", "N", "also write frames.pvd + frame_*.vtu every N scans (ParaView)", "0")
       .Flag("no-plots", "write CSV and the LCM log only")
