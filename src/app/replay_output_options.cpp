@@ -15,9 +15,6 @@ bridge::ReplayOptions ReadReplayOutputOptions(const ArgParser& args, const bridg
   options.progress = !args.GetFlag("quiet");
   options.vtu_every = static_cast<int>(args.GetInt("vtu-every"));
   if (options.vtu_every < 0) throw UsageError("--vtu-every must be >= 0");
-  if (options.vtu_every > 0 && config.fe_step != "scene")
-    std::printf("note: --vtu-every needs fe.step: scene (this config uses '%s'); no VTU frames\n",
-                config.fe_step.c_str());
   return options;
 }
 

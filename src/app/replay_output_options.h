@@ -9,7 +9,7 @@
 namespace sedbridge::app {
 
 /// Reads --out, --lcm-url, --vtu-every and --quiet (declared by the command) into
-/// ReplayOptions (the LCM URL in the order of app/lcm_url.h, fallback memq://); notes when VTU frames cannot be written with the config's FE step.
+/// ReplayOptions (the LCM URL in the order of app/lcm_url.h, fallback memq://).
 bridge::ReplayOptions ReadReplayOutputOptions(const ArgParser& args, const bridge::BridgeConfig& config);
 
 }  // namespace sedbridge::app

@@ -68,6 +68,39 @@ class LcmUrlPrecedence(unittest.TestCase):
         self.assertEqual(status, 2, out)
 
 
+def data_array(xml_text, name):
+    """Numbers of the <DataArray Name="name"> (or of <Points> for name=None) in a .vtu."""
+    import xml.etree.ElementTree as ET
+    root = ET.fromstring(xml_text)
+    if name is None:
+        node = root.find(".//Points/DataArray")
+    else:
+        node = next(a for a in root.iter("DataArray") if a.get("Name") == name)
+    return [float(v) for v in node.text.split()]
+
+
+class ParaViewFrames(unittest.TestCase):
+    def test_replay_vtu_every_works_with_the_default_reduced_step(self):
+        out = os.path.join(ARGS.work, "replay_vtu")
+        status, text = sedbridge("replay", src("config/bridge/example_press.log"), "--out", out, "--vtu-every", "100",
+                                 "--no-plots", "--quiet")
+        self.assertEqual(status, 0, text)
+        self.assertIn("reduced linear step", text)  # the default config's step
+        with open(os.path.join(out, "frames.pvd")) as f:
+            pvd = f.read()
+        self.assertIn("timestep = time since the first scan [s]", pvd)
+        frames = sorted(n for n in os.listdir(out) if n.endswith(".vtu"))
+        self.assertEqual(frames, ["frame_000000.vtu", "frame_000100.vtu", "frame_000200.vtu"])
+        texts = [open(os.path.join(out, n)).read() for n in frames]
+        # Reference points in every frame; the deformation lives in displacement_mm only.
+        self.assertEqual(data_array(texts[0], None), data_array(texts[1], None))
+        peak = max(abs(v) for v in data_array(texts[1], "displacement_mm"))
+        self.assertGreater(peak, 1e-3, "the pressed frame must carry a displacement [mm]")
+        self.assertLess(peak, 5.0)
+        self.assertIn('Name="tissue_0_epidermis"', texts[1])
+        self.assertGreater(max(data_array(texts[1], "merkel_sed_Pa")), 0)
+
+
 if __name__ == "__main__":
     p = argparse.ArgumentParser()
     p.add_argument("--sedbridge", required=True)
