@@ -3,6 +3,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <set>
+#include <string>
 
 #include "app/arg_parser.h"
 #include "app/command.h"
@@ -14,6 +16,7 @@
 #include "bridge/scene_fe_step.h"
 #include "config/resource_path.h"
 #include "sensors/candump_log.h"
+#include "sensors/interface_filter_source.h"
 
 namespace sedbridge::app {
 namespace {
@@ -48,6 +51,31 @@ void PrintReplaySummary(const ReplayResult& r, const std::string& out) {
   if (!out.empty()) std::printf("wrote %s/{summary.csv, peak_merkel_sed.csv, peak_command.csv, peak_taxels.csv, bridge.lcmlog}\n", out.c_str());
 }
 
+std::string JoinNames(const std::set<std::string>& names) {
+  std::string s;
+  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+// The reason a replay made no scan, in the words a user can act on.
+std::string WhyNoScans(const sensors::CandumpLogSource& log, const sensors::InterfaceFilterSource& source,
+                       const std::string& profile) {
+  const sensors::CandumpLogReader& r = log.reader();
+  if (r.frames_read() == 0) {
+    if (r.bad_line_count() == 0) return r.name() + " holds no CAN frames (empty log)";
+    std::string why = r.name() + " is not a candump -l log: none of its " + std::to_string(r.bad_line_count()) +
+                      " lines is a CAN frame";
+    if (!r.bad_lines().empty())
+      why += " (line " + std::to_string(r.bad_lines().front().line_number) + ": " + r.bad_lines().front().reason + ")";
+    return why;
+  }
+  if (source.Stats().frames == 0)
+    return "none of the " + std::to_string(r.frames_read()) + " frames is on the chosen interface (the log has: " +
+           JoinNames(source.interfaces_seen()) + ")";
+  return std::to_string(source.Stats().frames) + " frames, but none of them made a scan of sensor profile '" + profile +
+         "' (a different sensor? try --profile, or `sedbridge decode --profile NAME LOG` to see the counts)";
+}
+
 int RunReplayCommand(int argc, char** argv) {
   ArgParser args("sedbridge replay",
                  "Replays a candump log of the follower's tactile sensor through the whole bridge:\n"
@@ -56,6 +84,8 @@ int RunReplayCommand(int argc, char** argv) {
                  "the log's time, so two runs write the same files (only the measured latency differs).");
   args.Positional("LOG", "candump -l log (e.g. config/bridge/example_press.log)")
       .Option("config", "BRIDGE.yaml", "bridge config", "config/bridge/default.yaml")
+      .Option("profile", "SENSOR", "sensor profile: shipped name or YAML (overrides the config's sensor.profile)")
+      .Option("interface", "NAME", "use only this interface's frames (logs from `candump -l any` mix several)")
       .Option("speed", "S|max", "max = as fast as possible; 1 = recorded timing; 2 = twice as fast", "max")
       .Option("out", "DIR", "output folder", "out/replay")
       .Option("lcm-url", "URL", LcmUrlHelp("memq:// (the log file only); e.g. udpm://239.255.76.67:7667?ttl=1"))
@@ -72,11 +102,14 @@ int RunReplayCommand(int argc, char** argv) {
           "  peak_command.csv      display command at that scan; peak_taxels.csv: the taxel pressures\n"
           "  bridge_*.png          SED map + display frame at peak, force and max SED over time\n"
           "  frames.pvd, frame_*.vtu  with --vtu-every N: deformation, traction, Merkel SED (ParaView)\n\n"
-          "example:\n  sedbridge replay config/bridge/example_press.log --out out/replay");
+          "example:\n  sedbridge replay config/bridge/example_press.log --out out/replay\n"
+          "exit status: 0 ok; 1 when the log is not a candump -l log or none of its frames makes a\n"
+          "scan of the sensor profile (the reason is printed); 2 usage.");
   if (!args.Parse(argc, argv)) return 0;
 
   const std::string config_path = config::ResolveResource(args.Get("config"));
-  const BridgeConfig config = LoadBridgeConfig(config_path);
+  BridgeConfig config = LoadBridgeConfig(config_path);
+  if (auto profile = args.GetOptional("profile")) config.sensor_profile = *profile;
   sensors::PlaybackOptions playback;
   const std::string speed = args.Get("speed");
   if (speed != "max") {
@@ -85,7 +118,8 @@ int RunReplayCommand(int argc, char** argv) {
   }
   SetFeThreads(static_cast<int>(args.GetInt("threads")));
   const std::string log_path = config::ResolveResource(args.Get("LOG"));
-  sensors::CandumpLogSource source(log_path, playback);
+  sensors::CandumpLogSource log(log_path, playback);
+  sensors::InterfaceFilterSource source(log, args.GetOptional("interface").value_or(""));
   ReplayOptions options = ReadReplayOutputOptions(args, config);
   std::printf("replay %s with %s (sensor %s, model %s/%s, display %s)\n", log_path.c_str(), config_path.c_str(),
               config.sensor_profile.c_str(), config.model.c_str(), config.preset.c_str(),
@@ -93,7 +127,13 @@ int RunReplayCommand(int argc, char** argv) {
   std::fflush(stdout);
   const ReplayResult result = RunReplay(config, source, options);
   PrintReplaySummary(result, options.out_dir);
-  if (result.rows.empty()) std::printf("warning: the log produced no scans (wrong sensor profile?)\n");
+  if (source.interfaces_seen().size() > 1 && !args.Has("interface"))
+    std::printf("warning: the log mixes interfaces (%s); --interface NAME keeps one\n",
+                JoinNames(source.interfaces_seen()).c_str());
+  if (result.rows.empty()) {
+    std::fprintf(stderr, "sedbridge replay: error: %s\n", WhyNoScans(log, source, config.sensor_profile).c_str());
+    return 1;
+  }
   if (!args.GetFlag("no-plots") && !result.rows.empty()) {
     if (RunPlotScript("plot_bridge.py", {options.out_dir, result.display_unit}))
       std::printf("plots: %s/bridge_peak.png, %s/bridge_timeline.png\n", options.out_dir.c_str(),

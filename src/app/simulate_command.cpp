@@ -24,9 +24,11 @@ int RunSimulateCommand(int argc, char** argv) {
                  "Runs the simulated follower sensor of a scene (sensors/simulated) and feeds its encoded\n"
                  "CAN frames through the same decoder, scan assembler and bridge pipeline as `replay`\n"
                  "and `run`: pressure boundary condition -> FE step -> Merkel SED -> display -> LCM.\n"
-                 "The sensor profile comes from the bridge config (the scene's sensor.profile is replaced).");
+                 "The sensor profile comes from --profile, else the bridge config (the scene's sensor.profile\n"
+                 "is replaced).");
   args.Positional("SCENE", "simulated-sensor scene YAML (e.g. config/scenes/sensor_sphere_press.yaml)")
       .Option("config", "BRIDGE.yaml", "bridge config", "config/bridge/default.yaml")
+      .Option("profile", "SENSOR", "sensor profile: shipped name or YAML (overrides the config's sensor.profile)")
       .Option("out", "DIR", "output folder (same files as replay)", "out/simulate")
       .Option("duration-s", "S", "override the scene's duration [s]")
       .Option("lcm-url", "URL", LcmUrlHelp("memq:// (the log file only)"))
@@ -39,7 +41,8 @@ int RunSimulateCommand(int argc, char** argv) {
 
   SetFeThreads(static_cast<int>(args.GetInt("threads")));
   const std::string config_path = config::ResolveResource(args.Get("config"));
-  const BridgeConfig config = LoadBridgeConfig(config_path);
+  BridgeConfig config = LoadBridgeConfig(config_path);
+  if (auto profile = args.GetOptional("profile")) config.sensor_profile = *profile;
   const std::string scene_path = config::ResolveResource(args.Get("SCENE"));
   sensors::SimulatedSensorConfig sim = sensors::LoadSimulatedSensorScene(scene_path, config.sensor_profile);
   if (args.Has("duration-s")) {
@@ -55,6 +58,11 @@ int RunSimulateCommand(int argc, char** argv) {
   std::fflush(stdout);
   const ReplayResult result = RunReplay(config, profile, nullptr, source, options);
   std::printf("%s\n", result.fe_description.c_str());
+  if (result.rows.empty()) {
+    std::fprintf(stderr, "sedbridge simulate: error: the simulated sensor made no scan (%lld frames, %lld rejected)\n",
+                 static_cast<long long>(result.bad_frames.frames), static_cast<long long>(result.bad_frames.rejected()));
+    return 1;
+  }
   std::printf("scans: %lld (stepped %lld, rejected %lld); frames %lld (rejected %lld, partial scans %lld)\n",
               static_cast<long long>(result.counters.scans), static_cast<long long>(result.counters.steps),
               static_cast<long long>(result.counters.scans_rejected), static_cast<long long>(result.bad_frames.frames),

@@ -68,6 +68,62 @@ class LcmUrlPrecedence(unittest.TestCase):
         self.assertEqual(status, 2, out)
 
 
+class HonestExits(unittest.TestCase):
+    """replay exits non-zero, saying why, when nothing in the log is usable."""
+
+    def replay(self, log, *extra):
+        return sedbridge("replay", log, "--out", os.path.join(ARGS.work, "replay_exit"), "--no-plots", "--quiet",
+                         *extra)
+
+    def test_a_file_that_is_not_a_candump_log(self):
+        status, out = self.replay(src("README.md"))
+        self.assertEqual(status, 1, out)
+        self.assertIn("is not a candump -l log", out)
+
+    def test_a_log_that_matches_nothing_in_the_profile(self):
+        status, out = self.replay(src("config/bridge/example_press.log"), "--profile", "cyskin_16")
+        self.assertEqual(status, 1, out)
+        self.assertIn("none of them made a scan of sensor profile 'cyskin_16'", out)
+
+    def test_profile_selects_the_sensor(self):
+        status, out = self.replay(src("config/bridge/example_press.log"), "--profile", "uskin_4x4")
+        self.assertEqual(status, 0, out)
+        self.assertIn("(sensor uskin_4x4,", out)
+
+    def mixed_log(self):
+        """The example log with every frame repeated on can1: what `candump -l any` gives."""
+        path = os.path.join(ARGS.work, "mixed.log")
+        with open(src("config/bridge/example_press.log")) as f, open(path, "w") as out:
+            for line in f:
+                out.write(line)
+                out.write(line.replace(" can0 ", " can1 "))
+        return path
+
+    def test_interface_keeps_one_bus_of_a_mixed_log(self):
+        status, out = self.replay(self.mixed_log(), "--interface", "can1")
+        self.assertEqual(status, 0, out)
+        self.assertIn("scans: 300 (stepped 300, rejected 0", out)
+        self.assertIn("frames: 4800 (rejected 0,", out)
+        self.assertNotIn("mixes interfaces", out)
+
+    def test_a_mixed_log_without_interface_warns(self):
+        status, out = self.replay(self.mixed_log())
+        self.assertEqual(status, 0, out)
+        self.assertIn("the log mixes interfaces (can0, can1)", out)
+
+    def test_an_interface_the_log_does_not_have(self):
+        status, out = self.replay(self.mixed_log(), "--interface", "can7")
+        self.assertEqual(status, 1, out)
+        self.assertIn("none of the 9600 frames is on the chosen interface (the log has: can0, can1)", out)
+
+    def test_simulate_takes_profile(self):
+        status, out = sedbridge("simulate", src("config/scenes/sensor_sphere_press.yaml"), "--profile", "cyskin_16",
+                                "--duration-s", "0.1", "--out", os.path.join(ARGS.work, "simulate_profile"),
+                                "--no-plots", "--quiet")
+        self.assertEqual(status, 0, out)
+        self.assertIn("sensor cyskin_16", out)
+
+
 def data_array(xml_text, name):
     """Numbers of the <DataArray Name="name"> (or of <Points> for name=None) in a .vtu."""
     import xml.etree.ElementTree as ET
