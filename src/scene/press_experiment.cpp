@@ -121,6 +121,14 @@ void WritePressCsv(const FingertipScene& scene, const PressResult& result, const
           << s.report.solver_fallbacks << "," << (s.report.converged ? 1 : 0) << "," << s.report.inverted_elements << "\n";
   }
   {
+    // Which step merkel_sed.csv and sed_path.csv show, so plots can say so (and name the model).
+    auto out = open("merkel_sed_step.csv");
+    const PressStepRecord& sel = result.steps.at(size_t(result.selected));
+    out << "model,step,displacement_mm,force_N,max_sed_Pa\n"
+        << scene.model().name << "," << sel.step << "," << sel.displacement_mm << "," << sel.force_N << ","
+        << result.selected_max_sed_Pa << "\n";
+  }
+  {
     auto out = open("sed_path.csv");
     out << "x_mm,sed_Pa,sed_normalized\n";
     const double max_sed = result.selected_max_sed_Pa;
