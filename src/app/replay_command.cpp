@@ -38,9 +38,9 @@ void PrintReplaySummary(const ReplayResult& r, const std::string& out) {
   if (r.peak_index >= 0) {
     const ReplayRow& p = r.rows[size_t(r.peak_index)];
     std::printf("peak: scan %d at t = %.3f s: force %.3f N (FE applied %.3f N), max Merkel SED %.1f Pa, max command "
-                "%.2f %s\n",
+                "%.2f %s%s\n",
                 r.peak_index, (p.utime - r.rows.front().utime) * 1e-6, p.total_force_N, p.applied_force_N,
-                p.max_sed_Pa, p.max_command, r.display_unit.c_str());
+                p.max_sed_Pa, p.max_command, r.display_unit.c_str(), SaturationNote(r).c_str());
   }
   std::printf("timing: setup %.2f s; %lld scans in %.3f s = %.0f scans/s; latency median %.3f ms, p99 %.3f ms, max "
               "%.3f ms\n",
@@ -135,7 +135,7 @@ int RunReplayCommand(int argc, char** argv) {
     return 1;
   }
   if (!args.GetFlag("no-plots") && !result.rows.empty()) {
-    if (RunPlotScript("plot_bridge.py", {options.out_dir, result.display_unit}))
+    if (RunPlotScript("plot_bridge.py", PlotBridgeArgs(options.out_dir, result)))
       std::printf("plots: %s/bridge_peak.png, %s/bridge_timeline.png\n", options.out_dir.c_str(),
                   options.out_dir.c_str());
   }

@@ -70,15 +70,15 @@ int RunSimulateCommand(int argc, char** argv) {
               static_cast<long long>(result.bad_frames.scans_partial));
   if (result.peak_index >= 0) {
     const ReplayRow& p = result.rows[size_t(result.peak_index)];
-    std::printf("peak: force %.3f N, max Merkel SED %.1f Pa, max command %.2f %s\n", p.total_force_N, p.max_sed_Pa,
-                p.max_command, result.display_unit.c_str());
+    std::printf("peak: force %.3f N, max Merkel SED %.1f Pa, max command %.2f %s%s\n", p.total_force_N, p.max_sed_Pa,
+                p.max_command, result.display_unit.c_str(), SaturationNote(result).c_str());
   }
   std::printf("timing: %.0f scans/s; latency median %.3f ms, p99 %.3f ms, max %.3f ms\n",
               result.wall_s > 0 ? result.counters.scans / result.wall_s : 0.0, result.latency.p50_ms,
               result.latency.p99_ms, result.latency.max_ms);
   std::printf("wrote %s/{summary.csv, peak_*.csv, bridge.lcmlog}\n", options.out_dir.c_str());
   if (!args.GetFlag("no-plots") && !result.rows.empty())
-    RunPlotScript("plot_bridge.py", {options.out_dir, result.display_unit});
+    RunPlotScript("plot_bridge.py", PlotBridgeArgs(options.out_dir, result));
   return 0;
 }
 

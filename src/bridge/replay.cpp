@@ -1,5 +1,6 @@
 #include "bridge/replay.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -158,6 +159,17 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   result.source_stats = source.Stats();
   result.published = pipeline.display().publisher().published();
   result.publish_errors = pipeline.display().publisher().publish_errors();
+  {
+    // Saturation in the SED -> command mapping is silent (the limiter's `clamped` only flags
+    // requests above its maximum), so count it here for the summary and the plots.
+    const display::DisplayProfile& dp = pipeline.display().controller().profile();
+    result.display_actuators = static_cast<int>(dp.size());
+    result.command_ceiling = std::min(dp.mapping.saturation, dp.safety.max);
+    result.ceiling_is_mapping = dp.mapping.saturation <= dp.safety.max;
+    const double at = result.command_ceiling * (1 - 1e-6);
+    for (double v : peak_command.value) result.peak_actuators_at_ceiling += v >= at ? 1 : 0;
+    for (const ReplayRow& r : result.rows) result.scans_at_ceiling += r.max_command >= at ? 1 : 0;
+  }
 
   if (!options.out_dir.empty()) {
     const std::filesystem::path dir(options.out_dir);

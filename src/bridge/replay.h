@@ -68,6 +68,12 @@ struct ReplayResult {
   std::string fe_description;
   std::string display_unit;
   int64_t published = 0, publish_errors = 0;
+  /// The highest command the display can get: min(mapping saturation, safety max) [unit].
+  double command_ceiling = 0;
+  bool ceiling_is_mapping = true;     ///< the mapping's saturation (silent), not the limiter's max (clamped)
+  int display_actuators = 0;
+  int peak_actuators_at_ceiling = 0;  ///< actuators at command_ceiling in the peak-SED command
+  int64_t scans_at_ceiling = 0;       ///< scans whose largest command reached command_ceiling
 };
 
 /// Runs `source` to its end through a new pipeline built from `config`.
