@@ -4,7 +4,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -144,13 +146,38 @@ int RunLive(const ArgParser& args, const LcmChannels& ch, LayoutSource& layouts,
   return state.have_command ? 0 : 3;
 }
 
+// The frame with the largest command (the first of equals): what --once shows from a log,
+// rather than the last frame, which is the all-zero shutdown command.
+std::size_t PeakFrame(const std::vector<DisplayFrame>& frames) {
+  std::size_t best = frames.size() - 1;
+  double best_value = -1;
+  for (std::size_t i = 0; i < frames.size(); ++i)
+    for (double v : frames[i].command.value)
+      if (std::isfinite(v) && v > best_value) best_value = v, best = i;
+  return best;
+}
+
 int RunLogTerminal(const ArgParser& args, const std::vector<DisplayFrame>& frames,
-                   LayoutSource& layouts, const HeatmapStyle& style, bool clear) {
+                   LayoutSource& layouts, HeatmapStyle style, bool clear) {
   const double speed = args.GetDouble("speed");
   const bool once = args.GetFlag("once");
-  for (std::size_t i = once ? frames.size() - 1 : 0; i < frames.size() && !g_stop; ++i) {
+  // One SED colour scale for the whole log (its largest finite SED), so a quiet frame looks quiet.
+  if (style.sed_full_scale_Pa <= 0)
+    for (const DisplayFrame& f : frames)
+      if (f.has_sed)
+        for (double e : f.sed.sed_Pa)
+          if (std::isfinite(e)) style.sed_full_scale_Pa = std::max(style.sed_full_scale_Pa, e);
+  if (once) {
+    const std::size_t i = PeakFrame(frames);
     const DisplayFrame& f = frames[i];
-    if (i > 0 && speed > 0 && !once) {
+    Show(RenderHeatmap(layouts.For(f.command), f.command, f.has_sed ? &f.sed : nullptr, style), clear);
+    std::printf("frame %zu of %zu: the largest command in the log (t = %.3f s after the first frame)\n", i + 1,
+                frames.size(), (f.log_utime - frames.front().log_utime) * 1e-6);
+    return 0;
+  }
+  for (std::size_t i = 0; i < frames.size() && !g_stop; ++i) {
+    const DisplayFrame& f = frames[i];
+    if (i > 0 && speed > 0) {
       const double dt = (f.log_utime - frames[i - 1].log_utime) * 1e-6 / speed;
       if (dt > 0) std::this_thread::sleep_for(std::chrono::duration<double>(std::min(dt, 5.0)));
     }
@@ -222,7 +249,8 @@ int RunDisplayView(int argc, char** argv) {
       .Option("png-dir", "DIR", "log: write DIR/frame_00000.png ... (and DIR/frames.jsonl)")
       .Option("animation", "FILE", "log: write an animated GIF of the frames")
       .Option("python", "EXE", "Python with matplotlib for PNG/GIF output", "/usr/bin/python3")
-      .Flag("once", "show one frame (live: the first; log: the last) and exit")
+      .Flag("once", "show one frame and exit (live: the first; log: the one with the largest command)")
+      .Option("sed-scale-Pa", "PA", "SED colour scale [Pa] (default: log: the log's largest SED; live: each frame's peak)")
       .Flag("no-color", "plain ASCII shades instead of ANSI colours")
       .Epilog(
           "examples:\n"
@@ -239,6 +267,10 @@ int RunDisplayView(int argc, char** argv) {
     throw UsageError("channel names must be UPPER_SNAKE");
   HeatmapStyle style;
   style.color = !args.GetFlag("no-color");
+  if (args.Has("sed-scale-Pa")) {
+    style.sed_full_scale_Pa = args.GetDouble("sed-scale-Pa");
+    if (!(style.sed_full_scale_Pa > 0)) throw UsageError("--sed-scale-Pa must be > 0");
+  }
   const bool clear = style.color && ::isatty(STDOUT_FILENO) && !args.GetFlag("once");
   LayoutSource layouts(args.GetOptional("profile").value_or(""));
 
