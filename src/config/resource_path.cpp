@@ -4,6 +4,12 @@
 #include <filesystem>
 #include <system_error>
 
+// Set by the top-level CMakeLists from the install layout; stand-alone builds of parts of
+// the tree (the fuzz and sanitizer projects) get the GNU default.
+#ifndef SEDBRIDGE_DATA_FROM_BIN
+#define SEDBRIDGE_DATA_FROM_BIN "../share/sedbridge"
+#endif
+
 namespace sedbridge::config {
 
 std::string InstalledDataRoot() {
