@@ -43,8 +43,9 @@ with sedbridge_lcm.EventLog(sys.argv[2], "w") as out:
         if e.channel == "DISPLAY_COMMAND":
             out.write_event(e.timestamp, e.channel, e.data)
 PY
-# speed=0.05: a 3 s log plays for a minute, so the channel stays live while we look.
-"$root/tools/lcm_spy.sh" "$build" "--lcm-url=file://$fbdir/commands.lcmlog?speed=0.05" >"$out/lcm_spy.log" 2>&1 &
+# speed=0.01: a 3 s log plays for 5 minutes, so the channel stays live (and the log provider
+# never reaches its end, which it reports as an exception) however slow the host is.
+"$root/tools/lcm_spy.sh" "$build" "--lcm-url=file://$fbdir/commands.lcmlog?speed=0.01" >"$out/lcm_spy.log" 2>&1 &
 pids+=($!)
 poll 60 xdotool search --name '^LCM Spy$' || { echo "check_lcm_spy: no LCM Spy window"; cat "$out/lcm_spy.log"; exit 1; }
 window=$(xdotool search --name '^LCM Spy$' | head -1)
