@@ -101,7 +101,8 @@ int RunReplayCommand(int argc, char** argv) {
           "  peak_merkel_sed.csv   Merkel-layer SED at the scan of peak SED (pad frame, mm)\n"
           "  peak_command.csv      display command at that scan; peak_taxels.csv: the taxel pressures\n"
           "  bridge_*.png          SED map + display frame at peak, force and max SED over time\n"
-          "  frames.pvd, frame_*.vtu  with --vtu-every N: deformation, traction, Merkel SED (ParaView)\n\n"
+          "  frames.pvd, frame_*.vtu  with --vtu-every N: reference mesh + displacement_mm (ParaView: Warp By\n"
+          "                        Vector, scale 1), Merkel SED; Time = seconds since the first scan\n\n"
           "example:\n  sedbridge replay config/bridge/example_press.log --out out/replay\n"
           "exit status: 0 ok; 1 when the log is not a candump -l log or none of its frames makes a\n"
           "scan of the sensor profile (the reason is printed); 2 usage.");
