@@ -55,7 +55,7 @@ def main():
     b1 = a1.twinx()
     b1.plot(t, col(summary, "max_sed_Pa"), color="tab:red", label="max Merkel SED")
     b1.set_ylabel("max Merkel SED [Pa]", color="tab:red")
-    a1.set_title("bridge replay: force and Merkel-layer SED")
+    a1.set_title("bridge: measured force and max Merkel-layer SED")  # replay and simulate alike
     max_cmd = col(summary, "max_command")
     a2.plot(t, max_cmd, color="tab:green", label="max command")
     if ceiling:
