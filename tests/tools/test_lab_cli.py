@@ -63,6 +63,14 @@ class LcmUrlPrecedence(unittest.TestCase):
         self.assertEqual(status, 0, out)
         self.assertIn("also publishing on memq://?env=1 (from LCM_DEFAULT_URL)", out)
 
+    def test_display_view_honours_lcm_default_url_and_its_flag(self):
+        status, out = sedbridge("display-view", "--duration-s", "0.1", env={"LCM_DEFAULT_URL": "memq://?env=1"})
+        self.assertEqual(status, 3, out)  # 3: nothing received (memq has no other publisher)
+        self.assertIn("listening on memq://?env=1", out)
+        status, out = sedbridge("display-view", "--duration-s", "0.1", "--lcm-url", "memq://?flag=1",
+                                env={"LCM_DEFAULT_URL": "memq://?env=1"})
+        self.assertIn("listening on memq://?flag=1", out)
+
     def test_an_empty_flag_is_a_usage_error(self):
         status, out = self.run_live("--lcm-url=")
         self.assertEqual(status, 2, out)
