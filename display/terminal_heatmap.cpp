@@ -111,16 +111,19 @@ void RenderSed(std::ostringstream& os, const ActuatorLayout& layout, const SedFi
       }
     }
   }
-  char head[160];
+  const bool fixed = s.sed_full_scale_Pa > 0;
+  const double scale = fixed ? s.sed_full_scale_Pa : peak;
+  char head[220];
   std::snprintf(head, sizeof head,
                 "Merkel-layer SED (max per cell, x %.1f..%.1f mm, y %.1f..%.1f mm): peak %.3g Pa at "
-                "(%.1f, %.1f) mm%s\n",
-                x0, x1, y0, y1, peak, peak_x, peak_y, bad ? "  [non-finite values!]" : "");
+                "(%.1f, %.1f) mm; colour scale 0..%.3g Pa (%s)%s\n",
+                x0, x1, y0, y1, peak, peak_x, peak_y, scale, fixed ? "fixed" : "this frame's peak",
+                bad ? "  [non-finite values!]" : "");
   os << head;
   for (int r = 0; r < rows; ++r) {
     os << "  ";
     for (int c = 0; c < s.sed_columns; ++c) {
-      const double t = peak > 0 ? bins[static_cast<std::size_t>(r * s.sed_columns + c)] / peak : 0;
+      const double t = scale > 0 ? std::min(1.0, bins[static_cast<std::size_t>(r * s.sed_columns + c)] / scale) : 0;
       if (s.color) os << "\033[48;5;" << HeatColor(t) << "m  \033[0m";
       else os << Shade(t) << Shade(t);
     }

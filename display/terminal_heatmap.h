@@ -15,6 +15,9 @@ struct HeatmapStyle {
   int cell_width = 6;       ///< characters per actuator cell (>= 4)
   int sed_columns = 24;     ///< width of the SED map in cells of 2 characters (0 = none)
   int sed_rows = 24;        ///< most rows of the SED map (rows follow the field's aspect)
+  /// SED shown as full colour [Pa]; 0 = each frame's own peak (then noise looks as strong as
+  /// a press). The header line always prints the scale in use.
+  double sed_full_scale_Pa = 0;
 };
 
 /// Places actuators on a character grid: one column per distinct x, one row per distinct y

@@ -9,6 +9,8 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 build="$root/build"
 case "$1" in --*|"") ;; *) build=$1; shift ;; esac
 jar="$build/lcmtypes/sedbridge_lcmtypes.jar"
+# Installed tree (PREFIX/share/sedbridge/tools/lcm_spy.sh): the jar is in ../java.
+[ -f "$jar" ] || [ ! -f "$root/java/sedbridge_lcmtypes.jar" ] || jar="$root/java/sedbridge_lcmtypes.jar"
 lcm_jar=${LCM_JAR:-/usr/share/java/lcm.jar}
 [ -f "$lcm_jar" ] || { echo "lcm_spy: $lcm_jar missing (apt install liblcm-java)" >&2; exit 1; }
 [ -f "$jar" ] || { echo "lcm_spy: $jar missing (re-run cmake once liblcm-java is installed)" >&2; exit 1; }

@@ -1,7 +1,10 @@
 #!/usr/bin/python3
 """Plots of a bridge replay (written by `sedbridge replay ... --out DIR`).
 
-Usage: plot_bridge.py DIR [UNIT]
+Usage: plot_bridge.py DIR [UNIT [CEILING]]
+
+CEILING: the highest command the display can get (mapping saturation or safety max, in UNIT);
+where given, the plots mark commands that reached it (the SED mapping saturated).
 
 Reads DIR/summary.csv, DIR/peak_merkel_sed.csv, DIR/peak_command.csv, DIR/peak_taxels.csv
 and writes
@@ -37,6 +40,7 @@ def main():
         return 2
     out = sys.argv[1]
     unit = sys.argv[2] if len(sys.argv) > 2 else ""
+    ceiling = float(sys.argv[3]) if len(sys.argv) > 3 else None
     summary = read(os.path.join(out, "summary.csv"))
     sed = read(os.path.join(out, "peak_merkel_sed.csv"))
     cmd = read(os.path.join(out, "peak_command.csv"))
@@ -51,8 +55,16 @@ def main():
     b1 = a1.twinx()
     b1.plot(t, col(summary, "max_sed_Pa"), color="tab:red", label="max Merkel SED")
     b1.set_ylabel("max Merkel SED [Pa]", color="tab:red")
-    a1.set_title("bridge replay: force and Merkel-layer SED")
-    a2.plot(t, col(summary, "max_command"), color="tab:green")
+    a1.set_title("bridge: measured force and max Merkel-layer SED")  # replay and simulate alike
+    max_cmd = col(summary, "max_command")
+    a2.plot(t, max_cmd, color="tab:green", label="max command")
+    if ceiling:
+        at = [c >= ceiling * (1 - 1e-6) for c in max_cmd]
+        a2.axhline(ceiling, color="k", ls="--", lw=0.8, label="ceiling %g %s" % (ceiling, unit))
+        if any(at):
+            a2.fill_between(t, 0, ceiling, where=at, color="tab:orange", alpha=0.25, step="mid",
+                            label="saturated (%d of %d scans)" % (sum(at), len(at)))
+        a2.legend(loc="upper left", fontsize=8)
     a2.set_ylabel("max command [%s]" % unit)
     a2.set_xlabel("time [s]")
     fig.tight_layout()
@@ -75,9 +87,18 @@ def main():
     ax.set_title("Merkel-layer SED at peak")
     ax = axes[2]
     if cmd:
-        s = ax.scatter(col(cmd, "x_mm"), col(cmd, "y_mm"), c=col(cmd, "value"), s=500, marker="o", cmap="Blues",
-                       edgecolors="k", vmin=0)
+        values = col(cmd, "value")
+        # Fixed scale 0..ceiling, so a weak frame looks weak; saturated actuators get a red ring.
+        s = ax.scatter(col(cmd, "x_mm"), col(cmd, "y_mm"), c=values, s=500, marker="o", cmap="Blues",
+                       edgecolors="k", vmin=0, vmax=ceiling or None)
         fig.colorbar(s, ax=ax, label="command [%s]" % unit)
+        if ceiling:
+            sat = [i for i, v in enumerate(values) if v >= ceiling * (1 - 1e-6)]
+            if sat:
+                ax.scatter([col(cmd, "x_mm")[i] for i in sat], [col(cmd, "y_mm")[i] for i in sat], s=700,
+                           facecolors="none", edgecolors="tab:red", linewidths=2)
+                ax.text(0.02, 0.02, "%d/%d at the %g %s ceiling" % (len(sat), len(values), ceiling, unit),
+                        transform=ax.transAxes, fontsize=8, color="tab:red")
     ax.set_title("display command at peak")
     for ax in axes:
         ax.set_xlabel("x [mm] (lateral)")

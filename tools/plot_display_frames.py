@@ -100,6 +100,13 @@ class Figure:
         return []
 
 
+def progress(what, done, total):
+    """One line on stderr every 10 % (and at the end), so a long render shows it is alive."""
+    step = max(1, total // 10)
+    if done == total or done % step == 0:
+        print(f"  {what}: {done}/{total} frames", file=sys.stderr, flush=True)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("frames", help="frames.jsonl from sedbridge display-view")
@@ -118,10 +125,12 @@ def main():
         for i in range(len(frames)):
             fig.draw(i)
             fig.fig.savefig(os.path.join(a.png_dir, f"frame_{i:05d}.png"), dpi=80)
+            progress("PNG", i + 1, len(frames))
         print(f"wrote {len(frames)} PNG frames to {a.png_dir}")
     if a.animation:
         anim = animation.FuncAnimation(fig.fig, fig.draw, frames=len(frames), blit=False)
-        anim.save(a.animation, writer=animation.PillowWriter(fps=max(1.0, a.fps)), dpi=70)
+        anim.save(a.animation, writer=animation.PillowWriter(fps=max(1.0, a.fps)), dpi=70,
+                  progress_callback=lambda i, n: progress("GIF", i + 1, n))
         print(f"wrote {a.animation} ({len(frames)} frames)")
 
 

@@ -4,7 +4,7 @@
 Reads the CSV written by `sedbridge decode --heatmap-png` (columns taxel, x_mm, y_mm,
 pressure_kPa, shear_x_kPa, shear_y_kPa, valid) and draws each taxel as a square of its
 sensing size coloured by normal pressure; invalid taxels are hatched grey; shear, when
-present, is drawn as arrows.
+present, is drawn as arrows on one fixed scale with a key ("shear N kPa").
 
 usage: /usr/bin/python3 tools/plot_taxels.py TAXELS.csv OUT.png [--title T] [--size-mm W H]
 Exit status 3 when matplotlib is missing (Debian: apt-get install python3-matplotlib).
@@ -45,25 +45,30 @@ def main():
 
     vmax = max([p for p, v in zip(ps, valid) if v] + [1e-9])
     cmap = plt.get_cmap("viridis")
-    fig, ax = plt.subplots(figsize=(5, 5))
+    fig, ax = plt.subplots(figsize=(5.5, 5.5))
     for x, y, p, ok in zip(xs, ys, ps, valid):
         if ok:
             ax.add_patch(Rectangle((x - w / 2, y - h / 2), w, h, color=cmap(max(p, 0) / vmax)))
         else:
             ax.add_patch(Rectangle((x - w / 2, y - h / 2), w, h, facecolor="0.8", hatch="//",
                                    edgecolor="0.5"))
-    if any(abs(v) > 0 for v in sx + sy):
-        ax.quiver(xs, ys, sx, sy, color="white", angles="xy")
+    shear_max = max([(a * a + b * b) ** 0.5 for a, b, ok in zip(sx, sy, valid) if ok] + [0.0])
+    if shear_max > 0:
+        # Fixed scale: the largest arrow is 0.8 taxel widths long; the key below reads it in kPa.
+        key_kPa = float("%.1g" % shear_max)
+        q = ax.quiver(xs, ys, sx, sy, color="white", edgecolor="k", linewidth=0.5, angles="xy",
+                      scale_units="xy", scale=shear_max / (0.8 * w))
+        ax.quiverkey(q, 0.05, 1.02, key_kPa, "shear %g kPa" % key_kPa, labelpos="E", coordinates="axes",
+                     color="k")
     ax.set_xlim(min(xs) - w, max(xs) + w)
     ax.set_ylim(min(ys) - h, max(ys) + h)
     ax.set_aspect("equal")
     ax.set_xlabel("x [mm] (pad frame)")
     ax.set_ylabel("y [mm]")
-    ax.set_title(args.title)
+    ax.set_title(args.title, fontsize=10, pad=22)  # pad: room for the shear key above the axes
     sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(0, vmax))
-    fig.colorbar(sm, ax=ax, label="normal pressure [kPa]")
-    fig.tight_layout()
-    fig.savefig(args.png, dpi=120)
+    fig.colorbar(sm, ax=ax, label="normal pressure [kPa]", shrink=0.8)
+    fig.savefig(args.png, dpi=120, bbox_inches="tight")  # nothing clipped
     return 0
 
 

@@ -14,6 +14,7 @@ PACKAGES=(
   libgmsh-dev gmsh
   calculix-ccx
   python3 python3-matplotlib python3-numpy
+  default-jdk-headless libjchart2d-java xvfb xdotool
 )
 
 missing=()

@@ -92,11 +92,13 @@ int RunDecode(int argc, char** argv) {
   bool have_chosen = false;
   double chosen_peak = -1;
   int64_t scan_total = 0;
+  int64_t first_scan_utime = -1;  // heatmap title: time since the first scan, not a raw utime
   const bool tty = isatty(fileno(stderr));
   Frame frame;
   std::string row;
   auto consume = [&]() {
     for (const Scan& s : scans) {
+      if (first_scan_utime < 0) first_scan_utime = s.utime;
       if (csv.is_open()) {
         row.clear();
         AppendScanCsvRow(s, &row);
@@ -203,8 +205,10 @@ int RunDecode(int argc, char** argv) {
       const std::string taxel_csv = *heatmap_png + ".csv";
       WriteTaxelCsv(profile, chosen, taxel_csv);
       std::printf("wrote %s (scan %lld)\n", taxel_csv.c_str(), static_cast<long long>(chosen.sequence));
-      const std::string title = profile.name + " scan " + std::to_string(chosen.sequence) +
-                                "\nutime " + std::to_string(chosen.utime);
+      char when[96];
+      std::snprintf(when, sizeof when, "\nt = %.3f s after the first scan%s", (chosen.utime - first_scan_utime) * 1e-6,
+                    heatmap_scan < 0 ? " (peak pressure)" : "");
+      const std::string title = profile.name + " scan " + std::to_string(chosen.sequence) + when;
       const PlotResult plot = PlotTaxelHeatmap(profile, taxel_csv, *heatmap_png, title);
       if (plot.ok)
         std::printf("%s\n", plot.message.c_str());

@@ -4,7 +4,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -18,6 +20,7 @@
 
 #include "app/arg_parser.h"
 #include "app/command.h"
+#include "app/lcm_url.h"
 #include "config/config_error.h"
 #include "config/resource_path.h"
 #include "display/display_log_frames.h"
@@ -105,7 +108,9 @@ void Show(const std::string& frame, bool clear) {
 
 int RunLive(const ArgParser& args, const LcmChannels& ch, LayoutSource& layouts,
             const HeatmapStyle& style, bool clear) {
-  const std::string url = args.Get("url");
+  auto flag = args.GetOptional("lcm-url");
+  if (!flag) flag = args.GetOptional("url");
+  const std::string url = ChooseLcmUrl(flag, kDefaultLcmUrl, "default").url;
   lcm::LCM lcm(url);
   if (!lcm.good()) {
     std::fprintf(stderr, "display-view: cannot open LCM at '%s'\n", url.c_str());
@@ -141,13 +146,38 @@ int RunLive(const ArgParser& args, const LcmChannels& ch, LayoutSource& layouts,
   return state.have_command ? 0 : 3;
 }
 
+// The frame with the largest command (the first of equals): what --once shows from a log,
+// rather than the last frame, which is the all-zero shutdown command.
+std::size_t PeakFrame(const std::vector<DisplayFrame>& frames) {
+  std::size_t best = frames.size() - 1;
+  double best_value = -1;
+  for (std::size_t i = 0; i < frames.size(); ++i)
+    for (double v : frames[i].command.value)
+      if (std::isfinite(v) && v > best_value) best_value = v, best = i;
+  return best;
+}
+
 int RunLogTerminal(const ArgParser& args, const std::vector<DisplayFrame>& frames,
-                   LayoutSource& layouts, const HeatmapStyle& style, bool clear) {
+                   LayoutSource& layouts, HeatmapStyle style, bool clear) {
   const double speed = args.GetDouble("speed");
   const bool once = args.GetFlag("once");
-  for (std::size_t i = once ? frames.size() - 1 : 0; i < frames.size() && !g_stop; ++i) {
+  // One SED colour scale for the whole log (its largest finite SED), so a quiet frame looks quiet.
+  if (style.sed_full_scale_Pa <= 0)
+    for (const DisplayFrame& f : frames)
+      if (f.has_sed)
+        for (double e : f.sed.sed_Pa)
+          if (std::isfinite(e)) style.sed_full_scale_Pa = std::max(style.sed_full_scale_Pa, e);
+  if (once) {
+    const std::size_t i = PeakFrame(frames);
     const DisplayFrame& f = frames[i];
-    if (i > 0 && speed > 0 && !once) {
+    Show(RenderHeatmap(layouts.For(f.command), f.command, f.has_sed ? &f.sed : nullptr, style), clear);
+    std::printf("frame %zu of %zu: the largest command in the log (t = %.3f s after the first frame)\n", i + 1,
+                frames.size(), (f.log_utime - frames.front().log_utime) * 1e-6);
+    return 0;
+  }
+  for (std::size_t i = 0; i < frames.size() && !g_stop; ++i) {
+    const DisplayFrame& f = frames[i];
+    if (i > 0 && speed > 0) {
       const double dt = (f.log_utime - frames[i - 1].log_utime) * 1e-6 / speed;
       if (dt > 0) std::this_thread::sleep_for(std::chrono::duration<double>(std::min(dt, 5.0)));
     }
@@ -206,7 +236,9 @@ int RunDisplayView(int argc, char** argv) {
                  "field below it. Live from LCM, or from an LCM event log (--log), as a\n"
                  "terminal replay or as PNG frames / a GIF animation.");
   args.Option("log", "FILE", "read this LCM event log instead of listening live")
-      .Option("url", "URL", "LCM URL to listen on (live mode)", kDefaultLcmUrl)
+      .Option("lcm-url", "URL", "live: LCM URL to listen on; default: $LCM_DEFAULT_URL if set, else " +
+                                    std::string(kDefaultLcmUrl))
+      .Option("url", "URL", "same as --lcm-url (older name)")
       .Option("profile", "YAML", "display profile for the layout (default: from display_id)")
       .Option("command-channel", "NAME", "display command channel", "DISPLAY_COMMAND")
       .Option("sed-channel", "NAME", "Merkel SED channel", "FINGERTIP_SED")
@@ -217,7 +249,8 @@ int RunDisplayView(int argc, char** argv) {
       .Option("png-dir", "DIR", "log: write DIR/frame_00000.png ... (and DIR/frames.jsonl)")
       .Option("animation", "FILE", "log: write an animated GIF of the frames")
       .Option("python", "EXE", "Python with matplotlib for PNG/GIF output", "/usr/bin/python3")
-      .Flag("once", "show one frame (live: the first; log: the last) and exit")
+      .Flag("once", "show one frame and exit (live: the first; log: the one with the largest command)")
+      .Option("sed-scale-Pa", "PA", "SED colour scale [Pa] (default: log: the log's largest SED; live: each frame's peak)")
       .Flag("no-color", "plain ASCII shades instead of ANSI colours")
       .Epilog(
           "examples:\n"
@@ -234,6 +267,10 @@ int RunDisplayView(int argc, char** argv) {
     throw UsageError("channel names must be UPPER_SNAKE");
   HeatmapStyle style;
   style.color = !args.GetFlag("no-color");
+  if (args.Has("sed-scale-Pa")) {
+    style.sed_full_scale_Pa = args.GetDouble("sed-scale-Pa");
+    if (!(style.sed_full_scale_Pa > 0)) throw UsageError("--sed-scale-Pa must be > 0");
+  }
   const bool clear = style.color && ::isatty(STDOUT_FILENO) && !args.GetFlag("once");
   LayoutSource layouts(args.GetOptional("profile").value_or(""));
 

@@ -3,9 +3,12 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <set>
+#include <string>
 
 #include "app/arg_parser.h"
 #include "app/command.h"
+#include "app/lcm_url.h"
 #include "app/plot_runner.h"
 #include "app/replay_output_options.h"
 #include "bridge/bridge_config.h"
@@ -13,6 +16,7 @@
 #include "bridge/scene_fe_step.h"
 #include "config/resource_path.h"
 #include "sensors/candump_log.h"
+#include "sensors/interface_filter_source.h"
 
 namespace sedbridge::app {
 namespace {
@@ -34,9 +38,9 @@ void PrintReplaySummary(const ReplayResult& r, const std::string& out) {
   if (r.peak_index >= 0) {
     const ReplayRow& p = r.rows[size_t(r.peak_index)];
     std::printf("peak: scan %d at t = %.3f s: force %.3f N (FE applied %.3f N), max Merkel SED %.1f Pa, max command "
-                "%.2f %s\n",
+                "%.2f %s%s\n",
                 r.peak_index, (p.utime - r.rows.front().utime) * 1e-6, p.total_force_N, p.applied_force_N,
-                p.max_sed_Pa, p.max_command, r.display_unit.c_str());
+                p.max_sed_Pa, p.max_command, r.display_unit.c_str(), SaturationNote(r).c_str());
   }
   std::printf("timing: setup %.2f s; %lld scans in %.3f s = %.0f scans/s; latency median %.3f ms, p99 %.3f ms, max "
               "%.3f ms\n",
@@ -48,6 +52,31 @@ void PrintReplaySummary(const ReplayResult& r, const std::string& out) {
   if (!out.empty()) std::printf("wrote %s/{summary.csv, peak_merkel_sed.csv, peak_command.csv, peak_taxels.csv, bridge.lcmlog}\n", out.c_str());
 }
 
+std::string JoinNames(const std::set<std::string>& names) {
+  std::string s;
+  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
+}
+
+// The reason a replay made no scan, in the words a user can act on.
+std::string WhyNoScans(const sensors::CandumpLogSource& log, const sensors::InterfaceFilterSource& source,
+                       const std::string& profile) {
+  const sensors::CandumpLogReader& r = log.reader();
+  if (r.frames_read() == 0) {
+    if (r.bad_line_count() == 0) return r.name() + " holds no CAN frames (empty log)";
+    std::string why = r.name() + " is not a candump -l log: none of its " + std::to_string(r.bad_line_count()) +
+                      " lines is a CAN frame";
+    if (!r.bad_lines().empty())
+      why += " (line " + std::to_string(r.bad_lines().front().line_number) + ": " + r.bad_lines().front().reason + ")";
+    return why;
+  }
+  if (source.Stats().frames == 0)
+    return "none of the " + std::to_string(r.frames_read()) + " frames is on the chosen interface (the log has: " +
+           JoinNames(source.interfaces_seen()) + ")";
+  return std::to_string(source.Stats().frames) + " frames, but none of them made a scan of sensor profile '" + profile +
+         "' (a different sensor? try --profile, or `sedbridge decode --profile NAME LOG` to see the counts)";
+}
+
 int RunReplayCommand(int argc, char** argv) {
   ArgParser args("sedbridge replay",
                  "Replays a candump log of the follower's tactile sensor through the whole bridge:\n"
@@ -56,9 +85,11 @@ int RunReplayCommand(int argc, char** argv) {
                  "the log's time, so two runs write the same files (only the measured latency differs).");
   args.Positional("LOG", "candump -l log (e.g. config/bridge/example_press.log)")
       .Option("config", "BRIDGE.yaml", "bridge config", "config/bridge/default.yaml")
+      .Option("profile", "SENSOR", "sensor profile: shipped name or YAML (overrides the config's sensor.profile)")
+      .Option("interface", "NAME", "use only this interface's frames (logs from `candump -l any` mix several)")
       .Option("speed", "S|max", "max = as fast as possible; 1 = recorded timing; 2 = twice as fast", "max")
       .Option("out", "DIR", "output folder", "out/replay")
-      .Option("lcm-url", "URL", "also publish live on this LCM URL (e.g. udpm://239.255.76.67:7667?ttl=0)", "memq://")
+      .Option("lcm-url", "URL", LcmUrlHelp("memq:// (the log file only); e.g. udpm://239.255.76.67:7667?ttl=1"))
       .Option("threads", "N", "OpenMP threads for the FE step (1 is fastest for a small model on a busy machine)", "1")
       .Option("vtu-every", "N", "also write frames.pvd + frame_*.vtu every N scans (ParaView)", "0")
       .Flag("no-plots", "write CSV and the LCM log only")
@@ -71,12 +102,16 @@ int RunReplayCommand(int argc, char** argv) {
           "  peak_merkel_sed.csv   Merkel-layer SED at the scan of peak SED (pad frame, mm)\n"
           "  peak_command.csv      display command at that scan; peak_taxels.csv: the taxel pressures\n"
           "  bridge_*.png          SED map + display frame at peak, force and max SED over time\n"
-          "  frames.pvd, frame_*.vtu  with --vtu-every N: deformation, traction, Merkel SED (ParaView)\n\n"
-          "example:\n  sedbridge replay config/bridge/example_press.log --out out/replay");
+          "  frames.pvd, frame_*.vtu  with --vtu-every N: reference mesh + displacement_mm (ParaView: Warp By\n"
+          "                        Vector, scale 1), Merkel SED; Time = seconds since the first scan\n\n"
+          "example:\n  sedbridge replay config/bridge/example_press.log --out out/replay\n"
+          "exit status: 0 ok; 1 when the log is not a candump -l log or none of its frames makes a\n"
+          "scan of the sensor profile (the reason is printed); 2 usage.");
   if (!args.Parse(argc, argv)) return 0;
 
   const std::string config_path = config::ResolveResource(args.Get("config"));
-  const BridgeConfig config = LoadBridgeConfig(config_path);
+  BridgeConfig config = LoadBridgeConfig(config_path);
+  if (auto profile = args.GetOptional("profile")) config.sensor_profile = *profile;
   sensors::PlaybackOptions playback;
   const std::string speed = args.Get("speed");
   if (speed != "max") {
@@ -85,7 +120,8 @@ int RunReplayCommand(int argc, char** argv) {
   }
   SetFeThreads(static_cast<int>(args.GetInt("threads")));
   const std::string log_path = config::ResolveResource(args.Get("LOG"));
-  sensors::CandumpLogSource source(log_path, playback);
+  sensors::CandumpLogSource log(log_path, playback);
+  sensors::InterfaceFilterSource source(log, args.GetOptional("interface").value_or(""));
   ReplayOptions options = ReadReplayOutputOptions(args, config);
   std::printf("replay %s with %s (sensor %s, model %s/%s, display %s)\n", log_path.c_str(), config_path.c_str(),
               config.sensor_profile.c_str(), config.model.c_str(), config.preset.c_str(),
@@ -93,9 +129,15 @@ int RunReplayCommand(int argc, char** argv) {
   std::fflush(stdout);
   const ReplayResult result = RunReplay(config, source, options);
   PrintReplaySummary(result, options.out_dir);
-  if (result.rows.empty()) std::printf("warning: the log produced no scans (wrong sensor profile?)\n");
+  if (source.interfaces_seen().size() > 1 && !args.Has("interface"))
+    std::printf("warning: the log mixes interfaces (%s); --interface NAME keeps one\n",
+                JoinNames(source.interfaces_seen()).c_str());
+  if (result.rows.empty()) {
+    std::fprintf(stderr, "sedbridge replay: error: %s\n", WhyNoScans(log, source, config.sensor_profile).c_str());
+    return 1;
+  }
   if (!args.GetFlag("no-plots") && !result.rows.empty()) {
-    if (RunPlotScript("plot_bridge.py", {options.out_dir, result.display_unit}))
+    if (RunPlotScript("plot_bridge.py", PlotBridgeArgs(options.out_dir, result)))
       std::printf("plots: %s/bridge_peak.png, %s/bridge_timeline.png\n", options.out_dir.c_str(),
                   options.out_dir.c_str());
   }

@@ -8,6 +8,7 @@
 
 #include "app/arg_parser.h"
 #include "app/command.h"
+#include "app/lcm_url.h"
 #include "bridge/bridge_config.h"
 #include "bridge/live_bridge.h"
 #include "bridge/replay.h"
@@ -33,15 +34,20 @@ int RunLiveCommand(int argc, char** argv) {
                  "on any fault. Status on BRIDGE_STATUS; a summary is printed at exit.");
   args.Option("config", "BRIDGE.yaml", "bridge config", "config/bridge/default.yaml")
       .Option("interface", "NAME", "CAN interface (overrides sensor.interface)")
+      .Option("lcm-url", "URL", LcmUrlHelp("the config's lcm.url (udpm, ttl=0: this host only)"))
       .Option("log-input", "LOG", "instead of SocketCAN, play a candump log at recorded speed (restamped)")
       .Option("duration-s", "S", "stop after S seconds (default: until Ctrl-C)")
       .Option("threads", "N", "OpenMP threads for the FE step", "1")
       .Epilog("example:\n  sedbridge run --config config/bridge/default.yaml --interface can0\n"
-              "  lcm-logger -c 'DISPLAY_COMMAND|BRIDGE_STATUS' out/run.lcmlog   # record in another shell");
+              "  lcm-logger -c 'DISPLAY_COMMAND|BRIDGE_STATUS' out/run.lcmlog   # record in another shell\n"
+              "  sedbridge run --interface can0 --lcm-url 'udpm://239.255.76.67:7667?ttl=1'  # leader on another host\n"
+              "LCM URL: --lcm-url, else $LCM_DEFAULT_URL, else the config's lcm.url (docs/two-host.md)");
   if (!args.Parse(argc, argv)) return 0;
 
   SetFeThreads(static_cast<int>(args.GetInt("threads")));
-  const BridgeConfig config = LoadBridgeConfig(config::ResolveResource(args.Get("config")));
+  BridgeConfig config = LoadBridgeConfig(config::ResolveResource(args.Get("config")));
+  const LcmUrlChoice lcm_url = ChooseLcmUrl(args.GetOptional("lcm-url"), config.lcm.url, "config lcm.url");
+  config.lcm.url = lcm_url.url;
   const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
   const std::string interface = args.GetOptional("interface").value_or(config.can_interface);
 
@@ -62,9 +68,9 @@ int RunLiveCommand(int argc, char** argv) {
     source = std::move(can);
   }
 
-  std::printf("run: %s, sensor %s -> model %s/%s -> display %s, LCM %s\n", source->Describe().c_str(),
+  std::printf("run: %s, sensor %s -> model %s/%s -> display %s, LCM %s (from %s)\n", source->Describe().c_str(),
               profile.name.c_str(), config.model.c_str(), config.preset.c_str(), config.display_profile.c_str(),
-              config.lcm.url.c_str());
+              config.lcm.url.c_str(), lcm_url.source.c_str());
   BridgePipeline pipeline(config, profile, MakeFeStep(config, profile), config.lcm);
   std::printf("%s\n", pipeline.fe().Describe().c_str());
   sensors::AssemblerOptions assembler_options;

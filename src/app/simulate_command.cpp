@@ -5,6 +5,7 @@
 
 #include "app/arg_parser.h"
 #include "app/command.h"
+#include "app/lcm_url.h"
 #include "app/plot_runner.h"
 #include "app/replay_output_options.h"
 #include "bridge/bridge_config.h"
@@ -23,12 +24,14 @@ int RunSimulateCommand(int argc, char** argv) {
                  "Runs the simulated follower sensor of a scene (sensors/simulated) and feeds its encoded\n"
                  "CAN frames through the same decoder, scan assembler and bridge pipeline as `replay`\n"
                  "and `run`: pressure boundary condition -> FE step -> Merkel SED -> display -> LCM.\n"
-                 "The sensor profile comes from the bridge config (the scene's sensor.profile is replaced).");
+                 "The sensor profile comes from --profile, else the bridge config (the scene's sensor.profile\n"
+                 "is replaced).");
   args.Positional("SCENE", "simulated-sensor scene YAML (e.g. config/scenes/sensor_sphere_press.yaml)")
       .Option("config", "BRIDGE.yaml", "bridge config", "config/bridge/default.yaml")
+      .Option("profile", "SENSOR", "sensor profile: shipped name or YAML (overrides the config's sensor.profile)")
       .Option("out", "DIR", "output folder (same files as replay)", "out/simulate")
       .Option("duration-s", "S", "override the scene's duration [s]")
-      .Option("lcm-url", "URL", "also publish live on this LCM URL", "memq://")
+      .Option("lcm-url", "URL", LcmUrlHelp("memq:// (the log file only)"))
       .Option("threads", "N", "OpenMP threads for the FE step", "1")
       .Option("vtu-every", "N", "also write frames.pvd + frame_*.vtu every N scans (ParaView)", "0")
       .Flag("no-plots", "write CSV and the LCM log only")
@@ -38,7 +41,8 @@ int RunSimulateCommand(int argc, char** argv) {
 
   SetFeThreads(static_cast<int>(args.GetInt("threads")));
   const std::string config_path = config::ResolveResource(args.Get("config"));
-  const BridgeConfig config = LoadBridgeConfig(config_path);
+  BridgeConfig config = LoadBridgeConfig(config_path);
+  if (auto profile = args.GetOptional("profile")) config.sensor_profile = *profile;
   const std::string scene_path = config::ResolveResource(args.Get("SCENE"));
   sensors::SimulatedSensorConfig sim = sensors::LoadSimulatedSensorScene(scene_path, config.sensor_profile);
   if (args.Has("duration-s")) {
@@ -54,6 +58,11 @@ int RunSimulateCommand(int argc, char** argv) {
   std::fflush(stdout);
   const ReplayResult result = RunReplay(config, profile, nullptr, source, options);
   std::printf("%s\n", result.fe_description.c_str());
+  if (result.rows.empty()) {
+    std::fprintf(stderr, "sedbridge simulate: error: the simulated sensor made no scan (%lld frames, %lld rejected)\n",
+                 static_cast<long long>(result.bad_frames.frames), static_cast<long long>(result.bad_frames.rejected()));
+    return 1;
+  }
   std::printf("scans: %lld (stepped %lld, rejected %lld); frames %lld (rejected %lld, partial scans %lld)\n",
               static_cast<long long>(result.counters.scans), static_cast<long long>(result.counters.steps),
               static_cast<long long>(result.counters.scans_rejected), static_cast<long long>(result.bad_frames.frames),
@@ -61,15 +70,15 @@ int RunSimulateCommand(int argc, char** argv) {
               static_cast<long long>(result.bad_frames.scans_partial));
   if (result.peak_index >= 0) {
     const ReplayRow& p = result.rows[size_t(result.peak_index)];
-    std::printf("peak: force %.3f N, max Merkel SED %.1f Pa, max command %.2f %s\n", p.total_force_N, p.max_sed_Pa,
-                p.max_command, result.display_unit.c_str());
+    std::printf("peak: force %.3f N, max Merkel SED %.1f Pa, max command %.2f %s%s\n", p.total_force_N, p.max_sed_Pa,
+                p.max_command, result.display_unit.c_str(), SaturationNote(result).c_str());
   }
   std::printf("timing: %.0f scans/s; latency median %.3f ms, p99 %.3f ms, max %.3f ms\n",
               result.wall_s > 0 ? result.counters.scans / result.wall_s : 0.0, result.latency.p50_ms,
               result.latency.p99_ms, result.latency.max_ms);
   std::printf("wrote %s/{summary.csv, peak_*.csv, bridge.lcmlog}\n", options.out_dir.c_str());
   if (!args.GetFlag("no-plots") && !result.rows.empty())
-    RunPlotScript("plot_bridge.py", {options.out_dir, result.display_unit});
+    RunPlotScript("plot_bridge.py", PlotBridgeArgs(options.out_dir, result));
   return 0;
 }
 

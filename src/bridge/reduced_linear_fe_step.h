@@ -30,6 +30,10 @@ class ReducedLinearFeStep final : public FeStep {
   /// Displacement per unit taxel value [m/Pa], 3 #soft nodes x (#taxels * #axes); columns
   /// ordered normal (all taxels), then shear x, then shear y.
   const Eigen::MatrixXd& displacement_map() const { return U_; }
+  /// Soft-node positions of the last Step() [m], 3 * #soft nodes (rest before the first).
+  const Eigen::VectorXd& positions_m() const { return x_m_; }
+  /// The scene step it was built from: its mesh and Merkel layer (its own state is unused).
+  SceneFeStep& scene_step() { return *scene_step_; }
 
  private:
   std::unique_ptr<SceneFeStep> scene_step_;

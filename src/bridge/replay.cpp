@@ -1,5 +1,6 @@
 #include "bridge/replay.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -78,31 +79,39 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   TaxelValues peak_values;
   int64_t last_utime = 0;
 
-  // Optional VTU frames (scene-based FE only).
+  // Optional VTU frames: the scene step's own state, or the reduced step's positions on
+  // the same scene's mesh (its displacement is U v, so the frames cost one write each).
   auto* scene_step = dynamic_cast<SceneFeStep*>(&pipeline.fe());
+  auto* reduced_step = dynamic_cast<ReducedLinearFeStep*>(&pipeline.fe());
   std::unique_ptr<scene::PvdCollection> pvd;
-  if (options.vtu_every > 0 && scene_step && !options.out_dir.empty())
-    pvd = std::make_unique<scene::PvdCollection>((std::filesystem::path(options.out_dir) / "frames.pvd").string());
+  if (options.vtu_every > 0 && (scene_step || reduced_step) && !options.out_dir.empty())
+    pvd = std::make_unique<scene::PvdCollection>((std::filesystem::path(options.out_dir) / "frames.pvd").string(),
+                                                 "time since the first scan [s] (log time)");
   auto write_vtu = [&](size_t index, int64_t utime) {
-    scene::FingertipScene& sc = scene_step->scene();
+    SceneFeStep& step = scene_step ? *scene_step : reduced_step->scene_step();
+    scene::FingertipScene& sc = step.scene();
     const fem::TetMesh& mesh = sc.model().soft;
-    const Eigen::VectorXd& x = sc.simulation().positions_m();
+    const Eigen::VectorXd& x = scene_step ? sc.simulation().positions_m() : reduced_step->positions_m();
     const int n = mesh.num_nodes();
-    scene::VtuField disp{"displacement_mm", 3, std::vector<double>(size_t(3 * n))};
-    scene::VtuField trac{"traction_pad_Pa", 3, std::vector<double>(size_t(3 * n), 0.0)};
+    std::vector<scene::VtuField> fields;
+    if (scene_step) {  // the reduced step never builds the traction field: no array rather than a wrong one
+      scene::VtuField trac{"traction_pad_Pa", 3, std::vector<double>(size_t(3 * n), 0.0)};
+      const Eigen::Matrix3Xd& t = scene_step->boundary_condition().traction_pad_Pa();
+      const std::vector<int>& ids = sc.traction()->nodes();
+      for (size_t k = 0; k < ids.size(); ++k)
+        for (int d = 0; d < 3; ++d) trac.values[size_t(3 * ids[k] + d)] = t(d, Eigen::Index(k));
+      fields.push_back(std::move(trac));
+    }
     scene::VtuField sed{"merkel_sed_Pa", 1, std::vector<double>(size_t(n), 0.0)};
-    for (int i = 0; i < n; ++i)
-      for (int d = 0; d < 3; ++d) disp.values[size_t(3 * i + d)] = (x[3 * i + d] - mesh.rest_positions_m(d, i)) * 1e3;
-    const Eigen::Matrix3Xd& t = scene_step->boundary_condition().traction_pad_Pa();
-    const std::vector<int>& ids = sc.traction()->nodes();
-    for (size_t k = 0; k < ids.size(); ++k)
-      for (int d = 0; d < 3; ++d) trac.values[size_t(3 * ids[k] + d)] = t(d, Eigen::Index(k));
     const std::vector<int>& merkel = sc.merkel()->nodes();
     for (size_t k = 0; k < merkel.size(); ++k) sed.values[size_t(merkel[k])] = sc.merkel()->sed_Pa()[Eigen::Index(k)];
+    fields.push_back(std::move(sed));
     char name[64];
     std::snprintf(name, sizeof name, "frame_%06zu.vtu", index);
-    scene::WriteVtu((std::filesystem::path(options.out_dir) / name).string(), mesh, x, {disp, trac, sed}, {});
-    pvd->Add((utime - result.rows.front().utime) * 1e-6, name);
+    const double t_s = (utime - result.rows.front().utime) * 1e-6;
+    scene::WriteVtu((std::filesystem::path(options.out_dir) / name).string(), mesh, x, fields, {},
+                    {{"time_s", t_s}, {"scan", double(index)}, {"applied_force_N", result.rows.back().applied_force_N}});
+    pvd->Add(t_s, name);
   };
 
   std::vector<sensors::Scan> scans;
@@ -159,6 +168,17 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   result.source_stats = source.Stats();
   result.published = pipeline.display().publisher().published();
   result.publish_errors = pipeline.display().publisher().publish_errors();
+  {
+    // Saturation in the SED -> command mapping is silent (the limiter's `clamped` only flags
+    // requests above its maximum), so count it here for the summary and the plots.
+    const display::DisplayProfile& dp = pipeline.display().controller().profile();
+    result.display_actuators = static_cast<int>(dp.size());
+    result.command_ceiling = std::min(dp.mapping.saturation, dp.safety.max);
+    result.ceiling_is_mapping = dp.mapping.saturation <= dp.safety.max;
+    const double at = result.command_ceiling * (1 - 1e-6);
+    for (double v : peak_command.value) result.peak_actuators_at_ceiling += v >= at ? 1 : 0;
+    for (const ReplayRow& r : result.rows) result.scans_at_ceiling += r.max_command >= at ? 1 : 0;
+  }
 
   if (!options.out_dir.empty()) {
     const std::filesystem::path dir(options.out_dir);

@@ -37,8 +37,9 @@ struct ReplayOptions {
   std::string lcm_url = "memq://"; ///< where messages go besides the log (memq = nowhere)
   bool write_lcm_log = true;       ///< bridge.lcmlog in out_dir
   bool progress = false;           ///< a line on stderr every 1000 scans
-  /// Every N-th scan, write out_dir/frames.pvd + frame_NNNNNN.vtu (deformed soft mesh with
-  /// displacement_mm, traction_pad_Pa and merkel_sed_Pa), for SceneFeStep only. 0 = none.
+  /// Every N-th stepped scan, write out_dir/frames.pvd + frame_NNNNNN.vtu (reference soft mesh
+  /// with displacement_mm, merkel_sed_Pa, and traction_pad_Pa with the scene step; see
+  /// scene/vtu_writer.h). Works with the scene and the reduced step. 0 = none.
   int vtu_every = 0;
   /// Called after every scan (tests, benchmarks), with the pipeline (e.g. to drain memq).
   std::function<void(const ScanOutcome&, BridgePipeline&)> on_scan;
@@ -68,6 +69,12 @@ struct ReplayResult {
   std::string fe_counters;      ///< FeStep::CountersLine() at the end ("" = none)
   std::string display_unit;
   int64_t published = 0, publish_errors = 0;
+  /// The highest command the display can get: min(mapping saturation, safety max) [unit].
+  double command_ceiling = 0;
+  bool ceiling_is_mapping = true;     ///< the mapping's saturation (silent), not the limiter's max (clamped)
+  int display_actuators = 0;
+  int peak_actuators_at_ceiling = 0;  ///< actuators at command_ceiling in the peak-SED command
+  int64_t scans_at_ceiling = 0;       ///< scans whose largest command reached command_ceiling
 };
 
 /// Runs `source` to its end through a new pipeline built from `config`.

@@ -2,11 +2,31 @@
 
 #include <cstdlib>
 #include <filesystem>
+#include <system_error>
+
+// Set by the top-level CMakeLists from the install layout; stand-alone builds of parts of
+// the tree (the fuzz and sanitizer projects) get the GNU default.
+#ifndef SEDBRIDGE_DATA_FROM_BIN
+#define SEDBRIDGE_DATA_FROM_BIN "../share/sedbridge"
+#endif
 
 namespace sedbridge::config {
 
+std::string InstalledDataRoot() {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return "";
+  const fs::path data = (exe.parent_path() / SEDBRIDGE_DATA_FROM_BIN).lexically_normal();
+  // config/ must be there: a build-tree binary has no share/ beside it.
+  return fs::is_directory(data / "config", ec) ? data.string() : "";
+}
+
 std::string SourceRoot() {
-  if (const char* env = std::getenv("SEDBRIDGE_ROOT")) return env;
+  if (const char* env = std::getenv("SEDBRIDGE_ROOT"); env && *env) return env;
+  // Computed once: the binary does not move while it runs.
+  static const std::string installed = InstalledDataRoot();
+  if (!installed.empty()) return installed;
   return SEDBRIDGE_SOURCE_DIR;
 }
 

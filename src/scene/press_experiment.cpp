@@ -21,9 +21,14 @@ PressResult RunPress(FingertipScene& scene, const PressOptions& options) {
   const int vtu_every = scene.description().outputs.vtu_every;
   std::unique_ptr<PvdCollection> pvd;
   std::unique_ptr<fem::VertexSedEvaluator> full_sed;
+  const bool quasi_static = scene.description().integrator.kind == fem::IntegratorKind::kQuasiStatic;
   if (!options.vtu_dir.empty() && vtu_every > 0) {
     std::filesystem::create_directories(options.vtu_dir);
-    pvd = std::make_unique<PvdCollection>(options.vtu_dir + "/frames.pvd");
+    // Quasi-static steps have no physical time: ParaView's "Time" is then the plate's
+    // displacement, the load parameter a reader of the force-displacement curve knows.
+    pvd = std::make_unique<PvdCollection>(options.vtu_dir + "/frames.pvd",
+                                          quasi_static ? "plate displacement [mm] (quasi-static: a load parameter, not time)"
+                                                       : "simulated time [s]");
     if (scene.description().outputs.full_sed) {
       std::vector<int> all(size_t(scene.model().num_soft_nodes()));
       for (size_t i = 0; i < all.size(); ++i) all[i] = int(i);
@@ -57,8 +62,10 @@ PressResult RunPress(FingertipScene& scene, const PressOptions& options) {
       for (size_t v = 0; v < scene.merkel()->nodes().size(); ++v)
         merkel.values[size_t(scene.merkel()->nodes()[v])] = scene.merkel()->sed_Pa()[Eigen::Index(v)];
       point_fields.push_back(std::move(merkel));
-      WriteVtu(options.vtu_dir + "/" + name, scene.model().soft, scene.simulation().positions_m(), point_fields, {});
-      pvd->Add(rec.t_s, name);
+      WriteVtu(options.vtu_dir + "/" + name, scene.model().soft, scene.simulation().positions_m(), point_fields, {},
+               {{"step", k}, {"plate_displacement_mm", rec.displacement_mm}, {"force_N", rec.force_N},
+                {quasi_static ? "load_parameter" : "time_s", rec.t_s}});
+      pvd->Add(quasi_static ? rec.displacement_mm : rec.t_s, name);
     }
     if (options.on_step) options.on_step(rec);
   }
@@ -112,6 +119,14 @@ void WritePressCsv(const FingertipScene& scene, const PressResult& result, const
     for (const auto& s : result.steps)
       out << s.step << "," << s.wall_ms << "," << s.report.newton_iterations << "," << s.report.linear_iterations << ","
           << s.report.solver_fallbacks << "," << (s.report.converged ? 1 : 0) << "," << s.report.inverted_elements << "\n";
+  }
+  {
+    // Which step merkel_sed.csv and sed_path.csv show, so plots can say so (and name the model).
+    auto out = open("merkel_sed_step.csv");
+    const PressStepRecord& sel = result.steps.at(size_t(result.selected));
+    out << "model,step,displacement_mm,force_N,max_sed_Pa\n"
+        << scene.model().name << "," << sel.step << "," << sel.displacement_mm << "," << sel.force_N << ","
+        << result.selected_max_sed_Pa << "\n";
   }
   {
     auto out = open("sed_path.csv");

@@ -42,8 +42,9 @@ struct PressResult {
 
 PressResult RunPress(FingertipScene& scene, const PressOptions& options);
 
-/// force_displacement.csv, merkel_sed.csv, sed_path.csv (the figure contract) and
-/// step_timing.csv in `dir` (created if needed).
+/// force_displacement.csv, merkel_sed.csv, sed_path.csv (the figure contract),
+/// merkel_sed_step.csv (model name and the step, displacement [mm], force [N] and max SED [Pa]
+/// the map and path show) and step_timing.csv in `dir` (created if needed).
 void WritePressCsv(const FingertipScene& scene, const PressResult& result, const std::string& dir);
 
 }  // namespace sedbridge::scene

@@ -66,13 +66,17 @@ class DisplayViewCli : public ::testing::Test {
   std::string log_;
 };
 
-TEST_F(DisplayViewCli, TerminalReplayShowsTheLastFrame) {
+// --once on a log shows the frame with the largest command, not the final all-zero shutdown
+// frame, says which frame it is, and draws the SED on one scale for the whole log.
+TEST_F(DisplayViewCli, TerminalOnceShowsThePeakFrameAndSaysWhich) {
   const ShellResult r = Sh(std::string(SEDBRIDGE_BINARY) + " display-view --log " + log_ +
                    " --once --no-color");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("pin_6x4"), std::string::npos) << r.output;
-  EXPECT_NE(r.output.find("[SHUTDOWN]"), std::string::npos) << r.output;
+  EXPECT_EQ(r.output.find("[SHUTDOWN]"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("the largest command in the log"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("peak 2.5e+03 Pa"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("colour scale 0..2.5e+03 Pa (fixed)"), std::string::npos) << r.output;
 }
 
 TEST_F(DisplayViewCli, MidRunFrameShowsAStrongerCentre) {
