@@ -6,6 +6,7 @@
 
 #include "app/arg_parser.h"
 #include "app/command.h"
+#include "app/stop_signals.h"
 #include "app/plot_runner.h"
 #include "app/replay_output_options.h"
 #include "bridge/bridge_config.h"
@@ -52,7 +53,8 @@ int RunReplayCommand(int argc, char** argv) {
                  "Replays a candump log of the follower's tactile sensor through the whole bridge:\n"
                  "scans -> pressure boundary condition -> FE step -> Merkel-layer SED -> display\n"
                  "commands (safety-limited) -> LCM. Every scan is processed; the output is stamped with\n"
-                 "the log's time, so two runs write the same files (only the measured latency differs).");
+                 "the log's time, so two runs write the same files (only the measured latency differs).\n"
+                 "SIGINT, SIGTERM, SIGHUP or SIGQUIT stop the run: display to zero, files written, exit 128 + signal.");
   args.Positional("LOG", "candump -l log (e.g. config/bridge/example_press.log)")
       .Option("config", "BRIDGE.yaml", "bridge config", "config/bridge/default.yaml")
       .Option("speed", "S|max", "max = as fast as possible; 1 = recorded timing; 2 = twice as fast", "max")
@@ -73,6 +75,7 @@ int RunReplayCommand(int argc, char** argv) {
           "  frames.pvd, frame_*.vtu  with --vtu-every N: deformation, traction, Merkel SED (ParaView)\n\n"
           "example:\n  sedbridge replay config/bridge/example_press.log --out out/replay");
   if (!args.Parse(argc, argv)) return 0;
+  StopSignals signals;  // SIGINT/TERM/HUP/QUIT end the run through its normal exit (zero, log closed)
 
   const std::string config_path = config::ResolveResource(args.Get("config"));
   const BridgeConfig config = LoadBridgeConfig(config_path);
@@ -86,12 +89,21 @@ int RunReplayCommand(int argc, char** argv) {
   const std::string log_path = config::ResolveResource(args.Get("LOG"));
   sensors::CandumpLogSource source(log_path, playback);
   ReplayOptions options = ReadReplayOutputOptions(args, config);
+  options.stop = &signals.flag();
+  if (speed != "max") {
+    options.paced_speed = playback.speed;  // live: tick the display's watchdog through pauses
+    options.idle_tick_period_us = static_cast<int64_t>(1e6 / config.tick_Hz);
+  }
   std::printf("replay %s with %s (sensor %s, model %s/%s, display %s)\n", log_path.c_str(), config_path.c_str(),
               config.sensor_profile.c_str(), config.model.c_str(), config.preset.c_str(),
               config.display_profile.c_str());
   std::fflush(stdout);
   const ReplayResult result = RunReplay(config, source, options);
   PrintReplaySummary(result, options.out_dir);
+  if (signals.signal_number()) {
+    std::printf("stopped by %s: display driven to zero, log closed\n", SignalName(signals.signal_number()));
+    return signals.ExitCode(0);
+  }
   if (result.rows.empty()) std::printf("warning: the log produced no scans (wrong sensor profile?)\n");
   if (!args.GetFlag("no-plots") && !result.rows.empty()) {
     if (RunPlotScript("plot_bridge.py", {options.out_dir, result.display_unit}))

@@ -2,12 +2,12 @@
 
 #include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <thread>
 
 #include "app/arg_parser.h"
 #include "app/command.h"
+#include "app/stop_signals.h"
 #include "bridge/bridge_config.h"
 #include "bridge/live_bridge.h"
 #include "bridge/replay.h"
@@ -21,16 +21,13 @@ namespace {
 
 using namespace sedbridge::bridge;
 
-std::atomic<bool> g_stop{false};
-extern "C" void OnSignal(int) { g_stop.store(true); }  // lock-free atomic: async-signal-safe
-
 int RunLiveCommand(int argc, char** argv) {
   ArgParser args("sedbridge run",
                  "The live bridge: a receiver thread reads the sensor's CAN frames (SocketCAN) into\n"
                  "a newest-scan slot; this thread takes the newest scan, steps the FE model and\n"
                  "publishes the display command on LCM (older scans are dropped and counted).\n"
-                 "Ctrl-C (SIGINT) or SIGTERM stops cleanly; the display is driven to zero on exit and\n"
-                 "on any fault. Status on BRIDGE_STATUS; a summary is printed at exit.");
+                 "SIGINT (Ctrl-C), SIGTERM, SIGHUP or SIGQUIT stops cleanly (exit status 128 + signal); the\n"
+                 "display is driven to zero and the LCM log closed on every exit and on any fault. Status on BRIDGE_STATUS; a summary is printed at exit.");
   args.Option("config", "BRIDGE.yaml", "bridge config", "config/bridge/default.yaml")
       .Option("interface", "NAME", "CAN interface (overrides sensor.interface)")
       .Option("log-input", "LOG", "instead of SocketCAN, play a candump log at recorded speed (restamped)")
@@ -39,6 +36,7 @@ int RunLiveCommand(int argc, char** argv) {
       .Epilog("example:\n  sedbridge run --config config/bridge/default.yaml --interface can0\n"
               "  lcm-logger -c 'DISPLAY_COMMAND|BRIDGE_STATUS' out/run.lcmlog   # record in another shell");
   if (!args.Parse(argc, argv)) return 0;
+  StopSignals signals;  // from here on, a signal stops through the normal exit (zero, log closed)
 
   SetFeThreads(static_cast<int>(args.GetInt("threads")));
   const BridgeConfig config = LoadBridgeConfig(config::ResolveResource(args.Get("config")));
@@ -71,38 +69,35 @@ int RunLiveCommand(int argc, char** argv) {
   assembler_options.tare_scans = config.tare_scans;
   sensors::ScanAssembler assembler(profile, assembler_options);
 
-  g_stop.store(false);
-  std::signal(SIGINT, OnSignal);
-  std::signal(SIGTERM, OnSignal);
   std::thread timer;
   if (args.Has("duration-s")) {
     const double s = args.GetDouble("duration-s");
-    timer = std::thread([s] {
+    timer = std::thread([s, &signals] {
       const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(s);
-      while (!g_stop.load() && std::chrono::steady_clock::now() < end)
+      while (!signals.flag().load() && std::chrono::steady_clock::now() < end)
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
-      g_stop.store(true);
+      signals.RequestStop();
     });
   }
   LiveBridge bridge(*source, assembler, pipeline, live);
   LiveResult result;
   try {
-    result = bridge.Run(g_stop);
+    result = bridge.Run(signals.flag());  // shuts the display down on every way out
   } catch (...) {
-    g_stop.store(true);
+    signals.RequestStop();
     if (timer.joinable()) timer.join();
     throw;
   }
-  g_stop.store(true);
+  signals.RequestStop();
   if (timer.joinable()) timer.join();
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
 
   const LatencySummary lat = pipeline.latency().Run();
   const PipelineCounters& c = pipeline.counters();
   std::printf("\nstopped (%s): scans received %lld, processed %lld, dropped (newest wins) %lld, rejected %lld; "
               "ticks %lld\n",
-              result.stopped_by_request ? "signal/duration" : "source done",
+              signals.signal_number() ? SignalName(signals.signal_number())
+              : result.stopped_by_request ? "duration"
+                                          : "source done",
               static_cast<long long>(result.scans_received), static_cast<long long>(result.scans_processed),
               static_cast<long long>(result.scans_dropped), static_cast<long long>(c.scans_rejected),
               static_cast<long long>(result.ticks));
@@ -114,7 +109,7 @@ int RunLiveCommand(int argc, char** argv) {
               static_cast<long long>(pipeline.display().publisher().publish_errors()));
   if (auto* can = dynamic_cast<sensors::SocketCanSource*>(source.get()))
     for (const sensors::Frame& f : profile.stop_frames) can->Send(f);
-  return 0;
+  return signals.ExitCode(0);
 }
 
 }  // namespace
