@@ -63,6 +63,11 @@ int RunLiveCommand(int argc, char** argv) {
   std::printf("run: %s, sensor %s -> model %s/%s -> display %s, LCM %s\n", source->Describe().c_str(),
               profile.name.c_str(), config.model.c_str(), config.preset.c_str(), config.display_profile.c_str(),
               config.lcm.url.c_str());
+  if (config.lcm.auth_key_file.empty() && config.lcm.url.rfind("memq://", 0) != 0)
+    std::fprintf(stderr,
+                 "run: WARNING: DISPLAY_COMMAND is unsigned (no lcm.auth_key_file): a display driver that requires\n"
+                 "     authentication (the default of sedbridge-display-driver) will ignore it; anyone on the LCM\n"
+                 "     network could command the display. See display/README.md, \"Threat model\".\n");
   BridgePipeline pipeline(config, profile, MakeFeStep(config, profile), config.lcm);
   std::printf("%s\n", pipeline.fe().Describe().c_str());
   sensors::AssemblerOptions assembler_options;
