@@ -148,7 +148,8 @@ int Run(int argc, char** argv) {
         continue;
       }
       const int wait_ms = static_cast<int>((next_tick - now + 999) / 1000);
-      if (lcm.handleTimeout(wait_ms) < 0) throw std::runtime_error("LCM receive failed");
+      // -1 also when a stop signal interrupted the wait: then the loop ends normally.
+      if (lcm.handleTimeout(wait_ms) < 0 && !g_stop.load()) throw std::runtime_error("LCM receive failed");
     }
   } catch (...) {
     driver.Shutdown(WallClockUtime());  // zero before the error ends the process
