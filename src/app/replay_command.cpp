@@ -90,6 +90,7 @@ int RunReplayCommand(int argc, char** argv) {
   sensors::CandumpLogSource source(log_path, playback);
   ReplayOptions options = ReadReplayOutputOptions(args, config);
   options.stop = &signals.flag();
+  options.can_interface = config.can_interface;  // sensor.interface: frames of other buses are not this sensor's
   if (speed != "max") {
     options.paced_speed = playback.speed;  // live: tick the display's watchdog through pauses
     options.idle_tick_period_us = static_cast<int64_t>(1e6 / config.tick_Hz);
@@ -105,6 +106,9 @@ int RunReplayCommand(int argc, char** argv) {
     return signals.ExitCode(0);
   }
   if (result.rows.empty()) std::printf("warning: the log produced no scans (wrong sensor profile?)\n");
+  if (result.bad_frames.other_interface > 0)
+    std::printf("note: %lld frames from other interfaces than '%s' (sensor.interface) were ignored\n",
+                static_cast<long long>(result.bad_frames.other_interface), options.can_interface.c_str());
   if (!args.GetFlag("no-plots") && !result.rows.empty()) {
     if (RunPlotScript("plot_bridge.py", {options.out_dir, result.display_unit}))
       std::printf("plots: %s/bridge_peak.png, %s/bridge_timeline.png\n", options.out_dir.c_str(),

@@ -72,6 +72,8 @@ int RunLiveCommand(int argc, char** argv) {
   std::printf("%s\n", pipeline.fe().Describe().c_str());
   sensors::AssemblerOptions assembler_options;
   assembler_options.tare_scans = config.tare_scans;
+  // A log may hold several buses; a SocketCAN socket is bound to `interface` already.
+  if (args.Has("log-input")) assembler_options.interface = interface;
   sensors::ScanAssembler assembler(profile, assembler_options);
 
   std::thread timer;

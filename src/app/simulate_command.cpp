@@ -51,6 +51,7 @@ int RunSimulateCommand(int argc, char** argv) {
   sensors::SimulatedSensorSource source(sim);
   ReplayOptions options = ReadReplayOutputOptions(args, config);
   options.stop = &signals.flag();
+  options.can_interface = sim.interface;
   std::printf("simulate %s: sensor %s at %g Hz for %.2f s -> model %s/%s -> display %s\n", scene_path.c_str(),
               profile.name.c_str(), profile.scan_rate_Hz, sim.duration_s, config.model.c_str(), config.preset.c_str(),
               config.display_profile.c_str());

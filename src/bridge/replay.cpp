@@ -59,6 +59,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   result.display_unit = pipeline.display().controller().profile().unit;
   sensors::AssemblerOptions assembler_options;
   assembler_options.tare_scans = config.tare_scans;
+  assembler_options.interface = options.can_interface;
   sensors::ScanAssembler assembler(profile, assembler_options);
   result.setup_s = std::chrono::duration<double>(Clock::now() - t_setup).count();
   if (options.on_start) options.on_start(pipeline);

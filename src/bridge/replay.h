@@ -50,6 +50,9 @@ struct ReplayOptions {
   /// Set (e.g. by a signal handler) to end the run early: the display is driven to zero, the
   /// log closed and the files written as at the source's end. nullptr = run to the end.
   const std::atomic<bool>* stop = nullptr;
+  /// Only frames from this CAN interface are the sensor's (a candump of can0 and can1 is not
+  /// merged); others are counted (BadFrameCounters::other_interface). "" = any.
+  std::string can_interface;
   /// > 0 when the source is paced at this multiple of its recorded speed (a live replay):
   /// then the display is ticked every `idle_tick_period_us` of wall time while no frame
   /// arrives, so its watchdog ramps it to zero through a pause in the log, as in `run`.

@@ -238,5 +238,29 @@ TEST(Replay, StopFlagEndsTheRunWithTheDisplayAtZero) {
   EXPECT_LT(r.rows.size(), 300u);  // not the whole log
 }
 
+
+TEST(Replay, BusOffAndErrorPassiveRaiseFaultStateOnBridgeStatus) {
+  // Issue 13: 4800 bus-off error frames left fault_state at 0.
+  const BridgeConfig config = testing::TestConfig();
+  sensors::CandumpLogSource source(testing::ExampleLogPath());
+  ReplayOptions options;
+  int checked = 0;
+  options.on_scan = [&](const ScanOutcome&, BridgePipeline& p) {
+    if (checked++ != 10) return;
+    sensors::BadFrameCounters c;
+    EXPECT_EQ(p.MakeStatus(0).fault_state, 0);
+    c.bus_state = sensors::kBusErrorPassive;
+    p.SetSensorCounters(c, {});
+    EXPECT_EQ(p.MakeStatus(0).fault_state, 1);
+    EXPECT_EQ(p.MakeStatus(0).fault_message, "CAN error-passive");
+    c.bus_state = sensors::kBusOff;
+    p.SetSensorCounters(c, {});
+    EXPECT_EQ(p.MakeStatus(0).fault_state, 2);
+    EXPECT_EQ(p.MakeStatus(0).fault_message, "CAN bus-off");
+  };
+  RunReplay(config, source, options);
+  EXPECT_GT(checked, 10);
+}
+
 }  // namespace
 }  // namespace sedbridge::bridge
