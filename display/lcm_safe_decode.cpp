@@ -1,5 +1,6 @@
 #include "display/lcm_safe_decode.h"
 
+#include <cstring>
 #include <limits>
 
 #include "sedbridge/lcmt_bridge_status.hpp"
@@ -37,6 +38,10 @@ class WireCursor {
   void String() {
     const int32_t n = Int32();
     if (n < 1) ok_ = false;
+    // Exactly one NUL, at the end: an embedded one would make "suction_4x4\0x" a different
+    // string that prints like the real one (and does not re-encode to the same bytes).
+    if (ok_ && std::size_t(n) <= left_ && (p_[n - 1] != 0 || std::memchr(p_, 0, std::size_t(n - 1)) != nullptr))
+      ok_ = false;
     if (ok_) Skip(std::size_t(n));
   }
   // `count` elements of `element_bytes` each; the product is checked before it is formed.

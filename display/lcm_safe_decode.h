@@ -15,8 +15,8 @@
 namespace sedbridge::display {
 
 /// Decodes `size` bytes at `data` into `out` only when the whole buffer is exactly one
-/// well-formed Msg: fingerprint right, every array count >= 0 and backed by bytes, no
-/// trailing bytes. Returns false otherwise (then `out` is unspecified but holds at most
+/// well-formed Msg: fingerprint right, every array count >= 0 and backed by bytes, every
+/// string NUL-terminated with no NUL inside, no trailing bytes. Returns false otherwise (then `out` is unspecified but holds at most
 /// `size` elements in all). Never throws, never allocates more than O(size).
 /// Defined for lcmt_display_command, lcmt_merkel_sed, lcmt_tactile_scan,
 /// lcmt_bridge_status and lcmt_sa1_rate_estimate.
