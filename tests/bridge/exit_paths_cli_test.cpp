@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <ostream>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -136,6 +137,9 @@ struct Case {
   std::string command;
   int signal;
 };
+
+// Readable test names in ctest's output.
+void PrintTo(const Case& c, std::ostream* os) { *os << c.command << " + signal " << c.signal; }
 
 class ExitPaths : public ::testing::TestWithParam<Case> {};
 
