@@ -1,8 +1,11 @@
 #include "display/display_profile.h"
 
+#include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "config/resource_path.h"
+#include "display/display_kind_limits.h"
 
 namespace sedbridge::display {
 namespace {
@@ -81,13 +84,25 @@ void ReadActuators(MapReader& r, DisplayProfile& p) {
   r.Finish();
 }
 
+// "20 kPa" for messages (std::to_string prints 20.000000).
+std::string WithUnit(double x, const std::string& unit) {
+  std::ostringstream s;
+  s << x << " " << unit;
+  return s.str();
+}
+
 void ReadSafety(MapReader& r, DisplayProfile& p) {
   auto positive = [](double x) { return x > 0; };
+  const DisplayKindLimits kind = LimitsOf(p.kind);
   p.safety.max = ReadNumber(r, "max", positive, "must be > 0");
   if (p.safety.max > p.range_max)
-    r.Fail(r.Node("max"), "'max' (" + std::to_string(p.safety.max) +
-                              ") exceeds the device range maximum " +
-                              std::to_string(p.range_max));
+    r.Fail(r.Node("max"), "'max' (" + WithUnit(p.safety.max, p.unit) +
+                              ") exceeds the device range maximum " + WithUnit(p.range_max, p.unit));
+  // The device renders nothing between 0 and range[0]; a max at or below it would leave the
+  // display unable to turn on, which is a config mistake, not a safe setting.
+  if (p.safety.max <= p.range_min)
+    r.Fail(r.Node("max"), "'max' (" + WithUnit(p.safety.max, p.unit) +
+                              ") must be above the device range minimum " + WithUnit(p.range_min, p.unit));
   p.safety.max_per_actuator.assign(p.size(), p.safety.max);
   if (r.Has("max_per_actuator")) {
     std::vector<double> per = ReadVector(r, "max_per_actuator", p.size());
@@ -97,7 +112,10 @@ void ReadSafety(MapReader& r, DisplayProfile& p) {
       p.safety.max_per_actuator[i] = per[i];
     }
   }
-  p.safety.slew_rate_per_s = ReadNumber(r, "slew_rate_per_s", positive, "must be > 0");
+  p.safety.slew_rate_per_s = ReadNumber(
+      r, "slew_rate_per_s", [&](double x) { return x > 0 && x <= kind.max_slew_per_s; },
+      "must be in (0, " + WithUnit(kind.max_slew_per_s, p.unit) + "/s] for a " + ToString(p.kind) +
+          " display (full scale in no less than 0.1 s)");
   p.safety.watchdog_timeout_s = ReadNumber(
       r, "watchdog_timeout_s", [](double x) { return x > 0 && x <= kMaxWatchdogTimeout_s; },
       "must be in (0, " + std::to_string(kMaxWatchdogTimeout_s) + "] s");
@@ -126,15 +144,24 @@ void ReadMapping(MapReader& r, DisplayProfile& p) {
   m.exponent = ReadOptionalNumber(r, "exponent", 1.0,
                                   [](double x) { return x >= 0.1 && x <= 10; },
                                   "must be in [0.1, 10]");
-  m.saturation = ReadOptionalNumber(r, "saturation", p.safety.max, positive, "must be > 0");
+  const double kind_max = LimitsOf(p.kind).max_value;
+  m.saturation = ReadOptionalNumber(r, "saturation", p.safety.max,
+                                    [&](double x) { return x > 0 && x <= kind_max; },
+                                    "must be in (0, " + WithUnit(kind_max, p.unit) + "]");
   if (r.Has("calibration")) {
     MapReader c = r.Child("calibration");
     if (c.Has("gain")) {
       m.calibration_gain = ReadVector(c, "gain", p.size());
       for (std::size_t i = 0; i < p.size(); ++i)
-        if (m.calibration_gain[i] <= 0) c.Fail(c.Node("gain")[i], "calibration gains must be > 0");
+        if (m.calibration_gain[i] <= 0 || m.calibration_gain[i] > kMaxCalibrationGain)
+          c.Fail(c.Node("gain")[i], "calibration gains must be in (0, " + WithUnit(kMaxCalibrationGain, "]"));
     }
-    if (c.Has("offset")) m.calibration_offset = ReadVector(c, "offset", p.size());
+    if (c.Has("offset")) {
+      m.calibration_offset = ReadVector(c, "offset", p.size());
+      for (std::size_t i = 0; i < p.size(); ++i)
+        if (std::abs(m.calibration_offset[i]) > kind_max)
+          c.Fail(c.Node("offset")[i], "calibration offsets must be within +-" + WithUnit(kind_max, p.unit));
+    }
     c.Finish();
   }
   r.Finish();
@@ -181,6 +208,10 @@ DisplayProfile ParseDisplayProfile(const config::YamlDocument& doc) {
   std::vector<double> range = ReadVector(r, "range", 2);
   if (!(range[0] >= 0 && range[0] < range[1]))
     r.Fail(r.Node("range"), "'range' must be [min, max] with 0 <= min < max");
+  const double kind_max = LimitsOf(p.kind).max_value;
+  if (range[1] > kind_max)
+    r.Fail(r.Node("range"), "'range' maximum " + WithUnit(range[1], p.unit) + " exceeds " + WithUnit(kind_max, p.unit) +
+                                ", the most any " + ToString(p.kind) + " display may take (config/displays/README.md)");
   p.range_min = range[0];
   p.range_max = range[1];
 

@@ -17,6 +17,9 @@ DisplaySession::DisplaySession(DisplayProfile profile, const LcmSettings& settin
       publisher_(settings.url, settings.channels),
       options_(options) {
   if (!settings.log_path.empty()) publisher_.OpenLog(settings.log_path);
+  if (!settings.auth_key_file.empty())
+    publisher_.SetAuthenticator(
+        std::make_shared<CommandAuthenticator>(CommandAuthenticator::FromKeyFile(settings.auth_key_file)));
 }
 
 DisplaySession::~DisplaySession() {

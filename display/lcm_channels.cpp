@@ -24,6 +24,7 @@ LcmSettings ParseLcmSettings(config::MapReader& r) {
   LcmSettings s;
   s.url = r.Optional<std::string>("url", s.url);
   s.log_path = r.Optional<std::string>("log", "");
+  s.auth_key_file = r.Optional<std::string>("auth_key_file", "");
   if (r.Has("channels")) {
     config::MapReader c = r.Child("channels");
     auto read = [&c](const char* key, std::string& out) {

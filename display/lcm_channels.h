@@ -32,9 +32,13 @@ bool IsUpperSnake(const std::string& name);
 ///     log: "out/run.lcmlog"          # also write every published message here ("" = no log)
 ///     channels: {tactile_scan: TACTILE_SCAN, sed: FINGERTIP_SED, command: DISPLAY_COMMAND,
 ///                status: BRIDGE_STATUS, sa1_rate: SA1_RATE_ESTIMATE}
+///     auth_key_file: "/etc/sedbridge/display.key"   # sign DISPLAY_COMMAND (HMAC-SHA256)
 struct LcmSettings {
   std::string url = kDefaultLcmUrl;
   std::string log_path;
+  /// Key for signing every DISPLAY_COMMAND on the bus ("" = unsigned); see
+  /// display/command_authenticator.h. The log gets the unsigned message.
+  std::string auth_key_file;
   LcmChannels channels;
 };
 

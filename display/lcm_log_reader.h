@@ -25,7 +25,8 @@ class LcmLogReader {
   const lcm::LogEvent* Next();
 
   /// Decodes `event` as Msg; false when the bytes are not a Msg (wrong type fingerprint,
-  /// truncated). Use on events of the channel you expect.
+  /// truncated, an array count the bytes cannot hold). Use on events of the channel you
+  /// expect. Goes through SafeDecode: a log is untrusted input.
   template <typename Msg>
   static bool Decode(const lcm::LogEvent& event, Msg* msg);
 
@@ -37,11 +38,14 @@ class LcmLogReader {
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "display/lcm_safe_decode.h"
+
 namespace sedbridge::display {
 
 template <typename Msg>
 bool LcmLogReader::Decode(const lcm::LogEvent& event, Msg* msg) {
-  return msg->decode(event.data, 0, event.datalen) == event.datalen;
+  if (event.datalen < 0) return false;
+  return SafeDecode(event.data, static_cast<std::size_t>(event.datalen), msg);
 }
 
 }  // namespace sedbridge::display

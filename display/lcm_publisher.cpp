@@ -22,16 +22,38 @@ void LcmPublisher::PublishRaw(const std::string& channel, int64_t utime,
   const int size = static_cast<int>(bytes.size());
   if (lcm_->publish(channel, bytes.data(), static_cast<unsigned>(size)) == 0) ++published_;
   else ++publish_errors_;
+  LogRaw(channel, utime, bytes);
+}
+
+void LcmPublisher::LogRaw(const std::string& channel, int64_t utime, const std::vector<uint8_t>& bytes) {
   if (!log_) return;
   try {
-    log_->WriteRaw(channel, utime, bytes.data(), size);
+    log_->WriteRaw(channel, utime, bytes.data(), static_cast<int32_t>(bytes.size()));
   } catch (const std::runtime_error&) {
     ++log_errors_;  // disk full: keep driving the display; the caller sees the counter
   }
 }
 
 void LcmPublisher::PublishCommand(const DisplayCommand& command) {
-  Publish(channels_.command, ToLcm(command));
+  if (!auth_) {
+    Publish(channels_.command, ToLcm(command));
+    return;
+  }
+  const lcmt_display_command m = ToLcm(command);
+  buffer_.resize(static_cast<std::size_t>(m.getEncodedSize()));
+  m.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
+  std::vector<uint8_t> signed_bytes;
+  try {
+    signed_bytes = auth_->Sign(buffer_.data(), buffer_.size());
+  } catch (const std::exception&) {
+    ++publish_errors_;  // never throw in the loop; an unsigned command would be rejected anyway
+    return;
+  }
+  if (lcm_->publish(channels_.command, signed_bytes.data(), static_cast<unsigned>(signed_bytes.size())) == 0)
+    ++published_;
+  else
+    ++publish_errors_;
+  LogRaw(channels_.command, m.utime, buffer_);  // the record keeps the plain message
 }
 
 void LcmPublisher::PublishSed(const SedField& field) { Publish(channels_.sed, ToLcm(field)); }

@@ -8,6 +8,7 @@
 
 #include <lcm/lcm-cpp.hpp>
 
+#include "display/command_authenticator.h"
 #include "display/display_command.h"
 #include "display/lcm_channels.h"
 #include "display/lcm_log_writer.h"
@@ -36,6 +37,10 @@ class LcmPublisher {
   /// (replay: `lcm-logplayer path`). Throws std::runtime_error if it cannot be created.
   void OpenLog(const std::string& path);
 
+  /// Signs every later DISPLAY_COMMAND on the bus with `auth` (payload || HMAC tag); the
+  /// log still gets the plain message. nullptr = unsigned.
+  void SetAuthenticator(std::shared_ptr<const CommandAuthenticator> auth) { auth_ = std::move(auth); }
+
   void PublishCommand(const DisplayCommand& command);
   void PublishSed(const SedField& field);
   void PublishStatus(const lcmt_bridge_status& status);
@@ -56,11 +61,13 @@ class LcmPublisher {
 
  private:
   void PublishRaw(const std::string& channel, int64_t utime, const std::vector<uint8_t>& bytes);
+  void LogRaw(const std::string& channel, int64_t utime, const std::vector<uint8_t>& bytes);
 
   std::string url_;
   LcmChannels channels_;
   std::unique_ptr<lcm::LCM> lcm_;
   std::unique_ptr<LcmLogWriter> log_;
+  std::shared_ptr<const CommandAuthenticator> auth_;
   std::vector<uint8_t> buffer_;
   int64_t published_ = 0;
   int64_t publish_errors_ = 0;

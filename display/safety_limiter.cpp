@@ -20,6 +20,7 @@ SafetyLimits Validated(SafetyLimits l) {
   if (!std::isfinite(l.watchdog_timeout_s) || l.watchdog_timeout_s <= 0 ||
       l.watchdog_timeout_s > kMaxWatchdogTimeout_s)
     fail("watchdog_timeout_s must be in (0, " + std::to_string(kMaxWatchdogTimeout_s) + "]");
+  if (!std::isfinite(l.min_nonzero) || l.min_nonzero < 0) fail("min_nonzero must be finite and >= 0");
   return l;
 }
 
@@ -33,6 +34,7 @@ SafetyLimits SafetyLimits::FromProfile(const DisplayProfile& profile) {
   for (double& m : l.max) m = std::max(m, 1e-12);
   l.slew_rate_per_s = profile.safety.slew_rate_per_s;
   l.watchdog_timeout_s = profile.safety.watchdog_timeout_s;
+  l.min_nonzero = profile.range_min;
   return l;
 }
 
@@ -42,6 +44,7 @@ SafetyLimiter::SafetyLimiter(SafetyLimits limits)
       target_(size(), 0.0),
       target_fault_(size(), 0) {
   out_.value.assign(size(), 0.0);
+  ramp_.assign(size(), 0.0);
 }
 
 const LimitedOutput& SafetyLimiter::Apply(int64_t now_utime, int64_t input_utime,
@@ -102,6 +105,7 @@ const LimitedOutput& SafetyLimiter::Shutdown(int64_t now_utime) {
 const LimitedOutput& SafetyLimiter::Emit(int64_t now_utime) {
   if (shut_down_) {
     std::fill(out_.value.begin(), out_.value.end(), 0.0);
+    std::fill(ramp_.begin(), ramp_.end(), 0.0);
     out_.clamped = out_.stale = out_.fault = false;
     out_.shutdown = true;
     emitted_ = true;
@@ -115,11 +119,12 @@ const LimitedOutput& SafetyLimiter::Emit(int64_t now_utime) {
   if (emitted_ && now_utime > last_emit_utime_) dt_s = (now_utime - last_emit_utime_) * 1e-6;
   if (!emitted_ || now_utime > last_emit_utime_) last_emit_utime_ = now_utime;
   emitted_ = true;
-  // Rises are bounded by the timeout too: after a pause the output must not jump up.
-  const double rise = limits_.slew_rate_per_s * std::min(dt_s, limits_.watchdog_timeout_s);
+  // Rises use at most kMaxRiseInterval_s: after a pause or between sparse messages the
+  // output must not jump up.
+  const double rise = limits_.slew_rate_per_s * std::min({dt_s, limits_.watchdog_timeout_s, kMaxRiseInterval_s});
   const double fall = limits_.slew_rate_per_s * dt_s;
   for (std::size_t i = 0; i < size(); ++i) {
-    const double prev = out_.value[i];
+    const double prev = ramp_[i];
     double y;
     if (target_fault_[i]) {
       y = 0;  // bad input: off at once, stale or not
@@ -127,7 +132,8 @@ const LimitedOutput& SafetyLimiter::Emit(int64_t now_utime) {
       const double target = stale ? 0.0 : target_[i];
       y = std::clamp(target, prev - fall, prev + rise);
     }
-    out_.value[i] = std::clamp(y, 0.0, limits_.max[i]);
+    ramp_[i] = std::clamp(y, 0.0, limits_.max[i]);
+    out_.value[i] = ramp_[i] >= limits_.min_nonzero ? ramp_[i] : 0.0;
   }
   out_.stale = stale;
   out_.clamped = !stale && target_clamped_;

@@ -11,11 +11,21 @@
 
 namespace sedbridge::display {
 
+/// Longest interval one output's rise may use [s]. The slew limit is per unit of time, but a
+/// stream with 0.2 s between messages would otherwise jump 0.2 s worth of slew in one step;
+/// later outputs rise as if this long had passed (slower than the slew: the safe side).
+/// 25 ms: the period of the slowest shipped sensor (40 Hz), and 5 ticks at the default 200 Hz.
+inline constexpr double kMaxRiseInterval_s = 0.025;
+
 /// Limits for SafetyLimiter, in the display's unit.
 struct SafetyLimits {
   std::vector<double> max;         ///< hard maximum per actuator [unit], each finite and > 0
   double slew_rate_per_s = 0;      ///< largest change per second [unit/s], finite and > 0
   double watchdog_timeout_s = 0;   ///< in (0, kMaxWatchdogTimeout_s] [s]
+  /// Smallest nonzero value the device accepts (the profile's range[0]) [unit], >= 0 and
+  /// below every max[i] that is not vanishing. Anything the ramp puts below it is sent as 0:
+  /// the device cannot render it, and off is the safe reading of "too small to render".
+  double min_nonzero = 0;
 
   static SafetyLimits FromProfile(const DisplayProfile& profile);
 };
@@ -31,10 +41,11 @@ struct LimitedOutput {
 };
 
 /// Guarantees for every emitted output y_k at time t_k (k > 0, dt = t_k - t_{k-1} >= 0):
-///   - 0 <= y_k[i] <= max[i]
-///   - y_k[i] - y_{k-1}[i] <= slew_rate * min(dt, timeout)   (rises, always)
-///   - |y_k[i] - y_{k-1}[i]| <= slew_rate * dt   unless y_k[i] == 0 because of a fault or
-///     shutdown (dropping to zero at once is the safe direction)
+///   - 0 <= y_k[i] <= max[i], and y_k[i] == 0 or y_k[i] >= min_nonzero
+///   - y_k[i] - y_{k-1}[i] <= slew_rate * min(dt, kMaxRiseInterval_s) + min_nonzero   (rises, always;
+///     the min_nonzero term is the one step across the device's dead band [0, min_nonzero))
+///   - |y_k[i] - y_{k-1}[i]| <= slew_rate * dt   unless y_k[i] == 0 because of a fault,
+///     shutdown or the dead band (dropping to zero at once is the safe direction)
 ///   - the first output is all zero (it ramps up from rest)
 ///   - if no fresh input arrives after time t0, y_k == 0 for every
 ///     t_k >= t0 + timeout + max(max[i]) / slew_rate  (ramp to zero, stale flagged)
@@ -75,6 +86,7 @@ class SafetyLimiter {
   bool target_clamped_ = false;
   bool target_fault_any_ = false;
   LimitedOutput out_;
+  std::vector<double> ramp_;        // slew-limited value before the dead band [unit]
   bool emitted_ = false;
   int64_t last_emit_utime_ = 0;
   bool shut_down_ = false;

@@ -14,7 +14,10 @@ namespace sedbridge::sensors {
 /// Why a taxel is not valid in a scan (bit mask per taxel).
 enum TaxelFlags : uint8_t {
   kTaxelMissing = 0x01,    ///< its frame did not arrive (value carried from an older scan)
-  kTaxelSaturated = 0x02,  ///< a raw reading at or beyond the saturation limits
+  /// A raw reading at or beyond the saturation limits. The taxel stays VALID with its
+  /// full-scale value (a lower bound of the true load): the hardest contact must never
+  /// read as no contact.
+  kTaxelSaturated = 0x02,
   kTaxelNonFinite = 0x04,  ///< calibration produced NaN/inf (value set to 0)
   kTaxelStale = 0x08,      ///< raw reading bit-identical for profile.stale_after_scans scans
 };
@@ -46,10 +49,17 @@ struct Scan {
   std::vector<double> shear_y_Pa;
   /// Normal force per taxel = pressure_Pa * taxel area [N].
   std::vector<double> force_N;
-  /// 1 if the taxel's reading is fresh, finite and unsaturated.
+  /// 1 if the taxel's reading is fresh and finite (saturated readings are valid, at full
+  /// scale, and flagged).
   std::vector<uint8_t> valid;
-  /// TaxelFlags per taxel (0 when valid).
+  /// TaxelFlags per taxel (0 or kTaxelSaturated when valid).
   std::vector<uint8_t> flags;
+
+  int SaturatedCount() const {
+    int n = 0;
+    for (uint8_t f : flags) n += (f & kTaxelSaturated) != 0;
+    return n;
+  }
 
   int ValidCount() const {
     int n = 0;

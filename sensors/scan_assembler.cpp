@@ -1,5 +1,7 @@
 #include "sensors/scan_assembler.h"
 
+#include <linux/can/error.h>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -52,6 +54,13 @@ void ScanAssembler::StartScan(const DecodedFrame& d, int64_t utime) {
 
 void ScanAssembler::Push(const Frame& f, std::vector<Scan>* out) {
   ++counters_.frames;
+  // One sensor, one bus: frames from another interface (a candump of can0 and can1) are
+  // never merged into this sensor's scans.
+  if (!options_.interface.empty() && f.Interface() != options_.interface) {
+    ++counters_.other_interface;
+    return;
+  }
+  if (f.error) TrackBusState(f);
   DecodedFrame d;
   switch (codec_.Decode(f, &d)) {
     case DecodeStatus::kOk: break;
@@ -161,7 +170,9 @@ void ScanAssembler::Emit(bool complete, std::vector<Scan>* out) {
   }
   Calibrate(&s);
   s.valid.resize(taxels);
-  for (int i = 0; i < taxels; ++i) s.valid[i] = s.flags[i] == 0;
+  // Saturated stays valid at full scale (flag kept): treating it as missing made the
+  // hardest contact give zero feedback.
+  for (int i = 0; i < taxels; ++i) s.valid[i] = (s.flags[i] & ~kTaxelSaturated) == 0;
   s.tared = tared_;
 
   if (complete) {
@@ -179,6 +190,21 @@ void ScanAssembler::Emit(bool complete, std::vector<Scan>* out) {
   active_ = false;
   UpdateTare(s);
   out->push_back(std::move(s));
+}
+
+void ScanAssembler::TrackBusState(const Frame& f) {
+  // Error class in the id, controller detail in data[1] (linux/can/error.h).
+  const uint8_t controller = f.len > 1 ? f.data[1] : 0;
+  if (f.id & CAN_ERR_BUSOFF) {
+    ++counters_.bus_off_events;
+    counters_.bus_state = kBusOff;
+  } else if ((f.id & CAN_ERR_CRTL) && (controller & (CAN_ERR_CRTL_RX_PASSIVE | CAN_ERR_CRTL_TX_PASSIVE))) {
+    ++counters_.error_passive_events;
+    if (counters_.bus_state < kBusErrorPassive) counters_.bus_state = kBusErrorPassive;
+  }
+  // Back to normal only when the controller says so.
+  if ((f.id & CAN_ERR_RESTARTED) || ((f.id & CAN_ERR_CRTL) && (controller & CAN_ERR_CRTL_ACTIVE)))
+    counters_.bus_state = kBusErrorActive;
 }
 
 void ScanAssembler::Calibrate(Scan* s) {
@@ -258,6 +284,10 @@ std::string FormatCounters(const BadFrameCounters& c) {
   line("bad_frame_index", c.bad_frame_index);
   line("remote_frames", c.remote_frames);
   line("error_frames", c.error_frames);
+  line("bus_off_events", c.bus_off_events);
+  line("error_passive_events", c.error_passive_events);
+  line("bus_state", c.bus_state);
+  line("other_interface", c.other_interface);
   line("duplicates", c.duplicates);
   line("stale_frames", c.stale_frames);
   line("reordered", c.reordered);

@@ -19,6 +19,7 @@
 // quiet_tolerance_counts of the first of them).
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "sensors/bad_frame_counters.h"
@@ -34,6 +35,10 @@ struct AssemblerOptions {
   int tare_scans = 0;
   /// Largest raw change still "quiet" during a tare [counts]; <= 0 picks 2% of the range.
   double quiet_tolerance_counts = 0;
+  /// Only frames from this interface ("can0") are this sensor's; others are counted in
+  /// other_interface and ignored. "" = any interface (one bus only, e.g. a SocketCAN socket
+  /// bound to one interface).
+  std::string interface;
 };
 
 class ScanAssembler {
@@ -65,6 +70,7 @@ class ScanAssembler {
   void StartScan(const DecodedFrame& d, int64_t utime);
   void Emit(bool complete, std::vector<Scan>* out);
   void Calibrate(Scan* scan);
+  void TrackBusState(const Frame& error_frame);
   void UpdateTare(const Scan& scan);
 
   SensorProfile profile_;

@@ -117,6 +117,9 @@ void ParseFrames(MapReader& r, SensorProfile* p) {
   l.length = r.Required<int>("length");
   l.samples_per_frame = r.Required<int>("samples_per_frame");
   l.sample_bits = r.Required<int>("sample_bits");
+  // Checked here, not only in ValidateProfile: the calibration defaults (RawMax) shift by it
+  // before validation runs (found by fuzz_yaml_configs: sample_bits 73 was a UB shift).
+  if (l.sample_bits < 1 || l.sample_bits > 24) r.Fail(r.Node("sample_bits"), "'sample_bits' must be 1..24");
   l.sample_signed = r.Optional<bool>("signed", false);
   l.byte_order = r.RequiredChoice("byte_order", {"big", "little"}) == "big" ? ByteOrder::kBig
                                                                            : ByteOrder::kLittle;

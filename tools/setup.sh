@@ -8,6 +8,7 @@ PACKAGES=(
   build-essential cmake pkg-config git
   libeigen3-dev libyaml-cpp-dev
   liblcm-dev liblcm-bin liblcm-java libglib2.0-dev
+  libssl-dev              # OpenSSL libcrypto: HMAC-SHA256 of DISPLAY_COMMAND (display/command_authenticator.h)
   libomp-dev
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   clang libclang-rt-dev

@@ -22,6 +22,22 @@
 namespace sedbridge::app {
 namespace {
 
+// A bad line is untrusted text: control bytes (a terminal escape sequence, say) are shown as
+// \xNN instead of being sent to the terminal.
+std::string Printable(const std::string& text) {
+  std::string out;
+  char hex[8];
+  for (unsigned char c : text) {
+    if (c >= 0x20 && c < 0x7f) {
+      out += static_cast<char>(c);
+    } else {
+      std::snprintf(hex, sizeof hex, "\\x%02x", c);
+      out += hex;
+    }
+  }
+  return out;
+}
+
 using namespace sedbridge::sensors;
 
 volatile std::sig_atomic_t g_stop = 0;
@@ -194,7 +210,7 @@ int RunDecode(int argc, char** argv) {
     std::printf("bad lines (first %zu):\n", reader.bad_lines().size());
     for (const BadLine& b : reader.bad_lines())
       std::printf("  %s:%lld: %s: %s\n", log_path.c_str(), static_cast<long long>(b.line_number),
-                  b.reason.c_str(), b.text.c_str());
+                  b.reason.c_str(), Printable(b.text).c_str());
   }
   if (csv.is_open()) std::printf("wrote %s\n", args.Get("csv").c_str());
 

@@ -23,10 +23,12 @@
 #include "app/lcm_url.h"
 #include "config/config_error.h"
 #include "config/resource_path.h"
+#include "display/command_authenticator.h"
 #include "display/display_log_frames.h"
 #include "display/display_profile.h"
 #include "display/lcm_channels.h"
 #include "display/lcm_conversions.h"
+#include "display/lcm_safe_decode.h"
 #include "display/terminal_heatmap.h"
 #include "sedbridge/lcmt_display_command.hpp"
 #include "sedbridge/lcmt_merkel_sed.hpp"
@@ -88,13 +90,31 @@ struct LiveState {
   DisplayCommand command;
   SedField sed;
   int64_t commands = 0, fields = 0;
-  void OnCommand(const lcm::ReceiveBuffer*, const std::string&, const lcmt_display_command* m) {
-    command = FromLcm(*m);
+  int64_t rejected = 0;  ///< messages whose array counts their bytes cannot hold (or not decodable)
+  // Raw subscriptions: lcm-cpp's typed subscribe would decode (and allocate from the count
+  // field) before we could check; SafeDecode checks first.
+  void OnCommand(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+    lcmt_display_command m;
+    // A signed command (lcm.auth_key_file) is payload || 32-byte HMAC tag. The viewer drives
+    // nothing, so it shows the payload without checking the tag (it has no key).
+    const bool plain = SafeDecode(rbuf->data, rbuf->data_size, &m);
+    const bool with_tag = !plain && rbuf->data_size > CommandAuthenticator::kTagBytes &&
+                          SafeDecode(rbuf->data, rbuf->data_size - CommandAuthenticator::kTagBytes, &m);
+    if (!plain && !with_tag) {
+      ++rejected;
+      return;
+    }
+    command = FromLcm(m);
     have_command = new_command = true;
     ++commands;
   }
-  void OnSed(const lcm::ReceiveBuffer*, const std::string&, const lcmt_merkel_sed* m) {
-    sed = FromLcm(*m);
+  void OnSed(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+    lcmt_merkel_sed m;
+    if (!SafeDecode(rbuf->data, rbuf->data_size, &m)) {
+      ++rejected;
+      return;
+    }
+    sed = FromLcm(m);
     have_sed = true;
     ++fields;
   }
@@ -141,8 +161,9 @@ int RunLive(const ArgParser& args, const LcmChannels& ch, LayoutSource& layouts,
       if (once) break;
     }
   }
-  std::fprintf(stderr, "display-view: %lld commands, %lld SED fields received\n",
-               static_cast<long long>(state.commands), static_cast<long long>(state.fields));
+  std::fprintf(stderr, "display-view: %lld commands, %lld SED fields received, %lld malformed rejected\n",
+               static_cast<long long>(state.commands), static_cast<long long>(state.fields),
+               static_cast<long long>(state.rejected));
   return state.have_command ? 0 : 3;
 }
 

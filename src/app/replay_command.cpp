@@ -9,6 +9,7 @@
 #include "app/arg_parser.h"
 #include "app/command.h"
 #include "app/lcm_url.h"
+#include "app/stop_signals.h"
 #include "app/plot_runner.h"
 #include "app/replay_output_options.h"
 #include "bridge/bridge_config.h"
@@ -82,7 +83,8 @@ int RunReplayCommand(int argc, char** argv) {
                  "Replays a candump log of the follower's tactile sensor through the whole bridge:\n"
                  "scans -> pressure boundary condition -> FE step -> Merkel-layer SED -> display\n"
                  "commands (safety-limited) -> LCM. Every scan is processed; the output is stamped with\n"
-                 "the log's time, so two runs write the same files (only the measured latency differs).");
+                 "the log's time, so two runs write the same files (only the measured latency differs).\n"
+                 "SIGINT, SIGTERM, SIGHUP or SIGQUIT stop the run: display to zero, files written, exit 128 + signal.");
   args.Positional("LOG", "candump -l log (e.g. config/bridge/example_press.log)")
       .Option("config", "BRIDGE.yaml", "bridge config", "config/bridge/default.yaml")
       .Option("profile", "SENSOR", "sensor profile: shipped name or YAML (overrides the config's sensor.profile)")
@@ -108,6 +110,7 @@ int RunReplayCommand(int argc, char** argv) {
           "exit status: 0 ok; 1 when the log is not a candump -l log or none of its frames makes a\n"
           "scan of the sensor profile (the reason is printed); 2 usage.");
   if (!args.Parse(argc, argv)) return 0;
+  StopSignals signals;  // SIGINT/TERM/HUP/QUIT end the run through its normal exit (zero, log closed)
 
   const std::string config_path = config::ResolveResource(args.Get("config"));
   BridgeConfig config = LoadBridgeConfig(config_path);
@@ -123,12 +126,22 @@ int RunReplayCommand(int argc, char** argv) {
   sensors::CandumpLogSource log(log_path, playback);
   sensors::InterfaceFilterSource source(log, args.GetOptional("interface").value_or(""));
   ReplayOptions options = ReadReplayOutputOptions(args, config);
+  options.stop = &signals.flag();
+  options.can_interface = config.can_interface;  // sensor.interface: frames of other buses are not this sensor's
+  if (speed != "max") {
+    options.paced_speed = playback.speed;  // live: tick the display's watchdog through pauses
+    options.idle_tick_period_us = static_cast<int64_t>(1e6 / config.tick_Hz);
+  }
   std::printf("replay %s with %s (sensor %s, model %s/%s, display %s)\n", log_path.c_str(), config_path.c_str(),
               config.sensor_profile.c_str(), config.model.c_str(), config.preset.c_str(),
               config.display_profile.c_str());
   std::fflush(stdout);
   const ReplayResult result = RunReplay(config, source, options);
   PrintReplaySummary(result, options.out_dir);
+  if (signals.signal_number()) {
+    std::printf("stopped by %s: display driven to zero, log closed\n", SignalName(signals.signal_number()));
+    return signals.ExitCode(0);
+  }
   if (source.interfaces_seen().size() > 1 && !args.Has("interface"))
     std::printf("warning: the log mixes interfaces (%s); --interface NAME keeps one\n",
                 JoinNames(source.interfaces_seen()).c_str());
@@ -136,6 +149,9 @@ int RunReplayCommand(int argc, char** argv) {
     std::fprintf(stderr, "sedbridge replay: error: %s\n", WhyNoScans(log, source, config.sensor_profile).c_str());
     return 1;
   }
+  if (result.bad_frames.other_interface > 0)
+    std::printf("note: %lld frames from other interfaces than '%s' (sensor.interface) were ignored\n",
+                static_cast<long long>(result.bad_frames.other_interface), options.can_interface.c_str());
   if (!args.GetFlag("no-plots") && !result.rows.empty()) {
     if (RunPlotScript("plot_bridge.py", PlotBridgeArgs(options.out_dir, result)))
       std::printf("plots: %s/bridge_peak.png, %s/bridge_timeline.png\n", options.out_dir.c_str(),

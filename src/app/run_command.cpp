@@ -2,13 +2,13 @@
 
 #include <atomic>
 #include <chrono>
-#include <csignal>
 #include <cstdio>
 #include <thread>
 
 #include "app/arg_parser.h"
 #include "app/command.h"
 #include "app/lcm_url.h"
+#include "app/stop_signals.h"
 #include "bridge/bridge_config.h"
 #include "bridge/live_bridge.h"
 #include "bridge/replay.h"
@@ -22,16 +22,13 @@ namespace {
 
 using namespace sedbridge::bridge;
 
-std::atomic<bool> g_stop{false};
-extern "C" void OnSignal(int) { g_stop.store(true); }  // lock-free atomic: async-signal-safe
-
 int RunLiveCommand(int argc, char** argv) {
   ArgParser args("sedbridge run",
                  "The live bridge: a receiver thread reads the sensor's CAN frames (SocketCAN) into\n"
                  "a newest-scan slot; this thread takes the newest scan, steps the FE model and\n"
                  "publishes the display command on LCM (older scans are dropped and counted).\n"
-                 "Ctrl-C (SIGINT) or SIGTERM stops cleanly; the display is driven to zero on exit and\n"
-                 "on any fault. Status on BRIDGE_STATUS; a summary is printed at exit.");
+                 "SIGINT (Ctrl-C), SIGTERM, SIGHUP or SIGQUIT stops cleanly (exit status 128 + signal); the\n"
+                 "display is driven to zero and the LCM log closed on every exit and on any fault. Status on BRIDGE_STATUS; a summary is printed at exit.");
   args.Option("config", "BRIDGE.yaml", "bridge config", "config/bridge/default.yaml")
       .Option("interface", "NAME", "CAN interface (overrides sensor.interface)")
       .Option("lcm-url", "URL", LcmUrlHelp("the config's lcm.url (udpm, ttl=0: this host only)"))
@@ -43,6 +40,7 @@ int RunLiveCommand(int argc, char** argv) {
               "  sedbridge run --interface can0 --lcm-url 'udpm://239.255.76.67:7667?ttl=1'  # leader on another host\n"
               "LCM URL: --lcm-url, else $LCM_DEFAULT_URL, else the config's lcm.url (docs/two-host.md)");
   if (!args.Parse(argc, argv)) return 0;
+  StopSignals signals;  // from here on, a signal stops through the normal exit (zero, log closed)
 
   SetFeThreads(static_cast<int>(args.GetInt("threads")));
   BridgeConfig config = LoadBridgeConfig(config::ResolveResource(args.Get("config")));
@@ -71,44 +69,48 @@ int RunLiveCommand(int argc, char** argv) {
   std::printf("run: %s, sensor %s -> model %s/%s -> display %s, LCM %s (from %s)\n", source->Describe().c_str(),
               profile.name.c_str(), config.model.c_str(), config.preset.c_str(), config.display_profile.c_str(),
               config.lcm.url.c_str(), lcm_url.source.c_str());
+  if (config.lcm.auth_key_file.empty() && config.lcm.url.rfind("memq://", 0) != 0)
+    std::fprintf(stderr,
+                 "run: WARNING: DISPLAY_COMMAND is unsigned (no lcm.auth_key_file): a display driver that requires\n"
+                 "     authentication (the default of sedbridge-display-driver) will ignore it; anyone on the LCM\n"
+                 "     network could command the display. See display/README.md, \"Threat model\".\n");
   BridgePipeline pipeline(config, profile, MakeFeStep(config, profile), config.lcm);
   std::printf("%s\n", pipeline.fe().Describe().c_str());
   sensors::AssemblerOptions assembler_options;
   assembler_options.tare_scans = config.tare_scans;
+  // A log may hold several buses; a SocketCAN socket is bound to `interface` already.
+  if (args.Has("log-input")) assembler_options.interface = interface;
   sensors::ScanAssembler assembler(profile, assembler_options);
 
-  g_stop.store(false);
-  std::signal(SIGINT, OnSignal);
-  std::signal(SIGTERM, OnSignal);
   std::thread timer;
   if (args.Has("duration-s")) {
     const double s = args.GetDouble("duration-s");
-    timer = std::thread([s] {
+    timer = std::thread([s, &signals] {
       const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(s);
-      while (!g_stop.load() && std::chrono::steady_clock::now() < end)
+      while (!signals.flag().load() && std::chrono::steady_clock::now() < end)
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
-      g_stop.store(true);
+      signals.RequestStop();
     });
   }
   LiveBridge bridge(*source, assembler, pipeline, live);
   LiveResult result;
   try {
-    result = bridge.Run(g_stop);
+    result = bridge.Run(signals.flag());  // shuts the display down on every way out
   } catch (...) {
-    g_stop.store(true);
+    signals.RequestStop();
     if (timer.joinable()) timer.join();
     throw;
   }
-  g_stop.store(true);
+  signals.RequestStop();
   if (timer.joinable()) timer.join();
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
 
   const LatencySummary lat = pipeline.latency().Run();
   const PipelineCounters& c = pipeline.counters();
   std::printf("\nstopped (%s): scans received %lld, processed %lld, dropped (newest wins) %lld, rejected %lld; "
               "ticks %lld\n",
-              result.stopped_by_request ? "signal/duration" : "source done",
+              signals.signal_number() ? SignalName(signals.signal_number())
+              : result.stopped_by_request ? "duration"
+                                          : "source done",
               static_cast<long long>(result.scans_received), static_cast<long long>(result.scans_processed),
               static_cast<long long>(result.scans_dropped), static_cast<long long>(c.scans_rejected),
               static_cast<long long>(result.ticks));
@@ -120,7 +122,7 @@ int RunLiveCommand(int argc, char** argv) {
               static_cast<long long>(pipeline.display().publisher().publish_errors()));
   if (auto* can = dynamic_cast<sensors::SocketCanSource*>(source.get()))
     for (const sensors::Frame& f : profile.stop_frames) can->Send(f);
-  return 0;
+  return signals.ExitCode(0);
 }
 
 }  // namespace

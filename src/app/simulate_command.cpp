@@ -6,6 +6,7 @@
 #include "app/arg_parser.h"
 #include "app/command.h"
 #include "app/lcm_url.h"
+#include "app/stop_signals.h"
 #include "app/plot_runner.h"
 #include "app/replay_output_options.h"
 #include "bridge/bridge_config.h"
@@ -38,6 +39,7 @@ int RunSimulateCommand(int argc, char** argv) {
       .Flag("quiet", "no progress lines")
       .Epilog("example:\n  sedbridge simulate config/scenes/sensor_edge_slide.yaml --out out/edge");
   if (!args.Parse(argc, argv)) return 0;
+  StopSignals signals;  // SIGINT/TERM/HUP/QUIT end the run through its normal exit (zero, log closed)
 
   SetFeThreads(static_cast<int>(args.GetInt("threads")));
   const std::string config_path = config::ResolveResource(args.Get("config"));
@@ -52,6 +54,8 @@ int RunSimulateCommand(int argc, char** argv) {
   const sensors::SensorProfile profile = sim.profile;
   sensors::SimulatedSensorSource source(sim);
   ReplayOptions options = ReadReplayOutputOptions(args, config);
+  options.stop = &signals.flag();
+  options.can_interface = sim.interface;
   std::printf("simulate %s: sensor %s at %g Hz for %.2f s -> model %s/%s -> display %s\n", scene_path.c_str(),
               profile.name.c_str(), profile.scan_rate_Hz, sim.duration_s, config.model.c_str(), config.preset.c_str(),
               config.display_profile.c_str());
@@ -77,6 +81,10 @@ int RunSimulateCommand(int argc, char** argv) {
               result.wall_s > 0 ? result.counters.scans / result.wall_s : 0.0, result.latency.p50_ms,
               result.latency.p99_ms, result.latency.max_ms);
   std::printf("wrote %s/{summary.csv, peak_*.csv, bridge.lcmlog}\n", options.out_dir.c_str());
+  if (signals.signal_number()) {
+    std::printf("stopped by %s: display driven to zero, log closed\n", SignalName(signals.signal_number()));
+    return signals.ExitCode(0);
+  }
   if (!args.GetFlag("no-plots") && !result.rows.empty())
     RunPlotScript("plot_bridge.py", PlotBridgeArgs(options.out_dir, result));
   return 0;

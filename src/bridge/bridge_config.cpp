@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <sstream>
 
 #include "config/resource_path.h"
 #include "config/yaml_reader.h"
@@ -22,6 +23,18 @@ double NonNegative(MapReader& r, const std::string& key, double fallback) {
   if (!r.Has(key)) return fallback;
   const double v = r.Required<double>(key);
   if (!(std::isfinite(v) && v >= 0)) r.Fail(r.Node(key), "'" + key + "' must be a finite number >= 0");
+  return v;
+}
+
+// A finite value in [lo, hi]; the bounds are named in the message.
+double InRange(MapReader& r, const std::string& key, double fallback, double lo, double hi, const char* unit) {
+  if (!r.Has(key)) return fallback;
+  const double v = r.Required<double>(key);
+  if (!(v >= lo && v <= hi)) {
+    std::ostringstream m;
+    m << "'" << key << "' must be in [" << lo << ", " << hi << "] " << unit << " (got " << v << ")";
+    r.Fail(r.Node(key), m.str());
+  }
   return v;
 }
 
@@ -88,8 +101,8 @@ BridgeConfig Parse(const config::YamlDocument& doc) {
   }
   if (r.Has("rates")) {
     MapReader q = r.Child("rates");
-    c.status_Hz = Positive(q, "status_Hz", c.status_Hz);
-    c.tick_Hz = Positive(q, "tick_Hz", c.tick_Hz);
+    c.status_Hz = InRange(q, "status_Hz", c.status_Hz, kMinStatus_Hz, kMaxStatus_Hz, "Hz");
+    c.tick_Hz = InRange(q, "tick_Hz", c.tick_Hz, kMinTick_Hz, kMaxTick_Hz, "Hz");
     q.Finish();
   }
   if (r.Has("outputs")) {

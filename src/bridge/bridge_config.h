@@ -13,6 +13,13 @@
 
 namespace sedbridge::bridge {
 
+/// Bounds of `rates.*` [Hz]. The tick drives the display's ramp to zero while no scan
+/// arrives: below 50 Hz a ramp would move in steps longer than the limiter's rise interval
+/// (25 ms) and a 0.05 s watchdog would be noticed late; above 10 kHz it only burns CPU.
+/// BRIDGE_STATUS at 0.1..100 Hz (1e-30 Hz overflowed the period).
+inline constexpr double kMinTick_Hz = 50, kMaxTick_Hz = 10000;
+inline constexpr double kMinStatus_Hz = 0.1, kMaxStatus_Hz = 100;
+
 struct BridgeConfig {
   std::string file;  ///< where it was read from ("" = defaults)
 

@@ -210,6 +210,13 @@ lcmt_bridge_status BridgePipeline::MakeStatus(int64_t now_utime) const {
   s.commands_fault = d.commands_fault;
   s.fault_state = static_cast<int8_t>(shut_down_ ? 2 : fault_state_);
   s.fault_message = shut_down_ ? "shut down" : fault_message_;
+  // The CAN controller's own state: bus-off is a fault (no scans can arrive), error-passive
+  // degraded (the bus is failing). Reported while it lasts.
+  const int bus_fault = b.bus_state == sensors::kBusOff ? 2 : b.bus_state == sensors::kBusErrorPassive ? 1 : 0;
+  if (!shut_down_ && bus_fault > s.fault_state) {
+    s.fault_state = static_cast<int8_t>(bus_fault);
+    s.fault_message = bus_fault == 2 ? "CAN bus-off" : "CAN error-passive";
+  }
   return s;
 }
 

@@ -68,6 +68,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   result.display_unit = pipeline.display().controller().profile().unit;
   sensors::AssemblerOptions assembler_options;
   assembler_options.tare_scans = config.tare_scans;
+  assembler_options.interface = options.can_interface;
   sensors::ScanAssembler assembler(profile, assembler_options);
   result.setup_s = std::chrono::duration<double>(Clock::now() - t_setup).count();
   if (options.on_start) options.on_start(pipeline);
@@ -148,14 +149,44 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   };
 
   const auto t0 = Clock::now();
-  while (!source.Done()) {
-    std::optional<sensors::Frame> frame = source.Next(-1);
-    if (!frame) continue;
-    assembler.Push(*frame, &scans);
-    if (!scans.empty()) process(display::WallClockUtime());
+  const bool paced = options.paced_speed > 0;
+  if (paced && options.idle_tick_period_us <= 0) throw std::invalid_argument("idle_tick_period_us must be > 0");
+  int64_t last_scan_wall = display::WallClockUtime();
+  try {
+    while (!source.Done()) {
+      if (options.stop && options.stop->load()) {
+        result.stopped_early = true;
+        break;
+      }
+      // Paced: wait at most one tick, so a pause in the log still ticks the watchdog.
+      std::optional<sensors::Frame> frame = source.Next(paced ? options.idle_tick_period_us : -1);
+      const int64_t wall = display::WallClockUtime();
+      if (!frame) {
+        if (paced && !result.rows.empty()) {
+          pipeline.Tick(last_utime + static_cast<int64_t>((wall - last_scan_wall) * options.paced_speed));
+          ++result.idle_ticks;
+        }
+        continue;
+      }
+      assembler.Push(*frame, &scans);
+      if (!scans.empty()) {
+        process(wall);
+        last_scan_wall = wall;
+      }
+    }
+    if (!result.stopped_early) {
+      assembler.Flush(&scans);
+      process(display::WallClockUtime());
+    }
+  } catch (...) {
+    // Zero first, then let the error out (the log is closed when the pipeline goes). A
+    // second error while shutting down must not replace the first.
+    try {
+      pipeline.Shutdown(last_utime);
+    } catch (...) {
+    }
+    throw;
   }
-  assembler.Flush(&scans);
-  process(display::WallClockUtime());
   result.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
   pipeline.SetSensorCounters(assembler.counters(), source.Stats());
   pipeline.Shutdown(last_utime);

@@ -13,6 +13,7 @@
 //   bridge.lcmlog           every published LCM message (lcm-logplayer, lcm-spy)
 //   frames.pvd, frame_*.vtu with vtu_every > 0 (ParaView)
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <memory>
@@ -47,6 +48,18 @@ struct ReplayOptions {
   std::function<void(BridgePipeline&)> on_start;
   /// Called after the display's shutdown, before the pipeline is destroyed.
   std::function<void(BridgePipeline&)> on_finish;
+  /// Set (e.g. by a signal handler) to end the run early: the display is driven to zero, the
+  /// log closed and the files written as at the source's end. nullptr = run to the end.
+  const std::atomic<bool>* stop = nullptr;
+  /// Only frames from this CAN interface are the sensor's (a candump of can0 and can1 is not
+  /// merged); others are counted (BadFrameCounters::other_interface). "" = any.
+  std::string can_interface;
+  /// > 0 when the source is paced at this multiple of its recorded speed (a live replay):
+  /// then the display is ticked every `idle_tick_period_us` of wall time while no frame
+  /// arrives, so its watchdog ramps it to zero through a pause in the log, as in `run`.
+  /// Ticks are stamped in log time (last scan + elapsed wall time x speed). 0 = unpaced.
+  double paced_speed = 0;
+  int64_t idle_tick_period_us = 5000;  ///< [us], > 0
 };
 
 struct ReplayRow {
@@ -75,9 +88,14 @@ struct ReplayResult {
   int display_actuators = 0;
   int peak_actuators_at_ceiling = 0;  ///< actuators at command_ceiling in the peak-SED command
   int64_t scans_at_ceiling = 0;       ///< scans whose largest command reached command_ceiling
+  int64_t idle_ticks = 0;       ///< display ticks while a paced source was silent
+  bool stopped_early = false;   ///< `stop` was set before the source's end
 };
 
-/// Runs `source` to its end through a new pipeline built from `config`.
+/// Runs `source` to its end (or until options.stop) through a new pipeline built from
+/// `config`. On every way out — end, stop, or an exception from the source, a stage or a
+/// callback — the display is shut down (zero published) and the LCM log closed before
+/// returning or rethrowing.
 ReplayResult RunReplay(const BridgeConfig& config, sensors::FrameSource& source, const ReplayOptions& options);
 /// Same with a given FE step (e.g. one already built; ownership passes to the pipeline).
 ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile& profile,

@@ -18,12 +18,57 @@ SourceLocation LocationOf(const YAML::Node& node, const std::string& file) {
   return loc;
 }
 
+namespace internal {
+void FailNonFinite(const YAML::Node& node, const std::string& file, const std::string& what) {
+  const std::string text = node.IsScalar() ? " (got '" + node.Scalar() + "')" : "";
+  throw ConfigError(LocationOf(node, file), "'" + what + "' must be a finite number" + text);
+}
+}  // namespace internal
+
+namespace {
+
+// Most nodes a config may have. Aliases share nodes, so a few lines of anchors can expand
+// into billions of visits (or a cycle); the walk stops with an error instead.
+constexpr std::size_t kMaxConfigNodes = 1000000;
+
+// Iterative walk (a deeply nested document must not overflow the stack here).
+void CheckDuplicates(const YAML::Node& root, const std::string& file) {
+  std::vector<YAML::Node> todo{root};
+  std::size_t visited = 0;
+  while (!todo.empty()) {
+    if (++visited > kMaxConfigNodes)
+      throw ConfigError({file, 0, 0}, "more than " + std::to_string(kMaxConfigNodes) +
+                                          " YAML nodes (alias expansion?): not a config");
+    const YAML::Node n = todo.back();
+    todo.pop_back();
+    if (n.IsMap()) {
+      std::set<std::string> seen;
+      for (auto it = n.begin(); it != n.end(); ++it) {
+        // Only scalar keys can be compared by text; complex keys are rejected by every reader.
+        if (it->first.IsScalar() && !seen.insert(it->first.Scalar()).second)
+          throw ConfigError(LocationOf(it->first, file),
+                            "duplicate key '" + it->first.Scalar() + "' (given earlier in the same mapping)");
+        todo.push_back(it->second);
+      }
+    } else if (n.IsSequence()) {
+      for (auto it = n.begin(); it != n.end(); ++it) todo.push_back(*it);
+    }
+  }
+}
+
+}  // namespace
+
+void CheckNoDuplicateKeys(const YAML::Node& root, const std::string& file) { CheckDuplicates(root, file); }
+
 YamlDocument LoadYamlString(const std::string& text, const std::string& file) {
+  YamlDocument doc;
   try {
-    return {file, YAML::Load(text)};
+    doc = {file, YAML::Load(text)};
   } catch (const YAML::ParserException& e) {
     throw ConfigError({file, e.mark.line + 1, e.mark.column + 1}, e.msg);
   }
+  CheckNoDuplicateKeys(doc.root, file);
+  return doc;
 }
 
 YamlDocument LoadYamlFile(const std::string& path) {

@@ -1,6 +1,10 @@
 #pragma once
 // Strict YAML reading: every value is typed, every error names file:line:column, and a
 // key nobody asked for is an error (a typo must not silently fall back to a default).
+// A key given twice in one mapping is an error at load time (yaml-cpp keeps the first, so
+// `max: 20` then `max: 5` would silently mean 20), and every floating-point value read
+// through As/Required/Optional must be finite (.nan, .inf are errors: no config value has a
+// use for them, and one reaching a limit defeats it).
 //
 //   auto doc = LoadYamlFile("config/scenes/paper_press.yaml");
 //   MapReader scene(doc.root, doc.file);
@@ -12,8 +16,10 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include <cmath>
 #include <set>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "config/config_error.h"
@@ -25,10 +31,15 @@ struct YamlDocument {
   YAML::Node root;
 };
 
-/// Parses a YAML file. Throws ConfigError (with the parser's line/column) on failure.
+/// Parses a YAML file. Throws ConfigError (with the parser's line/column) on failure, and
+/// at the second occurrence of a key repeated within one mapping.
 YamlDocument LoadYamlFile(const std::string& path);
 /// Parses YAML text; `file` is only used in messages.
 YamlDocument LoadYamlString(const std::string& text, const std::string& file);
+
+/// Throws ConfigError at the first mapping key (at any depth under `root`) that repeats an
+/// earlier key of the same mapping. LoadYamlFile/LoadYamlString call it.
+void CheckNoDuplicateKeys(const YAML::Node& root, const std::string& file);
 
 /// Location of a node in its file.
 SourceLocation LocationOf(const YAML::Node& node, const std::string& file);
@@ -79,20 +90,37 @@ class MapReader {
   std::set<std::string> used_;
 };
 
-/// Converts a node, throwing ConfigError at the node on a type mismatch.
+/// Converts a node, throwing ConfigError at the node on a type mismatch, and on a NaN or
+/// infinite float/double (also inside a std::vector of them).
 template <typename T>
 T As(const YAML::Node& node, const std::string& file, const std::string& what);
 
 // ---- template implementations ----
 
+namespace internal {
+template <typename T>
+struct IsFloatVector : std::false_type {};
+template <typename U, typename A>
+struct IsFloatVector<std::vector<U, A>> : std::is_floating_point<U> {};
+[[noreturn]] void FailNonFinite(const YAML::Node& node, const std::string& file, const std::string& what);
+}  // namespace internal
+
 template <typename T>
 T As(const YAML::Node& node, const std::string& file, const std::string& what) {
+  T value;
   try {
-    return node.as<T>();
+    value = node.as<T>();
   } catch (const YAML::Exception&) {
     std::string text = node.IsScalar() ? " (got '" + node.Scalar() + "')" : "";
     throw ConfigError(LocationOf(node, file), "'" + what + "' has the wrong type" + text);
   }
+  if constexpr (std::is_floating_point_v<T>) {
+    if (!std::isfinite(value)) internal::FailNonFinite(node, file, what);
+  } else if constexpr (internal::IsFloatVector<T>::value) {
+    for (std::size_t i = 0; i < value.size(); ++i)
+      if (!std::isfinite(value[i])) internal::FailNonFinite(node[i], file, what);
+  }
+  return value;
 }
 
 template <typename T>

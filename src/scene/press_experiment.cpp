@@ -77,6 +77,11 @@ PressResult RunPress(FingertipScene& scene, const PressOptions& options) {
       result.selected = int(i);
     }
   }
+  // Every force non-finite (e.g. contact.stiffness_N_m: 1e300): no step can be selected.
+  if (result.selected < 0)
+    throw std::runtime_error("press: no step has a finite contact force (" + std::to_string(result.steps.size()) +
+                             " steps; check contact.stiffness_N_m and the trajectory), nothing to select for " +
+                             std::to_string(options.target_force_N) + " N");
   const Eigen::VectorXd& sed = result.merkel_sed[size_t(result.selected)];
   result.selected_max_sed_Pa = sed.size() ? sed.maxCoeff() : 0.0;
   result.path = scene.merkel()->SamplePath(sed, options.path_y_mm, -options.path_half_width_mm,

@@ -49,7 +49,8 @@ SceneDescription Parse(const config::YamlDocument& doc) {
                               : fem::IntegratorKind::kBackwardEuler;
     s.dt_s = Positive(d, "dt_s", s.dt_s);
     s.steps = d.Optional<int>("steps", s.steps);
-    if (s.steps < 1) d.Fail(d.Node("steps"), "'steps' must be >= 1");
+    if (s.steps < 1 || s.steps > kMaxSceneSteps)
+      d.Fail(d.Node("steps"), "'steps' must be in [1, " + std::to_string(kMaxSceneSteps) + "]");
     s.integrator.newton_iterations = d.Optional<int>("newton_iterations", s.integrator.newton_iterations);
     if (s.integrator.newton_iterations < 1) d.Fail(d.Node("newton_iterations"), "'newton_iterations' must be >= 1");
     s.integrator.newton_tolerance_m = Positive(d, "newton_tolerance_mm", s.integrator.newton_tolerance_m * 1e3) * 1e-3;

@@ -17,6 +17,10 @@
 
 namespace sedbridge::scene {
 
+/// Most `dynamics.steps` a scene may ask for: 1e6 steps of the fast preset is already hours;
+/// 2e9 ran until killed.
+inline constexpr int kMaxSceneSteps = 1000000;
+
 struct BoneSection {
   fem::SpringDamperParams spring;   ///< paper: k 200 N/m, b 0.1 N s/m, a 1.0
   /// Tracked bone pose (model frame, relative to rest); null = fixed.
@@ -46,7 +50,7 @@ struct SceneDescription {
   fem::ElasticFormulation elasticity = fem::ElasticFormulation::kCorotational;
   fem::IntegratorSettings integrator;
   double dt_s = 1e-3;        ///< backward Euler step; quasi-static: load increment 1/steps
-  int steps = 50;            ///< number of steps the scene runs
+  int steps = 50;            ///< number of steps the scene runs, in [1, kMaxSceneSteps]
   /// "ldlt", "pcg_*", or "compliance": contact by the compliance method
   /// (scene/fingertip_compliance.h), linear quasi-static scenes with the bone fixed only.
   std::string solver = "ldlt";

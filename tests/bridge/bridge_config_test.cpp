@@ -61,6 +61,21 @@ TEST(BridgeConfig, UnknownKeyNamesFileLineColumn) {
   EXPECT_EQ(ParseBridgeConfig("fe: {step: reduced}\n", "b.yaml").fe_step, "reduced");
 }
 
+TEST(BridgeConfig, RatesAreBounded) {
+  // Issue 13: tick_Hz 0.1 held 20 kPa for 10 s; status_Hz 1e-30 overflowed the period.
+  EXPECT_THROW(ParseBridgeConfig("rates: {tick_Hz: 0.1}\n", "b.yaml"), config::ConfigError);
+  EXPECT_THROW(ParseBridgeConfig("rates: {tick_Hz: 1e9}\n", "b.yaml"), config::ConfigError);
+  EXPECT_THROW(ParseBridgeConfig("rates: {status_Hz: 1e-30}\n", "b.yaml"), config::ConfigError);
+  EXPECT_THROW(ParseBridgeConfig("rates: {status_Hz: .nan}\n", "b.yaml"), config::ConfigError);
+  try {
+    ParseBridgeConfig("rates:\n  tick_Hz: 0.1\n", "b.yaml");
+  } catch (const config::ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), "b.yaml:2:12: 'tick_Hz' must be in [50, 10000] Hz (got 0.1)");
+  }
+  EXPECT_DOUBLE_EQ(ParseBridgeConfig("rates: {tick_Hz: 50, status_Hz: 0.1}\n", "b.yaml").tick_Hz, 50);
+  EXPECT_THROW(ParseBridgeConfig("rates: {tick_Hz: 100, tick_Hz: 0.1}\n", "b.yaml"), config::ConfigError);
+}
+
 TEST(LatencyStats, PercentilesWindowAndRun) {
   LatencyStats s;
   for (int i = 1; i <= 100; ++i) s.Add(i * 1000);  // 1..100 ms

@@ -78,9 +78,11 @@ TEST(BridgeUdpm, ReplayPublishesToAnotherProcess) {
   for (int i = 0; i < 10; ++i) lcm.handleTimeout(20);  // the tail still in the socket
   std::filesystem::remove_all(out);
   ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "replay failed";
-  // 300 scan commands + 3 shutdown commands; UDP on loopback may still drop a few.
+  // 300 scan commands + 3 shutdown commands; UDP on loopback may still drop a few. A paced
+  // replay also ticks the display (watchdog) whenever the log is silent for a tick period
+  // (5 ms at 200 Hz): at most one per period of the ~0.75 s run.
   EXPECT_GE(got.count, 290);
-  EXPECT_LE(got.count, 303);
+  EXPECT_LE(got.count, 303 + 150);
   EXPECT_EQ(got.out_of_order, 0);
   EXPECT_EQ(got.over_limit, 0);
   EXPECT_GT(got.nonzero, 40);

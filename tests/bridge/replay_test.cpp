@@ -13,6 +13,7 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "bridge_test_util.h"
+#include "tests/common/lcm_log_check.h"
 #include "display/lcm_conversions.h"
 #include "display/lcm_log_reader.h"
 #include "sedbridge/lcmt_bridge_status.hpp"
@@ -197,6 +198,68 @@ TEST(Replay, TwoReplaysWriteIdenticalOutput) {
     EXPECT_EQ(sx.str(), sy.str()) << f;
   }
   for (const std::string& dir : dirs) std::filesystem::remove_all(dir);
+}
+
+
+TEST(Replay, ExceptionInAStageStillZeroesTheDisplayAndClosesTheLog) {
+  // A stage failing mid-press (here the per-scan callback, after the display is on) must
+  // leave a final zero on the bus and in a whole log before the error propagates.
+  const BridgeConfig config = testing::TestConfig();
+  sensors::CandumpLogSource source(testing::ExampleLogPath());
+  const std::string dir = TempDir("exception");
+  ReplayOptions options;
+  options.out_dir = dir;
+  double max_seen = 0;
+  options.on_scan = [&](const ScanOutcome& o, BridgePipeline&) {
+    max_seen = std::max(max_seen, o.max_command);
+    if (max_seen > 1.0) throw std::runtime_error("stage failed");
+  };
+  EXPECT_THROW(RunReplay(config, source, options), std::runtime_error);
+  ASSERT_GT(max_seen, 1.0);
+  const auto log = sedbridge::testing::ReadLog(dir + "/bridge.lcmlog");
+  EXPECT_TRUE(log.whole());
+  ASSERT_FALSE(log.commands.empty());
+  EXPECT_TRUE(log.commands.back().shutdown);
+  EXPECT_TRUE(sedbridge::testing::AllZero(log.commands.back()));
+  std::filesystem::remove_all(dir);
+}
+
+TEST(Replay, StopFlagEndsTheRunWithTheDisplayAtZero) {
+  const BridgeConfig config = testing::TestConfig();
+  sensors::CandumpLogSource source(testing::ExampleLogPath());
+  std::atomic<bool> stop{false};
+  ReplayOptions options;
+  options.stop = &stop;
+  options.on_scan = [&](const ScanOutcome& o, BridgePipeline&) {
+    if (o.max_command > 1.0) stop = true;
+  };
+  const ReplayResult r = RunReplay(config, source, options);
+  EXPECT_TRUE(r.stopped_early);
+  EXPECT_LT(r.rows.size(), 300u);  // not the whole log
+}
+
+
+TEST(Replay, BusOffAndErrorPassiveRaiseFaultStateOnBridgeStatus) {
+  // Issue 13: 4800 bus-off error frames left fault_state at 0.
+  const BridgeConfig config = testing::TestConfig();
+  sensors::CandumpLogSource source(testing::ExampleLogPath());
+  ReplayOptions options;
+  int checked = 0;
+  options.on_scan = [&](const ScanOutcome&, BridgePipeline& p) {
+    if (checked++ != 10) return;
+    sensors::BadFrameCounters c;
+    EXPECT_EQ(p.MakeStatus(0).fault_state, 0);
+    c.bus_state = sensors::kBusErrorPassive;
+    p.SetSensorCounters(c, {});
+    EXPECT_EQ(p.MakeStatus(0).fault_state, 1);
+    EXPECT_EQ(p.MakeStatus(0).fault_message, "CAN error-passive");
+    c.bus_state = sensors::kBusOff;
+    p.SetSensorCounters(c, {});
+    EXPECT_EQ(p.MakeStatus(0).fault_state, 2);
+    EXPECT_EQ(p.MakeStatus(0).fault_message, "CAN bus-off");
+  };
+  RunReplay(config, source, options);
+  EXPECT_GT(checked, 10);
 }
 
 }  // namespace

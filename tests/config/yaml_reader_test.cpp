@@ -63,5 +63,50 @@ TEST(YamlReader, MissingRequiredKeyIsAnError) {
   EXPECT_THROW(r.Required<double>("b"), ConfigError);
 }
 
+
+TEST(YamlReader, DuplicateKeyIsAnErrorAtTheSecondOccurrence) {
+  // yaml-cpp keeps the first: `max: 20` then `max: 5` would silently mean 20.
+  try {
+    LoadYamlString("safety:\n  max: 20\n  max: 5\n", "d.yaml");
+    FAIL() << "duplicate key accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(std::string(e.what()), "d.yaml:3:3: duplicate key 'max' (given earlier in the same mapping)");
+  }
+  // Inside a sequence of mappings too; the same key in two different mappings is fine.
+  EXPECT_THROW(LoadYamlString("k:\n  - {a: 1, a: 2}\n", "s.yaml"), ConfigError);
+  EXPECT_NO_THROW(LoadYamlString("x: {a: 1}\ny: {a: 2}\n", "ok.yaml"));
+}
+
+TEST(YamlReader, NonFiniteNumbersAreErrors) {
+  for (const char* text : {"v: .nan\n", "v: .inf\n", "v: -.inf\n", "v: .NaN\n"}) {
+    auto doc = LoadYamlString(text, "n.yaml");
+    MapReader r(doc.root, doc.file);
+    try {
+      r.Required<double>("v");
+      FAIL() << text;
+    } catch (const ConfigError& e) {
+      EXPECT_NE(std::string(e.what()).find("n.yaml:1:4: 'v' must be a finite number"), std::string::npos) << e.what();
+    }
+  }
+  auto doc = LoadYamlString("v: [1, 2, .nan]\nf: .inf\n", "n.yaml");
+  MapReader r(doc.root, doc.file);
+  EXPECT_THROW(r.Required<std::vector<double>>("v"), ConfigError);
+  EXPECT_THROW(r.Optional<float>("f", 1.0f), ConfigError);
+  // A value too large for a double is not silently infinite either.
+  auto big = LoadYamlString("v: 1e400\n", "b.yaml");
+  MapReader rb(big.root, big.file);
+  EXPECT_THROW(rb.Required<double>("v"), ConfigError);
+}
+
+TEST(YamlReader, AliasBombIsRejected) {
+  std::string text = "a0: &a0 [x, x, x, x, x, x, x, x, x, x]\n";
+  for (int i = 1; i < 9; ++i)
+    text += "a" + std::to_string(i) + ": &a" + std::to_string(i) + " [" + std::string("*a") + std::to_string(i - 1) +
+            ", *a" + std::to_string(i - 1) + ", *a" + std::to_string(i - 1) + ", *a" + std::to_string(i - 1) +
+            ", *a" + std::to_string(i - 1) + ", *a" + std::to_string(i - 1) + ", *a" + std::to_string(i - 1) +
+            ", *a" + std::to_string(i - 1) + ", *a" + std::to_string(i - 1) + ", *a" + std::to_string(i - 1) + "]\n";
+  EXPECT_THROW(LoadYamlString(text, "bomb.yaml"), ConfigError);
+}
+
 }  // namespace
 }  // namespace sedbridge::config

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "config/config_error.h"
+#include "display/safety_limiter.h"
 
 namespace sedbridge::display {
 namespace {
@@ -105,6 +106,76 @@ TEST(DisplayProfile, SafetyCannotBeSwitchedOff) {
   EXPECT_THROW(Parse(with("watchdog_timeout_s: 0.1", "watchdog_timeout_s: -1")), config::ConfigError);
   EXPECT_THROW(Parse(with("  max: 20.0\n", "")), config::ConfigError);
   EXPECT_THROW(Parse(with("max: 20.0", "max: .nan")), config::ConfigError);
+}
+
+TEST(DisplayProfile, EveryLimitIsCheckedAgainstItsKindsSaneRange) {
+  auto with = [](const std::string& from, const std::string& to) {
+    std::string text = Profile();
+    text.replace(text.find(from), from.size(), to);
+    return text;
+  };
+  auto message = [](const std::string& text) -> std::string {
+    try {
+      Parse(text);
+    } catch (const config::ConfigError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  // Suction cannot go past ambient: range above 100 kPa is rejected, naming the limit.
+  const std::string range = message(with("range: [0.0, 40.0]", "range: [0.0, 1e30]"));
+  EXPECT_NE(range.find("p.yaml:6:8: 'range' maximum 1e+30 kPa exceeds 100 kPa"), std::string::npos) << range;
+  EXPECT_NE(message(with("range: [0.0, 40.0]", "range: [0.0, 101]")), "accepted");
+  EXPECT_EQ(message(with("range: [0.0, 40.0]", "range: [0.0, 100]")), "accepted");
+  // max 1e300 (issue 13: published +Inf) is far outside any range.
+  EXPECT_NE(message(with("max: 20.0", "max: 1e300")), "accepted");
+  // Slew: full scale in no less than 0.1 s.
+  const std::string slew = message(with("slew_rate_per_s: 100.0", "slew_rate_per_s: 1e30"));
+  EXPECT_NE(slew.find("'slew_rate_per_s' must be in (0, 1000 kPa/s]"), std::string::npos) << slew;
+  EXPECT_EQ(message(with("slew_rate_per_s: 100.0", "slew_rate_per_s: 1000")), "accepted");
+  // Transfer cap and calibration cannot exceed the kind's limit either.
+  EXPECT_NE(message(Profile("", "  saturation: 500\n")), "accepted");
+  EXPECT_NE(message(Profile("", "  calibration: {offset: [0, 0, 0, 0, 0, 1000]}\n")), "accepted");
+  EXPECT_NE(message(Profile("", "  calibration: {gain: [1, 1, 1, 1, 1, 1e6]}\n")), "accepted");
+  // Pins: 5 mm at most; current: 10 mA at most.
+  std::string pin = Profile();
+  pin.replace(pin.find("kind: suction"), 13, "kind: pin");
+  pin.replace(pin.find("unit: kPa"), 9, "unit: mm");
+  EXPECT_NE(message(pin), "accepted");  // range 40 mm
+  pin.replace(pin.find("range: [0.0, 40.0]"), 18, "range: [0.0, 5.0]");
+  pin.replace(pin.find("max: 20.0"), 9, "max: 2.0");
+  pin.replace(pin.find("slew_rate_per_s: 100.0"), 22, "slew_rate_per_s: 20.0");
+  EXPECT_EQ(message(pin), "accepted");
+  std::string current = Profile();
+  current.replace(current.find("kind: suction"), 13, "kind: electrotactile");
+  current.replace(current.find("unit: kPa"), 9, "unit: mA");
+  current.replace(current.find("range: [0.0, 40.0]"), 18, "range: [0.0, 12.0]");
+  current.replace(current.find("max: 20.0"), 9, "max: 4.0");
+  EXPECT_NE(message(current).find("exceeds 10 mA"), std::string::npos) << message(current);
+}
+
+TEST(DisplayProfile, RangeMinimumIsHonoured) {
+  auto with = [](const std::string& from, const std::string& to) {
+    std::string text = Profile();
+    text.replace(text.find(from), from.size(), to);
+    return text;
+  };
+  // max at or below the device minimum: the display could never turn on.
+  EXPECT_THROW(Parse(with("range: [0.0, 40.0]", "range: [25.0, 40.0]")), config::ConfigError);
+  const DisplayProfile p = Parse(with("range: [0.0, 40.0]", "range: [3.0, 40.0]"));
+  EXPECT_DOUBLE_EQ(p.range_min, 3.0);
+  // ... and the limiter gets it as its dead band.
+  EXPECT_DOUBLE_EQ(SafetyLimits::FromProfile(p).min_nonzero, 3.0);
+}
+
+TEST(DisplayProfile, DuplicateSafetyKeyIsAnError) {
+  // Issue 13: `max: 20` then `max: 5` published 20 kPa.
+  try {
+    Parse(Profile("  max: 5.0\n"));
+    FAIL() << "duplicate accepted";
+  } catch (const config::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("p.yaml:11:3: duplicate key 'max'"), std::string::npos) << e.what();
+  }
 }
 
 TEST(DisplayProfile, UnitMustMatchKind) {

@@ -107,6 +107,31 @@ TEST(SafetyLimiter, NoJumpAfterAPause) {
   EXPECT_LE(out.value[0], 100.0 * 0.1 + 1e-12);
 }
 
+TEST(SafetyLimiter, SparseMessagesRiseByTimeNotByMessage) {
+  // Messages 0.2 s apart: each may rise only kMaxRiseInterval_s worth of slew, so 0 -> 10
+  // takes several messages instead of one (issue 13: 0 -> 20 kPa in one message).
+  SafetyLimiter lim(Limits());
+  lim.Apply(0, 1, {10, 10, 5});
+  const auto& out = lim.Apply(200 * kMs, 2, {10, 10, 5});
+  EXPECT_NEAR(out.value[0], 100.0 * kMaxRiseInterval_s, 1e-12);
+  EXPECT_LT(out.value[0], 10.0);
+}
+
+TEST(SafetyLimiter, DeadBandBelowTheDeviceMinimumIsSentAsZero) {
+  SafetyLimits l = Limits();
+  l.min_nonzero = 2.0;  // the device accepts 0 or [2, max]
+  SafetyLimiter lim(l);
+  int64_t t = 0;
+  std::vector<double> seen;
+  for (int k = 0; k < 30; ++k, t += 10 * kMs) seen.push_back(lim.Apply(t, k + 1, {10, 1.5, 5}).value[0]);
+  for (double y : seen) EXPECT_TRUE(y == 0.0 || y >= 2.0) << y;
+  EXPECT_DOUBLE_EQ(seen[1], 0.0);   // ramp at 1: below the minimum, off
+  EXPECT_DOUBLE_EQ(seen[2], 2.0);   // ramp at 2: on
+  EXPECT_DOUBLE_EQ(lim.last().value[1], 0.0);  // a request of 1.5 can never be rendered
+  l.min_nonzero = -1;
+  EXPECT_THROW(SafetyLimiter{l}, std::invalid_argument);
+}
+
 TEST(SafetyLimiter, ShutdownIsZeroForGood) {
   SafetyLimiter lim(Limits());
   for (int k = 0; k < 50; ++k) lim.Apply(k * 10 * kMs, k + 1, {9, 9, 4});
@@ -183,15 +208,17 @@ struct Checker {
       ASSERT_TRUE(std::isfinite(y)) << where << " t=" << t;
       ASSERT_GE(y, 0.0) << where << " t=" << t;
       ASSERT_LE(y, limits.max[i]) << where << " t=" << t << " actuator " << i;
+      ASSERT_TRUE(y == 0.0 || y >= limits.min_nonzero) << where << " in the dead band at t=" << t;
       if (!have_prev) {
         ASSERT_EQ(y, 0.0) << "first output must start from rest";
         continue;
       }
       const double tol = 1e-9;
       const double step = y - prev[i];
-      ASSERT_LE(step, limits.slew_rate_per_s * std::min(dt, limits.watchdog_timeout_s) + tol)
+      ASSERT_LE(step, limits.slew_rate_per_s * std::min({dt, limits.watchdog_timeout_s, kMaxRiseInterval_s}) +
+                          limits.min_nonzero + tol)
           << where << " rise too fast at t=" << t << " actuator " << i;
-      const bool dropped_to_zero_for_safety = y == 0.0 && (out.fault || out.shutdown);
+      const bool dropped_to_zero_for_safety = y == 0.0 && (out.fault || out.shutdown || limits.min_nonzero > 0);
       if (!dropped_to_zero_for_safety) {
         ASSERT_GE(step, -limits.slew_rate_per_s * dt - tol)
             << where << " fall too fast at t=" << t << " actuator " << i;
@@ -213,6 +240,8 @@ TEST_P(SafetyLimiterProperty, NeverAboveMaxNeverFasterThanSlewZeroAfterSilence) 
   for (int i = 0; i < n; ++i) limits.max.push_back(adv.Uniform(0.1, 50));
   limits.slew_rate_per_s = adv.Uniform(1, 2000);
   limits.watchdog_timeout_s = adv.Uniform(0.005, 1.0);
+  // Half the seeds with a device dead band below range[0].
+  if (adv.Pick(2)) limits.min_nonzero = adv.Uniform(0, 0.4 * *std::min_element(limits.max.begin(), limits.max.end()));
   SafetyLimiter lim(limits);
   Checker check{limits, {}, 0, false, 0};
   int faults = 0, clamps = 0, stales = 0;

@@ -46,5 +46,26 @@ TEST(PressExperiment, CoarsePressWritesTheOutputContract) {
   EXPECT_EQ(header, "x_mm,sed_Pa,sed_normalized");
 }
 
+
+TEST(PressExperiment, NoFiniteForceIsAClearErrorNotACrash) {
+  // Issue 13: contact.stiffness_N_m: 1e300 gave non-finite forces at every step, no step was
+  // selected and index -1 was read (SIGSEGV).
+  SceneDescription d = ReadSceneDescription(config::ResolveResource("config/scenes/paper_press.yaml"));
+  d.model = "B_coarse";
+  d.steps = 2;
+  d.dt_s = 0.5;
+  d.outputs.vtu_every = 0;
+  ASSERT_TRUE(d.contact.has_value());
+  d.contact->params.stiffness_N_m = 1e300;
+  FingertipScene scene(d);
+  try {
+    const PressResult r = RunPress(scene, PressOptions{});
+    // If the solver happens to stay finite, a step must have been selected.
+    EXPECT_GE(r.selected, 0);
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("no step has a finite contact force"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace sedbridge::scene

@@ -75,5 +75,21 @@ TEST(SceneDescription, FastPresetFactorizesOnceWithoutContactAndPreconditionsWit
   EXPECT_EQ(cli.solver, "pcg_warp");
 }
 
+
+TEST(SceneDescription, StepCountAndKeyframesAreBounded) {
+  // Issue 13: 2e9 steps ran until killed; a .nan keyframe ran with d = nan and exited 0.
+  EXPECT_THROW(ParseSceneDescription("model: B\ndynamics: {steps: 2000000000}\n", "s.yaml"), config::ConfigError);
+  EXPECT_NO_THROW(ParseSceneDescription("model: B\ndynamics: {steps: 1000000}\n", "s.yaml"));
+  const std::string nan_key =
+      "model: B\ncontact:\n  objects:\n    - name: plane\n      shape: plane\n      rpy_deg: [180, 0, 0]\n"
+      "      motion:\n        keyframes:\n          - {t_s: 0}\n          - {t_s: 1, offset_mm: [0, 0, .nan]}\n";
+  try {
+    ParseSceneDescription(nan_key, "k.yaml");
+    FAIL() << "NaN keyframe accepted";
+  } catch (const config::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("finite"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace sedbridge::scene

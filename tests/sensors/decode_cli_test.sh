@@ -26,6 +26,12 @@ grep -Eq 'bus_off 1' faults.txt || fail "bus-off decoded"
 [ "$(wc -l < faults.csv)" -eq 5 ] || fail "csv rows"
 head -1 faults.csv | grep -q '^scan,utime,complete,t0_z_Pa,t1_z_Pa' || fail "csv header"
 
+# 1b. A bad line's bytes are not echoed raw: an escape sequence is shown as \x1b.
+printf '(1.000000) can0 405#0000\n(1.000100) \033[2Jcan0 x\n' > escape.log
+"$bin" decode --profile cyskin_16 escape.log > escape.txt || true
+if grep -q "$(printf '\033')" escape.txt; then fail "raw escape byte echoed"; fi
+grep -q 'x1b\[2J' escape.txt || fail "escape shown as \\x1b"
+
 # 2. make-log -> decode round trip for every shipped profile.
 for profile in uskin_4x4 cyskin_16 barrett_bh8_pad; do
   "$bin" make-log --profile $profile --scene "$src/config/scenes/sensor_sphere_press.yaml" \

@@ -140,7 +140,9 @@ TEST_F(CyskinAssemblerTest, ForeignAndMalformedFramesAreCountedByKind) {
   EXPECT_TRUE(scans_.empty());
 }
 
-TEST_F(CyskinAssemblerTest, SaturatedReadingIsInvalid) {
+TEST_F(CyskinAssemblerTest, SaturatedReadingIsFullScaleWithAFlagNeverSilence) {
+  // Issue 13: saturated taxels were invalid (then filled or zeroed), so the hardest contact
+  // gave zero feedback. Now: valid, at the full-scale value, flagged.
   ScanAssembler a(profile_);
   std::vector<int32_t> raw(16, 1500);
   raw[6] = 65535;
@@ -149,8 +151,66 @@ TEST_F(CyskinAssemblerTest, SaturatedReadingIsInvalid) {
   ASSERT_EQ(scans_.size(), 1u);
   EXPECT_EQ(scans_[0].flags[6], kTaxelSaturated);
   EXPECT_EQ(scans_[0].flags[7], kTaxelSaturated);
-  EXPECT_EQ(scans_[0].ValidCount(), 14);
+  EXPECT_TRUE(scans_[0].valid[6]);
+  EXPECT_TRUE(scans_[0].valid[7]);
+  EXPECT_EQ(scans_[0].ValidCount(), 16);
+  EXPECT_EQ(scans_[0].SaturatedCount(), 2);
+  // kPa = (raw - 1000) * 0.02: full scale 1290.7 kPa, far above the 10 kPa of its neighbours.
+  EXPECT_NEAR(scans_[0].pressure_Pa[6], (65535 - 1000) * 0.02 * 1e3, 1e-6);
+  EXPECT_GT(scans_[0].pressure_Pa[6], 100 * scans_[0].pressure_Pa[5]);
   EXPECT_EQ(a.counters().saturated_values, 2);
+}
+
+TEST_F(CyskinAssemblerTest, FramesFromAnotherInterfaceAreNotThisSensors) {
+  AssemblerOptions o;
+  o.interface = "can0";
+  ScanAssembler a(profile_, o);
+  for (Frame f : ScanFrames(1500, 0)) {
+    f.SetInterface("can1");  // the same sensor ids on another bus
+    a.Push(f, &scans_);
+  }
+  EXPECT_TRUE(scans_.empty());
+  EXPECT_EQ(a.counters().other_interface, 4);
+  for (Frame f : ScanFrames(1500, 10000)) {
+    f.SetInterface("can0");
+    a.Push(f, &scans_);
+  }
+  ASSERT_EQ(scans_.size(), 1u);
+  EXPECT_TRUE(scans_[0].complete);
+  // Without an interface set, any bus is taken (one SocketCAN socket = one bus).
+  ScanAssembler any(profile_);
+  std::vector<Scan> out;
+  for (Frame f : ScanFrames(1500, 0)) {
+    f.SetInterface("can1");
+    any.Push(f, &out);
+  }
+  EXPECT_EQ(out.size(), 1u);
+}
+
+TEST_F(CyskinAssemblerTest, BusOffAndErrorPassiveSetTheBusState) {
+  ScanAssembler a(profile_);
+  Frame passive;
+  passive.error = true;
+  passive.id = 0x04;  // CAN_ERR_CRTL
+  passive.len = 8;
+  passive.data[1] = 0x10;  // CAN_ERR_CRTL_RX_PASSIVE
+  a.Push(passive, &scans_);
+  EXPECT_EQ(a.counters().bus_state, kBusErrorPassive);
+  EXPECT_EQ(a.counters().error_passive_events, 1);
+  Frame off;
+  off.error = true;
+  off.id = 0x40;  // CAN_ERR_BUSOFF
+  off.len = 8;
+  for (int k = 0; k < 4800; ++k) a.Push(off, &scans_);  // issue 13: 4800 of them left fault_state 0
+  EXPECT_EQ(a.counters().bus_state, kBusOff);
+  EXPECT_EQ(a.counters().bus_off_events, 4800);
+  EXPECT_EQ(a.counters().error_frames, 4801);
+  Frame restarted;
+  restarted.error = true;
+  restarted.id = 0x100;  // CAN_ERR_RESTARTED
+  restarted.len = 8;
+  a.Push(restarted, &scans_);
+  EXPECT_EQ(a.counters().bus_state, kBusErrorActive);
 }
 
 TEST_F(CyskinAssemblerTest, CalibrationGivingNanMarksTheTaxelInvalidAndZero) {
