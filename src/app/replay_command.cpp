@@ -127,7 +127,10 @@ int RunReplayCommand(int argc, char** argv) {
   sensors::InterfaceFilterSource source(log, args.GetOptional("interface").value_or(""));
   ReplayOptions options = ReadReplayOutputOptions(args, config);
   options.stop = &signals.flag();
-  options.can_interface = config.can_interface;  // sensor.interface: frames of other buses are not this sensor's
+  // One bus filter: --interface picks the sensor's bus of a multi-bus log (frames of other
+  // buses are counted as other_interface); without it every frame is read and a mixed log
+  // is reported below. The config's sensor.interface names the live bus of `run`.
+  options.can_interface = args.GetOptional("interface").value_or("");
   if (speed != "max") {
     options.paced_speed = playback.speed;  // live: tick the display's watchdog through pauses
     options.idle_tick_period_us = static_cast<int64_t>(1e6 / config.tick_Hz);
@@ -143,8 +146,9 @@ int RunReplayCommand(int argc, char** argv) {
     return signals.ExitCode(0);
   }
   if (source.interfaces_seen().size() > 1 && !args.Has("interface"))
-    std::printf("warning: the log mixes interfaces (%s); --interface NAME keeps one\n",
-                JoinNames(source.interfaces_seen()).c_str());
+    std::printf("warning: the log mixes interfaces (%s) in one sensor's scans; --interface NAME keeps one "
+                "(sensor.interface of the config: %s)\n",
+                JoinNames(source.interfaces_seen()).c_str(), config.can_interface.c_str());
   if (result.rows.empty()) {
     std::fprintf(stderr, "sedbridge replay: error: %s\n", WhyNoScans(log, source, config.sensor_profile).c_str());
     return 1;
