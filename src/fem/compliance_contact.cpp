@@ -281,6 +281,7 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
   result_.contacts.clear();
   result_.spring_force_N.setZero();
   result_.tangential_force_N.setZero();
+  result_.friction_force_N.setZero();
   if (!tangential_force_N.allFinite() || !std::isfinite(t_s)) {
     result_.error = "non-finite tangential force or time";
     return result_;

@@ -83,7 +83,8 @@ class FingertipCompliance {
   /// Pushes the objects (pad-frame poses at first touch, their trajectory at t = 0) along
   /// -z_pad until their total normal force is target_force_N; the state of the last step
   /// (SED, contacts) is then the answer's. Never throws for bad input: see status.
-  /// Warm-started from the last call's indentation.
+  /// Warm-started from the last call's indentation. With friction springs the anchors of
+  /// earlier steps are dropped first (frictionless press: nothing is anchored yet).
   PressToForceResult PressToForce(const std::vector<geometry::RigidObject>& objects_pad_at_touch,
                                   double target_force_N, const PressToForceOptions& options = {},
                                   const Eigen::Vector2d& tangential_pad_N = Eigen::Vector2d::Zero());
