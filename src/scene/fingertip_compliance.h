@@ -7,6 +7,17 @@
 // indentation at which objects reach a given force (contact reconstruction, issue 11).
 //
 // Units: SI inside; names carry the unit at the boundaries (depth_mm, force_N, sed_Pa).
+//
+// Use (contact reconstruction: one hypothesis pressed to the force the sensor measured):
+//   const model::FingertipModel model = model::LoadFingertipModel("B");
+//   scene::FingertipComplianceOptions options;
+//   options.contact.cache_dir = "out/cache";          // ~0.6 s precompute on B, then 0.04 s
+//   scene::FingertipCompliance fingertip(model, options);
+//   geometry::RigidObject sphere{"s", std::make_shared<geometry::SphereSdf>(8e-3),
+//       geometry::Trajectory(Eigen::Isometry3d(Eigen::Translation3d(0, 1e-3, 8e-3)))};  // pad frame, touching
+//   const scene::PressToForceResult r = fingertip.PressToForce({sphere}, 1.0 /*N*/, {}, shear_pad_N);
+//   if (r.reached) use(fingertip.sed_Pa(), fingertip.merkel_rest_pad_mm());  // else r.status says why
+// or, with poses already known, fingertip.Step(objects_pad, t_s, shear_pad_N) each scan.
 
 #include <Eigen/Core>
 #include <memory>
