@@ -74,6 +74,8 @@ def configurations(quick):
             c.append((f"{m}_corot_pcgwarp", dict(model=m, solver="pcg_warp", tol=1e-6)))
     # Element formulation.
     c.append(("B_linear_ldlt", dict(model="B", elasticity="linear")))
+    # Contact by the compliance method (linear, quasi-static; same answer as B_linear_ldlt).
+    c.append(("B_linear_compliance", dict(model="B", elasticity="linear", solver="compliance")))
     # Linear solver, tolerance, iteration cap, preconditioner.
     for tol in ([1e-4, 1e-6] if quick else [1e-3, 1e-4, 1e-6, 1e-8]):
         c.append((f"B_corot_pcgwarp_tol{tol:g}", dict(model="B", solver="pcg_warp", tol=tol)))

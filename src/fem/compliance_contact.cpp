@@ -281,6 +281,7 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
   result_.contacts.clear();
   result_.spring_force_N.setZero();
   result_.tangential_force_N.setZero();
+  result_.friction_force_N.setZero();
   if (!tangential_force_N.allFinite() || !std::isfinite(t_s)) {
     result_.error = "non-finite tangential force or time";
     return result_;
@@ -577,7 +578,9 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau) {
   passive_.clear();
   for (int r = 0; r < rows; ++r)
     if (r >= bounded_rows_ || row_lambda_[r] > 0) passive_.push_back(r);
-  std::vector<int> before_add;
+  // Work lists are members: no allocation once they have grown (the step is real time).
+  std::vector<int>& before_add = before_add_;
+  before_add.clear();
   int most_violated = -1;
   bool batch_added = false;
   largest_ = 0;
@@ -614,7 +617,8 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau) {
         batch_added = false;
         continue;
       }
-      std::vector<int> kept;
+      std::vector<int>& kept = kept_;
+      kept.clear();
       for (int a = 0; a < m; ++a) {
         const int r = passive_[size_t(a)];
         row_lambda_[r] += alpha * (z_[a] - row_lambda_[r]);
@@ -640,7 +644,8 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau) {
     before_add = passive_;
     most_violated = -1;
     double worst = -gap_tolerance;
-    std::vector<char> in_passive(size_t(rows), 0);
+    std::vector<char>& in_passive = in_passive_;
+    in_passive.assign(size_t(rows), 0);
     for (int r : passive_) in_passive[size_t(r)] = 1;
     for (int r = 0; r < bounded_rows_; ++r) {
       if (in_passive[size_t(r)]) continue;

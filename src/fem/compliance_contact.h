@@ -170,7 +170,8 @@ class ComplianceContact {
   int bounded_rows_ = 0;
   Eigen::VectorXd held_;  // forces held fixed during a QP (the tangential load)
   Eigen::Matrix3Xd state_, mapped_, residual_, previous_mapped_, previous_residual_;  // Anderson(1)
-  std::vector<int> passive_;
+  std::vector<int> passive_, before_add_, kept_;
+  std::vector<char> in_passive_;
   double largest_ = 0;
   Eigen::Matrix3Xd rest_c_;
   std::vector<Eigen::Isometry3d> pose_, pose_inverse_;  // per object, this step

@@ -149,6 +149,8 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
       return r;
     }
   }
+  // Friction anchors belong to a stepped scene, not to a hypothesis being pressed.
+  if (options_.contact.friction_anisotropy > 0) contact_->ResetWarmStart();
   std::vector<geometry::RigidObject> pushed = objects_pad;
   std::vector<geometry::RigidObject> last_model;
   bool solve_failed = false, solve_unconverged = false;

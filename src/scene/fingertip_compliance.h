@@ -7,6 +7,17 @@
 // indentation at which objects reach a given force (contact reconstruction, issue 11).
 //
 // Units: SI inside; names carry the unit at the boundaries (depth_mm, force_N, sed_Pa).
+//
+// Use (contact reconstruction: one hypothesis pressed to the force the sensor measured):
+//   const model::FingertipModel model = model::LoadFingertipModel("B");
+//   scene::FingertipComplianceOptions options;
+//   options.contact.cache_dir = "out/cache";          // ~0.6 s precompute on B, then 0.04 s
+//   scene::FingertipCompliance fingertip(model, options);
+//   geometry::RigidObject sphere{"s", std::make_shared<geometry::SphereSdf>(8e-3),
+//       geometry::Trajectory(Eigen::Isometry3d(Eigen::Translation3d(0, 1e-3, 8e-3)))};  // pad frame, touching
+//   const scene::PressToForceResult r = fingertip.PressToForce({sphere}, 1.0 /*N*/, {}, shear_pad_N);
+//   if (r.reached) use(fingertip.sed_Pa(), fingertip.merkel_rest_pad_mm());  // else r.status says why
+// or, with poses already known, fingertip.Step(objects_pad, t_s, shear_pad_N) each scan.
 
 #include <Eigen/Core>
 #include <memory>
@@ -83,7 +94,8 @@ class FingertipCompliance {
   /// Pushes the objects (pad-frame poses at first touch, their trajectory at t = 0) along
   /// -z_pad until their total normal force is target_force_N; the state of the last step
   /// (SED, contacts) is then the answer's. Never throws for bad input: see status.
-  /// Warm-started from the last call's indentation.
+  /// Warm-started from the last call's indentation. With friction springs the anchors of
+  /// earlier steps are dropped first (frictionless press: nothing is anchored yet).
   PressToForceResult PressToForce(const std::vector<geometry::RigidObject>& objects_pad_at_touch,
                                   double target_force_N, const PressToForceOptions& options = {},
                                   const Eigen::Vector2d& tangential_pad_N = Eigen::Vector2d::Zero());
