@@ -16,6 +16,15 @@
 namespace sedbridge::bridge {
 
 std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::SensorProfile& profile) {
+  if (config.fe_step == "contact" && (!profile.has_forward_model || profile.axes != 3)) {
+    std::fprintf(stderr,
+                 "note: fe.step contact needs a three-axis sensor profile with a calibrated forward_model ('%s' has "
+                 "none); using the pressure map (fe.step reduced)\n",
+                 profile.name.c_str());
+    BridgeConfig map = config;
+    map.fe_step = "reduced";
+    return MakeFeStep(map, profile);
+  }
   if (config.fe_step == "contact") {
     // The pressure map stays as the fallback for scans the reconstruction cannot explain.
     BridgeConfig map = config;
@@ -85,6 +94,10 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   auto* scene_step = dynamic_cast<SceneFeStep*>(&pipeline.fe());
   auto* reduced_step = dynamic_cast<ReducedLinearFeStep*>(&pipeline.fe());
   std::unique_ptr<scene::PvdCollection> pvd;
+  if (options.vtu_every > 0 && !scene_step && !reduced_step)
+    std::fprintf(stderr,
+                 "note: --vtu-every writes frames with fe.step scene or reduced; the contact step (compliance method) "
+                 "keeps no full displacement field\n");
   if (options.vtu_every > 0 && (scene_step || reduced_step) && !options.out_dir.empty())
     pvd = std::make_unique<scene::PvdCollection>((std::filesystem::path(options.out_dir) / "frames.pvd").string(),
                                                  "time since the first scan [s] (log time)");

@@ -41,8 +41,16 @@ def main():
     a = ap.parse_args()
     out = os.path.join(a.work, "replay_vtu")
     env = dict(os.environ, LCM_DEFAULT_URL="memq://")
-    subprocess.run([a.sedbridge, "replay", os.path.join(a.root, "config/bridge/example_press.log"), "--out", out,
-                    "--vtu-every", "150", "--no-plots", "--quiet"], check=True, stdout=subprocess.DEVNULL, env=env)
+    # The pressure map's reduced step writes full-field frames (the default contact step does not).
+    os.makedirs(a.work, exist_ok=True)
+    config = os.path.join(a.work, "reduced.yaml")
+    with open(os.path.join(a.root, "config/bridge/default.yaml")) as f:
+        text = f.read()
+    with open(config, "w") as f:
+        f.write(text.replace("step: contact", "step: reduced"))
+    subprocess.run([a.sedbridge, "replay", os.path.join(a.root, "config/bridge/example_press.log"), "--config", config,
+                    "--out", out, "--vtu-every", "150", "--no-plots", "--quiet"], check=True, stdout=subprocess.DEVNULL,
+                   env=env)
     rest_reader = read(os.path.join(out, "frame_000000.vtu"))
     pressed_reader = read(os.path.join(out, "frame_000150.vtu"))
     rest, pressed = rest_reader.GetOutput(), pressed_reader.GetOutput()
