@@ -92,7 +92,7 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
 
   if (estimate_.ok && !estimate_.contact) {
     ++counters_.no_contact;
-    leader_->contact().ResetWarmStart();
+    leader_->ResetWarmStart();
     result_ = MerkelSedResult{};
     result_.ok = true;
     result_.sed_Pa = &zero_sed_;

@@ -130,7 +130,7 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
   }
   // Reconstructed contact.
   if (row.recon_ok) {
-    leader_->contact().ResetWarmStart();
+    leader_->ResetWarmStart();
     const auto r = leader_->PressToForce({ToRigidObject(row.recon_object)}, row.recon_object.normal_force_N, {},
                                          Eigen::Vector2d(row.recon_object.shear_x_N, row.recon_object.shear_y_N));
     row.recon_press = PressAnswered(r, *leader_) ? "reached" : scene::ToString(r.status);
@@ -139,7 +139,7 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
     row.recon_press = "fallback: " + at_peak.problem;
     maps->recon = maps->map;
   }
-  leader_->contact().ResetWarmStart();
+  leader_->ResetWarmStart();
   row.truth_max_sed_Pa = maps->truth.maxCoeff();
   row.map_max_sed_Pa = maps->map.maxCoeff();
   row.recon_max_sed_Pa = maps->recon.maxCoeff();

@@ -105,7 +105,13 @@ const fem::ComplianceStepResult& FingertipCompliance::Step(const std::vector<geo
                                                            double t_s, const Eigen::Vector2d& tangential_pad_N) {
   const Eigen::Vector3d t_model = model_.pad_frame.model_from_pad.linear() *
                                   Eigen::Vector3d(tangential_pad_N.x(), tangential_pad_N.y(), 0.0);
+  state_indentation_mm_ = -1;
   return contact_->Step(ToModel(objects_pad), t_s, t_model);
+}
+
+void FingertipCompliance::ResetWarmStart() {
+  contact_->ResetWarmStart();
+  state_indentation_mm_ = 0;
 }
 
 double FingertipCompliance::normal_force_N() const {
@@ -159,6 +165,7 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
     for (size_t k = 0; k < pushed.size(); ++k)
       pushed[k].trajectory = geometry::Trajectory(Eigen::Translation3d(0, 0, -d_mm * 1e-3) * touch[k]);
     last_model = ToModel(pushed);
+    state_indentation_mm_ = d_mm;
     const Eigen::Vector3d t_model = model_.pad_frame.model_from_pad.linear() *
                                     Eigen::Vector3d(tangential_pad_N.x(), tangential_pad_N.y(), 0.0);
     const fem::ComplianceStepResult& s = contact_->Step(last_model, 0.0, t_model);
@@ -210,27 +217,54 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
       return finish(PressStatus::kAboveTarget, 0.0, f_lo, "objects press harder than the target at indentation 0");
   }
 
-  // Bracket: start from the last answer scaled as Hertz (F ~ d^1.5), then grow.
-  double guess = 0.5;
-  if (last_indentation_mm_ > 0) guess = last_indentation_mm_ * std::pow(target_N / last_target_N_, 2.0 / 3.0);
-  guess = std::clamp(guess, 1e-3, opt.max_indentation_mm);
-  double hi = guess, f_hi = evaluate(hi);
-  while (f_hi < target_N) {
-    // Below the target and already touching skin outside the patch: pushing deeper only
-    // leaves the patch further (e.g. an object beside the finger).
-    if (TouchesOutsidePatch(last_model)) return finish(PressStatus::kPatchEdge, hi, f_hi, kEdge);
-    if (hi >= opt.max_indentation_mm) {
-      if (contact_->last().contacts.empty())
-        return finish(PressStatus::kNoContact, hi, f_hi, "nothing touches the patch up to max_indentation_mm");
-      return finish(PressStatus::kMaxDepth, hi, f_hi, "target not reached at max_indentation_mm");
+  // Bracket by marching from the contact state's own indentation (the last answer, when
+  // the objects are pressed scan after scan) in steps of at most max_step_mm (see there).
+  const double state = state_indentation_mm_;
+  if (state < 0) contact_->ResetWarmStart();
+  double d = std::clamp(state > 0 ? state : 0.0, 0.0, opt.max_indentation_mm);
+  double f = f_lo;
+  if (d > 0) {
+    f = evaluate(d);
+    if (solve_failed) return finish(PressStatus::kInvalidInput, d, f, contact_->last().error);
+    if (std::abs(f - target_N) <= tol) return finish(PressStatus::kReached, d, f, "");
+  }
+  const double step_max = std::max(1e-3, opt.max_step_mm);
+  double hi = d, f_hi = f;
+  if (f < target_N) {
+    lo = d, f_lo = f;
+    for (;;) {
+      // Below the target and already touching skin outside the patch: pushing deeper only
+      // leaves the patch further (e.g. an object beside the finger).
+      if (lo > 0 && TouchesOutsidePatch(last_model)) return finish(PressStatus::kPatchEdge, lo, f_lo, kEdge);
+      if (lo >= opt.max_indentation_mm) {
+        if (contact_->last().contacts.empty())
+          return finish(PressStatus::kNoContact, lo, f_lo, "nothing touches the patch up to max_indentation_mm");
+        return finish(PressStatus::kMaxDepth, lo, f_lo, "target not reached at max_indentation_mm");
+      }
+      if (r.iterations >= opt.max_iterations)
+        return finish(PressStatus::kNotConverged, lo, f_lo, "bracketing ran out of iterations");
+      // The Hertz estimate (F ~ d^1.5) plus 5 %, capped at max_step_mm.
+      double step = step_max;
+      if (f_lo > 0 && lo > 0) step = std::clamp(lo * (1.05 * std::pow(target_N / f_lo, 2.0 / 3.0) - 1.0), 0.01, step_max);
+      hi = std::min(opt.max_indentation_mm, lo + step);
+      f_hi = evaluate(hi);
+      if (solve_failed) return finish(PressStatus::kInvalidInput, hi, f_hi, contact_->last().error);
+      if (f_hi >= target_N) break;
+      lo = hi, f_lo = f_hi;
     }
-    if (r.iterations >= opt.max_iterations) return finish(PressStatus::kNotConverged, hi, f_hi, "bracketing ran out of iterations");
-    lo = hi, f_lo = f_hi;
-    // Grow by the Hertz estimate (F ~ d^1.5) plus 5 % so that the next point likely
-    // brackets the target tightly; double when nothing pushes back yet.
-    const double grow = f_hi > 0 ? std::clamp(1.05 * std::pow(target_N / f_hi, 2.0 / 3.0), 1.05, 2.0) : 2.0;
-    hi = std::min(opt.max_indentation_mm, std::max(grow * hi, hi + 0.01));
-    f_hi = evaluate(hi);
+  } else {
+    for (;;) {
+      if (hi <= 0)
+        return finish(PressStatus::kAboveTarget, 0.0, f_hi, "objects press harder than the target at indentation 0");
+      if (r.iterations >= opt.max_iterations)
+        return finish(PressStatus::kNotConverged, hi, f_hi, "bracketing ran out of iterations");
+      lo = std::max(0.0, hi - step_max);
+      f_lo = evaluate(lo);
+      if (solve_failed) return finish(PressStatus::kInvalidInput, lo, f_lo, contact_->last().error);
+      if (f_lo <= target_N) break;
+      hi = lo, f_hi = f_lo;
+    }
+    if (std::abs(f_lo - target_N) <= tol) return finish(PressStatus::kReached, lo, f_lo, "");
   }
   if (std::abs(f_hi - target_N) <= tol) return finish(PressStatus::kReached, hi, f_hi, "");
 

@@ -63,6 +63,10 @@ const char* ToString(PressStatus status);
 struct PressToForceOptions {
   double relative_tolerance = 1e-6;   ///< |force - target| <= this * target
   double max_indentation_mm = 5.0;    ///< deepest push tried
+  /// Largest indentation change between two contact solves [mm]: the SDF is evaluated at
+  /// the displaced nodes, so a jump deeper than a thin object's radius lets skin nodes
+  /// tunnel through it (a 1 mm rod pushed from 1 to 2 mm in one solve loses its force).
+  double max_step_mm = 0.2;
   int max_iterations = 60;            ///< contact solves in one call
 };
 
@@ -86,6 +90,9 @@ class FingertipCompliance {
   /// Contact with objects posed in the pad frame at time t_s, plus a total tangential load
   /// [N] along pad x and y spread over the contacts in proportion to their normal force
   /// (a stroking follower sensor measures shear). Warm-started from the last call.
+  /// Forgets the contact state (next press starts from no contact at indentation 0).
+  void ResetWarmStart();
+
   const fem::ComplianceStepResult& Step(const std::vector<geometry::RigidObject>& objects_pad_frame,
                                         double t_s = 0.0, const Eigen::Vector2d& tangential_pad_N = Eigen::Vector2d::Zero());
   /// Normal force of the last step: the spring forces' component along -z_pad [N].
@@ -127,6 +134,9 @@ class FingertipCompliance {
   std::vector<int> candidate_index_;    // per soft node: index into candidates, or -1
   std::vector<int> outside_skin_;       // skin nodes that are not candidates
   double last_indentation_mm_ = -1, last_target_N_ = 0;
+  // Indentation of the contact state left by the last PressToForce solve; -1 = unknown
+  // (a Step() with other objects, or never pressed).
+  double state_indentation_mm_ = -1;
 };
 
 }  // namespace sedbridge::scene
