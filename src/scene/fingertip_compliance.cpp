@@ -219,14 +219,26 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
 
   // Bracket by marching from the contact state's own indentation (the last answer, when
   // the objects are pressed scan after scan) in steps of at most max_step_mm (see there).
+  // A state left by other objects can put this one's skin nodes on the far side of it
+  // (tunnelled): its force then fails to grow with the indentation. Then start again from
+  // no contact at indentation 0, once.
   const double state = state_indentation_mm_;
+  const double f_zero = f_lo;
   if (state < 0) contact_->ResetWarmStart();
   double d = std::clamp(state > 0 ? state : 0.0, 0.0, opt.max_indentation_mm);
-  double f = f_lo;
+  double f = f_zero;
+  bool restarted = d <= 0;
+  auto restart = [&] {
+    contact_->ResetWarmStart();
+    restarted = true;
+    d = 0;
+    f = f_zero;
+  };
   if (d > 0) {
     f = evaluate(d);
     if (solve_failed) return finish(PressStatus::kInvalidInput, d, f, contact_->last().error);
     if (std::abs(f - target_N) <= tol) return finish(PressStatus::kReached, d, f, "");
+    if (f <= 0 || contact_->last().contacts.empty()) restart();
   }
   const double step_max = std::max(1e-3, opt.max_step_mm);
   double hi = d, f_hi = f;
@@ -249,6 +261,11 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
       hi = std::min(opt.max_indentation_mm, lo + step);
       f_hi = evaluate(hi);
       if (solve_failed) return finish(PressStatus::kInvalidInput, hi, f_hi, contact_->last().error);
+      if (f_hi < f_lo && !restarted) {  // deeper and weaker: tunnelled (see above)
+        restart();
+        lo = 0, f_lo = f_zero;
+        continue;
+      }
       if (f_hi >= target_N) break;
       lo = hi, f_lo = f_hi;
     }
