@@ -146,38 +146,46 @@ SimulatedSensor::SimulatedSensor(SimulatedSensorConfig config)
   }
 }
 
+Eigen::Vector3d SimulatedSensor::WinklerTraction_Pa(const Eigen::Vector3d& q_pad_m, double t_s) const {
+  const PadModel& pad = config_.pad;
+  const Eigen::Vector3d q = pad.scene_from_pad * q_pad_m;
+  const Eigen::Vector3d inward = -pad.scene_from_pad.linear().col(2);  // into the pad
+  double depth = 0;
+  const geometry::RigidObject* deepest = nullptr;
+  for (const auto& obj : config_.objects) {
+    const double d = PenetrationAlong(obj, q, inward, t_s);
+    if (d > depth) depth = d, deepest = &obj;
+  }
+  if (!deepest) return Eigen::Vector3d::Zero();
+  const double pressure = pad.EffectiveModulus_Pa() / pad.thickness_m * depth;
+  Eigen::Vector3d out(0, 0, pressure);
+  if (pad.friction_coefficient > 0) {
+    const Eigen::Vector3d v = pad.scene_from_pad.linear().transpose() * deepest->trajectory.PointVelocity(q, t_s);
+    const double speed = std::hypot(v.x(), v.y());
+    if (speed > 1e-6) {
+      out.x() = pad.friction_coefficient * pressure * v.x() / speed;
+      out.y() = pad.friction_coefficient * pressure * v.y() / speed;
+    }
+  }
+  return out;
+}
+
 void SimulatedSensor::KernelLoads(double t_s, std::vector<SurfaceLoad>* loads) const {
   const SensorProfile& p = config_.profile;
-  const PadModel& pad = config_.pad;
   const TactileForwardModel& model = *kernel_model_;
-  const double stiffness = pad.EffectiveModulus_Pa() / pad.thickness_m;  // Pa per m
   const double cell_m2 = model.cell_size_mm() * model.cell_size_mm() * 1e-6;
   const double half_mm = 0.5 * p.forward_model.pad_size_mm;
-  const Eigen::Matrix3d pad_from_scene = pad.scene_from_pad.linear().transpose();
-  const Eigen::Vector3d inward = -pad.scene_from_pad.linear().col(2);
   loads->clear();
   for (int cell = 0; cell < model.cell_count(); ++cell) {
     const Eigen::Vector2d xy = model.CellCentre_mm(cell);
     if (std::abs(xy.x()) > half_mm || std::abs(xy.y()) > half_mm) continue;  // no pad there
-    const Eigen::Vector3d q = pad.scene_from_pad * Eigen::Vector3d(xy.x() * 1e-3, xy.y() * 1e-3, 0);
-    double depth = 0;
-    const geometry::RigidObject* deepest = nullptr;
-    for (const auto& obj : config_.objects) {
-      const double d = PenetrationAlong(obj, q, inward, t_s);
-      if (d > depth) depth = d, deepest = &obj;
-    }
-    if (!deepest) continue;
+    const Eigen::Vector3d t_Pa = WinklerTraction_Pa(Eigen::Vector3d(xy.x() * 1e-3, xy.y() * 1e-3, 0), t_s);
+    if (!(t_Pa.z() > 0)) continue;
     SurfaceLoad l;
     l.cell = cell;
-    l.normal_N = stiffness * depth * cell_m2;
-    if (pad.friction_coefficient > 0) {
-      const Eigen::Vector3d v = pad_from_scene * deepest->trajectory.PointVelocity(q, t_s);
-      const double speed = std::hypot(v.x(), v.y());
-      if (speed > 1e-6) {
-        l.shear_x_N = pad.friction_coefficient * l.normal_N * v.x() / speed;
-        l.shear_y_N = pad.friction_coefficient * l.normal_N * v.y() / speed;
-      }
-    }
+    l.normal_N = t_Pa.z() * cell_m2;
+    l.shear_x_N = t_Pa.x() * cell_m2;
+    l.shear_y_N = t_Pa.y() * cell_m2;
     loads->push_back(l);
   }
 }
@@ -211,11 +219,7 @@ TaxelTractions SimulatedSensor::EvaluateKernel(double t_s) const {
 TaxelTractions SimulatedSensor::Evaluate(double t_s) const {
   if (kernel_model_) return EvaluateKernel(t_s);
   const SensorProfile& p = config_.profile;
-  const PadModel& pad = config_.pad;
   const int taxels = p.taxel_count;
-  const double stiffness = pad.EffectiveModulus_Pa() / pad.thickness_m;  // Pa per m
-  const Eigen::Matrix3d pad_from_scene = pad.scene_from_pad.linear().transpose();
-  const Eigen::Vector3d inward = -pad.scene_from_pad.linear().col(2);  // into the pad
   TaxelTractions out;
   out.pressure_Pa.assign(taxels, 0.0);
   out.shear_x_Pa.assign(taxels, 0.0);
@@ -224,24 +228,10 @@ TaxelTractions SimulatedSensor::Evaluate(double t_s) const {
     double p_sum = 0, tx_sum = 0, ty_sum = 0;
     for (const Eigen::Vector2d& o : sub_offsets_m_) {
       const Eigen::Vector3d q_pad(p.taxels[i].x_mm * 1e-3 + o.x(), p.taxels[i].y_mm * 1e-3 + o.y(), 0);
-      const Eigen::Vector3d q = pad.scene_from_pad * q_pad;
-      double depth = 0;
-      const geometry::RigidObject* deepest = nullptr;
-      for (const auto& obj : config_.objects) {
-        const double d = PenetrationAlong(obj, q, inward, t_s);
-        if (d > depth) depth = d, deepest = &obj;
-      }
-      if (!deepest) continue;
-      const double pressure = stiffness * depth;
-      p_sum += pressure;
-      if (pad.friction_coefficient > 0) {
-        const Eigen::Vector3d v = pad_from_scene * deepest->trajectory.PointVelocity(q, t_s);
-        const double speed = std::hypot(v.x(), v.y());
-        if (speed > 1e-6) {
-          tx_sum += pad.friction_coefficient * pressure * v.x() / speed;
-          ty_sum += pad.friction_coefficient * pressure * v.y() / speed;
-        }
-      }
+      const Eigen::Vector3d t_Pa = WinklerTraction_Pa(q_pad, t_s);
+      p_sum += t_Pa.z();
+      tx_sum += t_Pa.x();
+      ty_sum += t_Pa.y();
     }
     const double n = static_cast<double>(sub_offsets_m_.size());
     out.pressure_Pa[i] = p_sum / n;

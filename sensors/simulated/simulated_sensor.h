@@ -144,6 +144,9 @@ class SimulatedSensor {
   // PadMechanics::kKernel only.
   std::shared_ptr<const TactileForwardModel> kernel_model_;
   TaxelTractions EvaluateKernel(double t_s) const;
+  /// The Winkler layer's traction at pad point `q_pad_m` (pad frame, z = 0) at time t:
+  /// (shear x, shear y, pressure) [Pa], pressure from the deepest object, sliding friction.
+  Eigen::Vector3d WinklerTraction_Pa(const Eigen::Vector3d& q_pad_m, double t_s) const;
   void KernelLoads(double t_s, std::vector<SurfaceLoad>* loads) const;
 };
 

@@ -74,13 +74,13 @@ std::vector<SyntheticSpec> Specs() {
                Primitive(ContactShape::kFlat, 0, 0, 0)});
   // A 10 mm cube with an edge (along x) or a corner pointing into the pad.
   s.push_back({"box_edge", "box edge along x (0, 0)",
-               "{shape: box, size_mm: [10, 10, 10], rpy_deg: [45, 0, 0], position_mm: [0, 0, 7.371]", 0.3});
+               "{shape: box, size_mm: [10, 10, 10], rpy_deg: [45, 0, 0], position_mm: [0, 0, 7.371]", 0.3, 0, 0, false, {}});
   s.push_back({"box_corner", "box corner (1, -1)",
-               "{shape: box, size_mm: [10, 10, 10], rpy_deg: [45, 35.264, 0], position_mm: [1, -1, 8.960]", 1.0});
+               "{shape: box, size_mm: [10, 10, 10], rpy_deg: [45, 35.264, 0], position_mm: [1, -1, 8.960]", 1.0, 0, 0, false, {}});
   // Two contacts at once: objects_yaml holds two entries.
   s.push_back({"two_spheres", "two spheres R3 (-4, -3) and (4, 3)",
                "{shape: sphere, radius_mm: 3, position_mm: [-4, -3, 3.3]|{shape: sphere, radius_mm: 3, position_mm: [4, 3, 3.3]",
-               0.5});
+               0.5, 0, 0, false, {}});
   // Stroking: a sphere pressed, then slid 4 mm along +x with friction 0.4.
   s.push_back({"sliding_sphere", "sphere R5 sliding +x 4 mm (mu 0.4)",
                "{shape: sphere, radius_mm: 5, position_mm: [-2, 0, 5.3]", 0.5, 4.0, 0.4, true,
