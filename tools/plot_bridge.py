@@ -23,6 +23,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.patches  # noqa: E402,F401
 
 
 def read(path):
@@ -78,6 +79,29 @@ def main():
         s = ax.scatter(col(taxels, "x_mm"), col(taxels, "y_mm"), c=[p * 1e-3 for p in col(taxels, "pressure_Pa")],
                        s=260, marker="s", cmap="viridis")
         fig.colorbar(s, ax=ax, label="pressure [kPa]")
+    contact_path = os.path.join(out, "peak_contact.csv")
+    if os.path.exists(contact_path):  # fe.step contact: the reconstructed object over the taxels
+        import math
+        c = read(contact_path)[0]
+        x, y, w = float(c["x_mm"]), float(c["y_mm"]), float(c["contact_half_width_mm"])
+        style = dict(color="red", lw=1.5, ls="--" if c["fallback"] == "1" else "-")
+        if c["shape"] == "sphere":
+            ax.add_patch(matplotlib.patches.Circle((x, y), w, fill=False, **style))
+            ax.plot([x], [y], "r+", ms=10)
+        elif c["shape"] == "cylinder":
+            yaw = math.radians(float(c["yaw_deg"]))
+            dx, dy = math.cos(yaw), math.sin(yaw)
+            for off in (-w, w):
+                ax.plot([x - 12 * dx - off * dy, x + 12 * dx - off * dy], [y - 12 * dy + off * dx, y + 12 * dy + off * dx],
+                        **style)
+        elif c["shape"] == "flat":
+            ax.add_patch(matplotlib.patches.Rectangle((-10, -10), 20, 20, fill=False, **style))
+        if c["shape"] != "none":
+            ax.set_xlim(-12, 12)
+            ax.set_ylim(-12, 12)
+            ax.text(0.02, 0.02, "%s R %.1f mm, %.2f N%s" % (c["shape"], float(c["radius_mm"]), float(c["normal_force_N"]),
+                                                         " (fallback)" if c["fallback"] == "1" else ""),
+                    transform=ax.transAxes, color="red", fontsize=8)
     ax.set_title("taxels (registered on the pad)")
     ax = axes[1]
     under = [r for r in sed if float(r["z_mm"]) > -6.0]  # the pad side of the Merkel layer

@@ -87,6 +87,8 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   display::SedField peak_field;
   display::DisplayCommand peak_command;
   TaxelValues peak_values;
+  bool have_peak_contact = false;
+  lcmt_contact_estimate peak_contact{};
   int64_t last_utime = 0;
 
   // Optional VTU frames: the scene step's own state, or the reduced step's positions on
@@ -150,6 +152,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
         peak_field = pipeline.last_field();
         peak_command = pipeline.last_command();
         peak_values = pipeline.last_values();
+        if (const lcmt_contact_estimate* m = pipeline.fe().contact_message()) peak_contact = *m, have_peak_contact = true;
       }
       if (pvd && o.stepped && (result.rows.size() - 1) % size_t(options.vtu_every) == 0)
         write_vtu(result.rows.size() - 1, scan.utime);
@@ -244,6 +247,25 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
     for (size_t k = 0; k < peak_values.pressure_Pa.size() && k < profile.taxels.size(); ++k) {
       const Eigen::Vector2d p = reg.ToPad({profile.taxels[k].x_mm, profile.taxels[k].y_mm});
       tax << k << ',' << p.x() << ',' << p.y() << ',' << peak_values.pressure_Pa[k] << '\n';
+    }
+    if (have_peak_contact) {
+      // The reconstructed contact at the peak, with its Hertz contact size on the sensor
+      // (sphere: radius; rod: half-width) for the plot.
+      const auto& m = peak_contact;
+      double contact_mm = 0;
+      if (profile.has_forward_model && m.normal_force_N > 0 && (m.shape == 1 || m.shape == 2)) {
+        const double E = profile.forward_model.contact_modulus_kPa * 1e-3;  // N/mm^2
+        contact_mm = m.shape == 1 ? std::cbrt(3.0 * m.normal_force_N * m.radius_mm / (4.0 * E))
+                                  : std::sqrt(4.0 * m.normal_force_N / profile.forward_model.pad_size_mm * m.radius_mm /
+                                              (3.14159265358979 * E));
+      }
+      static const char* const kShapes[] = {"none", "sphere", "cylinder", "flat"};
+      std::ofstream con((dir / "peak_contact.csv").string());
+      con << "shape,x_mm,y_mm,radius_mm,yaw_deg,normal_force_N,shear_x_N,shear_y_N,residual_rms_sigma,fallback,"
+             "contact_half_width_mm\n";
+      con << kShapes[std::clamp<int>(m.shape, 0, 3)] << ',' << m.x_mm << ',' << m.y_mm << ',' << m.radius_mm << ','
+          << m.yaw_deg << ',' << m.normal_force_N << ',' << m.shear_x_N << ',' << m.shear_y_N << ','
+          << m.residual_rms_sigma << ',' << int(m.fallback) << ',' << contact_mm << '\n';
     }
   }
   return result;
