@@ -18,6 +18,9 @@ namespace {
 
 using config::ConfigError;
 
+// Plausible size of a fingertip model's soft tissue (bounding-box diagonal) [m].
+constexpr double kMinModelExtent_m = 1e-3, kMaxModelExtent_m = 0.2;
+
 enum Tissue { kEpi, kDerm, kSub, kSoft, kBoneT, kNailT, kNumTissues };
 const char* const kTissueNames[kNumTissues] = {kEpidermis, kDermis,  kSubcutaneous,
                                                kSoftTissue, kBone,   kNail};
@@ -223,6 +226,16 @@ FingertipModel BuildFingertipModel(const MshFile& msh, const ModelDescription& d
     m.soft.rest_positions_m.col(i) = msh.node_positions.col(msh.node_index.at(soft_tags[i])) * d.mesh_unit_m;
   }
   m.soft_node_tags = soft_tags;
+  // A fingertip spans millimetres to centimetres. A mm mesh read as `mesh_unit: m` (or the
+  // reverse) is 1000x off and used to run to nonsense without a word.
+  if (m.soft.rest_positions_m.cols() > 0) {
+    const double diagonal_m =
+        (m.soft.rest_positions_m.rowwise().maxCoeff() - m.soft.rest_positions_m.rowwise().minCoeff()).norm();
+    if (!(diagonal_m >= kMinModelExtent_m && diagonal_m <= kMaxModelExtent_m))
+      throw ConfigError(file_loc, "the soft tissue spans " + std::to_string(diagonal_m) +
+                                      " m (bounding-box diagonal), outside the 1..200 mm of a fingertip: is "
+                                      "mesh_unit right for this mesh?");
+  }
 
   int material_of[kNumTissues] = {-1, -1, -1, -1, -1, -1};
   for (int k = kEpi; k <= kSoft; ++k) {

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <unistd.h>
 
 #include "config/config_error.h"
@@ -43,14 +44,45 @@ void ExpectYamlError(const std::string& yaml, int line, const std::string& fragm
   }
 }
 
+// The 3-tet fixture with its coordinates in metres (x 1e-3: the same 2.3 mm model).
+std::string FixtureInMetres() {
+  const fs::path path = fs::path(::testing::TempDir()) / (std::to_string(getpid()) + "_three_tets_m.msh");
+  std::ifstream in(testing::FixturePath("three_tets.msh"));
+  std::ofstream out(path);
+  bool nodes = false;
+  for (std::string line; std::getline(in, line);) {
+    if (line == "$Nodes") nodes = true;
+    if (line == "$EndNodes") nodes = false;
+    double x, y, z;
+    char rest;
+    std::istringstream s(line);
+    if (nodes && (s >> x >> y >> z) && !(s >> rest)) {
+      out << x * 1e-3 << " " << y * 1e-3 << " " << z * 1e-3 << "\n";
+    } else {
+      out << line << "\n";
+    }
+  }
+  return path.string();
+}
+
+TEST(ModelDescription, WrongMeshUnitIsAnError) {
+  // Issue 13: a mm mesh read as metres (1000x too large) ran and gave nonsense.
+  try {
+    LoadFingertipModel(WriteYaml("unit.yaml", "name: x\n" + kMesh + "mesh_unit: m\n" + kMaterials));
+    FAIL() << "a 2.3 m fingertip was accepted";
+  } catch (const config::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("is mesh_unit right"), std::string::npos) << e.what();
+  }
+}
+
 TEST(ModelDescription, YamlGivesNameUnitMaterialsAndTilt) {
-  const std::string path = WriteYaml(
-      "m.yaml", "name: fixture\n" + kMesh + "mesh_unit: m\n" + kMaterials + "pad_frame: {tilt_deg: 20}\n");
+  const std::string path = WriteYaml("m.yaml", "name: fixture\nmesh: " + FixtureInMetres() + "\nmesh_unit: m\n" +
+                                                   kMaterials + "pad_frame: {tilt_deg: 20}\n");
   const FingertipModel m = LoadFingertipModel(path);
   EXPECT_EQ(m.name, "fixture");
   EXPECT_EQ(m.source_file, path);
   // mesh_unit m: coordinates are taken as metres.
-  EXPECT_TRUE(m.soft.rest_positions_m.col(4).isApprox(Eigen::Vector3d(0.5, -1, 0.5)));
+  EXPECT_TRUE(m.soft.rest_positions_m.col(4).isApprox(Eigen::Vector3d(0.5e-3, -1e-3, 0.5e-3)));
   EXPECT_DOUBLE_EQ(m.soft.materials[m.MaterialIndex("epidermis")].youngs_modulus_Pa, 0.2e6);
   EXPECT_DOUBLE_EQ(m.soft.materials[m.MaterialIndex("epidermis")].density_kg_m3, 1100.0);
   EXPECT_DOUBLE_EQ(m.soft.materials[m.MaterialIndex("dermis")].poisson_ratio, 0.45);
