@@ -6,7 +6,8 @@
 // Invalid taxels (missing, saturated, non-finite, stale: sensors::Scan::valid == 0):
 //   fill  (default)  the value is the Gaussian-weighted mean of the valid taxels (same kernel
 //                    width as the traction interpolation), so one dead taxel does not punch a
-//                    hole in the load;
+//                    hole in the load, capped at the weakest valid taxel of its nearest ring
+//                    (0 without one): a fill never exceeds what its valid neighbours support;
 //   zero             the taxel reads 0.
 // A scan is rejected (not stepped; the display goes to its safe state) when its taxel count
 // or vector lengths do not match the profile, or more than `max_invalid_fraction` of its
@@ -83,6 +84,7 @@ class ScanConditioner {
   Eigen::Matrix2d rotation_;
   std::vector<double> pad_area_m2_;
   Eigen::MatrixXd fill_kernel_;  // Gaussian weights between taxel centres
+  std::vector<uint8_t> adjacent_;  // i * n + j: j is in i's nearest ring
   mutable std::vector<uint8_t> ok_;
 };
 

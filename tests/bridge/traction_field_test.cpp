@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numeric>
 #include <random>
 
 #include "bridge/pressure_boundary_condition.h"
@@ -163,6 +164,50 @@ TEST(ScanConditioner, RejectsMostlyInvalidOrMisshapenScans) {
   sensors::Scan shorter = testing::UniformScan(p, 1000.0);
   shorter.pressure_Pa.pop_back();
   EXPECT_FALSE(cond.Condition(shorter, &v).usable);
+}
+
+}  // namespace
+}  // namespace sedbridge::bridge
+
+namespace sedbridge::bridge {
+namespace {
+
+// Issue 13: with many frames lost, filled taxels must not raise the peak. A peaked contact,
+// 7 of 16 taxels invalid at random: every filled value is at most its weakest valid
+// adjacent taxel (0 without one), so no filled value exceeds the valid peak.
+TEST(ScanConditioner, FillNeverExceedsWhatValidNeighboursSupport) {
+  const sensors::SensorProfile p = sensors::LoadNamedSensorProfile("uskin_4x4");
+  ScanConditioningOptions options;
+  options.max_invalid_fraction = 0.6;
+  const ScanConditioner cond(p, PadRegistration(p.taxels), options);
+  std::mt19937_64 rng(5);
+  for (int trial = 0; trial < 300; ++trial) {
+    sensors::Scan scan = testing::UniformScan(p, 0.0);
+    for (int k = 0; k < 16; ++k) {
+      const double dx = p.taxels[size_t(k)].x_mm - 2.35, dy = p.taxels[size_t(k)].y_mm - 2.35;
+      scan.pressure_Pa[size_t(k)] = 20000.0 * std::exp(-(dx * dx + dy * dy) / 8.0);
+    }
+    std::vector<int> order(16);
+    std::iota(order.begin(), order.end(), 0);
+    std::shuffle(order.begin(), order.end(), rng);
+    for (int k = 0; k < 7; ++k) scan.valid[size_t(order[size_t(k)])] = 0, scan.flags[size_t(order[size_t(k)])] = 1;
+    TaxelValues v;
+    ASSERT_TRUE(cond.Condition(scan, &v).usable);
+    double valid_peak = 0;
+    for (int k = 0; k < 16; ++k)
+      if (scan.valid[size_t(k)]) valid_peak = std::max(valid_peak, v.pressure_Pa[size_t(k)]);
+    for (int k = 0; k < 16; ++k) {
+      if (scan.valid[size_t(k)]) continue;
+      double support = INFINITY;
+      for (int j = 0; j < 16; ++j)
+        if (scan.valid[size_t(j)] && j != k &&
+            std::hypot(p.taxels[size_t(k)].x_mm - p.taxels[size_t(j)].x_mm,
+                       p.taxels[size_t(k)].y_mm - p.taxels[size_t(j)].y_mm) <= 1.5 * 4.7)
+          support = std::min(support, v.pressure_Pa[size_t(j)]);
+      EXPECT_LE(v.pressure_Pa[size_t(k)], std::isfinite(support) ? support : 0.0) << "trial " << trial << " taxel " << k;
+      EXPECT_LE(v.pressure_Pa[size_t(k)], valid_peak);
+    }
+  }
 }
 
 }  // namespace
