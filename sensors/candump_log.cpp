@@ -1,7 +1,10 @@
 #include "sensors/candump_log.h"
 
 #include <chrono>
+#include <cstring>
+#include <filesystem>
 #include <fstream>
+#include <limits>
 #include <thread>
 
 #include "config/config_error.h"
@@ -242,7 +245,26 @@ CandumpLogReader::CandumpLogReader(std::istream& in, std::string name, size_t ma
     : in_(in), name_(std::move(name)), max_kept_(max_kept) {}
 
 bool CandumpLogReader::Next(Frame* frame) {
-  while (std::getline(in_, line_)) {
+  // Lines are read with a cap: a valid line is under 200 bytes, and one 400 MB line once
+  // cost 467 MB of memory. A longer line is a bad line; the rest of it is skipped unread.
+  char buffer[kMaxLineBytes + 1];
+  for (;;) {
+    in_.getline(buffer, sizeof buffer);
+    const std::streamsize got = in_.gcount();
+    if (in_.eof() && got == 0) return false;
+    if (in_.bad()) return false;
+    if (in_.fail() && !in_.eof()) {  // no '\n' within the cap
+      in_.clear();
+      in_.ignore(std::numeric_limits<std::streamsize>::max(), '\n');
+      ++line_number_;
+      ++bad_lines_;
+      if (kept_bad_lines_.size() < max_kept_)
+        kept_bad_lines_.push_back(
+            {line_number_, "line longer than " + std::to_string(kMaxLineBytes) + " bytes (skipped)",
+             std::string(buffer, 120)});
+      continue;
+    }
+    line_.assign(buffer, static_cast<size_t>(std::strlen(buffer)));
     ++line_number_;
     const LineResult r = ParseCandumpLine(line_, frame);
     if (r.kind == LineKind::kFrame) {
@@ -254,8 +276,8 @@ bool CandumpLogReader::Next(Frame* frame) {
       if (kept_bad_lines_.size() < max_kept_)
         kept_bad_lines_.push_back({line_number_, r.error, line_.substr(0, 120)});
     }
+    if (in_.eof()) return false;
   }
-  return false;
 }
 
 // ---- writer ----
@@ -289,6 +311,7 @@ int64_t WallNowUs() {
 
 CandumpLogSource::CandumpLogSource(const std::string& path, PlaybackOptions options)
     : options_(options) {
+  if (std::filesystem::is_directory(path)) throw config::ConfigError({path, 0, 0}, "is a directory, not a candump log");
   auto file = std::make_unique<std::ifstream>(path);
   if (!*file) throw config::ConfigError({path, 0, 0}, "cannot open candump log");
   in_ = std::move(file);

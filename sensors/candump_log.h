@@ -57,6 +57,9 @@ struct BadLine {
 
 /// Reads frames from a candump log stream line by line; bad lines are counted and the
 /// first `max_kept_bad_lines` of them kept for reporting.
+/// Longest candump line read [bytes]; longer lines are bad lines, skipped without storing.
+constexpr size_t kMaxLineBytes = 4096;
+
 class CandumpLogReader {
  public:
   /// `name` is used in messages (usually the file name). The stream must outlive the reader.

@@ -79,6 +79,9 @@ SimulatedSensorConfig LoadSimulatedSensorScene(const std::string& path,
     s.Fail(s.Node("interface"), "'interface' must have 1..15 characters");
   c.start_utime = s.Optional<int64_t>("start_utime", c.start_utime);
   c.duration_s = Positive(s, "duration_s", 1.0);
+  if (c.duration_s > kMaxSimulatedDuration_s)
+    s.Fail(s.Node("duration_s"), "'duration_s' must be at most " + std::to_string(int(kMaxSimulatedDuration_s)) +
+                                     " s (one day)");
   if (s.Has("pad")) {
     config::MapReader p = s.Child("pad");
     c.pad.mechanics = p.OptionalChoice("model", {"winkler", "kernel"}, "winkler") == "kernel" ? PadMechanics::kKernel

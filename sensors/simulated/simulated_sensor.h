@@ -59,6 +59,9 @@ struct PadModel {
   double EffectiveModulus_Pa() const;
 };
 
+/// Longest simulated run [s] (a scene asking for more is refused, not run until killed).
+constexpr double kMaxSimulatedDuration_s = 86400;
+
 struct SimulationNoise {
   uint64_t seed = 1;
   double stddev_counts = 0;          ///< Gaussian noise added to every raw reading

@@ -40,7 +40,8 @@ int RunMakeLog(int argc, char** argv) {
       LoadSimulatedSensorScene(args.Get("scene"), args.GetOptional("profile").value_or(""));
   if (args.Has("duration-s")) {
     config.duration_s = args.GetDouble("duration-s");
-    if (!(config.duration_s > 0)) throw UsageError("--duration-s must be > 0");
+    if (!(config.duration_s > 0 && config.duration_s <= kMaxSimulatedDuration_s))
+      throw UsageError("--duration-s must be in (0, 86400]");
   }
   if (args.Has("seed")) config.noise.seed = static_cast<uint64_t>(args.GetInt("seed"));
   if (args.Has("interface")) {

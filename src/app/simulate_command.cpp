@@ -49,7 +49,8 @@ int RunSimulateCommand(int argc, char** argv) {
   sensors::SimulatedSensorConfig sim = sensors::LoadSimulatedSensorScene(scene_path, config.sensor_profile);
   if (args.Has("duration-s")) {
     sim.duration_s = args.GetDouble("duration-s");
-    if (!(sim.duration_s > 0)) throw UsageError("--duration-s must be > 0");
+    if (!(sim.duration_s > 0 && sim.duration_s <= sensors::kMaxSimulatedDuration_s))
+      throw UsageError("--duration-s must be in (0, 86400]");
   }
   const sensors::SensorProfile profile = sim.profile;
   sensors::SimulatedSensorSource source(sim);

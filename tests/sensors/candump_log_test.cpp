@@ -4,6 +4,8 @@
 
 #include <sstream>
 
+#include "config/config_error.h"
+
 namespace sedbridge::sensors {
 namespace {
 
@@ -227,6 +229,40 @@ TEST(CandumpLogSourceTest, RecordedTimingWithholdsAFrameUntilItIsDue) {
   ASSERT_TRUE(source.Next(0));
   EXPECT_FALSE(source.Next(0));
   EXPECT_FALSE(source.Done());
+}
+
+}  // namespace
+}  // namespace sedbridge::sensors
+
+namespace sedbridge::sensors {
+namespace {
+
+// Issue 13: one huge line must not take memory with it, and the lines around it survive.
+TEST(CandumpLogReaderLimits, HugeLineIsOneBadLineAndCostsNoMemory) {
+  std::string text = "(1700000000.000000) can0 710#0102030405060708\n";
+  text += std::string(10 * 1024 * 1024, 'x') + "\n";
+  text += "(1700000000.000100) can0 711#0102030405060708\n";
+  text += "(1700000000.000200) can0 712#01020304";  // last line without a newline
+  std::istringstream in(text);
+  CandumpLogReader reader(in, "huge");
+  Frame f;
+  int frames = 0;
+  while (reader.Next(&f)) ++frames;
+  EXPECT_EQ(frames, 3);
+  EXPECT_EQ(reader.bad_line_count(), 1);
+  ASSERT_EQ(reader.bad_lines().size(), 1u);
+  EXPECT_EQ(reader.bad_lines()[0].line_number, 2);
+  EXPECT_NE(reader.bad_lines()[0].reason.find("longer than"), std::string::npos);
+  EXPECT_LE(reader.bad_lines()[0].text.size(), 120u);
+}
+
+TEST(CandumpLogReaderLimits, ADirectoryIsNotALog) {
+  try {
+    CandumpLogSource source(::testing::TempDir());
+    FAIL() << "a directory was accepted";
+  } catch (const sedbridge::config::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("directory"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

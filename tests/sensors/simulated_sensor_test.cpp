@@ -163,3 +163,24 @@ TEST(SimulatedSensorTest, ShippedScenesLoadAndUnknownKeysAreErrors) {
 
 }  // namespace
 }  // namespace sedbridge::sensors
+
+namespace sedbridge::sensors {
+namespace {
+
+TEST(SimulatedSensorScene, DurationIsBounded) {
+  const std::string path = ::testing::TempDir() + "/long_scene_" + std::to_string(::getpid()) + ".yaml";
+  {
+    std::ofstream f(path);
+    f << "sensor: {profile: uskin_4x4, duration_s: 2.0e9}\nobjects: []\n";
+  }
+  try {
+    LoadSimulatedSensorScene(path);
+    FAIL() << "a 2e9 s scene was accepted";
+  } catch (const config::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("duration_s"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(":1:"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace sedbridge::sensors
