@@ -74,6 +74,12 @@ def configurations(quick):
             c.append((f"{m}_corot_pcgwarp", dict(model=m, solver="pcg_warp", tol=1e-6)))
     # Element formulation.
     c.append(("B_linear_ldlt", dict(model="B", elasticity="linear")))
+    # The locking-free average nodal pressure tet (docs/validation.md): exact Newton, and
+    # the real-time form (backward Euler, one linearized solve, warped PCG).
+    c.append(("B_nodalpressure_pcgwarp", dict(model="B", elasticity="nodal_pressure", solver="pcg_warp", tol=1e-6)))
+    if not quick:
+        c.append(("B_nodalpressure_be_dt0.01", dict(model="B", elasticity="nodal_pressure", integrator="backward_euler",
+                                                    dt_s=0.01, newton=1, solver="pcg_warp")))
     # Linear solver, tolerance, iteration cap, preconditioner.
     for tol in ([1e-4, 1e-6] if quick else [1e-3, 1e-4, 1e-6, 1e-8]):
         c.append((f"B_corot_pcgwarp_tol{tol:g}", dict(model="B", solver="pcg_warp", tol=tol)))
@@ -119,7 +125,7 @@ def family(name):
         return "mesh"
     if "_be_" in name:
         return "integrator"
-    if "linear" in name:
+    if "linear" in name or "nodalpressure" in name:
         return "elasticity"
     if "_k" in name:
         return "contact penalty"

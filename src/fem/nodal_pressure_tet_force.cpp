@@ -150,13 +150,19 @@ void NodalPressureTetForce::AddForce(const SystemState& state, Eigen::VectorXd& 
     }
     const double c = patch_volume_[size_t(p)] * patch_bulk_[size_t(p)];
     const int* slots = slots_.data() + slot_offsets_[size_t(p)];
+    // Symmetric: each off-diagonal outer product once, written to (i, j) and (j, i).
     for (int i = 0; i < np; ++i) {
       const Eigen::Vector3d bi = c * b_[size_t(i)];
-      for (int j = 0; j < np; ++j) {
+      const int ni = patch_nodes_[size_t(n0 + i)];
+      for (int j = i; j < np; ++j) {
+        const int nj = patch_nodes_[size_t(n0 + j)];
         const Eigen::Matrix3d K = bi * b_[size_t(j)].transpose();
         const Eigen::Matrix3d D = beta_s_ * K;
-        sink->AddTo(values, sink->stiffness_times_velocity, slots[i * np + j], patch_nodes_[size_t(n0 + i)],
-                    patch_nodes_[size_t(n0 + j)], K, damping ? &D : nullptr);
+        sink->AddTo(values, sink->stiffness_times_velocity, slots[i * np + j], ni, nj, K, damping ? &D : nullptr);
+        if (j != i) {
+          const Eigen::Matrix3d Kt = K.transpose(), Dt = D.transpose();
+          sink->AddTo(values, sink->stiffness_times_velocity, slots[j * np + i], nj, ni, Kt, damping ? &Dt : nullptr);
+        }
       }
     }
   }

@@ -100,8 +100,16 @@ void VertexSedEvaluator::EvaluateNodalPressure(const Eigen::VectorXd& x) {
     const TetElement& e = elastic_.elements()[size_t(t)];
     ring_F_[size_t(k)] = DeformationGradient(e, x.segment<3>(3 * n[0]), x.segment<3>(3 * n[1]), x.segment<3>(3 * n[2]),
                                              x.segment<3>(3 * n[3]));
-    ring_R_[size_t(k)] =
-        corotational ? ExtractRotation(ring_F_[size_t(k)], ring_warm_[size_t(k)]) : Eigen::Matrix3d::Identity();
+    // Elements whose SED is wanted get a fresh rotation. The others only feed tr(R^T F): at
+    // the polar R its derivative in R vanishes (trace of skew times symmetric), so the
+    // elastic term's rotation from the last assembly is exact to second order, and saves
+    // a polar decomposition for each of the ~3x more ring elements.
+    if (!corotational)
+      ring_R_[size_t(k)].setIdentity();
+    else if (k < int(elements_.size()))
+      ring_R_[size_t(k)] = ExtractRotation(ring_F_[size_t(k)], ring_warm_[size_t(k)]);
+    else
+      ring_R_[size_t(k)] = elastic_.rotations()[size_t(t)];
     ring_theta_[k] = NodalPressureTetForce::ElementVolumetricStrain(ring_F_[size_t(k)], ring_R_[size_t(k)]);
   }
   const auto& offsets = nodal_->patch_offsets();

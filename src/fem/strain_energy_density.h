@@ -25,6 +25,8 @@ class VertexSedEvaluator {
   ///                  element SED is then sigma:eps/2 with the smoothed volumetric part,
   ///                  mu dev(eps):dev(eps) + kappa thetabar^2 / 2, thetabar = mean of the
   ///                  element's four patch strains (= pbar thetabar / 2, pbar = kappa thetabar)
+  ///                  (elements outside the vertices' own feed theta with the elastic
+  ///                  term's rotations of its last assembly: second-order accurate)
   VertexSedEvaluator(const ElasticTetForce& elastic, std::vector<int> vertices,
                      const NodalPressureTetForce* nodal = nullptr);
 
