@@ -142,7 +142,7 @@ void Register() {
     for (auto [el, solver] : std::vector<std::pair<const char*, const char*>>{
              {"linear", "ldlt"}, {"corotational", "pcg_warp"}, {"corotational", "pcg_warp_ichol"},
              {"corotational", "pcg_jacobi"}, {"corotational", "ldlt"}, {"nodal_pressure", "pcg_warp"},
-             {"nodal_pressure", "ldlt"}}) {
+             {"nodal_pressure", "pcg_jacobi"}, {"nodal_pressure", "ldlt"}}) {
       if (std::string(integrator) == "quasi_static" && std::string(el) != "linear") continue;
       const std::string name = std::string("TractionStep/") + integrator + "/" + el + "/" + solver;
       benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { TractionStep(st, el, solver, integrator); })
@@ -151,7 +151,8 @@ void Register() {
     }
   for (auto [el, solver] : std::vector<std::pair<const char*, const char*>>{
            {"linear", "ldlt"}, {"corotational", "pcg_warp"}, {"corotational", "pcg_warp_ichol"}, {"linear", "pcg_warp"},
-           {"linear", "pcg_warp_ichol"}, {"nodal_pressure", "pcg_warp"}}) {
+           {"linear", "pcg_warp_ichol"}, {"nodal_pressure", "pcg_warp"},
+           {"nodal_pressure", "pcg_jacobi"}}) {
     const std::string name = std::string("ContactPressStep/backward_euler/") + el + "/" + solver;
     benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { ContactPressStep(st, el, solver); })
         ->Arg(1)->Arg(2)->Iterations(200)->Unit(benchmark::kMillisecond)->UseRealTime();
