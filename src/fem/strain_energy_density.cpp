@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <stdexcept>
 
 #include "fem/rotation_extraction.h"
 
@@ -21,6 +22,9 @@ double ElementSed(const TetElement& e, const Eigen::Matrix3d& F, const Eigen::Ma
 VertexSedEvaluator::VertexSedEvaluator(const ElasticTetForce& elastic, std::vector<int> vertices,
                                        const NodalPressureTetForce* nodal)
     : elastic_(elastic), vertices_(std::move(vertices)), nodal_(nodal) {
+  // Without the nodal term a deviatoric-only element would report SED without its bulk part.
+  if (elastic.deviatoric_only() && !nodal)
+    throw std::invalid_argument("VertexSedEvaluator: a deviatoric-only elastic term needs its nodal pressure term");
   const TetMesh& mesh = elastic.mesh();
   std::vector<std::vector<int>> node_elements(size_t(mesh.num_nodes()));
   for (int t = 0; t < mesh.num_tets(); ++t)

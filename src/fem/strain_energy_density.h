@@ -27,6 +27,7 @@ class VertexSedEvaluator {
   ///                  element's four patch strains (= pbar thetabar / 2, pbar = kappa thetabar)
   ///                  (elements outside the vertices' own feed theta with the elastic
   ///                  term's rotations of its last assembly: second-order accurate)
+  /// Throws std::invalid_argument for a deviatoric-only `elastic` without `nodal`.
   VertexSedEvaluator(const ElasticTetForce& elastic, std::vector<int> vertices,
                      const NodalPressureTetForce* nodal = nullptr);
 

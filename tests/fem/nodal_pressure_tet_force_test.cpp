@@ -35,6 +35,8 @@ TEST(NodalPressureTetForce, RequiresDeviatoricElasticTerm) {
   const TetMesh mesh = MakeBoxMesh({0.004, 0.004, 0.004}, {2, 2, 2}, testing::Skin());
   ElasticTetForce full(mesh, ElasticFormulation::kCorotational);
   EXPECT_THROW(NodalPressureTetForce{full}, std::invalid_argument);
+  ElasticTetForce deviatoric(mesh, ElasticFormulation::kCorotational, 0.0, true);
+  EXPECT_THROW(VertexSedEvaluator(deviatoric, AllNodes(mesh)), std::invalid_argument);  // SED would miss its bulk part
 }
 
 class NodalPressurePatch : public ::testing::TestWithParam<ElasticFormulation> {};
