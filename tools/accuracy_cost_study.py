@@ -76,6 +76,14 @@ def configurations(quick):
     c.append(("B_linear_ldlt", dict(model="B", elasticity="linear")))
     # Contact by the compliance method (linear, quasi-static; same answer as B_linear_ldlt).
     c.append(("B_linear_compliance", dict(model="B", elasticity="linear", solver="compliance")))
+    # The locking-free average nodal pressure tet (docs/validation.md): exact Newton, and
+    # the real-time form (backward Euler, one linearized solve). Block-Jacobi PCG: its
+    # matrix couples 2-rings, whose factor (pcg_warp's preconditioner) is ~4x denser.
+    c.append(("B_nodalpressure_pcgjacobi", dict(model="B", elasticity="nodal_pressure", solver="pcg_jacobi", tol=1e-6,
+                                                max_it=2000)))
+    if not quick:
+        c.append(("B_nodalpressure_be_dt0.01", dict(model="B", elasticity="nodal_pressure", integrator="backward_euler",
+                                                    dt_s=0.01, newton=1, solver="pcg_jacobi", max_it=2000)))
     # Linear solver, tolerance, iteration cap, preconditioner.
     for tol in ([1e-4, 1e-6] if quick else [1e-3, 1e-4, 1e-6, 1e-8]):
         c.append((f"B_corot_pcgwarp_tol{tol:g}", dict(model="B", solver="pcg_warp", tol=tol)))
@@ -121,7 +129,7 @@ def family(name):
         return "mesh"
     if "_be_" in name:
         return "integrator"
-    if "linear" in name:
+    if "linear" in name or "nodalpressure" in name:
         return "elasticity"
     if "_k" in name:
         return "contact penalty"

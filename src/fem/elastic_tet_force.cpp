@@ -10,9 +10,13 @@
 namespace sedbridge::fem {
 
 ElasticTetForce::ElasticTetForce(const TetMesh& mesh, ElasticFormulation formulation,
-                                 double rayleigh_beta_s)
-    : mesh_(mesh), formulation_(formulation), beta_s_(rayleigh_beta_s) {
+                                 double rayleigh_beta_s, bool deviatoric_only)
+    : mesh_(mesh), formulation_(formulation), beta_s_(rayleigh_beta_s), deviatoric_only_(deviatoric_only) {
   elements_ = PrecomputeElements(mesh);
+  // lambda -> -2 mu / 3 turns sigma = 2 mu eps + lambda tr(eps) I into 2 mu dev(eps): the
+  // kernels below stay as they are and the bulk part is left to the nodal pressure term.
+  if (deviatoric_only_)
+    for (TetElement& e : elements_) e.lambda_Pa = -2.0 * e.mu_Pa / 3.0;
   quaternions_.assign(elements_.size(), Eigen::Quaterniond::Identity());
   rotations_.assign(elements_.size(), Eigen::Matrix3d::Identity());
   node_elements_.resize(size_t(mesh.num_nodes()));

@@ -18,7 +18,10 @@ class ElasticTetForce final : public ForceTerm {
   /// @param mesh            rest mesh (kept by reference; must outlive the term)
   /// @param formulation     corotational or linear
   /// @param rayleigh_beta_s stiffness-proportional damping D = beta K [s]; 0 = none
-  ElasticTetForce(const TetMesh& mesh, ElasticFormulation formulation, double rayleigh_beta_s = 0.0);
+  /// @param deviatoric_only true: only the deviatoric part 2 mu dev(eps) (lambda replaced
+  ///        by -2 mu / 3); the volumetric part is then another term's (NodalPressureTetForce)
+  ElasticTetForce(const TetMesh& mesh, ElasticFormulation formulation, double rayleigh_beta_s = 0.0,
+                  bool deviatoric_only = false);
 
   std::string name() const override;
   void AppendCoupledNodes(std::vector<std::pair<int, int>>& pairs) const override;
@@ -38,11 +41,13 @@ class ElasticTetForce final : public ForceTerm {
   const TetMesh& mesh() const { return mesh_; }
   const std::vector<TetElement>& elements() const { return elements_; }
   ElasticFormulation formulation() const { return formulation_; }
+  bool deviatoric_only() const { return deviatoric_only_; }
 
  private:
   const TetMesh& mesh_;
   ElasticFormulation formulation_;
   double beta_s_;
+  bool deviatoric_only_;
   std::vector<TetElement> elements_;
   std::vector<std::array<int, 16>> slots_;
   std::vector<Eigen::Quaterniond> quaternions_;  // warm starts

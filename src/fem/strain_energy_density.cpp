@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <stdexcept>
 
 #include "fem/rotation_extraction.h"
 
@@ -18,8 +19,12 @@ double ElementSed(const TetElement& e, const Eigen::Matrix3d& F, const Eigen::Ma
   return 0.5 * (sigma.array() * eps.array()).sum();
 }
 
-VertexSedEvaluator::VertexSedEvaluator(const ElasticTetForce& elastic, std::vector<int> vertices)
-    : elastic_(elastic), vertices_(std::move(vertices)) {
+VertexSedEvaluator::VertexSedEvaluator(const ElasticTetForce& elastic, std::vector<int> vertices,
+                                       const NodalPressureTetForce* nodal)
+    : elastic_(elastic), vertices_(std::move(vertices)), nodal_(nodal) {
+  // Without the nodal term a deviatoric-only element would report SED without its bulk part.
+  if (elastic.deviatoric_only() && !nodal)
+    throw std::invalid_argument("VertexSedEvaluator: a deviatoric-only elastic term needs its nodal pressure term");
   const TetMesh& mesh = elastic.mesh();
   std::vector<std::vector<int>> node_elements(size_t(mesh.num_nodes()));
   for (int t = 0; t < mesh.num_tets(); ++t)
@@ -38,11 +43,41 @@ VertexSedEvaluator::VertexSedEvaluator(const ElasticTetForce& elastic, std::vect
   }
   warm_.assign(elements_.size(), Eigen::Quaterniond::Identity());
   element_sed_ = Eigen::VectorXd::Zero(Eigen::Index(elements_.size()));
+  if (nodal_) {
+    ring_local_.assign(size_t(mesh.num_tets()), -1);
+    patch_local_.assign(size_t(nodal_->num_patches()), -1);
+    auto add_element = [&](int t) {
+      if (ring_local_[size_t(t)] < 0) {
+        ring_local_[size_t(t)] = int(ring_.size());
+        ring_.push_back(t);
+      }
+    };
+    for (int t : elements_) add_element(t);
+    for (int t : elements_)
+      for (int a = 0; a < 4; ++a) {
+        const int p = nodal_->patch_of(t, a);
+        if (patch_local_[size_t(p)] >= 0) continue;
+        patch_local_[size_t(p)] = int(patches_.size());
+        patches_.push_back(p);
+        for (int k = nodal_->patch_offsets()[size_t(p)]; k < nodal_->patch_offsets()[size_t(p) + 1]; ++k)
+          add_element(nodal_->patch_elements()[size_t(k)]);
+      }
+    ring_warm_.assign(ring_.size(), Eigen::Quaterniond::Identity());
+    ring_theta_.setZero(Eigen::Index(ring_.size()));
+    patch_theta_.setZero(Eigen::Index(patches_.size()));
+    ring_F_.resize(ring_.size());
+    ring_R_.resize(ring_.size());
+  }
 }
 
 void VertexSedEvaluator::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd& vertex_sed) {
   const TetMesh& mesh = elastic_.mesh();
   const bool corotational = elastic_.formulation() == ElasticFormulation::kCorotational;
+  if (nodal_) {
+    EvaluateNodalPressure(x);
+    AverageToVertices(element_sed_, vertex_sed);
+    return;
+  }
 #pragma omp parallel for schedule(static) if (elements_.size() > kParallelMinElements)
   for (int k = 0; k < int(elements_.size()); ++k) {
     const int t = elements_[size_t(k)];
@@ -55,6 +90,51 @@ void VertexSedEvaluator::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd& ver
     element_sed_[k] = ElementSed(e, F, R);
   }
   AverageToVertices(element_sed_, vertex_sed);
+}
+
+void VertexSedEvaluator::EvaluateNodalPressure(const Eigen::VectorXd& x) {
+  const TetMesh& mesh = elastic_.mesh();
+  const bool corotational = elastic_.formulation() == ElasticFormulation::kCorotational;
+  // Rotations and volumetric strains of the ring (each element once), then the patch
+  // strains, then sigma:eps/2 of elements_ with the smoothed volumetric strain.
+#pragma omp parallel for schedule(static) if (ring_.size() > kParallelMinElements)
+  for (int k = 0; k < int(ring_.size()); ++k) {
+    const int t = ring_[size_t(k)];
+    const Tet& n = mesh.tets[size_t(t)];
+    const TetElement& e = elastic_.elements()[size_t(t)];
+    ring_F_[size_t(k)] = DeformationGradient(e, x.segment<3>(3 * n[0]), x.segment<3>(3 * n[1]), x.segment<3>(3 * n[2]),
+                                             x.segment<3>(3 * n[3]));
+    // Elements whose SED is wanted get a fresh rotation. The others only feed tr(R^T F): at
+    // the polar R its derivative in R vanishes (trace of skew times symmetric), so the
+    // elastic term's rotation from the last assembly is exact to second order, and saves
+    // a polar decomposition for each of the ~3x more ring elements.
+    if (!corotational)
+      ring_R_[size_t(k)].setIdentity();
+    else if (k < int(elements_.size()))
+      ring_R_[size_t(k)] = ExtractRotation(ring_F_[size_t(k)], ring_warm_[size_t(k)]);
+    else
+      ring_R_[size_t(k)] = elastic_.rotations()[size_t(t)];
+    ring_theta_[k] = NodalPressureTetForce::ElementVolumetricStrain(ring_F_[size_t(k)], ring_R_[size_t(k)]);
+  }
+  const auto& offsets = nodal_->patch_offsets();
+  const auto& members = nodal_->patch_elements();
+  for (size_t q = 0; q < patches_.size(); ++q) {
+    const int p = patches_[q];
+    double sum = 0;
+    for (int k = offsets[size_t(p)]; k < offsets[size_t(p) + 1]; ++k) {
+      const int t = members[size_t(k)];
+      sum += elastic_.elements()[size_t(t)].volume_m3 * ring_theta_[ring_local_[size_t(t)]];
+    }
+    patch_theta_[Eigen::Index(q)] = sum / (4.0 * nodal_->patch_volume_m3()[size_t(p)]);
+  }
+  for (size_t k = 0; k < elements_.size(); ++k) {
+    const int t = elements_[k];  // ring_[k] == t: elements_ come first in the ring
+    double thetabar = 0;
+    for (int a = 0; a < 4; ++a) thetabar += 0.25 * patch_theta_[patch_local_[size_t(nodal_->patch_of(t, a))]];
+    const double kappa = nodal_->patch_bulk_Pa()[size_t(nodal_->patch_of(t, 0))];
+    element_sed_[Eigen::Index(k)] =
+        ElementSed(elastic_.elements()[size_t(t)], ring_F_[k], ring_R_[k]) + 0.5 * kappa * thetabar * thetabar;
+  }
 }
 
 void VertexSedEvaluator::AverageToVertices(const Eigen::VectorXd& element_sed, Eigen::VectorXd& vertex_sed) const {

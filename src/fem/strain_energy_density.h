@@ -7,10 +7,12 @@
 #include <vector>
 
 #include "fem/elastic_tet_force.h"
+#include "fem/nodal_pressure_tet_force.h"
 
 namespace sedbridge::fem {
 
 /// SED [J/m^3 = Pa] of one element given F and its rotation R (R = I for linear FEM).
+/// With a deviatoric-only element (lambda = -2 mu / 3) this is the deviatoric part alone.
 double ElementSed(const TetElement& e, const Eigen::Matrix3d& F, const Eigen::Matrix3d& R);
 
 /// Evaluates vertex SED on a chosen vertex set, touching only the elements around it
@@ -19,7 +21,15 @@ class VertexSedEvaluator {
  public:
   /// @param elastic   the scene's elastic term (mesh, elements, formulation, warm starts)
   /// @param vertices  node indices where SED is wanted
-  VertexSedEvaluator(const ElasticTetForce& elastic, std::vector<int> vertices);
+  /// @param nodal     the scene's nodal pressure term if it has one (must outlive this):
+  ///                  element SED is then sigma:eps/2 with the smoothed volumetric part,
+  ///                  mu dev(eps):dev(eps) + kappa thetabar^2 / 2, thetabar = mean of the
+  ///                  element's four patch strains (= pbar thetabar / 2, pbar = kappa thetabar)
+  ///                  (elements outside the vertices' own feed theta with the elastic
+  ///                  term's rotations of its last assembly: second-order accurate)
+  /// Throws std::invalid_argument for a deviatoric-only `elastic` without `nodal`.
+  VertexSedEvaluator(const ElasticTetForce& elastic, std::vector<int> vertices,
+                     const NodalPressureTetForce* nodal = nullptr);
 
   /// Vertex SED [Pa] for positions x (3 * #nodes), in the order of vertices().
   void Evaluate(const Eigen::VectorXd& x_m, Eigen::VectorXd& vertex_sed_Pa);
@@ -33,12 +43,22 @@ class VertexSedEvaluator {
   const std::vector<int>& elements() const { return elements_; }
 
  private:
+  void EvaluateNodalPressure(const Eigen::VectorXd& x_m);
   const ElasticTetForce& elastic_;
   std::vector<int> vertices_;
   std::vector<int> elements_;                  // union of elements around vertices_
   std::vector<std::vector<int>> vertex_local_; // per vertex: indices into elements_
   std::vector<Eigen::Quaterniond> warm_;
   Eigen::VectorXd element_sed_;
+  // Nodal pressure: the patches of elements_ and every element feeding them ("ring").
+  const NodalPressureTetForce* nodal_ = nullptr;
+  std::vector<int> ring_;                       // element ids; elements_ come first
+  std::vector<int> ring_local_;                 // element id -> index in ring_, -1 if absent
+  std::vector<int> patches_;                    // patch ids used by elements_
+  std::vector<int> patch_local_;                // patch id -> index in patches_, -1 if absent
+  std::vector<Eigen::Quaterniond> ring_warm_;
+  Eigen::VectorXd ring_theta_, patch_theta_;
+  std::vector<Eigen::Matrix3d> ring_F_, ring_R_;
 };
 
 }  // namespace sedbridge::fem

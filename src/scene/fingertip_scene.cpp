@@ -5,6 +5,7 @@
 
 #include "fem/elastic_tet_force.h"
 #include "fem/mesh_topology.h"
+#include "fem/nodal_pressure_tet_force.h"
 #include "fem/pseudo_friction_force.h"
 
 namespace sedbridge::scene {
@@ -22,7 +23,15 @@ void FingertipScene::Build() {
   const SceneDescription& d = description_;
   std::vector<std::unique_ptr<fem::ForceTerm>> terms;
 
-  terms.push_back(std::make_unique<fem::ElasticTetForce>(m.soft, d.elasticity, d.rayleigh_beta_s));
+  auto elastic = std::make_unique<fem::ElasticTetForce>(m.soft, d.elasticity, d.rayleigh_beta_s, d.nodal_pressure);
+  const fem::ElasticTetForce& elastic_ref = *elastic;
+  terms.push_back(std::move(elastic));
+  if (d.nodal_pressure) {
+    // Right after the elastic term: it reads that term's rotations of the same assembly.
+    auto nodal = std::make_unique<fem::NodalPressureTetForce>(elastic_ref, d.rayleigh_beta_s);
+    nodal_pressure_ = nodal.get();
+    terms.push_back(std::move(nodal));
+  }
   if (d.bone) {
     std::vector<Eigen::Vector3d> normals;
     if (d.bone->spring.anisotropy != 1.0) {
@@ -56,7 +65,7 @@ void FingertipScene::Build() {
   // terms others read); its linear solver is never factorized.
   simulation_ = std::make_unique<fem::Simulation>(m.soft, std::move(terms), d.integrator,
                                                   fem::MakeLinearSolver(compliance ? "ldlt" : d.solver, d.pcg));
-  if (d.outputs.merkel_sed) merkel_ = std::make_unique<MerkelLayer>(m, *simulation_->elastic());
+  if (d.outputs.merkel_sed) merkel_ = std::make_unique<MerkelLayer>(m, *simulation_->elastic(), nodal_pressure_);
   if (compliance) compliance_ = std::make_unique<FingertipCompliance>(m, ComplianceOptionsFromScene(d));
   skin_area_m2_ = fem::VertexAreas(m.skin_triangles, m.soft.rest_positions_m);
 }

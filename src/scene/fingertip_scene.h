@@ -44,6 +44,8 @@ class FingertipScene {
   fem::SurfaceTractionForce* traction() const { return traction_; }
   MerkelLayer* merkel() const { return merkel_.get(); }
   const fem::ElasticTetForce& elastic() const { return *simulation_->elastic(); }
+  /// The nodal pressure term when the scene's elasticity is `nodal_pressure`, else null.
+  const fem::NodalPressureTetForce* nodal_pressure() const { return nodal_pressure_; }
 
   /// Names of the force terms that were built, in evaluation order.
   std::vector<std::string> BuiltEffects() const;
@@ -61,6 +63,7 @@ class FingertipScene {
   fem::PenaltyContactForce* contact_ = nullptr;
   fem::SurfaceTractionForce* traction_ = nullptr;
   std::unique_ptr<MerkelLayer> merkel_;
+  const fem::NodalPressureTetForce* nodal_pressure_ = nullptr;
   std::unique_ptr<FingertipCompliance> compliance_;
   double compliance_t_s_ = 0;
   Eigen::VectorXd skin_area_m2_;

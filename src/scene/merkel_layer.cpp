@@ -9,8 +9,9 @@
 
 namespace sedbridge::scene {
 
-MerkelLayer::MerkelLayer(const model::FingertipModel& model, const fem::ElasticTetForce& elastic)
-    : evaluator_(elastic, model.merkel_nodes) {
+MerkelLayer::MerkelLayer(const model::FingertipModel& model, const fem::ElasticTetForce& elastic,
+                         const fem::NodalPressureTetForce* nodal)
+    : evaluator_(elastic, model.merkel_nodes, nodal) {
   const auto& x = model.soft.rest_positions_m;
   const size_t n = model.merkel_nodes.size();
   rest_pad_mm_.resize(3, Eigen::Index(n));

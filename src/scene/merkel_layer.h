@@ -19,7 +19,9 @@ struct PathSample {
 class MerkelLayer {
  public:
   /// Both arguments must outlive the layer.
-  MerkelLayer(const model::FingertipModel& model, const fem::ElasticTetForce& elastic);
+  /// `nodal`: the scene's nodal pressure term, if any (SED with the smoothed pressure).
+  MerkelLayer(const model::FingertipModel& model, const fem::ElasticTetForce& elastic,
+              const fem::NodalPressureTetForce* nodal = nullptr);
 
   /// Evaluates vertex SED [Pa] at positions x (3 * #soft nodes); returns sed_Pa().
   const Eigen::VectorXd& Evaluate(const Eigen::VectorXd& x_m);

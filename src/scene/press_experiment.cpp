@@ -32,7 +32,7 @@ PressResult RunPress(FingertipScene& scene, const PressOptions& options) {
     if (scene.description().outputs.full_sed) {
       std::vector<int> all(size_t(scene.model().num_soft_nodes()));
       for (size_t i = 0; i < all.size(); ++i) all[i] = int(i);
-      full_sed = std::make_unique<fem::VertexSedEvaluator>(scene.elastic(), all);
+      full_sed = std::make_unique<fem::VertexSedEvaluator>(scene.elastic(), all, scene.nodal_pressure());
     }
   }
   for (int k = 1; k <= steps; ++k) {

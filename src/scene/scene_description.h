@@ -48,6 +48,9 @@ struct SceneDescription {
   std::string model;         ///< model name or path (LoadFingertipModel)
   std::string preset;        ///< preset name it started from, if any
   fem::ElasticFormulation elasticity = fem::ElasticFormulation::kCorotational;
+  /// `elasticity: nodal_pressure`: corotational with the average nodal pressure tet
+  /// (fem/nodal_pressure_tet_force.h): no volumetric locking at nu = 0.48.
+  bool nodal_pressure = false;
   fem::IntegratorSettings integrator;
   double dt_s = 1e-3;        ///< backward Euler step; quasi-static: load increment 1/steps
   int steps = 50;            ///< number of steps the scene runs, in [1, kMaxSceneSteps]

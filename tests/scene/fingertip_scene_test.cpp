@@ -1,5 +1,6 @@
 #include "scene/fingertip_scene.h"
 
+#include <algorithm>
 #include <gtest/gtest.h>
 
 #include "fem/bone_coupling_force.h"
@@ -75,6 +76,38 @@ TEST(FingertipScene, TrackedBoneCarriesTheFingerRigidly) {
   EXPECT_LT(max_error, 1e-6);  // 1 um after settling, for a 1 mm / 10 deg move
   EXPECT_GT((x.segment<3>(0) - s.model().soft.rest_positions_m.col(0)).norm(), 5e-4);  // it did move
   EXPECT_LT(s.merkel()->sed_Pa().maxCoeff(), 1e-3);
+}
+
+}  // namespace
+}  // namespace sedbridge::scene
+
+namespace sedbridge::scene {
+namespace {
+
+TEST(FingertipScene, NodalPressureTermIsBuiltOnlyWhenAsked) {
+  const std::string base = "model: B_coarse\nbone: {}\nsurface_traction: true\ndynamics: {dt_s: 0.001}\n"
+                           "solver: {type: pcg_jacobi, max_iterations: 2000}\n";
+  FingertipScene plain(ParseSceneDescription(base, "p.yaml"));
+  EXPECT_EQ(plain.nodal_pressure(), nullptr);
+  FingertipScene s(ParseSceneDescription(base + "elasticity: nodal_pressure\n", "n.yaml"));
+  ASSERT_NE(s.nodal_pressure(), nullptr);
+  const auto effects = s.BuiltEffects();
+  EXPECT_NE(std::find(effects.begin(), effects.end(), "nodal_pressure"), effects.end());
+  auto* traction = s.traction();
+  Eigen::Matrix3Xd t = Eigen::Matrix3Xd::Zero(3, Eigen::Index(traction->nodes().size()));
+  const Eigen::Vector3d z_pad = s.model().pad_frame.model_from_pad.linear().col(2);
+  for (Eigen::Index k = 0; k < t.cols(); ++k) {
+    const Eigen::Vector3d p = s.model().pad_frame.ToPad(traction->node_rest_positions_m().col(k)) * 1e3;
+    if (p.z() > -1.0 && std::abs(p.x()) < 4 && std::abs(p.y()) < 4) t.col(k) = -2000.0 * z_pad;
+  }
+  traction->SetNodalTraction(t);
+  for (int i = 0; i < 10; ++i) {
+    const auto r = s.Step();
+    ASSERT_TRUE(r.finite);
+    ASSERT_TRUE(r.converged);
+  }
+  EXPECT_GT(s.merkel()->sed_Pa().maxCoeff(), 1.0);
+  EXPECT_TRUE(s.merkel()->sed_Pa().allFinite());
 }
 
 }  // namespace

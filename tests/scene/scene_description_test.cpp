@@ -93,3 +93,24 @@ TEST(SceneDescription, StepCountAndKeyframesAreBounded) {
 
 }  // namespace
 }  // namespace sedbridge::scene
+
+namespace sedbridge::scene {
+namespace {
+
+TEST(SceneDescription, NodalPressureIsOneMoreElasticityValue) {
+  const SceneDescription s = ParseSceneDescription("model: B\nelasticity: nodal_pressure\n", "n.yaml");
+  EXPECT_TRUE(s.nodal_pressure);
+  EXPECT_EQ(s.elasticity, fem::ElasticFormulation::kCorotational);  // ANP is corotational
+  EXPECT_FALSE(ParseSceneDescription("model: B\nelasticity: corotational\n", "c.yaml").nodal_pressure);
+  EXPECT_FALSE(ParseSceneDescription("model: B\n", "d.yaml").nodal_pressure);
+  // A preset picks its own element (as `sedbridge press --preset` applies it after the file).
+  SceneDescription p = s;
+  ApplyPreset("balanced", p);
+  EXPECT_FALSE(p.nodal_pressure);
+  const SceneDescription shipped =
+      ReadSceneDescription(config::ResolveResource("config/scenes/paper_press_nodal_pressure.yaml"));
+  EXPECT_TRUE(shipped.nodal_pressure);
+}
+
+}  // namespace
+}  // namespace sedbridge::scene
