@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "bridge/contact_object.h"
+#include "bridge/reduced_linear_fe_step.h"
 #include "model/fingertip_model.h"
 #include "scene/fingertip_compliance.h"
 
@@ -13,12 +14,13 @@ namespace sedbridge::bridge {
 
 ContactFeStep::ContactFeStep(const std::string& model_name, const sensors::SensorProfile& profile,
                              const PadRegistration& registration, std::unique_ptr<FeStep> fallback,
-                             const std::string& cache_dir, ReconstructionOptions options)
+                             const std::string& cache_dir, ReconstructionOptions options, bool full_field)
     : fallback_(std::move(fallback)), registration_(registration) {
   reconstructor_ = std::make_unique<ContactReconstructor>(profile, options);
   model_ = std::make_unique<model::FingertipModel>(model::LoadFingertipModel(model_name));
   scene::FingertipComplianceOptions leader_options;
   leader_options.contact.cache_dir = cache_dir;
+  leader_options.contact.full_field = full_field;
   leader_ = std::make_unique<scene::FingertipCompliance>(*model_, leader_options);
   zero_sed_ = Eigen::VectorXd::Zero(leader_->merkel_rest_pad_mm().cols());
 }
@@ -31,6 +33,19 @@ std::string ContactFeStep::Describe() const {
   return "contact reconstruction -> compliance press on " + model_id() + " (" +
          std::to_string(leader_->contact().candidate_nodes().size()) + " candidate nodes), fallback: " +
          fallback_->Describe();
+}
+
+const fem::TetMesh& ContactFeStep::mesh() const { return model_->soft; }
+const std::vector<int>& ContactFeStep::merkel_nodes() const { return model_->merkel_nodes; }
+
+Eigen::VectorXd ContactFeStep::frame_positions_m() const {
+  Eigen::VectorXd x = leader_->contact().full_positions_m();
+  if (x.size() == 0) return x;
+  if (last_ == LastStep::kNone)
+    x = Eigen::Map<const Eigen::VectorXd>(model_->soft.rest_positions_m.data(), model_->soft.rest_positions_m.size());
+  if (last_ == LastStep::kFallback)
+    if (const auto* reduced = dynamic_cast<const ReducedLinearFeStep*>(fallback_.get())) x = reduced->positions_m();
+  return x;
 }
 
 std::string ContactFeStep::CountersLine() const {
@@ -72,6 +87,7 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
   if (!values.scan) {
     estimate_ = ContactEstimate{};
     FillMessage(values, true, 0);
+    last_ = LastStep::kFallback;
     return fallback_->Step(values);
   }
   const auto t0 = std::chrono::steady_clock::now();
@@ -97,11 +113,13 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
     result_.ok = true;
     result_.sed_Pa = &zero_sed_;
     FillMessage(values, false, 0);
+    last_ = LastStep::kNone;
     return result_;
   }
   if (!estimate_.ok) {
     ++counters_.fit_fallbacks;
     FillMessage(values, true, 0);
+    last_ = LastStep::kFallback;
     return fallback_->Step(values);
   }
   const auto press = leader_->PressToForce({ToRigidObject(p)}, p.normal_force_N, {}, Eigen::Vector2d(p.shear_x_N, p.shear_y_N));
@@ -112,10 +130,12 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
     estimate_.ok = false;
     estimate_.problem = std::string("leader press: ") + scene::ToString(press.status) + ": " + press.message;
     FillMessage(values, true, 0);
+    last_ = LastStep::kFallback;
     return fallback_->Step(values);
   }
   FillMessage(values, false, press.indentation_mm);
   ++counters_.pressed;
+  last_ = LastStep::kPressed;
   result_ = MerkelSedResult{};
   result_.ok = true;
   result_.sed_Pa = &leader_->sed_Pa();

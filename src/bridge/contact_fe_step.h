@@ -43,9 +43,11 @@ class ContactFeStep final : public FeStep {
   /// @param registration  sensor pad -> leader pad frame
   /// @param fallback    pressure-map step for scans the reconstruction cannot explain
   /// @param cache_dir   compliance precompute cache ("" = none)
+  /// @param full_field  keep what frame_positions_m() needs for the whole mesh (VTU frames;
+  ///                    24 MB on B, and the precompute runs instead of the cache)
   ContactFeStep(const std::string& model_name, const sensors::SensorProfile& profile,
                 const PadRegistration& registration, std::unique_ptr<FeStep> fallback,
-                const std::string& cache_dir, ReconstructionOptions options = {});
+                const std::string& cache_dir, ReconstructionOptions options = {}, bool full_field = false);
   ~ContactFeStep() override;
 
   /// Needs values.scan (set by ScanConditioner); without it the fallback answers.
@@ -60,6 +62,13 @@ class ContactFeStep final : public FeStep {
   const ContactEstimate& last_estimate() const { return estimate_; }
   const ContactStepCounters& counters() const { return counters_; }
   const ContactReconstructor& reconstructor() const { return *reconstructor_; }
+  /// The leader's soft mesh and every node's position after the last step [m] (the
+  /// pressed object's field, the fallback's, or rest), for VTU frames; empty without
+  /// full_field.
+  const fem::TetMesh& mesh() const;
+  Eigen::VectorXd frame_positions_m() const;
+  /// Mesh node of each Merkel vertex (the SED's order).
+  const std::vector<int>& merkel_nodes() const;
   /// Wall time per step of the two stages: reconstruction, and the press on the leader
   /// (contact solves + Merkel SED), over the scans that reached them.
   LatencySummary reconstruction_time() const { return recon_time_.Run(); }
@@ -75,6 +84,7 @@ class ContactFeStep final : public FeStep {
   PadRegistration registration_;
   ContactEstimate estimate_;
   ContactStepCounters counters_;
+  enum class LastStep { kNone, kPressed, kFallback } last_ = LastStep::kNone;
   Eigen::VectorXd zero_sed_;
   MerkelSedResult result_;
   lcmt_contact_estimate message_{};

@@ -15,7 +15,8 @@
 
 namespace sedbridge::bridge {
 
-std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::SensorProfile& profile) {
+std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::SensorProfile& profile,
+                                   bool full_field) {
   if (config.fe_step == "contact" && (!profile.has_forward_model || profile.axes != 3)) {
     std::fprintf(stderr,
                  "note: fe.step contact needs a three-axis sensor profile with a calibrated forward_model ('%s' has "
@@ -30,7 +31,8 @@ std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::Se
     BridgeConfig map = config;
     map.fe_step = "reduced";
     return std::make_unique<ContactFeStep>(config.model, profile, PadRegistration(profile.taxels, config.registration),
-                                           MakeFeStep(map, profile), config.compliance_cache_dir);
+                                           MakeFeStep(map, profile), config.compliance_cache_dir,
+                                           ReconstructionOptions{}, full_field);
   }
   if (config.fe_step == "reduced")
     return std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, config.preset), profile,
@@ -63,7 +65,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   using Clock = std::chrono::steady_clock;
   ReplayResult result;
   const auto t_setup = Clock::now();
-  if (!fe) fe = MakeFeStep(config, profile);
+  if (!fe) fe = MakeFeStep(config, profile, options.vtu_every > 0 && !options.out_dir.empty());
   result.fe_description = fe->Describe();
 
   display::LcmSettings lcm = config.lcm;
@@ -95,15 +97,31 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   // the same scene's mesh (its displacement is U v, so the frames cost one write each).
   auto* scene_step = dynamic_cast<SceneFeStep*>(&pipeline.fe());
   auto* reduced_step = dynamic_cast<ReducedLinearFeStep*>(&pipeline.fe());
+  auto* contact_step = dynamic_cast<ContactFeStep*>(&pipeline.fe());
+  const bool contact_frames = contact_step && contact_step->frame_positions_m().size() > 0;
   std::unique_ptr<scene::PvdCollection> pvd;
-  if (options.vtu_every > 0 && !scene_step && !reduced_step)
-    std::fprintf(stderr,
-                 "note: --vtu-every writes frames with fe.step scene or reduced; the contact step (compliance method) "
-                 "keeps no full displacement field\n");
-  if (options.vtu_every > 0 && (scene_step || reduced_step) && !options.out_dir.empty())
+  if (options.vtu_every > 0 && !scene_step && !reduced_step && !contact_frames)
+    std::fprintf(stderr, "note: --vtu-every: this FE step keeps no full displacement field, no frames written\n");
+  if (options.vtu_every > 0 && (scene_step || reduced_step || contact_frames) && !options.out_dir.empty())
     pvd = std::make_unique<scene::PvdCollection>((std::filesystem::path(options.out_dir) / "frames.pvd").string(),
                                                  "time since the first scan [s] (log time)");
   auto write_vtu = [&](size_t index, int64_t utime) {
+    if (contact_frames) {  // the leader's mesh under the pressed object, Merkel SED of the step
+      const fem::TetMesh& mesh = contact_step->mesh();
+      const Eigen::VectorXd x = contact_step->frame_positions_m();
+      const int n = mesh.num_nodes();
+      scene::VtuField sed{"merkel_sed_Pa", 1, std::vector<double>(size_t(n), 0.0)};
+      const auto& merkel = contact_step->merkel_nodes();
+      const auto& field = pipeline.last_field().sed_Pa;
+      for (size_t k = 0; k < merkel.size() && k < field.size(); ++k) sed.values[size_t(merkel[k])] = field[k];
+      char name[64];
+      std::snprintf(name, sizeof name, "frame_%06zu.vtu", index);
+      const double t_s = (utime - result.rows.front().utime) * 1e-6;
+      scene::WriteVtu((std::filesystem::path(options.out_dir) / name).string(), mesh, x, {sed}, {},
+                      {{"time_s", t_s}, {"scan", double(index)}, {"applied_force_N", result.rows.back().applied_force_N}});
+      pvd->Add(t_s, name);
+      return;
+    }
     SceneFeStep& step = scene_step ? *scene_step : reduced_step->scene_step();
     scene::FingertipScene& sc = step.scene();
     const fem::TetMesh& mesh = sc.model().soft;

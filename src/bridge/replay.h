@@ -31,7 +31,9 @@ namespace sedbridge::bridge {
 
 /// The FE step a config asks for: SceneFeStep (fe.step: scene) or ReducedLinearFeStep
 /// (fe.step: reduced), both on BridgeSceneDescription(model, preset).
-std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::SensorProfile& profile);
+/// `full_field`: the step keeps what VTU frames of the whole mesh need (contact step only).
+std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::SensorProfile& profile,
+                                   bool full_field = false);
 
 struct ReplayOptions {
   std::string out_dir;             ///< "" = no files (tests)

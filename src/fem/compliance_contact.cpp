@@ -123,7 +123,7 @@ ComplianceContact::ComplianceContact(const TetMesh& mesh, std::vector<std::uniqu
     std::snprintf(name, sizeof name, "compliance_%016llx.bin", static_cast<unsigned long long>(key.h));
     cache_file_ = (std::filesystem::path(options_.cache_dir) / name).string();
   }
-  loaded_from_cache_ = !cache_file_.empty() && LoadCache(key.h);
+  loaded_from_cache_ = !cache_file_.empty() && !options_.full_field && LoadCache(key.h);
   if (!loaded_from_cache_) {
     Precompute(K);
     if (!cache_file_.empty()) SaveCache(key.h);
@@ -153,6 +153,7 @@ void ComplianceContact::Precompute(const SystemMatrix& K) {
   const int s = int(sed_nodes_.size());
   W_.resize(3 * c, 3 * c);
   G_.resize(3 * s, 3 * c);
+  if (options_.full_field) F_.resize(3 * K.num_nodes(), 3 * c);
   bool ok = true;
   const int threads = options_.precompute_threads > 0 ? options_.precompute_threads : omp_get_max_threads();
   // One back-substitution per candidate dof (column of K^-1 H^T); columns are independent.
@@ -170,6 +171,7 @@ void ComplianceContact::Precompute(const SystemMatrix& K) {
       ok = ok && r.converged && x.allFinite();
       for (int j = 0; j < c; ++j) W_.block<3, 1>(3 * j, col) = x.segment<3>(3 * candidates_[size_t(j)]);
       for (int j = 0; j < s; ++j) G_.block<3, 1>(3 * j, col) = x.segment<3>(3 * sed_nodes_[size_t(j)]);
+      if (options_.full_field) F_.col(col) = x;
     }
   }
   if (!ok) throw std::invalid_argument("compliance contact: K is singular (does the model have a fixed support?)");
@@ -266,6 +268,13 @@ void ComplianceContact::ResetWarmStart() {
   lambda_N_.resize(0);
   f_c_.setZero();
   u_c_.setZero();
+}
+
+Eigen::VectorXd ComplianceContact::full_positions_m() const {
+  if (F_.size() == 0) return {};
+  Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(mesh_.rest_positions_m.data(), mesh_.rest_positions_m.size());
+  for (int j : loaded_) AddColumns3(F_, j, f_c_.segment<3>(3 * j), x);
+  return x;
 }
 
 void ComplianceContact::CandidateDisplacements() {

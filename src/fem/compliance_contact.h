@@ -46,6 +46,10 @@ struct ComplianceContactOptions {
   /// diverges on it too (tried: a plane slid over a block, mu 0.2 and 1.0).
   double friction_anisotropy = 0.0;
   int max_iterations = 60;         ///< Newton iterations per step
+  /// Also keep K^-1 H^T for every node (3 #nodes x 3 #candidates: 24 MB on model B) so
+  /// that full_positions_m() gives the whole deformed mesh (VTU frames). Built by the
+  /// precompute (the disk cache holds only W and G, so it is not read then).
+  bool full_field = false;
   /// Converged when every contact's normal force matches k * depth at the new positions
   /// to this fraction of the largest contact force (and the active set is unchanged).
   double relative_tolerance = 1e-8;
@@ -102,6 +106,9 @@ class ComplianceContact {
   /// Positions of all nodes where the last step defines them (candidates and SED nodes;
   /// every other node stays at rest) [m], 3 * #nodes.
   const Eigen::VectorXd& positions_m() const { return x_; }
+  /// Every node's position after the last step [m], 3 * #nodes (options.full_field only;
+  /// empty otherwise).
+  Eigen::VectorXd full_positions_m() const;
 
   const std::vector<int>& candidate_nodes() const { return candidates_; }
   const std::vector<int>& sed_vertices() const;
@@ -143,7 +150,7 @@ class ComplianceContact {
   };
   std::vector<SedElement> sed_elements_;  // in the order of sed_->elements()
   Eigen::VectorXd element_sed_;
-  Eigen::MatrixXd W_, G_;
+  Eigen::MatrixXd W_, G_, F_;  // F_: K^-1 H^T for every dof (full_field only)
   double precompute_s_ = 0;
   bool loaded_from_cache_ = false;
   std::string cache_file_, cache_rejected_;
