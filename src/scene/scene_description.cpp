@@ -65,7 +65,7 @@ SceneDescription Parse(const config::YamlDocument& doc) {
     MapReader so = r.Child("solver");
     solver_type_given = so.Has("type");
     if (so.Has("type"))
-      s.solver = so.RequiredChoice("type", {"ldlt", "pcg_jacobi", "pcg_warp", "pcg_warp_ichol", "compliance"});
+      s.solver = so.RequiredChoice("type", {"ldlt", "cholmod", "pcg_jacobi", "pcg_warp", "pcg_warp_cholmod", "pcg_warp_ichol", "compliance"});
     if (so.Has("cache_dir")) {
       if (s.solver != "compliance") so.Fail(so.Node("cache_dir"), "'cache_dir' is for solver type 'compliance'");
       s.solver_cache_dir = so.Required<std::string>("cache_dir");

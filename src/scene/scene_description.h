@@ -51,7 +51,7 @@ struct SceneDescription {
   fem::IntegratorSettings integrator;
   double dt_s = 1e-3;        ///< backward Euler step; quasi-static: load increment 1/steps
   int steps = 50;            ///< number of steps the scene runs, in [1, kMaxSceneSteps]
-  /// "ldlt", "pcg_*", or "compliance": contact by the compliance method
+  /// "ldlt", "cholmod" (supernodal Cholesky), "pcg_*", or "compliance": contact by the compliance method
   /// (scene/fingertip_compliance.h), linear quasi-static scenes with the bone fixed only.
   std::string solver = "ldlt";
   std::string solver_cache_dir;  ///< compliance: precompute cache folder ("" = none)

@@ -1,0 +1,134 @@
+#include "fem/cholmod_solver.h"
+
+#include <Eigen/CholmodSupport>
+#include <cstring>
+
+namespace sedbridge::fem {
+namespace {
+
+// Eigen keeps the cholmod_factor protected; the solve below needs it to call
+// cholmod_solve2 (reusable workspace: no allocation per solve) and the statistics.
+class SupernodalFactor : public Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> {
+ public:
+  cholmod_factor* factor() const { return m_cholmodFactor; }
+};
+
+const char* OrderingName(int ordering) {
+  switch (ordering) {
+    case CHOLMOD_NATURAL: return "natural";
+    case CHOLMOD_GIVEN: return "given";
+    case CHOLMOD_AMD: return "amd";
+    case CHOLMOD_METIS: return "metis";
+    case CHOLMOD_NESDIS: return "nesdis";
+    case CHOLMOD_COLAMD: return "colamd";
+    case CHOLMOD_POSTORDERED: return "postordered";
+  }
+  return "unknown";
+}
+
+}  // namespace
+
+struct CholmodSolver::Impl {
+  SupernodalFactor llt;
+  bool analyzed = false;
+  // cholmod_solve2 workspace and result, kept between solves.
+  cholmod_dense* x = nullptr;
+  cholmod_dense* y = nullptr;
+  cholmod_dense* e = nullptr;
+
+  ~Impl() {
+    // Before llt's destructor ends the cholmod_common these were allocated with.
+    cholmod_common& c = llt.cholmod();
+    if (x) cholmod_free_dense(&x, &c);
+    if (y) cholmod_free_dense(&y, &c);
+    if (e) cholmod_free_dense(&e, &c);
+  }
+};
+
+CholmodSolver::CholmodSolver(CholmodOrdering ordering) : impl_(std::make_unique<Impl>()) {
+  cholmod_common& c = impl_->llt.cholmod();
+  c.print = 0;  // failures are reported through LinearSolveReport, not printed
+  switch (ordering) {
+    case CholmodOrdering::kBest:
+      // The analysis runs once per matrix pattern, so trying both costs little.
+      c.nmethods = 2;
+      c.method[0].ordering = CHOLMOD_AMD;
+      c.method[1].ordering = CHOLMOD_METIS;
+      break;
+    case CholmodOrdering::kAmd:
+      c.nmethods = 1;
+      c.method[0].ordering = CHOLMOD_AMD;
+      break;
+    case CholmodOrdering::kMetis:
+      c.nmethods = 1;
+      c.method[0].ordering = CHOLMOD_METIS;
+      break;
+  }
+  c.postorder = 1;  // postorder the elimination tree: larger supernodes
+}
+
+CholmodSolver::~CholmodSolver() = default;
+
+void CholmodSolver::Prepare(const SystemMatrix& A) {
+  // The CSR arrays of a symmetric matrix read as CSC describe the same matrix.
+  const auto& m = A.csr();
+  const Eigen::Map<const Eigen::SparseMatrix<double>> a(m.rows(), m.cols(), m.nonZeros(), m.outerIndexPtr(),
+                                                        m.innerIndexPtr(), m.valuePtr());
+  if (!impl_->analyzed) {
+    impl_->llt.analyzePattern(a);
+    impl_->analyzed = impl_->llt.factor() != nullptr;
+  }
+  if (!impl_->analyzed) {
+    ok_ = false;
+    return;
+  }
+  impl_->llt.factorize(a);
+  ok_ = impl_->llt.info() == Eigen::Success;
+}
+
+LinearSolveReport CholmodSolver::Solve(const SystemMatrix&, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
+  LinearSolveReport report;
+  if (!ok_) {
+    report.converged = false;
+    return report;
+  }
+  if (b.isZero(0.0)) {  // at rest: nothing to solve (as DirectLdltSolver)
+    x.setZero(b.size());
+    return report;
+  }
+  cholmod_common& c = impl_->llt.cholmod();
+  cholmod_dense rhs;
+  std::memset(&rhs, 0, sizeof(rhs));
+  rhs.nrow = size_t(b.size());
+  rhs.ncol = 1;
+  rhs.nzmax = size_t(b.size());
+  rhs.d = size_t(b.size());
+  rhs.x = const_cast<double*>(b.data());  // read only by cholmod_solve2
+  rhs.xtype = CHOLMOD_REAL;
+  rhs.dtype = CHOLMOD_DOUBLE;
+  if (!cholmod_solve2(CHOLMOD_A, impl_->llt.factor(), &rhs, nullptr, &impl_->x, nullptr, &impl_->y, &impl_->e, &c)) {
+    report.converged = false;
+    return report;
+  }
+  x = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(impl_->x->x), b.size());
+  report.converged = x.allFinite();
+  return report;
+}
+
+double CholmodSolver::factor_nonzeros() const {
+  return impl_->analyzed ? impl_->llt.cholmod().lnz : 0.0;
+}
+
+double CholmodSolver::factor_stored_entries() const {
+  const cholmod_factor* f = impl_->llt.factor();
+  return f ? double(f->xsize) : 0.0;
+}
+
+double CholmodSolver::factor_flops() const { return impl_->analyzed ? impl_->llt.cholmod().fl : 0.0; }
+
+std::string CholmodSolver::ordering_used() const {
+  const cholmod_factor* f = impl_->llt.factor();
+  return f ? OrderingName(f->ordering) : "";
+}
+
+}  // namespace sedbridge::fem
