@@ -3,6 +3,10 @@
 #include <Eigen/CholmodSupport>
 #include <cstring>
 
+// OpenBLAS's thread controls, weak: with another BLAS behind libblas.so.3 they are null.
+extern "C" void openblas_set_num_threads(int) __attribute__((weak));
+extern "C" int openblas_get_num_threads() __attribute__((weak));
+
 namespace sedbridge::fem {
 namespace {
 
@@ -130,5 +134,13 @@ std::string CholmodSolver::ordering_used() const {
   const cholmod_factor* f = impl_->llt.factor();
   return f ? OrderingName(f->ordering) : "";
 }
+
+bool SetBlasThreads(int threads) {
+  if (!openblas_set_num_threads || threads < 1) return false;
+  openblas_set_num_threads(threads);
+  return true;
+}
+
+int BlasThreads() { return openblas_get_num_threads ? openblas_get_num_threads() : 0; }
 
 }  // namespace sedbridge::fem

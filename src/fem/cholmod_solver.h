@@ -51,4 +51,10 @@ class CholmodSolver final : public LinearSolver {
   bool ok_ = false;
 };
 
+/// Sets the BLAS thread count CHOLMOD's supernode kernels use (OpenBLAS; overrides the
+/// environment). Returns false, and does nothing, with a BLAS that cannot be told.
+bool SetBlasThreads(int threads);
+/// The BLAS thread count in effect (OpenBLAS), or 0 if the BLAS cannot say.
+int BlasThreads();
+
 }  // namespace sedbridge::fem

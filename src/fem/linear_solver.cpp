@@ -55,7 +55,7 @@ std::string PcgSolver::name() const {
   switch (settings_.preconditioner) {
     case PreconditionerKind::kBlockJacobi: return "pcg_jacobi";
     case PreconditionerKind::kWarpedRestFactor:
-      return settings_.direct == DirectSolverKind::kCholmod ? "pcg_warp_cholmod" : "pcg_warp";
+      return settings_.direct == DirectSolverKind::kCholmod ? "pcg_warp" : "pcg_warp_ldlt";
     case PreconditionerKind::kWarpedRestIncompleteCholesky: return "pcg_warp_ichol";
   }
   return "pcg";
@@ -178,20 +178,16 @@ std::unique_ptr<LinearSolver> MakeLinearSolver(const std::string& name, const Pc
     s.preconditioner = PreconditionerKind::kBlockJacobi;
     return std::make_unique<PcgSolver>(s);
   }
-  if (name == "pcg_warp") {
+  if (name == "pcg_warp" || name == "pcg_warp_ldlt") {
     s.preconditioner = PreconditionerKind::kWarpedRestFactor;
-    return std::make_unique<PcgSolver>(s);
-  }
-  if (name == "pcg_warp_cholmod") {
-    s.preconditioner = PreconditionerKind::kWarpedRestFactor;
-    s.direct = DirectSolverKind::kCholmod;
+    s.direct = name == "pcg_warp" ? DirectSolverKind::kCholmod : DirectSolverKind::kLdlt;
     return std::make_unique<PcgSolver>(s);
   }
   if (name == "pcg_warp_ichol") {
     s.preconditioner = PreconditionerKind::kWarpedRestIncompleteCholesky;
     return std::make_unique<PcgSolver>(s);
   }
-  throw std::invalid_argument("unknown linear solver '" + name + "' (ldlt, cholmod, pcg_jacobi, pcg_warp, pcg_warp_cholmod, pcg_warp_ichol)");
+  throw std::invalid_argument("unknown linear solver '" + name + "' (ldlt, cholmod, pcg_jacobi, pcg_warp, pcg_warp_ldlt, pcg_warp_ichol)");
 }
 
 }  // namespace sedbridge::fem

@@ -44,7 +44,7 @@ TEST(LinearSolver, AllSolversAgreeAndWarpIsNearlyExactForLinearFem) {
   A.Multiply(reference, Ax);
   EXPECT_LT((Ax - b).norm(), 1e-9 * b.norm());
 
-  for (const char* name : {"pcg_jacobi", "pcg_warp", "pcg_warp_cholmod", "pcg_warp_ichol"}) {
+  for (const char* name : {"pcg_jacobi", "pcg_warp", "pcg_warp_ldlt", "pcg_warp_ichol"}) {
     auto solver = MakeLinearSolver(name, PcgSettings{1e-10, 5000});
     solver->SetReferenceMatrix(A);
     solver->Prepare(A);
@@ -107,7 +107,8 @@ TEST(CholmodSolver, MatchesLdltOnABoxMesh) {
   }
   auto by_name = MakeLinearSolver("cholmod", {});
   EXPECT_EQ(by_name->name(), "cholmod");
-  EXPECT_EQ(MakeLinearSolver("pcg_warp_cholmod", {})->name(), "pcg_warp_cholmod");
+  EXPECT_EQ(MakeLinearSolver("pcg_warp", {})->name(), "pcg_warp");
+  EXPECT_EQ(MakeLinearSolver("pcg_warp_ldlt", {})->name(), "pcg_warp_ldlt");
 }
 
 // A matrix that is not positive definite (a node with a zero, then a negative diagonal
@@ -135,7 +136,7 @@ TEST(CholmodSolver, ReportsASingularOrIndefiniteMatrix) {
     // The PCG with a CHOLMOD rest factor that failed preconditions by block Jacobi instead
     // (which solves this diagonal -1 case exactly); the zero block cannot be solved, and
     // its direct fallback reports that. No NaN either way.
-    auto pcg = MakeLinearSolver("pcg_warp_cholmod", PcgSettings{1e-10, 20});
+    auto pcg = MakeLinearSolver("pcg_warp", PcgSettings{1e-10, 20});
     pcg->SetReferenceMatrix(A);
     pcg->Prepare(A);
     y.setZero();
