@@ -1,7 +1,12 @@
 #include "fem/cholmod_solver.h"
 
+#include <omp.h>
+
 #include <Eigen/CholmodSupport>
+#include <atomic>
+#include <cstdlib>
 #include <cstring>
+#include <mutex>
 
 // OpenBLAS's thread controls, weak: with another BLAS behind libblas.so.3 they are null.
 extern "C" void openblas_set_num_threads(int) __attribute__((weak));
@@ -30,6 +35,20 @@ const char* OrderingName(int ordering) {
   return "unknown";
 }
 
+std::atomic<bool> blas_threads_chosen{false};
+
+// One BLAS thread unless the user or the program chose otherwise. OpenBLAS's workers
+// spin, then yield, while they wait for work; on a machine with other load (or next to our
+// own OpenMP team) a 2-thread solve of model B measured 0.5 ms to 170 ms, and the fronts
+// of these models are too small for a second thread to pay (docs/performance.md).
+void DefaultBlasThreadsOnce() {
+  static std::once_flag once;
+  std::call_once(once, [] {
+    if (!blas_threads_chosen && !std::getenv("OPENBLAS_NUM_THREADS") && openblas_set_num_threads)
+      openblas_set_num_threads(1);
+  });
+}
+
 }  // namespace
 
 struct CholmodSolver::Impl {
@@ -50,6 +69,7 @@ struct CholmodSolver::Impl {
 };
 
 CholmodSolver::CholmodSolver(CholmodOrdering ordering) : impl_(std::make_unique<Impl>()) {
+  DefaultBlasThreadsOnce();
   cholmod_common& c = impl_->llt.cholmod();
   c.print = 0;  // failures are reported through LinearSolveReport, not printed
   switch (ordering) {
@@ -86,7 +106,14 @@ void CholmodSolver::Prepare(const SystemMatrix& A) {
     ok_ = false;
     return;
   }
+  // Debian's libcholmod opens OpenMP teams of a fixed 4 threads (CHOLMOD_OMP_NUM_THREADS)
+  // inside the numeric factorization. On 2 busy cores that made it 2-4x slower (B: 42 ms
+  // against 11 ms with OMP_THREAD_LIMIT=1, docs/performance.md). Dynamic teams (an ICV of
+  // this thread only) let libgomp shrink them to the idle cores (cores - load average).
+  const int dynamic = omp_get_dynamic();
+  omp_set_dynamic(1);
   impl_->llt.factorize(a);
+  omp_set_dynamic(dynamic);
   ok_ = impl_->llt.info() == Eigen::Success;
 }
 
@@ -137,6 +164,7 @@ std::string CholmodSolver::ordering_used() const {
 
 bool SetBlasThreads(int threads) {
   if (!openblas_set_num_threads || threads < 1) return false;
+  blas_threads_chosen = true;
   openblas_set_num_threads(threads);
   return true;
 }

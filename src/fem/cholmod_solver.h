@@ -1,8 +1,10 @@
 #pragma once
 // Supernodal sparse Cholesky L L^T (CHOLMOD from SuiteSparse, through Eigen's
 // CholmodSupport) with a fill-reducing ordering, behind the LinearSolver interface.
-// Supernodes are dense column blocks factorized by BLAS (OpenBLAS: threads follow
-// OPENBLAS_NUM_THREADS, else OMP_NUM_THREADS, read once at program start).
+// Supernodes are dense column blocks factorized by BLAS (OpenBLAS). BLAS threads: 1 by
+// default (the first CholmodSolver sets it: OpenBLAS's spinning workers cost far more than
+// they bring on these models, docs/performance.md), OPENBLAS_NUM_THREADS when set, or
+// SetBlasThreads below.
 // CHOLMOD's headers stay in the .cpp, so users of this header need no SuiteSparse paths.
 
 #include <memory>
@@ -51,8 +53,9 @@ class CholmodSolver final : public LinearSolver {
   bool ok_ = false;
 };
 
-/// Sets the BLAS thread count CHOLMOD's supernode kernels use (OpenBLAS; overrides the
-/// environment). Returns false, and does nothing, with a BLAS that cannot be told.
+/// Sets the BLAS thread count CHOLMOD's supernode kernels use (OpenBLAS, process-wide;
+/// overrides the environment and the default of 1). Returns false, and does nothing, with
+/// a BLAS that cannot be told.
 bool SetBlasThreads(int threads);
 /// The BLAS thread count in effect (OpenBLAS), or 0 if the BLAS cannot say.
 int BlasThreads();

@@ -3,7 +3,8 @@
 // against CHOLMOD's supernodal L L^T (CholmodSolver) with each ordering. Run (Release):
 //   build/tests/bench/linear_solver_benchmark --threads 1 B_coarse B B_fine B_x4 A
 // Prints one markdown table row per model and solver. --threads sets both the OpenMP and
-// the BLAS (OpenBLAS) thread counts. Times are medians over repetitions (wall clock).
+// the BLAS (OpenBLAS) thread counts, --blas-threads the BLAS alone (after --threads).
+// Times are medians over repetitions (wall clock).
 //
 // The matrix is the backward Euler step matrix at rest, corotational elasticity with the
 // bone fixed: M + h D + h^2 K at h = 1 ms (what pcg_warp factorizes once and "ldlt" every
@@ -108,9 +109,10 @@ void Measure(const std::string& model_name, const fem::SystemMatrix& A, const st
 int main(int argc, char** argv) {
   using namespace sedbridge;
   std::vector<std::string> models;
-  int threads = 0;
+  int threads = 0, blas_threads = 0;
   for (int i = 1; i < argc; ++i) {
     if (std::strcmp(argv[i], "--threads") == 0 && i + 1 < argc) threads = std::atoi(argv[++i]);
+    else if (std::strcmp(argv[i], "--blas-threads") == 0 && i + 1 < argc) blas_threads = std::atoi(argv[++i]);
     else models.push_back(argv[i]);
   }
   if (models.empty()) models = {"B_coarse", "B"};
@@ -118,8 +120,10 @@ int main(int argc, char** argv) {
     omp_set_num_threads(threads);
     fem::SetBlasThreads(threads);
   }
+  if (blas_threads > 0) fem::SetBlasThreads(blas_threads);
+  { fem::CholmodSolver applies_the_default_blas_threads; }
   std::printf("OpenMP threads %d, BLAS threads %d\n\n", omp_get_max_threads(), fem::BlasThreads());
-  std::printf("| model | unknowns | threads | solver | ordering | nnz(L) M | stored L M | analyze + 1st factor ms | "
+  std::printf("| model | unknowns | OpenMP threads | solver | ordering | nnz(L) M | stored L M | analyze + 1st factor ms | "
               "factor ms (reps) | solve ms (reps) | rel. residual |\n|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const std::string& name : models) {
     const model::FingertipModel model = model::LoadFingertipModel(name);
