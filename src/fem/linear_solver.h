@@ -58,8 +58,8 @@ class DirectLdltSolver final : public LinearSolver {
   bool ok_ = false;
 };
 
-/// kWarpedRestFactor: exact factorization (PcgSettings::direct) of the rest matrix, rotated per node (few iterations,
-/// each a full triangular solve). kWarpedRestIncompleteCholesky: the same with an
+/// kWarpedRestFactor: exact factorization (PcgSettings::direct) of the rest matrix, rotated
+/// per node (few iterations, each a full triangular solve). kWarpedRestIncompleteCholesky: the same with an
 /// incomplete Cholesky (cheaper iterations, more of them).
 enum class PreconditionerKind { kBlockJacobi, kWarpedRestFactor, kWarpedRestIncompleteCholesky };
 
@@ -69,7 +69,7 @@ struct PcgSettings {
   PreconditionerKind preconditioner = PreconditionerKind::kWarpedRestFactor;
   bool fallback_to_direct = true;
   /// Factorization for the warped rest factor and the fallback. CHOLMOD: on model B its
-  /// solves are ~4x and its factorization ~3x faster than the LDL^T (docs/performance.md).
+  /// solves are ~3x and its factorization ~7x faster than the LDL^T (docs/performance.md).
   DirectSolverKind direct = DirectSolverKind::kCholmod;
 };
 

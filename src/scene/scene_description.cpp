@@ -155,9 +155,9 @@ void ApplyPreset(const std::string& name, SceneDescription& s) {
   if (name == "fast") {
     s.elasticity = fem::ElasticFormulation::kLinear;
     // Without contact the matrix is constant: factorized once, one back-substitution a
-    // step (CHOLMOD's is ~4x faster than the LDL^T's on B). Contact changes it every
-    // step, and refactorizing costs ~50 ms on model B; the rest factor preconditioning
-    // PCG is exact without contact, close with it.
+    // step (CHOLMOD's is ~3x faster than the LDL^T's on B). Contact changes it every
+    // step; refactorizing (~11 ms on model B) still costs more than the PCG preconditioned
+    // by the rest factor, which is exact without contact and close with it.
     s.solver = s.contact ? "pcg_warp" : "cholmod";
     s.integrator.newton_iterations = 1;
   } else if (name == "balanced") {
@@ -168,7 +168,7 @@ void ApplyPreset(const std::string& name, SceneDescription& s) {
     s.integrator.newton_iterations = 1;
   } else if (name == "accurate") {
     s.elasticity = fem::ElasticFormulation::kCorotational;
-    s.solver = "cholmod";  // refactorized every Newton iteration: ~3x faster than LDL^T on B
+    s.solver = "cholmod";  // refactorized every Newton iteration: ~7x faster than LDL^T on B
     s.integrator.newton_iterations = 3;
   } else {
     throw std::invalid_argument("unknown preset '" + name + "' (fast, balanced, accurate)");
