@@ -10,6 +10,8 @@ PACKAGES=(
   liblcm-dev liblcm-bin liblcm-java libglib2.0-dev
   libssl-dev              # OpenSSL libcrypto: HMAC-SHA256 of DISPLAY_COMMAND (display/command_authenticator.h)
   libomp-dev
+  libsuitesparse-dev      # CHOLMOD supernodal Cholesky (fem/cholmod_solver.h); pulls in METIS for nested dissection
+  libopenblas-dev         # threaded BLAS for CHOLMOD's dense supernode kernels
   libgtest-dev libgmock-dev googletest libbenchmark-dev
   clang libclang-rt-dev
   libgmsh-dev gmsh

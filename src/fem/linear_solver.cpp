@@ -1,5 +1,7 @@
 #include "fem/linear_solver.h"
 
+#include "fem/cholmod_solver.h"
+
 #include <Eigen/Dense>
 #include <cmath>
 #include <stdexcept>
@@ -41,12 +43,19 @@ LinearSolveReport DirectLdltSolver::Solve(const SystemMatrix&, const Eigen::Vect
   return report;
 }
 
-PcgSolver::PcgSolver(PcgSettings settings) : settings_(settings) {}
+std::unique_ptr<LinearSolver> MakeDirectSolver(DirectSolverKind kind) {
+  if (kind == DirectSolverKind::kCholmod) return std::make_unique<CholmodSolver>();
+  return std::make_unique<DirectLdltSolver>();
+}
+
+PcgSolver::PcgSolver(PcgSettings settings)
+    : settings_(settings), rest_factor_(MakeDirectSolver(settings.direct)), fallback_(MakeDirectSolver(settings.direct)) {}
 
 std::string PcgSolver::name() const {
   switch (settings_.preconditioner) {
     case PreconditionerKind::kBlockJacobi: return "pcg_jacobi";
-    case PreconditionerKind::kWarpedRestFactor: return "pcg_warp";
+    case PreconditionerKind::kWarpedRestFactor:
+      return settings_.direct == DirectSolverKind::kCholmod ? "pcg_warp" : "pcg_warp_ldlt";
     case PreconditionerKind::kWarpedRestIncompleteCholesky: return "pcg_warp_ichol";
   }
   return "pcg";
@@ -58,8 +67,10 @@ void PcgSolver::SetReferenceMatrix(const SystemMatrix& A0) {
     rest_incomplete_.compute(a);
     has_rest_factor_ = rest_incomplete_.info() == Eigen::Success;
   } else {
-    rest_factor_.compute(a);
-    has_rest_factor_ = rest_factor_.info() == Eigen::Success;
+    rest_factor_->Prepare(A0);
+    // A zero right-hand side probes the factor's state without solving anything.
+    Eigen::VectorXd probe;
+    has_rest_factor_ = rest_factor_->Solve(A0, Eigen::VectorXd::Zero(a.rows()), probe).converged;
   }
 }
 
@@ -74,12 +85,15 @@ void PcgSolver::Prepare(const SystemMatrix& A) {
   }
 }
 
-void PcgSolver::ApplyPreconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+void PcgSolver::ApplyPreconditioner(const SystemMatrix& A, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
   const int n = int(r.size() / 3);
   if (settings_.preconditioner != PreconditionerKind::kBlockJacobi && has_rest_factor_) {
     const bool incomplete = settings_.preconditioner == PreconditionerKind::kWarpedRestIncompleteCholesky;
     auto solve = [&](const Eigen::VectorXd& v) -> Eigen::VectorXd {
-      return incomplete ? Eigen::VectorXd(rest_incomplete_.solve(v)) : Eigen::VectorXd(rest_factor_.solve(v));
+      if (incomplete) return rest_incomplete_.solve(v);
+      Eigen::VectorXd out;
+      rest_factor_->Solve(A, v, out);  // a direct solver reads its factor, not A
+      return out;
     };
     if (rotations_) {
       tmp_.resize(r.size());
@@ -114,7 +128,7 @@ LinearSolveReport PcgSolver::Solve(const SystemMatrix& A, const Eigen::VectorXd&
   } else {
     r_ = b - q_;
   }
-  ApplyPreconditioner(r_, z_);
+  ApplyPreconditioner(A, r_, z_);
   p_ = z_;
   double rz = r_.dot(z_);
   const double target = settings_.relative_tolerance * b_norm;
@@ -130,7 +144,7 @@ LinearSolveReport PcgSolver::Solve(const SystemMatrix& A, const Eigen::VectorXd&
     r_norm = r_.norm();
     ++it;
     if (r_norm <= target) break;
-    ApplyPreconditioner(r_, z_);
+    ApplyPreconditioner(A, r_, z_);
     const double rz_new = r_.dot(z_);
     p_ = z_ + (rz_new / rz) * p_;
     rz = rz_new;
@@ -140,32 +154,40 @@ LinearSolveReport PcgSolver::Solve(const SystemMatrix& A, const Eigen::VectorXd&
   report.converged = r_norm <= target && x.allFinite();
   if (!report.converged && settings_.fallback_to_direct) {
     ++fallbacks_;
-    fallback_.Prepare(A);
-    const LinearSolveReport direct = fallback_.Solve(A, b, x);
+    fallback_->Prepare(A);
+    const LinearSolveReport direct = fallback_->Solve(A, b, x);
     report.used_fallback = true;
     report.converged = direct.converged;
     A.Multiply(x, q_);
     report.relative_residual = (b - q_).norm() / b_norm;
+  }
+  if (!x.allFinite()) {
+    // A singular A can drive CG to 0/0 and the direct fallback cannot answer either:
+    // hand back "no update" and say so, never NaN.
+    x.setZero(b.size());
+    report.converged = false;
   }
   return report;
 }
 
 std::unique_ptr<LinearSolver> MakeLinearSolver(const std::string& name, const PcgSettings& pcg) {
   if (name == "ldlt") return std::make_unique<DirectLdltSolver>();
+  if (name == "cholmod") return std::make_unique<CholmodSolver>();
   PcgSettings s = pcg;
   if (name == "pcg_jacobi") {
     s.preconditioner = PreconditionerKind::kBlockJacobi;
     return std::make_unique<PcgSolver>(s);
   }
-  if (name == "pcg_warp") {
+  if (name == "pcg_warp" || name == "pcg_warp_ldlt") {
     s.preconditioner = PreconditionerKind::kWarpedRestFactor;
+    s.direct = name == "pcg_warp" ? DirectSolverKind::kCholmod : DirectSolverKind::kLdlt;
     return std::make_unique<PcgSolver>(s);
   }
   if (name == "pcg_warp_ichol") {
     s.preconditioner = PreconditionerKind::kWarpedRestIncompleteCholesky;
     return std::make_unique<PcgSolver>(s);
   }
-  throw std::invalid_argument("unknown linear solver '" + name + "' (ldlt, pcg_jacobi, pcg_warp, pcg_warp_ichol)");
+  throw std::invalid_argument("unknown linear solver '" + name + "' (ldlt, cholmod, pcg_jacobi, pcg_warp, pcg_warp_ldlt, pcg_warp_ichol)");
 }
 
 }  // namespace sedbridge::fem

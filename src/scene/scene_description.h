@@ -54,9 +54,10 @@ struct SceneDescription {
   fem::IntegratorSettings integrator;
   double dt_s = 1e-3;        ///< backward Euler step; quasi-static: load increment 1/steps
   int steps = 50;            ///< number of steps the scene runs, in [1, kMaxSceneSteps]
-  /// "ldlt", "pcg_*", or "compliance": contact by the compliance method
+  /// "cholmod" (supernodal Cholesky, the default), "ldlt" (Eigen's simplicial LDL^T),
+  /// "pcg_*", or "compliance": contact by the compliance method
   /// (scene/fingertip_compliance.h), linear quasi-static scenes with the bone fixed only.
-  std::string solver = "ldlt";
+  std::string solver = "cholmod";
   std::string solver_cache_dir;  ///< compliance: precompute cache folder ("" = none)
   fem::PcgSettings pcg;
   double rayleigh_beta_s = 0.0;
@@ -73,7 +74,7 @@ SceneDescription ReadSceneDescription(const std::string& path);
 SceneDescription ParseSceneDescription(const std::string& yaml_text, const std::string& file);
 
 /// Applies a named preset ("fast", "balanced", "accurate": docs/accuracy-cost.md) to
-/// the solver-related fields. `fast` picks LDL^T factorized once for a scene without
+/// the solver-related fields. `fast` picks a Cholesky (CHOLMOD) factorized once for a scene without
 /// contact and pcg_warp with it (contact changes the matrix every step), so apply it after
 /// `scene.contact` is set (ReadSceneDescription does; an explicit `solver.type` wins).
 /// Throws std::invalid_argument for an unknown name.

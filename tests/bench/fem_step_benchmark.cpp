@@ -13,6 +13,7 @@
 #include <map>
 #include <memory>
 
+#include "fem/cholmod_solver.h"
 #include "scene/fingertip_scene.h"
 
 namespace sedbridge {
@@ -61,6 +62,7 @@ std::string TractionScene(const std::string& elasticity, const std::string& solv
 void TractionStep(benchmark::State& state, const std::string& elasticity, const std::string& solver,
                   const std::string& integrator) {
   omp_set_num_threads(int(state.range(0)));
+  fem::SetBlasThreads(int(state.range(0)));  // CHOLMOD's BLAS too
   scene::FingertipScene s(scene::ParseSceneDescription(TractionScene(elasticity, solver, integrator), "bench"),
                           SharedModel());
   std::vector<double> ms;
@@ -81,6 +83,7 @@ void TractionStep(benchmark::State& state, const std::string& elasticity, const 
 // pushed 2 mm in 1 s; timed while in contact.
 void ContactPressStep(benchmark::State& state, const std::string& elasticity, const std::string& solver) {
   omp_set_num_threads(int(state.range(0)));
+  fem::SetBlasThreads(int(state.range(0)));  // CHOLMOD's BLAS too
   const std::string yaml = "model: " + ModelName() + "\nelasticity: " + elasticity + "\nsolver: {type: " + solver +
                            ", tolerance: 1.0e-6, max_iterations: 200}\n"
                            "dynamics: {integrator: backward_euler, dt_s: 0.001, newton_iterations: 1}\n"
@@ -102,6 +105,7 @@ void ContactPressStep(benchmark::State& state, const std::string& elasticity, co
 // Per-effect breakdown: force + Jacobian of each term alone, and the pieces of a solve.
 void EffectCost(benchmark::State& state, const std::string& effect) {
   omp_set_num_threads(int(state.range(0)));
+  fem::SetBlasThreads(int(state.range(0)));  // CHOLMOD's BLAS too
   // The nodal pressure term exists only in a scene that asks for it.
   std::string yaml = "model: " + ModelName() + (effect == "nodal_pressure" ? "\nelasticity: nodal_pressure" : "") +
                      "\nbone: {}\nsurface_traction: true\n"
@@ -140,19 +144,21 @@ void EffectCost(benchmark::State& state, const std::string& effect) {
 void Register() {
   for (const char* integrator : {"backward_euler", "quasi_static"})
     for (auto [el, solver] : std::vector<std::pair<const char*, const char*>>{
-             {"linear", "ldlt"}, {"corotational", "pcg_warp"}, {"corotational", "pcg_warp_ichol"},
-             {"corotational", "pcg_jacobi"}, {"corotational", "ldlt"}, {"nodal_pressure", "pcg_warp"},
+             {"linear", "ldlt"}, {"linear", "cholmod"}, {"corotational", "pcg_warp"},
+             {"corotational", "pcg_warp_ldlt"}, {"corotational", "pcg_warp_ichol"}, {"corotational", "pcg_jacobi"},
+             {"corotational", "ldlt"}, {"corotational", "cholmod"}, {"nodal_pressure", "pcg_warp"},
              {"nodal_pressure", "pcg_jacobi"}, {"nodal_pressure", "ldlt"}}) {
       if (std::string(integrator) == "quasi_static" && std::string(el) != "linear") continue;
       const std::string name = std::string("TractionStep/") + integrator + "/" + el + "/" + solver;
       benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { TractionStep(st, el, solver, integrator); })
-          ->Arg(1)->Arg(2)->Iterations(std::string(solver) == "ldlt" && std::string(el) != "linear" ? 10 : 200)
+          ->Arg(1)->Arg(2)->Iterations((std::string(solver) == "ldlt" || std::string(solver) == "cholmod") &&
+                                            std::string(el) != "linear" ? 10 : 200)
           ->Unit(benchmark::kMillisecond)->UseRealTime();
     }
   for (auto [el, solver] : std::vector<std::pair<const char*, const char*>>{
-           {"linear", "ldlt"}, {"corotational", "pcg_warp"}, {"corotational", "pcg_warp_ichol"}, {"linear", "pcg_warp"},
-           {"linear", "pcg_warp_ichol"}, {"nodal_pressure", "pcg_warp"},
-           {"nodal_pressure", "pcg_jacobi"}}) {
+           {"linear", "ldlt"}, {"linear", "cholmod"}, {"corotational", "pcg_warp"}, {"corotational", "pcg_warp_ldlt"},
+           {"corotational", "pcg_warp_ichol"}, {"linear", "pcg_warp"}, {"linear", "pcg_warp_ldlt"},
+           {"linear", "pcg_warp_ichol"}, {"nodal_pressure", "pcg_warp"}, {"nodal_pressure", "pcg_jacobi"}}) {
     const std::string name = std::string("ContactPressStep/backward_euler/") + el + "/" + solver;
     benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { ContactPressStep(st, el, solver); })
         ->Arg(1)->Arg(2)->Iterations(200)->Unit(benchmark::kMillisecond)->UseRealTime();

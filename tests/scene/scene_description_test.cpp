@@ -62,7 +62,7 @@ TEST(SceneDescription, FastPresetFactorizesOnceWithoutContactAndPreconditionsWit
   const std::string contact =
       "contact:\n  objects:\n    - {name: plane, shape: plane, rpy_deg: [180, 0, 0], position_mm: [0, 0, 0]}\n";
   const SceneDescription traction = ParseSceneDescription("model: B\npreset: fast\nsurface_traction: true\n", "t.yaml");
-  EXPECT_EQ(traction.solver, "ldlt");  // constant matrix: one factorization for the whole run
+  EXPECT_EQ(traction.solver, "cholmod");  // constant matrix: one factorization for the whole run
   const SceneDescription press = ParseSceneDescription("model: B\npreset: fast\n" + contact, "c.yaml");
   EXPECT_EQ(press.elasticity, fem::ElasticFormulation::kLinear);
   EXPECT_EQ(press.solver, "pcg_warp");  // contact would refactorize LDL^T every step
