@@ -5,6 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
 #include <lcm/lcm-cpp.hpp>
 
 #include "bridge/reduced_linear_fe_step.h"
@@ -90,6 +95,43 @@ TEST(ContactFeStep, RigSphereFarSharperThanThePressureMap) {
   }
   EXPECT_GT(contact_max, 5 * map_max);
   EXPECT_EQ(step.counters().fit_fallbacks, 0);
+}
+
+}  // namespace
+}  // namespace sedbridge::bridge
+
+namespace sedbridge::bridge {
+namespace {
+
+// --vtu-every with the default contact step: frames of the whole leader mesh, deformed
+// under the pressed object at the peak and at rest before the press.
+TEST(ContactFeStep, VtuFramesOfTheWholeMesh) {
+  const BridgeConfig config = ContactConfig();
+  sensors::CandumpLogSource source(testing::ExampleLogPath());
+  ReplayOptions options;
+  options.out_dir = (std::filesystem::temp_directory_path() / ("sedbridge_contact_vtu_" + std::to_string(::getpid()))).string();
+  std::filesystem::remove_all(options.out_dir);
+  std::filesystem::create_directories(options.out_dir);
+  options.vtu_every = 100;
+  const ReplayResult r = RunReplay(config, source, options);
+  ASSERT_EQ(r.counters.steps, 300);
+  for (const char* f : {"frames.pvd", "frame_000000.vtu", "frame_000100.vtu", "frame_000200.vtu"})
+    EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(options.out_dir) / f)) << f;
+  auto size = [&](const char* f) { return std::filesystem::file_size(std::filesystem::path(options.out_dir) / f); };
+  EXPECT_GT(size("frame_000100.vtu"), 10000u);  // a whole mesh, not a stub
+  auto max_displacement_mm = [&](const char* f) {
+    std::ifstream in(std::filesystem::path(options.out_dir) / f);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const size_t at = text.find("Name=\"displacement_mm\"");
+    if (at == std::string::npos) return -1.0;
+    std::istringstream values(text.substr(text.find('>', at) + 1, text.find("</DataArray>", at) - text.find('>', at) - 1));
+    double v, m = 0;
+    while (values >> v) m = std::max(m, std::abs(v));
+    return m;
+  };
+  EXPECT_EQ(max_displacement_mm("frame_000000.vtu"), 0.0);  // before the press: rest
+  EXPECT_GT(max_displacement_mm("frame_000100.vtu"), 0.05);   // pressed (1.0 s: on the ramp)
+  std::filesystem::remove_all(options.out_dir);
 }
 
 }  // namespace
