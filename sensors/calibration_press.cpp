@@ -1,6 +1,7 @@
 #include "sensors/calibration_press.h"
 
 #include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <stdexcept>
 
@@ -54,6 +55,14 @@ Eigen::VectorXd ScanReadings_N(const Scan& scan, const SensorProfile& profile) {
     r[3 * k + 2] = scan.pressure_Pa[k] * area_m2;
   }
   return r;
+}
+
+double NewtonsPerCount(const SensorProfile& profile, int taxel, int axis) {
+  const Calibration& cal = profile.calibration;
+  double n = std::abs(cal.scale_per_count[static_cast<size_t>(axis)]);
+  if (cal.unit != CalibrationUnit::kNewton)
+    n *= profile.taxel_area_mm2() * 1e-6 * (cal.unit == CalibrationUnit::kKiloPascal ? 1e3 : 1.0);
+  return n * (cal.taxel_gain.empty() ? 1.0 : cal.taxel_gain[static_cast<size_t>(taxel)]);
 }
 
 std::vector<CalibrationPress> LoadCalibrationPresses(const std::string& cases_json, const SensorProfile& profile) {

@@ -49,6 +49,11 @@ struct CalibrationPress {
 /// (pressures times the taxel area). Invalid taxels read 0.
 Eigen::VectorXd ScanReadings_N(const Scan& scan, const SensorProfile& profile);
 
+/// Force per raw count of one channel [N/count], whatever unit the profile calibrates to
+/// (N; or Pa / kPa times the taxel area), taxel gain included: the scale that turns count
+/// noise and full-scale readings into readings_N.
+double NewtonsPerCount(const SensorProfile& profile, int taxel, int axis);
+
 /// Loads cases.json and decodes every log it names (paths relative to the JSON) with
 /// `profile`. Throws config::ConfigError naming file:line:column for a bad entry, and
 /// std::runtime_error for an unreadable or empty log.

@@ -80,10 +80,7 @@ Problem MakeProblem(const std::vector<CalibrationPress>& presses, const SensorPr
   pr.inv_sigma.resize(3 * n);
   for (int k = 0; k < n; ++k)
     for (int a = 0; a < 3; ++a) {
-      double scale = std::abs(profile.calibration.scale_per_count[a]);
-      if (profile.calibration.unit != CalibrationUnit::kNewton) scale *= profile.taxel_area_mm2() * 1e-6 *
-          (profile.calibration.unit == CalibrationUnit::kKiloPascal ? 1e3 : 1.0);
-      pr.inv_sigma[3 * k + a] = 1.0 / (options.noise_counts * scale);
+      pr.inv_sigma[3 * k + a] = 1.0 / (options.noise_counts * NewtonsPerCount(profile, k, a));
     }
   const PressProtocol protocol;
   for (size_t i = 0; i < presses.size(); ++i) {

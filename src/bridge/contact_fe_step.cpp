@@ -3,7 +3,6 @@
 #include <cstdio>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 
 #include "bridge/contact_object.h"
 #include "bridge/reduced_linear_fe_step.h"
@@ -126,7 +125,6 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
   press_time_.Add(std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - t1).count());
   if (!PressAnswered(press, *leader_)) {
     ++counters_.press_fallbacks;
-    if (std::getenv("SEDBRIDGE_DEBUG_CONTACT")) std::fprintf(stderr, "press fallback: %s F %.3f target %.3f at %.3f mm\n", scene::ToString(press.status), press.force_N, p.normal_force_N, press.indentation_mm);
     estimate_.ok = false;
     estimate_.problem = std::string("leader press: ") + scene::ToString(press.status) + ": " + press.message;
     FillMessage(values, true, 0);

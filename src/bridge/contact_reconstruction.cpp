@@ -107,13 +107,9 @@ ContactReconstructor::ContactReconstructor(const sensors::SensorProfile& profile
   const auto& cal = profile.calibration;
   for (int k = 0; k < n; ++k)
     for (int a = 0; a < 3; ++a) {
-      // Counts -> N per taxel, whatever unit the profile calibrates to.
-      double n_per_count = std::abs(cal.scale_per_count[a]);
-      if (cal.unit != sensors::CalibrationUnit::kNewton)
-        n_per_count *= profile.taxel_area_mm2() * 1e-6 * (cal.unit == sensors::CalibrationUnit::kKiloPascal ? 1e3 : 1.0);
-      const double gain = cal.taxel_gain.empty() ? 1.0 : cal.taxel_gain[k];
-      inv_sigma_[3 * k + a] = 1.0 / (options_.noise_counts * n_per_count * gain);
-      full_scale_N_[3 * k + a] = (static_cast<double>(cal.saturation_high_counts) - cal.offset_counts[a]) * n_per_count * gain;
+      const double n_per_count = sensors::NewtonsPerCount(profile, k, a);
+      inv_sigma_[3 * k + a] = 1.0 / (options_.noise_counts * n_per_count);
+      full_scale_N_[3 * k + a] = (static_cast<double>(cal.saturation_high_counts) - cal.offset_counts[a]) * n_per_count;
     }
 }
 
@@ -155,7 +151,7 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
       return 0;
     }
   };
-  Functor f{this, shape, shear};
+  Functor f{this, shape, shear, 0, {}};
   Eigen::NumericalDiff<Functor> numeric(f, 1e-6);
   Eigen::LevenbergMarquardt<Eigen::NumericalDiff<Functor>> lm(numeric);
   lm.parameters.maxfev = max_evaluations > 0 ? max_evaluations : options_.max_evaluations;

@@ -55,7 +55,9 @@ TEST(ContactFeStep, ExampleLogPublishesContactEstimates) {
     if (m.shape == 1 && !m.fallback) {
       ++spheres;
       // The example's sphere is centred; at first touch (a few mN) the position is noise.
-      if (m.normal_force_N > 0.2) EXPECT_LT(std::hypot(m.x_mm, m.y_mm), 0.5) << m.normal_force_N;
+      if (m.normal_force_N > 0.2) {
+        EXPECT_LT(std::hypot(m.x_mm, m.y_mm), 0.5) << m.normal_force_N;
+      }
       EXPECT_GT(m.normal_force_N, 0);
     }
     none += m.shape == 0;
@@ -91,7 +93,9 @@ TEST(ContactFeStep, RigSphereFarSharperThanThePressureMap) {
       EXPECT_NEAR(r.applied_force_N, 0.8, 0.04);
       map_max = map_only.Step(values).sed_Pa->maxCoeff();
     }
-    if (i < 20) EXPECT_EQ(r.sed_Pa->maxCoeff(), 0.0) << "no contact before the press";
+    if (i < 20) {
+      EXPECT_EQ(r.sed_Pa->maxCoeff(), 0.0) << "no contact before the press";
+    }
   }
   EXPECT_GT(contact_max, 5 * map_max);
   EXPECT_EQ(step.counters().fit_fallbacks, 0);

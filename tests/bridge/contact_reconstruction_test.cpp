@@ -53,8 +53,9 @@ TEST(ContactReconstruction, RigSpheresFromOneNoisyScan) {
     EXPECT_LT(std::hypot(e.primitive.x_mm - press.object.x_mm, e.primitive.y_mm - press.object.y_mm), 0.3) << press.name;
     // press_11 sits on the pad's corner: only a quarter of its pattern falls on taxels and
     // its radius is not determined there (docs/bridge-fidelity.md); position and force are.
-    if (press.name != "press_11.log")
+    if (press.name != "press_11.log") {
       EXPECT_NEAR(e.primitive.radius_mm, press.object.radius_mm, 0.3 * press.object.radius_mm) << press.name;
+    }
     EXPECT_NEAR(e.primitive.normal_force_N, press.object.normal_force_N, 0.05 * press.object.normal_force_N)
         << press.name;
     EXPECT_LT(e.rms_sigma, 1.5) << press.name;
@@ -130,7 +131,9 @@ TEST(ContactReconstruction, SlidingAcrossTaxelBoundariesHasNoJumps) {
     model.Predict(c, &reading);
     const ContactEstimate& e = r.Reconstruct(Noisy(reading, &rng), valid);
     ASSERT_TRUE(e.ok) << "step " << step << ": " << e.problem;
-    if (std::isfinite(last_x)) EXPECT_LT(std::abs(e.primitive.x_mm - last_x), 0.1 + 0.25) << "step " << step;
+    if (std::isfinite(last_x)) {
+      EXPECT_LT(std::abs(e.primitive.x_mm - last_x), 0.1 + 0.25) << "step " << step;
+    }
     EXPECT_NEAR(e.primitive.x_mm, c.x_mm, 0.25);
     last_x = e.primitive.x_mm;
   }
