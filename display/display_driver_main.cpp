@@ -18,8 +18,8 @@
 #include <memory>
 #include <string>
 
-#include "config/config_error.h"
-#include "config/resource_path.h"
+#include "common/config_error.h"
+#include "common/resource_path.h"
 #include "display/display_driver.h"
 #include "display/display_session.h"
 #include "display/lcm_channels.h"

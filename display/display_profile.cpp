@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "config/resource_path.h"
+#include "common/resource_path.h"
 #include "display/display_kind_limits.h"
 
 namespace sedbridge::display {

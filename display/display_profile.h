@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "config/yaml_reader.h"
+#include "common/yaml_reader.h"
 
 namespace sedbridge::display {
 

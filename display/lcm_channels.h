@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "config/yaml_reader.h"
+#include "common/yaml_reader.h"
 
 namespace sedbridge::display {
 

@@ -7,7 +7,7 @@
 #include <limits>
 #include <thread>
 
-#include "config/config_error.h"
+#include "common/config_error.h"
 
 namespace sedbridge::sensors {
 

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "config/resource_path.h"
+#include "common/resource_path.h"
 #include "sensors/candump_log.h"
 
 namespace sedbridge::sensors {

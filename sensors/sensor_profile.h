@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "config/yaml_reader.h"
+#include "common/yaml_reader.h"
 #include "sensors/can_frame.h"
 #include "sensors/tactile_model_params.h"
 

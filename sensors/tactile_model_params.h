@@ -5,7 +5,7 @@
 #include <array>
 #include <string>
 
-#include "config/yaml_reader.h"
+#include "common/yaml_reader.h"
 
 namespace sedbridge::sensors {
 

@@ -8,7 +8,7 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "config/resource_path.h"
+#include "common/resource_path.h"
 
 namespace sedbridge::sensors {
 

@@ -5,8 +5,8 @@
 #include <filesystem>
 #include <limits>
 
-#include "config/config_error.h"
-#include "config/yaml_reader.h"
+#include "common/config_error.h"
+#include "common/yaml_reader.h"
 
 namespace sedbridge::sensors {
 

@@ -10,7 +10,7 @@
 #include "app/command.h"
 #include "app/plot_runner.h"
 #include "bridge/fidelity_benchmark.h"
-#include "config/resource_path.h"
+#include "common/resource_path.h"
 
 namespace sedbridge::app {
 namespace {

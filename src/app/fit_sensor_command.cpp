@@ -9,7 +9,7 @@
 
 #include "app/arg_parser.h"
 #include "app/command.h"
-#include "config/resource_path.h"
+#include "common/resource_path.h"
 #include "sensors/calibration_press.h"
 #include "sensors/tactile_model_fit.h"
 

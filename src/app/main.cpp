@@ -8,7 +8,7 @@
 
 #include "app/arg_parser.h"
 #include "app/command.h"
-#include "config/config_error.h"
+#include "common/config_error.h"
 
 namespace sedbridge::app {
 

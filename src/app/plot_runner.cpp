@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <sys/wait.h>
 
-#include "config/resource_path.h"
+#include "common/resource_path.h"
 
 namespace sedbridge::app {
 namespace {

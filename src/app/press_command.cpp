@@ -8,7 +8,7 @@
 #include "app/arg_parser.h"
 #include "app/command.h"
 #include "app/plot_runner.h"
-#include "config/resource_path.h"
+#include "common/resource_path.h"
 #include "scene/press_experiment.h"
 
 namespace sedbridge::app {

@@ -15,7 +15,7 @@
 #include "bridge/bridge_config.h"
 #include "bridge/replay.h"
 #include "bridge/scene_fe_step.h"
-#include "config/resource_path.h"
+#include "common/resource_path.h"
 #include "sensors/candump_log.h"
 #include "sensors/interface_filter_source.h"
 

@@ -13,7 +13,7 @@
 #include "bridge/live_bridge.h"
 #include "bridge/replay.h"
 #include "bridge/scene_fe_step.h"
-#include "config/resource_path.h"
+#include "common/resource_path.h"
 #include "sensors/candump_log.h"
 #include "sensors/socketcan_source.h"
 

@@ -12,7 +12,7 @@
 #include "bridge/bridge_config.h"
 #include "bridge/replay.h"
 #include "bridge/scene_fe_step.h"
-#include "config/resource_path.h"
+#include "common/resource_path.h"
 #include "sensors/simulated/simulated_sensor.h"
 
 namespace sedbridge::app {

@@ -4,8 +4,8 @@
 #include <filesystem>
 #include <sstream>
 
-#include "config/resource_path.h"
-#include "config/yaml_reader.h"
+#include "common/resource_path.h"
+#include "common/yaml_reader.h"
 
 namespace sedbridge::bridge {
 namespace {

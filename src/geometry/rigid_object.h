@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "config/yaml_reader.h"
+#include "common/yaml_reader.h"
 #include "geometry/signed_distance_field.h"
 #include "geometry/trajectory.h"
 

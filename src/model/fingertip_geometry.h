@@ -6,7 +6,7 @@
 // The generator (tools/fingertip_generator) builds the mesh from these; the loader reads
 // them too so that a typo in a model YAML is an error even when only loading.
 
-#include "config/yaml_reader.h"
+#include "common/yaml_reader.h"
 
 namespace sedbridge::model {
 

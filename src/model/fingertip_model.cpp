@@ -10,8 +10,8 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include "config/config_error.h"
-#include "config/resource_path.h"
+#include "common/config_error.h"
+#include "common/resource_path.h"
 
 namespace sedbridge::model {
 namespace {

@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "config/yaml_reader.h"
+#include "common/yaml_reader.h"
 #include "model/fingertip_model.h"
 
 namespace sedbridge::model {

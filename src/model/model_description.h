@@ -6,7 +6,7 @@
 #include <map>
 #include <string>
 
-#include "config/config_error.h"
+#include "common/config_error.h"
 #include "fem/linear_elastic_material.h"
 #include "model/fingertip_geometry.h"
 

@@ -7,7 +7,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "config/config_error.h"
+#include "common/config_error.h"
 
 namespace sedbridge::model {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <stdexcept>
 
-#include "config/yaml_reader.h"
+#include "common/yaml_reader.h"
 #include "scene/fingertip_compliance.h"
 
 namespace sedbridge::scene {

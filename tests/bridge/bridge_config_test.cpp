@@ -3,8 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "bridge/latency_stats.h"
-#include "config/config_error.h"
-#include "config/resource_path.h"
+#include "common/config_error.h"
+#include "common/resource_path.h"
 
 namespace sedbridge::bridge {
 namespace {

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "bridge/bridge_config.h"
-#include "config/resource_path.h"
+#include "common/resource_path.h"
 #include "sensors/scan.h"
 #include "sensors/sensor_profile.h"
 

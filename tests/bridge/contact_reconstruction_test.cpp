@@ -8,7 +8,7 @@
 #include <cmath>
 #include <random>
 
-#include "config/resource_path.h"
+#include "common/resource_path.h"
 #include "sensors/calibration_press.h"
 
 namespace sedbridge::bridge {

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "config/config_error.h"
+#include "common/config_error.h"
 #include "display/safety_limiter.h"
 
 namespace sedbridge::display {

@@ -4,7 +4,7 @@
 
 #include <stdexcept>
 
-#include "config/config_error.h"
+#include "common/config_error.h"
 
 namespace sedbridge::display {
 namespace {

@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "config/config_error.h"
+#include "common/config_error.h"
 #include "model/msh_reader.h"
 
 using namespace sedbridge;

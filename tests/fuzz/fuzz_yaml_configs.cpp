@@ -8,8 +8,8 @@
 #include <string>
 
 #include "bridge/bridge_config.h"
-#include "config/config_error.h"
-#include "config/yaml_reader.h"
+#include "common/config_error.h"
+#include "common/yaml_reader.h"
 #include "display/display_kind_limits.h"
 #include "display/display_profile.h"
 #include "display/safety_limiter.h"

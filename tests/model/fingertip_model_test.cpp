@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "config/config_error.h"
+#include "common/config_error.h"
 #include "tests/model/model_test_util.h"
 
 namespace sedbridge::model {

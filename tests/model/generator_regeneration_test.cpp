@@ -11,7 +11,7 @@
 #include <string>
 #include <unistd.h>
 
-#include "config/resource_path.h"
+#include "common/resource_path.h"
 #include "model/fingertip_model.h"
 #include "model/msh_reader.h"
 #include "tests/model/mesh_geometry_util.h"

@@ -8,8 +8,8 @@
 #include <sstream>
 #include <unistd.h>
 
-#include "config/config_error.h"
-#include "config/resource_path.h"
+#include "common/config_error.h"
+#include "common/resource_path.h"
 #include "model/fingertip_model.h"
 #include "tests/model/model_test_util.h"
 

@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "config/config_error.h"
+#include "common/config_error.h"
 #include "model/fingertip_model.h"
 #include "tests/model/model_test_util.h"
 

@@ -9,7 +9,7 @@
 #include <cmath>
 #include <set>
 
-#include "config/config_error.h"
+#include "common/config_error.h"
 #include "scene/fingertip_scene.h"
 #include "scene/press_experiment.h"
 

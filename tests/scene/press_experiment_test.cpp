@@ -6,7 +6,7 @@
 #include <fstream>
 #include <unistd.h>
 
-#include "config/resource_path.h"
+#include "common/resource_path.h"
 
 namespace sedbridge::scene {
 namespace {

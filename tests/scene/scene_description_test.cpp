@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "config/resource_path.h"
+#include "common/resource_path.h"
 
 namespace sedbridge::scene {
 namespace {

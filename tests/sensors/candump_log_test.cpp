@@ -4,7 +4,7 @@
 
 #include <sstream>
 
-#include "config/config_error.h"
+#include "common/config_error.h"
 
 namespace sedbridge::sensors {
 namespace {

@@ -2,8 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include "config/config_error.h"
-#include "config/resource_path.h"
+#include "common/config_error.h"
+#include "common/resource_path.h"
 
 namespace sedbridge::sensors {
 namespace {

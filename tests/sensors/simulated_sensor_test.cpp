@@ -6,8 +6,8 @@
 #include <cmath>
 #include <fstream>
 
-#include "config/config_error.h"
-#include "config/resource_path.h"
+#include "common/config_error.h"
+#include "common/resource_path.h"
 #include "sensors/scan_assembler.h"
 
 namespace sedbridge::sensors {

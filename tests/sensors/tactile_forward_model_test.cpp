@@ -8,7 +8,7 @@
 #include <cmath>
 #include <fstream>
 
-#include "config/resource_path.h"
+#include "common/resource_path.h"
 #include "sensors/calibration_press.h"
 #include "sensors/tactile_model_fit.h"
 

@@ -5,7 +5,7 @@
 #   P/share/sedbridge/java/sedbridge_lcmtypes.jar           lcm-spy types (when a JDK built it)
 #   P/include/sedbridge/lcmt_*.hpp            C++ LCM types
 #   P/share/doc/sedbridge/{LICENSE,README.md}
-# The installed binary finds P/share/sedbridge from its own location (src/config/resource_path.h).
+# The installed binary finds P/share/sedbridge from its own location (src/common/resource_path.h).
 # `cpack -G DEB` (in build/) packages the same tree as a .deb.
 
 set(SEDBRIDGE_INSTALL_DATA ${CMAKE_INSTALL_DATADIR}/sedbridge)

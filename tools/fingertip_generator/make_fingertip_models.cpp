@@ -16,8 +16,8 @@
 #include <string>
 #include <vector>
 
-#include "config/config_error.h"
-#include "config/resource_path.h"
+#include "common/config_error.h"
+#include "common/resource_path.h"
 #include "model/model_description.h"
 #include "tools/fingertip_generator/fingertip_mesher.h"
 

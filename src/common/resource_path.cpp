@@ -1,4 +1,4 @@
-#include "config/resource_path.h"
+#include "common/resource_path.h"
 
 #include <cstdlib>
 #include <filesystem>

@@ -1,4 +1,4 @@
-#include "config/config_error.h"
+#include "common/config_error.h"
 
 namespace sedbridge::config {
 

@@ -22,7 +22,7 @@
 #include <type_traits>
 #include <vector>
 
-#include "config/config_error.h"
+#include "common/config_error.h"
 
 namespace sedbridge::config {
 
