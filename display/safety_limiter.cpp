@@ -6,7 +6,12 @@
 #include <string>
 
 namespace sedbridge::display {
+
 namespace {
+
+// Upper bound given to a disabled actuator (max_per_actuator 0) [display unit]: the limiter
+// needs a positive bound; this one keeps the actuator at zero in any unit.
+constexpr double kDisabledActuatorMax = 1e-12;
 
 SafetyLimits Validated(SafetyLimits l) {
   auto fail = [](const std::string& what) {
@@ -31,7 +36,7 @@ SafetyLimits SafetyLimits::FromProfile(const DisplayProfile& profile) {
   l.max = profile.safety.max_per_actuator;
   // Per-actuator overrides may be 0 ("disabled actuator"); the limiter needs a positive
   // bound, so such an actuator gets a vanishing one and effectively stays at zero.
-  for (double& m : l.max) m = std::max(m, 1e-12);
+  for (double& m : l.max) m = std::max(m, kDisabledActuatorMax);
   l.slew_rate_per_s = profile.safety.slew_rate_per_s;
   l.watchdog_timeout_s = profile.safety.watchdog_timeout_s;
   l.min_nonzero = profile.range_min;

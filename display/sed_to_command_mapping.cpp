@@ -9,6 +9,10 @@
 namespace sedbridge::display {
 namespace {
 
+// Smallest squared vertex-site distance in the Shepard weights [mm^2] (1 µm squared): a
+// vertex on the site gets a weight that dominates instead of an infinite one.
+constexpr double kMinShepardDistanceSq_mm2 = 1e-6;
+
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 void Require(bool ok, const std::string& what) {
@@ -71,8 +75,7 @@ double SedToCommandMapping::Sample(const SedField& field, std::size_t site) cons
       case SamplingMethod::kMaxWithinRadius: max_s = std::max(max_s, s); break;
       case SamplingMethod::kMeanWithinRadius: sum += s; break;
       case SamplingMethod::kInterpolate: {
-        // Shepard weights 1/d^2; a vertex on the site (d < 1 µm) gets a weight that dominates.
-        const double w = 1.0 / std::max(d2, 1e-6);
+        const double w = 1.0 / std::max(d2, kMinShepardDistanceSq_mm2);  // Shepard weights 1/d^2
         sum += w * s;
         wsum += w;
         break;

@@ -33,8 +33,8 @@ class SedToCommandMapping {
                       MappingParams params);
   explicit SedToCommandMapping(const DisplayProfile& profile);
 
-  /// Maps one field. O(#vertices x #actuators): about 1 µs per 1000 vertex-site pairs
-  /// (display_benchmark: 1600 vertices x 16 actuators ~ 20 µs).
+  /// Maps one field. O(#vertices x #actuators) (time per field: docs/performance.md,
+  /// "Display mapping").
   Result Map(const SedField& field) const;
 
   /// Samples SED at actuator `site` [Pa] (no whole-field rejection): 0 when no usable vertex

@@ -70,14 +70,6 @@ inline bool IsValidFdLength(int len) {
          len == 64;
 }
 
-/// Smallest valid CAN FD length >= `len` (for padding an encoder's payload); -1 if > 64.
-inline int RoundUpFdLength(int len) {
-  static constexpr int kSizes[] = {0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 16, 20, 24, 32, 48, 64};
-  for (int s : kSizes)
-    if (s >= len) return s;
-  return -1;
-}
-
 /// True if `f` is self-consistent: id fits its width, length fits its kind, no remote FD.
 inline bool IsWellFormed(const Frame& f) {
   if (f.error) return f.id <= kCanExtIdMask && f.len <= kCanMaxLen && !f.fd;

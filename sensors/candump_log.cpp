@@ -319,9 +319,9 @@ CandumpLogSource::CandumpLogSource(const std::string& path, PlaybackOptions opti
 }
 
 CandumpLogSource::CandumpLogSource(std::unique_ptr<std::istream> in, std::string name,
-                                   PlaybackOptions options)
+                                   PlaybackOptions options, size_t max_kept_bad_lines)
     : in_(std::move(in)), options_(options) {
-  reader_ = std::make_unique<CandumpLogReader>(*in_, std::move(name));
+  reader_ = std::make_unique<CandumpLogReader>(*in_, std::move(name), max_kept_bad_lines);
 }
 
 CandumpLogSource::~CandumpLogSource() = default;

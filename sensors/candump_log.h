@@ -59,12 +59,15 @@ struct BadLine {
 /// first `max_kept_bad_lines` of them kept for reporting.
 /// Longest candump line read [bytes]; longer lines are bad lines, skipped without storing.
 constexpr size_t kMaxLineBytes = 4096;
+/// Bad lines a reader keeps for its report by default: enough to see a pattern, bounded so a
+/// log of garbage cannot fill memory (the count goes on).
+constexpr size_t kDefaultKeptBadLines = 1000;
 
 class CandumpLogReader {
  public:
   /// `name` is used in messages (usually the file name). The stream must outlive the reader.
   explicit CandumpLogReader(std::istream& in, std::string name = "log",
-                            size_t max_kept_bad_lines = 1000);
+                            size_t max_kept_bad_lines = kDefaultKeptBadLines);
 
   /// Next frame; false at the end of the stream.
   bool Next(Frame* frame);
@@ -112,9 +115,10 @@ class CandumpLogSource final : public FrameSource {
  public:
   /// Opens `path`; throws config::ConfigError if it cannot be opened.
   CandumpLogSource(const std::string& path, PlaybackOptions options = {});
-  /// Reads from an already open stream (tests); `name` is used in messages.
+  /// Reads from an already open stream (tests, stdin); `name` is used in messages; the first
+  /// `max_kept_bad_lines` bad lines are kept (reader().bad_lines()).
   CandumpLogSource(std::unique_ptr<std::istream> in, std::string name,
-                   PlaybackOptions options = {});
+                   PlaybackOptions options = {}, size_t max_kept_bad_lines = kDefaultKeptBadLines);
   ~CandumpLogSource() override;
 
   std::optional<Frame> Next(int64_t timeout_us) override;

@@ -7,6 +7,13 @@
 #include <cstdlib>
 
 namespace sedbridge::sensors {
+namespace {
+
+// Default tare "quiet" band as a fraction of the raw range [-]: wide enough for a resting
+// sensor's noise and drift, narrow enough that a touch during the tare is not averaged in.
+constexpr double kDefaultQuietFractionOfRange = 0.02;
+
+}  // namespace
 
 ScanAssembler::ScanAssembler(const SensorProfile& profile, AssemblerOptions options)
     : profile_(profile),
@@ -28,7 +35,7 @@ ScanAssembler::ScanAssembler(const SensorProfile& profile, AssemblerOptions opti
     baseline_[ch] = profile_.calibration.offset_counts[ch % profile_.axes];
   quiet_tolerance_ = options_.quiet_tolerance_counts > 0
                          ? options_.quiet_tolerance_counts
-                         : 0.02 * static_cast<double>(profile_.RawMax() - profile_.RawMin());
+                         : kDefaultQuietFractionOfRange * static_cast<double>(profile_.RawMax() - profile_.RawMin());
   if (options_.tare_scans > 0) RequestTare(options_.tare_scans);
 }
 

@@ -6,7 +6,18 @@
 #include <stdexcept>
 
 namespace sedbridge::sensors {
+
 namespace {
+
+// Direction component below which the line runs parallel to a side of the square [-]
+// (unit-free: d is a direction in mm per unit t); slab clipping then only asks whether the
+// line is inside that slab.
+constexpr double kParallelDirection = 1e-12;
+// "Unbounded" line parameter for the slab clipping [-]: far beyond any pad (mm scale).
+constexpr double kUnboundedLineParameter = 1e9;
+// Distance below which a sample sits on the taxel centre [mm]: the radial direction is then
+// undefined and the radial terms (zero there) are skipped.
+constexpr double kOnCentre_mm = 1e-9;
 
 constexpr double kPi = 3.14159265358979323846;
 // Taxel sensing area averaged on 3 x 3 points (mid-point rule).
@@ -22,10 +33,10 @@ double Rational(const RadialKernel& k, double rho_mm, int order) {
 
 // Length of the line p + t d inside the square |x|, |y| <= half (slab clipping).
 double LengthInSquare(double px, double py, double dx, double dy, double half) {
-  double t0 = -1e9, t1 = 1e9;
+  double t0 = -kUnboundedLineParameter, t1 = kUnboundedLineParameter;
   const double p[2] = {px, py}, d[2] = {dx, dy};
   for (int a = 0; a < 2; ++a) {
-    if (std::abs(d[a]) < 1e-12) {
+    if (std::abs(d[a]) < kParallelDirection) {
       if (std::abs(p[a]) > half) return 0;
       continue;
     }
@@ -128,7 +139,7 @@ void TactileForwardModel::BuildKernelTable() {
           const double dx = i * h + (sx - 0.5 * (kAreaPoints - 1)) * wx;
           const double dy = j * h + (sy - 0.5 * (kAreaPoints - 1)) * wy;
           const double rho = std::hypot(dx, dy);
-          const double ex = rho > 1e-9 ? dx / rho : 0, ey = rho > 1e-9 ? dy / rho : 0;
+          const double ex = rho > kOnCentre_mm ? dx / rho : 0, ey = rho > kOnCentre_mm ? dy / rho : 0;
           const double kn = Rational(params_.normal, rho, 0), kr = Rational(params_.spread, rho, 1);
           const double kt = Rational(params_.shear, rho, 0), kc = Rational(params_.shear_cross, rho, 2);
           const double kl = Rational(params_.shear_lift, rho, 1);

@@ -1,7 +1,6 @@
 // `sedbridge display-view`: shows what the leader's finger would feel — the display command as
 // a live terminal heatmap (LCM live or from a log), or PNG frames / a GIF from a log.
 
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -21,6 +20,7 @@
 #include "app/arg_parser.h"
 #include "app/command.h"
 #include "app/lcm_url.h"
+#include "app/plot_runner.h"
 #include "common/config_error.h"
 #include "common/resource_path.h"
 #include "display/command_authenticator.h"
@@ -220,27 +220,15 @@ int RunLogImages(const ArgParser& args, const std::vector<DisplayFrame>& frames,
   const std::string jsonl = (work / "frames.jsonl").string();
   const ActuatorLayout& layout = layouts.For(frames.front().command);
   WriteFramesJsonl(jsonl, layout, frames.front().command.display_id, frames);
-  const std::string script = config::ResolveResource("tools/plot_display_frames.py");
-  std::vector<std::string> argv_s = {args.Get("python"), script, jsonl};
-  if (!png_dir.empty()) argv_s.insert(argv_s.end(), {"--png-dir", png_dir});
-  if (!animation.empty()) argv_s.insert(argv_s.end(), {"--animation", animation, "--fps", args.Get("fps")});
-  std::string shown;
-  for (const auto& a : argv_s) shown += (shown.empty() ? "" : " ") + a;
+  std::vector<std::string> script_args = {jsonl};
+  if (!png_dir.empty()) script_args.insert(script_args.end(), {"--png-dir", png_dir});
+  if (!animation.empty()) script_args.insert(script_args.end(), {"--animation", animation, "--fps", args.Get("fps")});
+  std::string shown = args.Get("python") + " " + config::ResolveResource("tools/plot_display_frames.py");
+  for (const auto& a : script_args) shown += " " + a;
   std::fprintf(stderr, "display-view: %zu frames -> %s\n", frames.size(), shown.c_str());
-  std::fflush(nullptr);
-  // fork + exec (no shell): paths are passed as they are, quotes and all.
-  int rc = -1;
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    std::vector<char*> argv_c;
-    for (auto& a : argv_s) argv_c.push_back(a.data());
-    argv_c.push_back(nullptr);
-    ::execvp(argv_c[0], argv_c.data());
-    std::fprintf(stderr, "display-view: cannot run %s\n", argv_c[0]);
-    ::_exit(127);
-  }
-  int status = 0;
-  if (pid > 0 && ::waitpid(pid, &status, 0) == pid && WIFEXITED(status)) rc = WEXITSTATUS(status);
+  const PlotResult plot = RunPythonScript("plot_display_frames.py", script_args, args.Get("python"));
+  const int rc = plot.exit_code;
+  if (!plot.ok && !plot.message.empty()) std::fprintf(stderr, "display-view: %s\n", plot.message.c_str());
   if (png_dir.empty()) fs::remove_all(work);
   if (rc != 0) {
     std::fprintf(stderr, "display-view: plotting failed (exit %d); the frames are in %s\n", rc,

@@ -1,52 +1,83 @@
 #include "app/plot_runner.h"
 
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
-#include <sys/wait.h>
 
 #include "common/resource_path.h"
 
 namespace sedbridge::app {
 namespace {
 
-std::string Quote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += (c == '\'') ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
+// Exit status of a child that could not exec its program (the shell's convention).
+constexpr int kCannotExecStatus = 127;
+
+// Runs argv[0] (searched on PATH) with `argv` and returns its exit status (kCannotExecStatus
+// when it could not start, -1 when it was killed). `quiet` sends its output to /dev/null.
+int RunProcess(std::vector<std::string> argv, bool quiet) {
+  std::fflush(nullptr);  // the child must not write our buffered output a second time
+  const pid_t pid = ::fork();
+  if (pid < 0) return kCannotExecStatus;
+  if (pid == 0) {
+    if (quiet) {
+      const int null_fd = ::open("/dev/null", O_WRONLY);
+      if (null_fd >= 0) ::dup2(null_fd, STDOUT_FILENO), ::dup2(null_fd, STDERR_FILENO);
+    }
+    std::vector<char*> argv_c;
+    for (std::string& a : argv) argv_c.push_back(a.data());
+    argv_c.push_back(nullptr);
+    ::execvp(argv_c[0], argv_c.data());
+    ::_exit(kCannotExecStatus);
+  }
+  int status = 0;
+  if (::waitpid(pid, &status, 0) != pid || !WIFEXITED(status)) return -1;
+  return WEXITSTATUS(status);
 }
 
 bool HasMatplotlib(const std::string& python) {
-  const std::string cmd = Quote(python) + " -c 'import matplotlib' >/dev/null 2>&1";
-  return std::system(cmd.c_str()) == 0;
+  return RunProcess({python, "-c", "import matplotlib"}, /*quiet=*/true) == 0;
 }
 
-}  // namespace
-
-bool RunPlotScript(const std::string& script, const std::vector<std::string>& args) {
+// "" when none of the candidates has matplotlib.
+std::string FindPythonWithMatplotlib() {
   std::vector<std::string> candidates;
   if (const char* env = std::getenv("SEDBRIDGE_PYTHON")) candidates.push_back(env);
   candidates.push_back("/usr/bin/python3");
   candidates.push_back("python3");
-  std::string python;
   for (const auto& c : candidates)
-    if ((c.find('/') == std::string::npos || std::filesystem::exists(c)) && HasMatplotlib(c)) {
-      python = c;
-      break;
-    }
-  if (python.empty()) {
-    std::fprintf(stderr, "plots skipped: no python3 with matplotlib (apt-get install python3-matplotlib)\n");
-    return false;
+    if ((c.find('/') == std::string::npos || std::filesystem::exists(c)) && HasMatplotlib(c)) return c;
+  return "";
+}
+
+}  // namespace
+
+PlotResult RunPythonScript(const std::string& script, const std::vector<std::string>& args,
+                           const std::string& python) {
+  PlotResult result;
+  const std::string interpreter = python.empty() ? FindPythonWithMatplotlib() : python;
+  if (interpreter.empty()) {
+    result.message = "no python3 with matplotlib (apt-get install python3-matplotlib)";
+    return result;
   }
-  const std::string path = config::ResolveResource("tools/" + script);
-  std::string cmd = Quote(python) + " " + Quote(path);
-  for (const auto& a : args) cmd += " " + Quote(a);
-  const int rc = std::system(cmd.c_str());
-  if (rc != 0) {
-    std::fprintf(stderr, "plot script %s failed (exit %d)\n", script.c_str(), WIFEXITED(rc) ? WEXITSTATUS(rc) : rc);
-    return false;
-  }
-  return true;
+  std::vector<std::string> argv = {interpreter, config::ResolveResource("tools/" + script)};
+  argv.insert(argv.end(), args.begin(), args.end());
+  result.exit_code = RunProcess(argv, /*quiet=*/false);
+  result.ok = result.exit_code == 0;
+  if (result.exit_code == kCannotExecStatus)
+    result.message = "cannot run " + interpreter;
+  else if (!result.ok)
+    result.message = "plot script " + script + " failed (exit " + std::to_string(result.exit_code) + ")";
+  return result;
+}
+
+bool RunPlotScript(const std::string& script, const std::vector<std::string>& args) {
+  const PlotResult result = RunPythonScript(script, args);
+  if (!result.ok) std::fprintf(stderr, "plots skipped: %s\n", result.message.c_str());
+  return result.ok;
 }
 
 }  // namespace sedbridge::app

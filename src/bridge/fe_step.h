@@ -1,7 +1,7 @@
 #pragma once
 // The one call the bridge pipeline makes into the FE side: taxel values in, Merkel-layer SED
 // out. Kept narrow on purpose so that a faster implementation (e.g. a reduced linear
-// operator built from PressureBoundaryCondition::weights()) can replace the scene-based one
+// operator built from PressureBoundaryCondition::applied_weights()) can replace the scene-based one
 // without touching the pipeline.
 
 #include <Eigen/Core>

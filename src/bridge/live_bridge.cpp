@@ -4,6 +4,8 @@
 #include <thread>
 #include <vector>
 
+#include "sensors/frame_pump.h"
+
 namespace sedbridge::bridge {
 
 LiveBridge::LiveBridge(sensors::FrameSource& source, sensors::ScanAssembler& assembler, BridgePipeline& pipeline,
@@ -11,25 +13,19 @@ LiveBridge::LiveBridge(sensors::FrameSource& source, sensors::ScanAssembler& ass
     : source_(source), assembler_(assembler), pipeline_(pipeline), options_(options) {}
 
 void LiveBridge::Receive(const std::atomic<bool>& stop) {
-  std::vector<sensors::Scan> scans;
-  while (!stop.load() && !source_.Done() && !slot_.closed()) {
-    if (auto frame = source_.Next(options_.receive_timeout_us))
-      assembler_.Push(*frame, &scans);
-    else
-      assembler_.Poll(display::WallClockUtime(), &scans);
-    if (scans.empty()) continue;
-    const int64_t now = display::WallClockUtime();
-    slot_.SetCounters(assembler_.counters(), source_.Stats());
-    for (sensors::Scan& s : scans) {
-      const int64_t origin = options_.scan_utime_is_wall_clock ? s.utime : now;
-      slot_.Put({std::move(s), origin});
-    }
-    scans.clear();
-  }
-  if (source_.Done()) {
-    assembler_.Flush(&scans);
-    for (sensors::Scan& s : scans) slot_.Put({std::move(s), display::WallClockUtime()});
-  }
+  sensors::PumpOptions pump;
+  pump.frame_wait_us = options_.receive_timeout_us;
+  pump.wall_clock_utime = display::WallClockUtime;
+  pump.poll_on_timeout = true;  // a scan with a lost frame still goes out after its timeout
+  pump.stop = [&] { return stop.load() || slot_.closed(); };
+  sensors::PumpFrames(
+      source_, assembler_,
+      [&](sensors::Scan& scan, int64_t receive_wall_utime) {
+        slot_.SetCounters(assembler_.counters(), source_.Stats());
+        const int64_t origin = options_.scan_utime_is_wall_clock ? scan.utime : receive_wall_utime;
+        slot_.Put({std::move(scan), origin});
+      },
+      pump);
   slot_.SetCounters(assembler_.counters(), source_.Stats());
 }
 

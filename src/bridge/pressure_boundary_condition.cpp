@@ -8,6 +8,14 @@
 
 namespace sedbridge::bridge {
 
+namespace {
+
+// Lumped-load weights below this fraction of the largest one are dropped [-]: the consistent
+// mass solve leaves round-off fill-in everywhere, which would only slow every step's product.
+constexpr double kDropWeightRatio = 1e-12;
+
+}  // namespace
+
 SkinNodes SkinNodesOf(const scene::FingertipScene& scene) {
   const fem::SurfaceTractionForce* traction = scene.traction();
   if (!traction) throw std::invalid_argument("the scene has no surface_traction term");
@@ -55,7 +63,7 @@ PressureBoundaryCondition::PressureBoundaryCondition(const scene::FingertipScene
     if (ldlt.info() != Eigen::Success) throw std::runtime_error("consistent-load matrix of the skin is singular");
     const Eigen::MatrixXd rhs = nodes.area_m2.asDiagonal() * Eigen::MatrixXd(field_.W);
     const Eigen::MatrixXd X_lumped = ldlt.solve(rhs);
-    const double tiny = 1e-12 * X_lumped.cwiseAbs().maxCoeff();
+    const double tiny = kDropWeightRatio * X_lumped.cwiseAbs().maxCoeff();
     applied_ = X_lumped.sparseView(1.0, tiny);
     applied_.makeCompressed();
   }

@@ -7,7 +7,7 @@
 //   PressureBoundaryCondition bc(scene, profile, registration);
 //   scene.traction()->SetNodalTraction(bc.Apply(values));   // values: TaxelValues
 //
-// W is exposed (weights()) so that a reduced FE path can fold it into its own operator.
+// W is exposed (applied_weights()) so that a reduced FE path can fold it into its own operator.
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -27,8 +27,6 @@ SkinNodes SkinNodesOf(const scene::FingertipScene& scene);
 
 class PressureBoundaryCondition {
  public:
-  enum Axis { kShearX = 0, kShearY = 1, kNormal = 2 };
-
   /// `scene` must have surface_traction: true (throws std::invalid_argument otherwise) and
   /// must outlive this object.
   PressureBoundaryCondition(const scene::FingertipScene& scene, const sensors::SensorProfile& profile,
@@ -39,11 +37,11 @@ class PressureBoundaryCondition {
   /// buffer, valid until the next call.
   const Eigen::Matrix3Xd& Apply(const TaxelValues& values);
 
-  /// Node traction along `axis` (pad frame) = weights(axis) * taxel values along that axis
-  /// (normal: inward pressure, the traction is its negative along z_pad): the map actually
-  /// applied (with the lumped-load compensation when options.nodal_load is kLumped). One
-  /// matrix serves all three axes here; the accessor is per axis so a later kernel may differ.
-  const Eigen::SparseMatrix<double, Eigen::RowMajor>& weights(Axis axis) const { return applied_; }
+  /// The map actually applied (with the lumped-load compensation when options.nodal_load is
+  /// kLumped), #nodes x #taxels. The same matrix serves all three axes: node traction along
+  /// each pad axis = applied_weights() * the taxel values along that axis (normal: inward
+  /// pressure, so the traction is its negative along z_pad).
+  const Eigen::SparseMatrix<double, Eigen::RowMajor>& applied_weights() const { return applied_; }
   /// The interpolation (before any lumped-load compensation).
   const TractionWeights& field() const { return field_; }
   /// Last Apply() in the pad frame: rows shear x, shear y, normal (outward +), 3 x #nodes.

@@ -11,9 +11,19 @@
 #include "bridge/contact_fe_step.h"
 #include "bridge/scene_fe_step.h"
 #include "scene/vtu_writer.h"
+#include "sensors/frame_pump.h"
 #include "sensors/scan_assembler.h"
 
 namespace sedbridge::bridge {
+namespace {
+
+// A progress line on stderr every this many scans (ReplayOptions::progress).
+constexpr size_t kProgressEveryScans = 1000;
+// A command within this fraction of the ceiling counts as at the ceiling [-] (float
+// round-off of the published value).
+constexpr double kAtCeilingFraction = 1 - 1e-6;
+
+}  // namespace
 
 std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::SensorProfile& profile,
                                    bool full_field) {
@@ -148,70 +158,55 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
     pvd->Add(t_s, name);
   };
 
-  std::vector<sensors::Scan> scans;
-  auto process = [&](int64_t receive_wall) {
-    for (const sensors::Scan& scan : scans) {
-      pipeline.SetSensorCounters(assembler.counters(), source.Stats());
-      const ScanOutcome o = pipeline.ProcessScan(scan, scan.utime, receive_wall);
-      last_utime = scan.utime;
-      ReplayRow row;
-      row.utime = scan.utime;
-      row.total_force_N = o.total_force_N;
-      row.applied_force_N = o.applied_force_N;
-      row.max_sed_Pa = o.max_sed_Pa;
-      row.max_command = o.max_command;
-      row.latency_ms = o.latency_us * 1e-3;
-      row.stepped = o.stepped;
-      row.invalid_taxels = o.invalid_taxels;
-      result.rows.push_back(row);
-      if (o.stepped && o.max_sed_Pa > peak_sed) {
-        peak_sed = o.max_sed_Pa;
-        result.peak_index = static_cast<int>(result.rows.size()) - 1;
-        peak_field = pipeline.last_field();
-        peak_command = pipeline.last_command();
-        peak_values = pipeline.last_values();
-        if (const lcmt_contact_estimate* m = pipeline.fe().contact_message()) peak_contact = *m, have_peak_contact = true;
-      }
-      if (pvd && o.stepped && (result.rows.size() - 1) % size_t(options.vtu_every) == 0)
-        write_vtu(result.rows.size() - 1, scan.utime);
-      if (options.on_scan) options.on_scan(o, pipeline);
-      if (options.progress && result.rows.size() % 1000 == 0)
-        std::fprintf(stderr, "  %zu scans (log time %.2f s)\n", result.rows.size(),
-                     (scan.utime - result.rows.front().utime) * 1e-6);
+  // One scan through the pipeline, its row, the peak snapshot and the optional VTU frame.
+  int64_t last_scan_wall = display::WallClockUtime();
+  auto process = [&](const sensors::Scan& scan, int64_t receive_wall) {
+    pipeline.SetSensorCounters(assembler.counters(), source.Stats());
+    const ScanOutcome o = pipeline.ProcessScan(scan, scan.utime, receive_wall);
+    last_utime = scan.utime;
+    last_scan_wall = receive_wall;
+    ReplayRow row;
+    row.utime = scan.utime;
+    row.total_force_N = o.total_force_N;
+    row.applied_force_N = o.applied_force_N;
+    row.max_sed_Pa = o.max_sed_Pa;
+    row.max_command = o.max_command;
+    row.latency_ms = o.latency_us * 1e-3;
+    row.stepped = o.stepped;
+    row.invalid_taxels = o.invalid_taxels;
+    result.rows.push_back(row);
+    if (o.stepped && o.max_sed_Pa > peak_sed) {
+      peak_sed = o.max_sed_Pa;
+      result.peak_index = static_cast<int>(result.rows.size()) - 1;
+      peak_field = pipeline.last_field();
+      peak_command = pipeline.last_command();
+      peak_values = pipeline.last_values();
+      if (const lcmt_contact_estimate* m = pipeline.fe().contact_message()) peak_contact = *m, have_peak_contact = true;
     }
-    scans.clear();
+    if (pvd && o.stepped && (result.rows.size() - 1) % size_t(options.vtu_every) == 0)
+      write_vtu(result.rows.size() - 1, scan.utime);
+    if (options.on_scan) options.on_scan(o, pipeline);
+    if (options.progress && result.rows.size() % kProgressEveryScans == 0)
+      std::fprintf(stderr, "  %zu scans (log time %.2f s)\n", result.rows.size(),
+                   (scan.utime - result.rows.front().utime) * 1e-6);
   };
 
   const auto t0 = Clock::now();
   const bool paced = options.paced_speed > 0;
   if (paced && options.idle_tick_period_us <= 0) throw std::invalid_argument("idle_tick_period_us must be > 0");
-  int64_t last_scan_wall = display::WallClockUtime();
+  sensors::PumpOptions pump;
+  // Paced: wait at most one tick, so a pause in the log still ticks the watchdog.
+  pump.frame_wait_us = paced ? options.idle_tick_period_us : -1;
+  pump.wall_clock_utime = display::WallClockUtime;
+  pump.poll_on_timeout = false;  // a log's gaps are the recording's, not a late scan
+  if (options.stop) pump.stop = [&] { return options.stop->load(); };
+  pump.on_idle = [&](int64_t wall) {
+    if (!paced || result.rows.empty()) return;
+    pipeline.Tick(last_utime + static_cast<int64_t>((wall - last_scan_wall) * options.paced_speed));
+    ++result.idle_ticks;
+  };
   try {
-    while (!source.Done()) {
-      if (options.stop && options.stop->load()) {
-        result.stopped_early = true;
-        break;
-      }
-      // Paced: wait at most one tick, so a pause in the log still ticks the watchdog.
-      std::optional<sensors::Frame> frame = source.Next(paced ? options.idle_tick_period_us : -1);
-      const int64_t wall = display::WallClockUtime();
-      if (!frame) {
-        if (paced && !result.rows.empty()) {
-          pipeline.Tick(last_utime + static_cast<int64_t>((wall - last_scan_wall) * options.paced_speed));
-          ++result.idle_ticks;
-        }
-        continue;
-      }
-      assembler.Push(*frame, &scans);
-      if (!scans.empty()) {
-        process(wall);
-        last_scan_wall = wall;
-      }
-    }
-    if (!result.stopped_early) {
-      assembler.Flush(&scans);
-      process(display::WallClockUtime());
-    }
+    result.stopped_early = sensors::PumpFrames(source, assembler, process, pump).stopped;
   } catch (...) {
     // Zero first, then let the error out (the log is closed when the pipeline goes). A
     // second error while shutting down must not replace the first.
@@ -240,7 +235,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
     result.display_actuators = static_cast<int>(dp.size());
     result.command_ceiling = std::min(dp.mapping.saturation, dp.safety.max);
     result.ceiling_is_mapping = dp.mapping.saturation <= dp.safety.max;
-    const double at = result.command_ceiling * (1 - 1e-6);
+    const double at = result.command_ceiling * kAtCeilingFraction;
     for (double v : peak_command.value) result.peak_actuators_at_ceiling += v >= at ? 1 : 0;
     for (const ReplayRow& r : result.rows) result.scans_at_ceiling += r.max_command >= at ? 1 : 0;
   }

@@ -19,8 +19,7 @@ scene::SceneDescription BridgeSceneDescription(const std::string& model, const s
 
 /// OpenMP threads of the FE kernels (omp_set_num_threads). The bridge defaults to 1: its
 /// per-step work is small, and on a shared 2-core machine spinning OpenMP workers cost
-/// more than they gain (measured: 4 scans/s with the default team vs 116 with one thread
-/// on model B under load 8).
+/// more than they gain (the measurement: docs/bridge.md, "Timing").
 void SetFeThreads(int threads);
 
 class SceneFeStep final : public FeStep {

@@ -6,6 +6,14 @@
 
 namespace sedbridge::bridge {
 
+namespace {
+
+// Total kernel weight of the valid neighbours below which an invalid taxel has none within
+// reach [-] (the Gaussian weights are at most 1 each; this is "no neighbour", not a small one).
+constexpr double kNoNeighbourWeight = 1e-12;
+
+}  // namespace
+
 double SmallestTaxelSpacing_mm(const std::vector<sensors::TaxelPosition>& taxels) {
   double best = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < taxels.size(); ++i)
@@ -91,7 +99,7 @@ ConditioningReport ScanConditioner::Condition(const sensors::Scan& scan, TaxelVa
         p += g * out->pressure_Pa[j];
         if (shear) sx += g * out->shear_x_Pa[j], sy += g * out->shear_y_Pa[j];
       }
-      if (w < 1e-12) continue;  // no valid neighbour within reach: stays 0
+      if (w < kNoNeighbourWeight) continue;  // no valid neighbour within reach: stays 0
       // Never above what the valid adjacent taxels support: at most the weakest of them,
       // and 0 without one. (A weighted mean let an edge taxel next to the contact take the
       // contact's pressure; 47 % bad frames once raised the peak command by 77 %.)

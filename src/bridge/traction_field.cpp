@@ -7,6 +7,13 @@
 #include "bridge/taxel_values.h"
 
 namespace sedbridge::bridge {
+namespace {
+
+// Normalized interpolation weights below this are dropped [-] (sparsity); the force balance
+// is made exact afterwards for what is kept.
+constexpr double kDropWeight = 1e-9;
+
+}  // namespace
 
 bool InsideFootprint(const sensors::SensorProfile& profile, const Eigen::Vector2d& s) {
   if (profile.taxels.empty()) return false;
@@ -58,7 +65,7 @@ TractionWeights BuildTractionWeights(const sensors::SensorProfile& profile, cons
     out.loaded_area_m2 += nodes.area_m2[n];
     for (int i = 0; i < num_taxels; ++i) {
       const double w = g[size_t(i)] / sum;
-      if (w < 1e-9) continue;  // sparsity; the balance below stays exact for what is kept
+      if (w < kDropWeight) continue;
       entries.emplace_back(n, i, w);
       column_area[i] += nodes.area_m2[n] * w;
     }

@@ -19,7 +19,16 @@
 #include "fem/system_matrix.h"
 
 namespace sedbridge::fem {
+
 namespace {
+
+// Exact contact: compliance added to the contact Newton matrix, relative to its largest
+// diagonal entry [-]. Far below any physical compliance (the answer does not move), large
+// enough to keep the matrix definite when two contacts push one node along dependent normals.
+constexpr double kExactContactRegularization = 1e-12;
+// Floor of the largest contact force used to scale the penalty gap tolerance [N]: before any
+// force is known the tolerance must still be positive.
+constexpr double kMinForceScale_N = 1e-12;
 
 // Bump when the cache layout or the meaning of W/G changes: old files then stop matching.
 constexpr std::uint64_t kCacheVersion = 1;
@@ -526,7 +535,7 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau) {
   const double k_t = options_.friction_anisotropy * k;
   // Exact contact: no penalty compliance; a whisper of it keeps the Newton matrix definite
   // when two contacts act on one node along dependent normals.
-  const double inverse_k = options_.exact_contact ? (W_.size() ? 1e-12 * W_.diagonal().maxCoeff() : 0.0) : 1.0 / k;
+  const double inverse_k = options_.exact_contact ? (W_.size() ? kExactContactRegularization * W_.diagonal().maxCoeff() : 0.0) : 1.0 / k;
   const Eigen::Index pairs = lambda_N_.size();
   const int c = int(candidates_.size());
 
@@ -649,7 +658,7 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau) {
       if (passive_[size_t(a)] < bounded_rows_) largest_ = std::max(largest_, z_[a]);
     const double gap_tolerance = options_.exact_contact
                                      ? 1e-3 * options_.relative_tolerance * kExactGapScale_m
-                                     : 1e-3 * options_.relative_tolerance * std::max(largest_, 1e-12) / k;
+                                     : 1e-3 * options_.relative_tolerance * std::max(largest_, kMinForceScale_N) / k;
     before_add = passive_;
     most_violated = -1;
     double worst = -gap_tolerance;

@@ -8,6 +8,16 @@
 #include "fem/rotation_extraction.h"
 
 namespace sedbridge::fem {
+namespace {
+
+// Tets below which the linear path's inversion check runs on one thread [elements]: the check
+// is a few flops a tet, so forking a team costs more than it saves until the mesh is large.
+constexpr size_t kParallelInversionCheckMinTets = 100000;
+// Tets below which assembly runs on one thread [elements]: below this the per-thread
+// partial sums and their reduction cost more than the element work they split.
+constexpr size_t kParallelAssemblyMinTets = 256;
+
+}  // namespace
 
 ElasticTetForce::ElasticTetForce(const TetMesh& mesh, ElasticFormulation formulation,
                                  double rayleigh_beta_s, bool deviatoric_only)
@@ -69,7 +79,7 @@ void ElasticTetForce::AddForce(const SystemState& state, Eigen::VectorXd& force_
     rest_stiffness_.Multiply(work_, k_times_work_);
     force_N -= k_times_work_;
     int inverted = 0;
-#pragma omp parallel for schedule(static) reduction(+ : inverted) if (elements_.size() > 100000)
+#pragma omp parallel for schedule(static) reduction(+ : inverted) if (elements_.size() > kParallelInversionCheckMinTets)
     for (int t = 0; t < int(elements_.size()); ++t) {
       const Tet& n = mesh_.tets[size_t(t)];
       if (SignedVolume(state.x_m.segment<3>(3 * n[0]), state.x_m.segment<3>(3 * n[1]), state.x_m.segment<3>(3 * n[2]),
@@ -86,7 +96,7 @@ void ElasticTetForce::AddForce(const SystemState& state, Eigen::VectorXd& force_
   const bool force = corotational;
   const int threads = omp_get_max_threads();
   int inverted = 0;
-  if (threads == 1 || elements_.size() < 256) {
+  if (threads == 1 || elements_.size() < kParallelAssemblyMinTets) {
     for (int t = 0; t < int(elements_.size()); ++t)
       inverted += AccumulateElement(t, state, force, force_N, sink, sink ? sink->matrix->values() : nullptr,
                                     sink ? sink->stiffness_times_velocity : nullptr);

@@ -68,8 +68,8 @@ struct PcgSettings {
   int max_iterations = 200;
   PreconditionerKind preconditioner = PreconditionerKind::kWarpedRestFactor;
   bool fallback_to_direct = true;
-  /// Factorization for the warped rest factor and the fallback. CHOLMOD: on model B its
-  /// solves are ~3x and its factorization ~7x faster than the LDL^T (docs/performance.md).
+  /// Factorization for the warped rest factor and the fallback. CHOLMOD, the faster one on
+  /// the shipped models (measured: docs/performance.md, "Supernodal Cholesky").
   DirectSolverKind direct = DirectSolverKind::kCholmod;
 };
 

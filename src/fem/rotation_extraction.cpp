@@ -5,6 +5,16 @@
 
 namespace sedbridge::fem {
 
+namespace {
+
+// Rotation update below which the iteration has converged [rad]: 1e-12 is round-off for a
+// unit quaternion in double precision.
+constexpr double kConvergedAngle_rad = 1e-12;
+// Keeps the update finite when R and F are orthogonal (alignment 0) [-].
+constexpr double kAlignmentFloor = 1e-9;
+
+}  // namespace
+
 Eigen::Matrix3d ExtractRotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q,
                                 int max_iterations) {
   // Each iteration rotates R toward F by the torque-like vector sum_i r_i x f_i, scaled by
@@ -16,9 +26,9 @@ Eigen::Matrix3d ExtractRotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q,
         R.col(0).cross(F.col(0)) + R.col(1).cross(F.col(1)) + R.col(2).cross(F.col(2));
     const double alignment =
         std::abs(R.col(0).dot(F.col(0)) + R.col(1).dot(F.col(1)) + R.col(2).dot(F.col(2)));
-    const Eigen::Vector3d omega = torque / (alignment + 1e-9);
+    const Eigen::Vector3d omega = torque / (alignment + kAlignmentFloor);
     const double angle = omega.norm();
-    if (!(angle > 1e-12)) break;  // also stops on NaN input
+    if (!(angle > kConvergedAngle_rad)) break;  // also stops on NaN input
     q = Eigen::Quaterniond(Eigen::AngleAxisd(angle, omega / angle)) * q;
     q.normalize();
     R = q.toRotationMatrix();

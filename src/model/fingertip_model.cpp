@@ -20,6 +20,10 @@ using config::ConfigError;
 
 // Plausible size of a fingertip model's soft tissue (bounding-box diagonal) [m].
 constexpr double kMinModelExtent_m = 1e-3, kMaxModelExtent_m = 0.2;
+// A tet whose signed volume is at most this times its longest edge cubed is inverted or
+// degenerate [-]. A regular tet has 0.118: the bound is far below any usable element and far
+// above round-off in the file's coordinates.
+constexpr double kDegenerateTetVolumeRatio = 1e-10;
 
 enum Tissue { kEpi, kDerm, kSub, kSoft, kBoneT, kNailT, kNumTissues };
 const char* const kTissueNames[kNumTissues] = {kEpidermis, kDermis,  kSubcutaneous,
@@ -120,8 +124,7 @@ void Orient(const MshFile& msh, std::vector<RawTet>* tets) {
       std::swap(t.nodes[1], t.nodes[2]);
       volume[i] = -volume[i];
     }
-    // Relative to the cube of the longest edge: a regular tet has 0.118.
-    if (volume[i] <= 1e-10 * edge[i] * edge[i] * edge[i]) {
+    if (volume[i] <= kDegenerateTetVolumeRatio * edge[i] * edge[i] * edge[i]) {
       const std::string what = volume[i] < 0 ? "is inverted" : "has zero volume";
       FailAt(msh, *t.element,
              "tetrahedron " + std::to_string(t.element->tag) + " in '" + kTissueNames[t.tissue] +
@@ -147,6 +150,251 @@ struct FaceUse {
   int tet;   // soft tet index
   int face;  // 0..3, opposite vertex
 };
+
+
+// Stratum corneum thickness [m] when the model YAML gives no geometry (a bare .msh with a
+// shell group): 20 um, the thin end of fingertip stratum corneum and model A's value.
+constexpr double kDefaultStratumCorneumThickness_m = 0.02e-3;
+
+// Number of volume elements per tissue.
+using TissueCounts = std::array<int, kNumTissues>;
+
+// Rejects meshes without soft tissue, with half a Merkel layer or without a rigid body.
+TissueCounts CountTissues(const std::vector<RawTet>& tets, const config::SourceLocation& file_loc) {
+  TissueCounts count{};
+  for (const RawTet& t : tets) ++count[t.tissue];
+  if (count[kEpi] + count[kDerm] + count[kSub] + count[kSoft] == 0) {
+    throw ConfigError(file_loc, "no soft tissue: the mesh needs volume groups epidermis + dermis "
+                                "(+ subcutaneous) or soft_tissue");
+  }
+  if ((count[kEpi] > 0) != (count[kDerm] > 0)) {
+    throw ConfigError(file_loc, std::string("layered model without a Merkel layer: group '") +
+                                    (count[kEpi] ? kDermis : kEpidermis) +
+                                    "' is missing (the Merkel layer is the epidermis-dermis interface)");
+  }
+  if (count[kBoneT] + count[kNailT] == 0) {
+    throw ConfigError(file_loc, "no rigid body: the mesh needs a 'bone' and/or 'nail' volume group");
+  }
+  return count;
+}
+
+// Gmsh node tag -> model node index, for the soft mesh and the rigid body separately.
+struct NodeNumbering {
+  std::vector<std::size_t> soft_tags;  // ascending; index = soft node
+  std::unordered_set<std::size_t> rigid_node_tags;
+  std::unordered_map<std::size_t, int> soft_index, rigid_index;
+};
+
+// Numbers the nodes of each body in ascending Gmsh tag order and fills the node positions
+// (in metres), the soft node tags and the attached (soft and rigid) nodes of `m`.
+NodeNumbering NumberNodes(const MshFile& msh, const std::vector<RawTet>& tets, double mesh_unit_m,
+                          FingertipModel* m) {
+  NodeNumbering n;
+  for (const RawTet& t : tets) {
+    if (IsSoft(t.tissue)) {
+      n.soft_tags.insert(n.soft_tags.end(), t.nodes.begin(), t.nodes.end());
+    } else {
+      n.rigid_node_tags.insert(t.nodes.begin(), t.nodes.end());
+    }
+  }
+  std::sort(n.soft_tags.begin(), n.soft_tags.end());
+  n.soft_tags.erase(std::unique(n.soft_tags.begin(), n.soft_tags.end()), n.soft_tags.end());
+  m->soft.rest_positions_m.resize(3, n.soft_tags.size());
+  for (std::size_t i = 0; i < n.soft_tags.size(); ++i) {
+    n.soft_index[n.soft_tags[i]] = static_cast<int>(i);
+    m->soft.rest_positions_m.col(i) = msh.node_positions.col(msh.node_index.at(n.soft_tags[i])) * mesh_unit_m;
+  }
+  m->soft_node_tags = n.soft_tags;
+
+  std::vector<std::size_t> rigid_tags(n.rigid_node_tags.begin(), n.rigid_node_tags.end());
+  std::sort(rigid_tags.begin(), rigid_tags.end());
+  m->rigid_positions_m.resize(3, rigid_tags.size());
+  for (std::size_t i = 0; i < rigid_tags.size(); ++i) {
+    n.rigid_index[rigid_tags[i]] = static_cast<int>(i);
+    m->rigid_positions_m.col(i) = msh.node_positions.col(msh.node_index.at(rigid_tags[i])) * mesh_unit_m;
+  }
+  for (std::size_t i = 0; i < n.soft_tags.size(); ++i) {
+    if (n.rigid_node_tags.count(n.soft_tags[i])) m->attached_nodes.push_back(static_cast<int>(i));
+  }
+  return n;
+}
+
+// A fingertip spans millimetres to centimetres. A mm mesh read as `mesh_unit: m` (or the
+// reverse) is 1000x off and used to run to nonsense without a word.
+void CheckModelExtent(const Eigen::Matrix3Xd& soft_positions_m, const config::SourceLocation& file_loc) {
+  if (soft_positions_m.cols() == 0) return;
+  const double diagonal_m = (soft_positions_m.rowwise().maxCoeff() - soft_positions_m.rowwise().minCoeff()).norm();
+  if (!(diagonal_m >= kMinModelExtent_m && diagonal_m <= kMaxModelExtent_m))
+    throw ConfigError(file_loc, "the soft tissue spans " + std::to_string(diagonal_m) +
+                                    " m (bounding-box diagonal), outside the 1..200 mm of a fingertip: is "
+                                    "mesh_unit right for this mesh?");
+}
+
+// Soft material index per tissue (-1 where absent); the rigid tissues' materials go to
+// m->rigid_materials (Table II when the description names none).
+std::array<int, kNumTissues> AddMaterials(const TissueCounts& count, const ModelDescription& d, FingertipModel* m) {
+  std::array<int, kNumTissues> material_of;
+  material_of.fill(-1);
+  for (int k = kEpi; k <= kSoft; ++k) {
+    if (count[k] > 0) material_of[k] = AddMaterial(m, d, kTissueNames[k]);
+  }
+  for (int k : {kBoneT, kNailT}) {
+    if (count[k] > 0) {
+      fem::LinearElasticMaterial mat = d.materials.count(kTissueNames[k])
+                                           ? d.materials.at(kTissueNames[k])
+                                           : TableIIMaterial(kTissueNames[k]);
+      mat.name = kTissueNames[k];
+      m->rigid_materials.push_back(mat);
+    }
+  }
+  return material_of;
+}
+
+// Faces of the rigid body, as keys of Gmsh node tags.
+using RigidFaceSet = std::unordered_set<FaceKey, FaceKeyHash>;
+
+// Adds every tet to the soft mesh or the rigid body; returns the rigid body's faces.
+RigidFaceSet AddTets(const std::vector<RawTet>& tets, const NodeNumbering& nodes,
+                     const std::array<int, kNumTissues>& material_of, FingertipModel* m) {
+  RigidFaceSet rigid_faces;
+  for (const RawTet& t : tets) {
+    fem::Tet tet;
+    if (IsSoft(t.tissue)) {
+      for (int i = 0; i < 4; ++i) tet[i] = nodes.soft_index.at(t.nodes[i]);
+      m->soft.tets.push_back(tet);
+      m->soft.tet_material.push_back(material_of[t.tissue]);
+      m->soft_tet_tags.push_back(t.element->tag);
+    } else {
+      for (int i = 0; i < 4; ++i) tet[i] = nodes.rigid_index.at(t.nodes[i]);
+      m->rigid_tets.push_back(tet);
+      m->rigid_tet_is_nail.push_back(t.tissue == kNailT ? 1 : 0);
+      m->rigid_tet_tags.push_back(t.element->tag);
+      for (const auto& f : kFaceVertices) {
+        rigid_faces.insert(Key(t.nodes[f[0]], t.nodes[f[1]], t.nodes[f[2]]));
+      }
+    }
+  }
+  return rigid_faces;
+}
+
+// Oriented surfaces of the soft mesh, keyed by sorted soft node indices (ordered maps:
+// deterministic output).
+struct SoftSurfaces {
+  std::map<FaceKey, fem::Triangle> skin;    // free boundary faces (not on the rigid body)
+  std::map<FaceKey, fem::Triangle> merkel;  // epidermis-dermis faces, normal dermis -> epidermis
+};
+
+// The tets using each face of `soft` (keyed by sorted node indices).
+using FaceUses = std::unordered_map<FaceKey, std::vector<FaceUse>, FaceKeyHash>;
+FaceUses SoftFaceUses(const fem::TetMesh& soft) {
+  FaceUses faces;
+  faces.reserve(soft.tets.size() * 3);
+  for (int t = 0; t < soft.num_tets(); ++t) {
+    const fem::Tet& tet = soft.tets[t];
+    for (int f = 0; f < 4; ++f) {
+      const auto& v = kFaceVertices[f];
+      faces[Key(tet[v[0]], tet[v[1]], tet[v[2]])].push_back({t, f});
+    }
+  }
+  return faces;
+}
+
+// Sorts the faces of the soft mesh: boundary (one tet) or interior (two tets).
+SoftSurfaces FindSurfaces(const FingertipModel& m, const std::vector<std::size_t>& soft_tags,
+                          const RigidFaceSet& rigid_faces, const std::array<int, kNumTissues>& material_of,
+                          const config::SourceLocation& file_loc) {
+  const FaceUses faces = SoftFaceUses(m.soft);
+  auto oriented = [&](const FaceUse& u) {
+    const fem::Tet& tet = m.soft.tets[u.tet];
+    const auto& v = kFaceVertices[u.face];
+    return fem::Triangle{tet[v[0]], tet[v[1]], tet[v[2]]};
+  };
+  SoftSurfaces surfaces;
+  const int epi_mat = material_of[kEpi], derm_mat = material_of[kDerm];
+  for (const auto& [key, uses] : faces) {
+    if (uses.size() > 2) {
+      std::string list;
+      for (const auto& u : uses) list += " " + std::to_string(m.soft_tet_tags[u.tet]);
+      throw ConfigError(file_loc, "non-manifold mesh: a face is shared by " + std::to_string(uses.size()) +
+                                      " tetrahedra (elements" + list + ")");
+    }
+    if (uses.size() == 1) {
+      const FaceKey tag_key = Key(soft_tags[key[0]], soft_tags[key[1]], soft_tags[key[2]]);
+      if (!rigid_faces.count(tag_key)) surfaces.skin[key] = oriented(uses[0]);
+      continue;
+    }
+    const int a = m.soft.tet_material[uses[0].tet], b = m.soft.tet_material[uses[1].tet];
+    if (epi_mat >= 0 && ((a == epi_mat && b == derm_mat) || (a == derm_mat && b == epi_mat))) {
+      surfaces.merkel[key] = oriented(a == derm_mat ? uses[0] : uses[1]);  // normal dermis -> epidermis
+    }
+  }
+  if (epi_mat >= 0 && surfaces.merkel.empty()) {
+    throw ConfigError(file_loc, "groups 'epidermis' and 'dermis' share no faces: the Merkel "
+                                "interface is broken (meshes must be conforming, e.g. Gmsh "
+                                "boolean fragments)");
+  }
+  if (surfaces.skin.empty()) throw ConfigError(file_loc, "the soft tissue has no free surface (no skin)");
+  return surfaces;
+}
+
+// Triangles of `tris` into `out` and their sorted unique nodes into `nodes`.
+void CollectTriangles(const std::map<FaceKey, fem::Triangle>& tris, std::vector<fem::Triangle>* out,
+                      std::vector<int>* nodes) {
+  for (const auto& [key, tri] : tris) {
+    out->push_back(tri);
+    nodes->insert(nodes->end(), tri.begin(), tri.end());
+  }
+  std::sort(nodes->begin(), nodes->end());
+  nodes->erase(std::unique(nodes->begin(), nodes->end()), nodes->end());
+}
+
+// The skin triangle under stratum corneum shell element `e`; throws if it is none.
+fem::Triangle SkinTriangleUnder(const MshFile& msh, const MshElement& e, const NodeNumbering& nodes,
+                                const std::map<FaceKey, fem::Triangle>& skin) {
+  if (e.type != 2) {
+    FailAt(msh, e, Where(e) + " in 'stratum_corneum' has Gmsh type " + std::to_string(e.type) +
+                       "; only 3-node triangles (type 2) are supported");
+  }
+  FaceKey key;
+  for (int i = 0; i < 3; ++i) {
+    const auto it = nodes.soft_index.find(e.node_tags[i]);
+    if (it == nodes.soft_index.end()) {
+      FailAt(msh, e, "stratum_corneum " + Where(e) + " uses node " + std::to_string(e.node_tags[i]) +
+                         ", which is not a soft-tissue node");
+    }
+    key[i] = it->second;
+  }
+  std::sort(key.begin(), key.end());
+  const auto s = skin.find(key);
+  if (s == skin.end()) FailAt(msh, e, "stratum_corneum " + Where(e) + " is not a face of the skin surface");
+  return s->second;
+}
+
+// Stratum corneum shell (model A): triangles of the 2-D group, oriented like the skin under
+// them, with its material and thickness. Nothing when the mesh has no such group.
+void AddStratumCorneum(const MshFile& msh, const ModelDescription& d, const NodeNumbering& nodes,
+                       const std::map<FaceKey, fem::Triangle>& skin, const config::SourceLocation& file_loc,
+                       FingertipModel* m) {
+  int sc_group = -1;
+  for (const auto& p : msh.physical_names) {
+    if (p.dim == 2 && p.name == kStratumCorneum) sc_group = p.tag;
+  }
+  if (sc_group < 0) return;
+  for (const MshElement& e : msh.elements) {
+    if (e.entity_dim != 2) continue;
+    const auto& phys = msh.PhysicalTagsOf(e);
+    if (std::find(phys.begin(), phys.end(), sc_group) == phys.end()) continue;
+    m->stratum_corneum_triangles.push_back(SkinTriangleUnder(msh, e, nodes, skin));
+  }
+  if (m->stratum_corneum_triangles.empty()) {
+    throw ConfigError(file_loc, "group 'stratum_corneum' has no triangles");
+  }
+  m->stratum_corneum_material =
+      d.materials.count(kStratumCorneum) ? d.materials.at(kStratumCorneum) : TableIIMaterial(kStratumCorneum);
+  m->stratum_corneum_material.name = kStratumCorneum;
+  m->stratum_corneum_thickness_m =
+      d.has_geometry ? d.geometry.layers.stratum_corneum_mm * 1e-3 : kDefaultStratumCorneumThickness_m;
+}
 
 }  // namespace
 
@@ -191,195 +439,15 @@ FingertipModel BuildFingertipModel(const MshFile& msh, const ModelDescription& d
 
   std::vector<RawTet> tets = ClassifyTets(msh);
   Orient(msh, &tets);
-
-  int count[kNumTissues] = {0, 0, 0, 0, 0, 0};
-  for (const RawTet& t : tets) ++count[t.tissue];
-  if (count[kEpi] + count[kDerm] + count[kSub] + count[kSoft] == 0) {
-    throw ConfigError(file_loc, "no soft tissue: the mesh needs volume groups epidermis + dermis "
-                                "(+ subcutaneous) or soft_tissue");
-  }
-  if ((count[kEpi] > 0) != (count[kDerm] > 0)) {
-    throw ConfigError(file_loc, std::string("layered model without a Merkel layer: group '") +
-                                    (count[kEpi] ? kDermis : kEpidermis) +
-                                    "' is missing (the Merkel layer is the epidermis-dermis interface)");
-  }
-  if (count[kBoneT] + count[kNailT] == 0) {
-    throw ConfigError(file_loc, "no rigid body: the mesh needs a 'bone' and/or 'nail' volume group");
-  }
-
-  // Soft nodes: used by soft tets, numbered in ascending Gmsh tag order.
-  std::vector<std::size_t> soft_tags;
-  std::unordered_set<std::size_t> rigid_node_tags;
-  for (const RawTet& t : tets) {
-    if (IsSoft(t.tissue)) {
-      soft_tags.insert(soft_tags.end(), t.nodes.begin(), t.nodes.end());
-    } else {
-      rigid_node_tags.insert(t.nodes.begin(), t.nodes.end());
-    }
-  }
-  std::sort(soft_tags.begin(), soft_tags.end());
-  soft_tags.erase(std::unique(soft_tags.begin(), soft_tags.end()), soft_tags.end());
-  std::unordered_map<std::size_t, int> soft_index;
-  m.soft.rest_positions_m.resize(3, soft_tags.size());
-  for (std::size_t i = 0; i < soft_tags.size(); ++i) {
-    soft_index[soft_tags[i]] = static_cast<int>(i);
-    m.soft.rest_positions_m.col(i) = msh.node_positions.col(msh.node_index.at(soft_tags[i])) * d.mesh_unit_m;
-  }
-  m.soft_node_tags = soft_tags;
-  // A fingertip spans millimetres to centimetres. A mm mesh read as `mesh_unit: m` (or the
-  // reverse) is 1000x off and used to run to nonsense without a word.
-  if (m.soft.rest_positions_m.cols() > 0) {
-    const double diagonal_m =
-        (m.soft.rest_positions_m.rowwise().maxCoeff() - m.soft.rest_positions_m.rowwise().minCoeff()).norm();
-    if (!(diagonal_m >= kMinModelExtent_m && diagonal_m <= kMaxModelExtent_m))
-      throw ConfigError(file_loc, "the soft tissue spans " + std::to_string(diagonal_m) +
-                                      " m (bounding-box diagonal), outside the 1..200 mm of a fingertip: is "
-                                      "mesh_unit right for this mesh?");
-  }
-
-  int material_of[kNumTissues] = {-1, -1, -1, -1, -1, -1};
-  for (int k = kEpi; k <= kSoft; ++k) {
-    if (count[k] > 0) material_of[k] = AddMaterial(&m, d, kTissueNames[k]);
-  }
-  for (int k : {kBoneT, kNailT}) {
-    if (count[k] > 0) {
-      fem::LinearElasticMaterial mat = d.materials.count(kTissueNames[k])
-                                           ? d.materials.at(kTissueNames[k])
-                                           : TableIIMaterial(kTissueNames[k]);
-      mat.name = kTissueNames[k];
-      m.rigid_materials.push_back(mat);
-    }
-  }
-
-  // Rigid body: its own node numbering, ascending Gmsh tags.
-  std::vector<std::size_t> rigid_tags(rigid_node_tags.begin(), rigid_node_tags.end());
-  std::sort(rigid_tags.begin(), rigid_tags.end());
-  std::unordered_map<std::size_t, int> rigid_index;
-  m.rigid_positions_m.resize(3, rigid_tags.size());
-  for (std::size_t i = 0; i < rigid_tags.size(); ++i) {
-    rigid_index[rigid_tags[i]] = static_cast<int>(i);
-    m.rigid_positions_m.col(i) = msh.node_positions.col(msh.node_index.at(rigid_tags[i])) * d.mesh_unit_m;
-  }
-
-  std::unordered_set<FaceKey, FaceKeyHash> rigid_faces;  // keys in Gmsh node tags
-  for (const RawTet& t : tets) {
-    if (IsSoft(t.tissue)) {
-      fem::Tet tet;
-      for (int i = 0; i < 4; ++i) tet[i] = soft_index.at(t.nodes[i]);
-      m.soft.tets.push_back(tet);
-      m.soft.tet_material.push_back(material_of[t.tissue]);
-      m.soft_tet_tags.push_back(t.element->tag);
-    } else {
-      fem::Tet tet;
-      for (int i = 0; i < 4; ++i) tet[i] = rigid_index.at(t.nodes[i]);
-      m.rigid_tets.push_back(tet);
-      m.rigid_tet_is_nail.push_back(t.tissue == kNailT ? 1 : 0);
-      m.rigid_tet_tags.push_back(t.element->tag);
-      for (const auto& f : kFaceVertices) {
-        rigid_faces.insert(Key(t.nodes[f[0]], t.nodes[f[1]], t.nodes[f[2]]));
-      }
-    }
-  }
-
-  for (std::size_t i = 0; i < soft_tags.size(); ++i) {
-    if (rigid_node_tags.count(soft_tags[i])) m.attached_nodes.push_back(static_cast<int>(i));
-  }
-
-  // Faces of the soft mesh: boundary (one tet) or interior (two tets).
-  std::unordered_map<FaceKey, std::vector<FaceUse>, FaceKeyHash> faces;
-  faces.reserve(m.soft.tets.size() * 3);
-  for (int t = 0; t < m.soft.num_tets(); ++t) {
-    const fem::Tet& tet = m.soft.tets[t];
-    for (int f = 0; f < 4; ++f) {
-      const auto& v = kFaceVertices[f];
-      faces[Key(tet[v[0]], tet[v[1]], tet[v[2]])].push_back({t, f});
-    }
-  }
-  auto oriented = [&](const FaceUse& u) {
-    const fem::Tet& tet = m.soft.tets[u.tet];
-    const auto& v = kFaceVertices[u.face];
-    return fem::Triangle{tet[v[0]], tet[v[1]], tet[v[2]]};
-  };
-  std::map<FaceKey, fem::Triangle> skin;  // ordered: deterministic output
-  std::map<FaceKey, fem::Triangle> merkel;
-  const int epi_mat = material_of[kEpi], derm_mat = material_of[kDerm];
-  for (const auto& [key, uses] : faces) {
-    if (uses.size() > 2) {
-      std::string list;
-      for (const auto& u : uses) list += " " + std::to_string(m.soft_tet_tags[u.tet]);
-      throw ConfigError(file_loc, "non-manifold mesh: a face is shared by " + std::to_string(uses.size()) +
-                                      " tetrahedra (elements" + list + ")");
-    }
-    if (uses.size() == 1) {
-      const FaceKey tag_key = Key(soft_tags[key[0]], soft_tags[key[1]], soft_tags[key[2]]);
-      if (!rigid_faces.count(tag_key)) skin[key] = oriented(uses[0]);
-      continue;
-    }
-    const int a = m.soft.tet_material[uses[0].tet], b = m.soft.tet_material[uses[1].tet];
-    if (epi_mat >= 0 && ((a == epi_mat && b == derm_mat) || (a == derm_mat && b == epi_mat))) {
-      merkel[key] = oriented(a == derm_mat ? uses[0] : uses[1]);  // normal dermis -> epidermis
-    }
-  }
-  if (epi_mat >= 0 && merkel.empty()) {
-    throw ConfigError(file_loc, "groups 'epidermis' and 'dermis' share no faces: the Merkel "
-                                "interface is broken (meshes must be conforming, e.g. Gmsh "
-                                "boolean fragments)");
-  }
-  if (skin.empty()) throw ConfigError(file_loc, "the soft tissue has no free surface (no skin)");
-
-  auto collect = [](const std::map<FaceKey, fem::Triangle>& tris, std::vector<fem::Triangle>* out,
-                    std::vector<int>* nodes) {
-    for (const auto& [key, tri] : tris) {
-      out->push_back(tri);
-      nodes->insert(nodes->end(), tri.begin(), tri.end());
-    }
-    std::sort(nodes->begin(), nodes->end());
-    nodes->erase(std::unique(nodes->begin(), nodes->end()), nodes->end());
-  };
-  collect(skin, &m.skin_triangles, &m.skin_nodes);
-  collect(merkel, &m.merkel_triangles, &m.merkel_nodes);
-
-  // Stratum corneum shell: triangles of the 2-D group, oriented like the skin under them.
-  int sc_group = -1;
-  for (const auto& p : msh.physical_names) {
-    if (p.dim == 2 && p.name == kStratumCorneum) sc_group = p.tag;
-  }
-  if (sc_group >= 0) {
-    for (const MshElement& e : msh.elements) {
-      if (e.entity_dim != 2) continue;
-      const auto& phys = msh.PhysicalTagsOf(e);
-      if (std::find(phys.begin(), phys.end(), sc_group) == phys.end()) continue;
-      if (e.type != 2) {
-        FailAt(msh, e, Where(e) + " in 'stratum_corneum' has Gmsh type " + std::to_string(e.type) +
-                           "; only 3-node triangles (type 2) are supported");
-      }
-      FaceKey key;
-      for (int i = 0; i < 3; ++i) {
-        const auto it = soft_index.find(e.node_tags[i]);
-        if (it == soft_index.end()) {
-          FailAt(msh, e, "stratum_corneum " + Where(e) + " uses node " +
-                             std::to_string(e.node_tags[i]) + ", which is not a soft-tissue node");
-        }
-        key[i] = it->second;
-      }
-      std::sort(key.begin(), key.end());
-      const auto s = skin.find(key);
-      if (s == skin.end()) {
-        FailAt(msh, e, "stratum_corneum " + Where(e) + " is not a face of the skin surface");
-      }
-      m.stratum_corneum_triangles.push_back(s->second);
-    }
-    if (m.stratum_corneum_triangles.empty()) {
-      throw ConfigError(file_loc, "group 'stratum_corneum' has no triangles");
-    }
-    m.stratum_corneum_material = d.materials.count(kStratumCorneum)
-                                     ? d.materials.at(kStratumCorneum)
-                                     : TableIIMaterial(kStratumCorneum);
-    m.stratum_corneum_material.name = kStratumCorneum;
-    m.stratum_corneum_thickness_m =
-        d.has_geometry ? d.geometry.layers.stratum_corneum_mm * 1e-3 : 0.02e-3;
-  }
-
+  const TissueCounts count = CountTissues(tets, file_loc);
+  const NodeNumbering nodes = NumberNodes(msh, tets, d.mesh_unit_m, &m);
+  CheckModelExtent(m.soft.rest_positions_m, file_loc);
+  const std::array<int, kNumTissues> material_of = AddMaterials(count, d, &m);
+  const RigidFaceSet rigid_faces = AddTets(tets, nodes, material_of, &m);
+  const SoftSurfaces surfaces = FindSurfaces(m, nodes.soft_tags, rigid_faces, material_of, file_loc);
+  CollectTriangles(surfaces.skin, &m.skin_triangles, &m.skin_nodes);
+  CollectTriangles(surfaces.merkel, &m.merkel_triangles, &m.merkel_nodes);
+  AddStratumCorneum(msh, d, nodes, surfaces.skin, file_loc, &m);
   m.pad_frame = ComputePadFrame(m.soft.rest_positions_m, m.skin_nodes, d.pad_tilt_deg);
   return m;
 }

@@ -34,7 +34,6 @@ struct PadFrame {
   double tilt_deg = 15.0;  ///< angle between finger axis and the pressing plane
 
   Eigen::Vector3d ToPad(const Eigen::Vector3d& p_model) const { return model_from_pad.inverse() * p_model; }
-  Eigen::Vector3d ToModel(const Eigen::Vector3d& p_pad) const { return model_from_pad * p_pad; }
 };
 
 struct FingertipModel {

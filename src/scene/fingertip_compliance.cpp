@@ -11,6 +11,14 @@
 
 namespace sedbridge::scene {
 
+namespace {
+
+// Bracket width of the force-controlled press below which it has collapsed [mm]: far below
+// any change of depth that changes the force, so the target force cannot be matched.
+constexpr double kCollapsedBracket_mm = 1e-12;
+
+}  // namespace
+
 FingertipComplianceOptions ComplianceOptionsFromScene(const SceneDescription& d) {
   auto refuse = [](const std::string& why) {
     throw std::invalid_argument("the compliance contact solver needs a linear quasi-static scene with the bone fixed: " +
@@ -294,7 +302,7 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
     const double f = evaluate(d);
     if (solve_failed) return finish(PressStatus::kInvalidInput, d, f, contact_->last().error);
     if (std::abs(f - target_N) <= tol) return finish(PressStatus::kReached, d, f, "");
-    if (hi - lo < 1e-12) return finish(PressStatus::kNotConverged, d, f, "bracket collapsed before the force matched");
+    if (hi - lo < kCollapsedBracket_mm) return finish(PressStatus::kNotConverged, d, f, "bracket collapsed before the force matched");
     if (f < target_N) {
       lo = d, f_lo = f;
       if (stale == -1) f_hi = target_N + 0.5 * (f_hi - target_N);

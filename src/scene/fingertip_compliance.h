@@ -11,7 +11,7 @@
 // Use (contact reconstruction: one hypothesis pressed to the force the sensor measured):
 //   const model::FingertipModel model = model::LoadFingertipModel("B");
 //   scene::FingertipComplianceOptions options;
-//   options.contact.cache_dir = "out/cache";          // ~0.6 s precompute on B, then 0.04 s
+//   options.contact.cache_dir = "out/cache";          // precompute once, then load (docs/performance.md)
 //   scene::FingertipCompliance fingertip(model, options);
 //   geometry::RigidObject sphere{"s", std::make_shared<geometry::SphereSdf>(8e-3),
 //       geometry::Trajectory(Eigen::Isometry3d(Eigen::Translation3d(0, 1e-3, 8e-3)))};  // pad frame, touching
@@ -84,7 +84,8 @@ struct PressToForceResult {
 class FingertipCompliance {
  public:
   /// Builds (or loads from options.contact.cache_dir) the precompute for `model`, which
-  /// must outlive this object. Startup on model B: about a second without the cache.
+  /// must outlive this object. The precompute dominates startup without the cache (times:
+  /// docs/performance.md, "Contact by the compliance method").
   FingertipCompliance(const model::FingertipModel& model, FingertipComplianceOptions options = {});
 
   /// Contact with objects posed in the pad frame at time t_s, plus a total tangential load

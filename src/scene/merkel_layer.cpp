@@ -8,6 +8,19 @@
 #include "fem/mesh_topology.h"
 
 namespace sedbridge::scene {
+namespace {
+
+// A pad-facing triangle whose projection onto the pad plane has |2 x area| below this
+// [mm^2] is seen edge-on: it holds no path point, and its barycentrics would be noise.
+constexpr double kEdgeOnTriangleDet_mm2 = 1e-12;
+// Barycentric slack [-]: a path point on a shared edge belongs to both triangles, so that
+// round-off cannot drop it from either.
+constexpr double kBarycentricSlack = 1e-9;
+// Relative slack on the sample count [-]: (x_max - x_min) / step a hair below an integer
+// still samples x_max.
+constexpr double kSampleCountSlack = 1e-9;
+
+}  // namespace
 
 MerkelLayer::MerkelLayer(const model::FingertipModel& model, const fem::ElasticTetForce& elastic,
                          const fem::NodalPressureTetForce* nodal)
@@ -39,7 +52,7 @@ const Eigen::VectorXd& MerkelLayer::Evaluate(const Eigen::VectorXd& x_m) {
 std::vector<PathSample> MerkelLayer::SamplePath(const Eigen::VectorXd& sed, double y, double x_min,
                                                 double x_max, double step) const {
   std::vector<PathSample> out;
-  const int count = int(std::floor((x_max - x_min) / step + 1e-9)) + 1;
+  const int count = int(std::floor((x_max - x_min) / step + kSampleCountSlack)) + 1;
   for (int s = 0; s < count; ++s) {
     const double px = x_min + s * step;
     double best_z = -std::numeric_limits<double>::infinity();
@@ -47,12 +60,11 @@ std::vector<PathSample> MerkelLayer::SamplePath(const Eigen::VectorXd& sed, doub
     for (const auto& t : pad_triangles_) {
       const Eigen::Vector3d a = rest_pad_mm_.col(t[0]), b = rest_pad_mm_.col(t[1]), c = rest_pad_mm_.col(t[2]);
       const double det = (b.x() - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (b.y() - a.y());
-      if (std::abs(det) < 1e-12) continue;
+      if (std::abs(det) < kEdgeOnTriangleDet_mm2) continue;
       const double l1 = ((px - a.x()) * (c.y() - a.y()) - (c.x() - a.x()) * (y - a.y())) / det;
       const double l2 = ((b.x() - a.x()) * (y - a.y()) - (px - a.x()) * (b.y() - a.y())) / det;
       const double l0 = 1 - l1 - l2;
-      const double eps = -1e-9;
-      if (l0 < eps || l1 < eps || l2 < eps) continue;
+      if (l0 < -kBarycentricSlack || l1 < -kBarycentricSlack || l2 < -kBarycentricSlack) continue;
       const double z = l0 * a.z() + l1 * b.z() + l2 * c.z();
       if (z > best_z) {  // the sheet nearest the pressing plane
         best_z = z;

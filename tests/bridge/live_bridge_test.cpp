@@ -1,5 +1,5 @@
-// Live mode without AF_CAN: the receiver/solver threading and the newest-scan slot, driven by
-// injected frame sources.
+// Live mode without AF_CAN: the receiver/solver threading, driven by injected frame sources
+// (the newest-scan slot itself: latest_scan_slot_test.cpp).
 
 #include "bridge/live_bridge.h"
 
@@ -15,38 +15,6 @@
 
 namespace sedbridge::bridge {
 namespace {
-
-TEST(LatestScanSlot, NewestWinsAndDropsAreCounted) {
-  LatestScanSlot slot;
-  for (int i = 0; i < 5; ++i) {
-    LatestScanSlot::Entry e;
-    e.scan.sequence = i;
-    slot.Put(std::move(e));
-  }
-  LatestScanSlot::Entry out;
-  ASSERT_TRUE(slot.Take(&out, 0));
-  EXPECT_EQ(out.scan.sequence, 4);
-  EXPECT_FALSE(slot.Take(&out, 1000));  // empty: times out
-  EXPECT_EQ(slot.put_count(), 5);
-  EXPECT_EQ(slot.dropped_count(), 4);
-  EXPECT_EQ(slot.taken_count(), 1);
-  slot.Close();
-  EXPECT_FALSE(slot.Take(&out, -1));  // closed and empty: returns at once
-}
-
-TEST(LatestScanSlot, TakeWakesOnPutFromAnotherThread) {
-  LatestScanSlot slot;
-  std::thread producer([&] {
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    LatestScanSlot::Entry e;
-    e.scan.sequence = 7;
-    slot.Put(std::move(e));
-  });
-  LatestScanSlot::Entry out;
-  EXPECT_TRUE(slot.Take(&out, 5'000'000));
-  EXPECT_EQ(out.scan.sequence, 7);
-  producer.join();
-}
 
 // A simulated sensor that never ends (its scan loops), frames stamped with the wall clock.
 class EndlessSimulatedSource final : public sensors::FrameSource {

@@ -93,7 +93,7 @@ TEST_F(TractionFieldTest, ZeroLoadOutsideTheFootprint) {
       ++outside;
       // Consistent: the traction itself is zero; lumped: the nodal forces are.
       EXPECT_EQ(t.col(n).norm(), 0.0) << "node " << n;
-      EXPECT_EQ(bc_consistent.weights(PressureBoundaryCondition::kNormal).row(n).nonZeros(), 0);
+      EXPECT_EQ(bc_consistent.applied_weights().row(n).nonZeros(), 0);
       EXPECT_LT(f_lumped.col(n).norm(), 1e-9 * f_scale) << "node " << n;
     } else if (t.col(n).norm() > 0) {
       ++inside_loaded;
@@ -106,6 +106,30 @@ TEST_F(TractionFieldTest, ZeroLoadOutsideTheFootprint) {
   }
   EXPECT_GT(outside, 100);  // most of the finger (back, nail side, proximal cut)
   EXPECT_GT(inside_loaded, 20);
+}
+
+TEST_F(TractionFieldTest, AppliedWeightsMapEachAxisOfTheTaxelValuesToTheTraction) {
+  PressureBoundaryCondition bc(step_->scene(), *profile_, PadRegistration(profile_->taxels));
+  TaxelValues v;
+  for (int i = 0; i < 16; ++i) {
+    v.pressure_Pa.push_back(1e3 * (i + 1));
+    v.shear_x_Pa.push_back(100.0 * (i % 5) - 200);
+    v.shear_y_Pa.push_back(50.0 * (i % 3) + 10);
+  }
+  bc.Apply(v);
+  const Eigen::Matrix3Xd& t_pad = bc.traction_pad_Pa();
+  const auto& w = bc.applied_weights();
+  ASSERT_EQ(w.rows(), t_pad.cols());
+  ASSERT_EQ(w.cols(), 16);
+  auto as_vector = [](const std::vector<double>& x) { return Eigen::Map<const Eigen::VectorXd>(x.data(), Eigen::Index(x.size())); };
+  const Eigen::VectorXd shear_x = w * as_vector(v.shear_x_Pa);
+  const Eigen::VectorXd shear_y = w * as_vector(v.shear_y_Pa);
+  const Eigen::VectorXd normal = w * as_vector(v.pressure_Pa);
+  const double scale = t_pad.cwiseAbs().maxCoeff();
+  ASSERT_GT(scale, 0);
+  EXPECT_LT((t_pad.row(0).transpose() - shear_x).cwiseAbs().maxCoeff(), 1e-9 * scale);
+  EXPECT_LT((t_pad.row(1).transpose() - shear_y).cwiseAbs().maxCoeff(), 1e-9 * scale);
+  EXPECT_LT((t_pad.row(2).transpose() + normal).cwiseAbs().maxCoeff(), 1e-9 * scale);  // pressure pushes inward
 }
 
 TEST_F(TractionFieldTest, MovingTheSensorOffThePadLeavesItsTaxelsUnmapped) {

@@ -12,10 +12,11 @@ set(SEDBRIDGE_INSTALL_DATA ${CMAKE_INSTALL_DATADIR}/sedbridge)
 
 install(TARGETS sedbridge RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/config DESTINATION ${SEDBRIDGE_INSTALL_DATA})
-# Scripts only: the model generator's C++ source and the CMake file stay behind.
+# Scripts only: the model generator's and fidelity study's C++ sources and the CMake files stay behind.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/tools DESTINATION ${SEDBRIDGE_INSTALL_DATA}
         USE_SOURCE_PERMISSIONS
         PATTERN fingertip_generator EXCLUDE
+        PATTERN bridge_fidelity_study EXCLUDE
         PATTERN CMakeLists.txt EXCLUDE
         PATTERN __pycache__ EXCLUDE)
 install(DIRECTORY ${SEDBRIDGE_LCM_PYTHON_DIR}/ DESTINATION ${SEDBRIDGE_INSTALL_DATA}/python

@@ -1,5 +1,5 @@
 // Prints the fidelity table of docs/bridge-fidelity.md:
-//   build/tests/bridge/bridge_fidelity_study [MODEL [lumped|consistent [pitch_mm ...]]]   (default: B lumped 1 2 4)
+//   build/tools/bridge_fidelity_study/bridge_fidelity_study [MODEL [lumped|consistent [pitch_mm ...]]]   (default: B lumped 1 2 4)
 
 #include <cstdio>
 #include <cstdlib>

@@ -1,0 +1,48 @@
+#include "sensors/frame_pump.h"
+
+#include <stdexcept>
+#include <vector>
+
+namespace sedbridge::sensors {
+namespace {
+
+void HandOut(std::vector<Scan>* scans, int64_t receive_wall_utime, const ScanCallback& on_scan,
+             PumpResult* result) {
+  for (Scan& scan : *scans) {
+    ++result->scans;
+    on_scan(scan, receive_wall_utime);
+  }
+  scans->clear();
+}
+
+}  // namespace
+
+PumpResult PumpFrames(FrameSource& source, ScanAssembler& assembler, const ScanCallback& on_scan,
+                      const PumpOptions& options) {
+  if (!options.wall_clock_utime) throw std::invalid_argument("PumpFrames needs a wall clock");
+  PumpResult result;
+  std::vector<Scan> scans;
+  while (!source.Done()) {
+    if (options.stop && options.stop()) {
+      result.stopped = true;
+      return result;
+    }
+    const std::optional<Frame> frame = source.Next(options.frame_wait_us);
+    const int64_t wall = options.wall_clock_utime();
+    if (frame) {
+      ++result.frames;
+      if (options.on_frame) options.on_frame(*frame);
+      assembler.Push(*frame, &scans);
+    } else {
+      if (source.Done()) break;  // the end, not a timeout
+      if (options.poll_on_timeout) assembler.Poll(wall, &scans);
+      if (options.on_idle) options.on_idle(wall);
+    }
+    HandOut(&scans, wall, on_scan, &result);
+  }
+  assembler.Flush(&scans);
+  HandOut(&scans, options.wall_clock_utime(), on_scan, &result);
+  return result;
+}
+
+}  // namespace sedbridge::sensors

@@ -1,0 +1,107 @@
+// One scan through the bridge pipeline, by hand (no frames, no replay loop): the fault path
+// for bad scans, latency on the injected wall clock, shutdown to zero, the status counters.
+
+#include "bridge/bridge_pipeline.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "bridge/replay.h"
+#include "bridge_test_util.h"
+#include "display/display_session.h"
+
+namespace sedbridge::bridge {
+namespace {
+
+TEST(BridgePipeline, NanScansAreCountedSkippedAndZeroTheDisplay) {
+  const BridgeConfig config = testing::TestConfig();
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
+  display::LcmSettings lcm;
+  lcm.url = "memq://";
+  BridgePipeline pipeline(config, profile, MakeFeStep(config, profile), lcm);
+  int64_t t = 1'000'000;
+  // A firm press brings the display up.
+  for (int i = 0; i < 30; ++i, t += 10'000) {
+    const ScanOutcome o = pipeline.ProcessScan(testing::UniformScan(profile, 8e3, t), t, display::WallClockUtime());
+    ASSERT_TRUE(o.stepped) << o.problem;
+  }
+  float before = 0;
+  for (double v : pipeline.last_command().value) before = std::max<float>(before, float(v));
+  ASSERT_GT(before, 0.0f);
+  // An all-NaN scan: not stepped (the FE would throw), counted, display to zero with fault.
+  sensors::Scan bad = testing::UniformScan(profile, 8e3, t);
+  for (double& p : bad.pressure_Pa) p = std::nan("");
+  const ScanOutcome o = pipeline.ProcessScan(bad, t, display::WallClockUtime());
+  EXPECT_FALSE(o.stepped);
+  EXPECT_EQ(pipeline.counters().scans_rejected, 1);
+  EXPECT_EQ(pipeline.counters().nonfinite_values, 16);
+  EXPECT_EQ(pipeline.fault_state(), 2);
+  EXPECT_TRUE(pipeline.last_command().fault);
+  for (double v : pipeline.last_command().value) EXPECT_EQ(v, 0.0);
+  // The next good scan recovers.
+  t += 10'000;
+  EXPECT_TRUE(pipeline.ProcessScan(testing::UniformScan(profile, 8e3, t), t, display::WallClockUtime()).stepped);
+  EXPECT_EQ(pipeline.fault_state(), 0);
+  EXPECT_EQ(pipeline.counters().steps, 31);
+}
+
+TEST(BridgePipeline, LatencyIsMeasuredOnTheInjectedWallClockFromTheReceiveTime) {
+  const BridgeConfig config = testing::TestConfig();
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
+  display::LcmSettings lcm;
+  lcm.url = "memq://";
+  int64_t wall_us = 50'000;
+  BridgePipeline pipeline(config, profile, MakeFeStep(config, profile), lcm, [&] { return wall_us; });
+  const ScanOutcome o = pipeline.ProcessScan(testing::UniformScan(profile, 8e3, 1'000'000), 1'000'000, 46'500);
+  ASSERT_TRUE(o.stepped) << o.problem;
+  EXPECT_EQ(o.latency_us, 3'500);
+  EXPECT_EQ(pipeline.latency().Run().count, 1);
+  EXPECT_GT(o.total_force_N, 0);
+  EXPECT_NEAR(o.applied_force_N, o.total_force_N, 1e-6 * o.total_force_N);
+}
+
+TEST(BridgePipeline, ShutdownZeroesTheDisplayOnceAndRefusesLaterScans) {
+  const BridgeConfig config = testing::TestConfig();
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
+  display::LcmSettings lcm;
+  lcm.url = "memq://";
+  BridgePipeline pipeline(config, profile, MakeFeStep(config, profile), lcm);
+  int64_t t = 1'000'000;
+  for (int i = 0; i < 10; ++i, t += 10'000)
+    ASSERT_TRUE(pipeline.ProcessScan(testing::UniformScan(profile, 8e3, t), t, display::WallClockUtime()).stepped);
+  pipeline.Shutdown(t);
+  for (double v : pipeline.last_command().value) EXPECT_EQ(v, 0.0);
+  const int64_t commands = pipeline.counters().commands;
+  const int64_t status = pipeline.counters().status_messages;
+  pipeline.Shutdown(t + 1000);  // idempotent: nothing more is published
+  pipeline.Tick(t + 2000);
+  EXPECT_EQ(pipeline.counters().commands, commands);
+  EXPECT_EQ(pipeline.counters().status_messages, status);
+  const ScanOutcome o = pipeline.ProcessScan(testing::UniformScan(profile, 8e3, t), t, display::WallClockUtime());
+  EXPECT_FALSE(o.stepped);
+  EXPECT_EQ(o.problem, "shut down");
+  EXPECT_EQ(pipeline.counters().scans, 10);
+  EXPECT_EQ(pipeline.MakeStatus(t).fault_state, 2);
+}
+
+TEST(BridgePipeline, StatusCountsScansDroppedUpstreamAndRejected) {
+  const BridgeConfig config = testing::TestConfig();
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
+  display::LcmSettings lcm;
+  lcm.url = "memq://";
+  BridgePipeline pipeline(config, profile, MakeFeStep(config, profile), lcm);
+  sensors::BadFrameCounters counters;
+  counters.scans_dropped = 2;
+  pipeline.SetSensorCounters(counters, sensors::FrameSourceStats{});
+  pipeline.SetScansDroppedUpstream(3);
+  sensors::Scan bad = testing::UniformScan(profile, 8e3, 1'000'000);
+  for (double& p : bad.pressure_Pa) p = std::nan("");  // nothing usable: rejected
+  EXPECT_FALSE(pipeline.ProcessScan(bad, 1'000'000, display::WallClockUtime()).stepped);
+  EXPECT_EQ(pipeline.counters().scans_rejected, 1);
+  EXPECT_EQ(pipeline.MakeStatus(1'000'000).scans_dropped, 2 + 3 + 1);
+}
+
+}  // namespace
+}  // namespace sedbridge::bridge
