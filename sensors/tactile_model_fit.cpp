@@ -5,6 +5,7 @@
 #include <unsupported/Eigen/NonLinearOptimization>
 #include <unsupported/Eigen/NumericalDiff>
 
+#include "common/dynamic_size_functor.h"
 #include "sensors/tactile_forward_model.h"
 
 namespace sedbridge::sensors {
@@ -57,12 +58,7 @@ struct Problem {
   }
 };
 
-struct Functor {
-  using Scalar = double;
-  enum { InputsAtCompileTime = Eigen::Dynamic, ValuesAtCompileTime = Eigen::Dynamic };
-  using InputType = Eigen::VectorXd;
-  using ValueType = Eigen::VectorXd;
-  using JacobianType = Eigen::MatrixXd;
+struct Functor : common::DynamicSizeFunctor {
   const Problem* problem;
   int inputs() const { return TactileModelParams::kCount; }
   int values() const { return problem->residual_count(); }
@@ -141,7 +137,7 @@ std::vector<PressFitReport> EvaluateTactileModel(const std::vector<CalibrationPr
 FitReport FitTactileModel(const std::vector<CalibrationPress>& presses, const SensorProfile& profile,
                           const TactileModelParams& initial, const FitOptions& options) {
   const Problem pr = MakeProblem(presses, profile, initial.grid_mm, options, /*hold_only=*/false);
-  Functor f{&pr};
+  Functor f{{}, &pr};
   Eigen::NumericalDiff<Functor> numeric(f);
   Eigen::LevenbergMarquardt<Eigen::NumericalDiff<Functor>> lm(numeric);
   lm.parameters.maxfev = options.max_evaluations;

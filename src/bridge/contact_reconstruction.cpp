@@ -6,6 +6,7 @@
 #include <unsupported/Eigen/NonLinearOptimization>
 #include <unsupported/Eigen/NumericalDiff>
 
+#include "common/dynamic_size_functor.h"
 #include "sensors/calibration_press.h"
 
 namespace sedbridge::bridge {
@@ -126,12 +127,7 @@ bool ContactReconstructor::Plausible(const ContactPrimitive& p) const {
 ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, const ContactPrimitive& start,
                                                          int max_evaluations) const {
   const bool shear = options_.fit_shear;
-  struct Functor {
-    using Scalar = double;
-    enum { InputsAtCompileTime = Eigen::Dynamic, ValuesAtCompileTime = Eigen::Dynamic };
-    using InputType = Eigen::VectorXd;
-    using ValueType = Eigen::VectorXd;
-    using JacobianType = Eigen::MatrixXd;
+  struct Functor : common::DynamicSizeFunctor {
     const ContactReconstructor* self;
     ContactShape shape;
     bool shear;
@@ -151,7 +147,7 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
       return 0;
     }
   };
-  Functor f{this, shape, shear, 0, {}};
+  Functor f{{}, this, shape, shear, 0, {}};
   Eigen::NumericalDiff<Functor> numeric(f, 1e-6);
   Eigen::LevenbergMarquardt<Eigen::NumericalDiff<Functor>> lm(numeric);
   lm.parameters.maxfev = max_evaluations > 0 ? max_evaluations : options_.max_evaluations;
