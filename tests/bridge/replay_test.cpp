@@ -112,6 +112,17 @@ TEST(Replay, ExampleLogOverMemqPublishesOrderedLimitedCommands) {
   EXPECT_LE(got.status.size(), 32u);
   EXPECT_EQ(got.status.back().fault_state, 2);  // "shut down"
   EXPECT_EQ(got.status.back().scans_received, 300);
+  // Where the time went: every stepped scan ran conditioning, the FE step and the display;
+  // the status carries the window's medians of those stages.
+  for (const ReplayRow& row : r.rows) {
+    EXPECT_GT(row.stage_ms[Stage::kConditioning], 0.0);
+    EXPECT_GT(row.stage_ms[Stage::kSed], 0.0);
+    EXPECT_GT(row.stage_ms[Stage::kLimiter], 0.0);
+    EXPECT_GT(row.stage_ms[Stage::kPublish], 0.0);
+  }
+  EXPECT_GT(r.stage_p50_ms[Stage::kSed], 0.0);
+  EXPECT_GT(got.status[got.status.size() / 2].sed_p50_ms, 0.0f);
+  EXPECT_GT(got.status[got.status.size() / 2].limiter_p50_ms, 0.0f);
 }
 
 TEST(Replay, NanScansAreCountedSkippedAndZeroTheDisplay) {
@@ -135,14 +146,18 @@ TEST(Replay, NanScansAreCountedSkippedAndZeroTheDisplay) {
   const ScanOutcome o = pipeline.ProcessScan(bad, t, display::WallClockUtime());
   EXPECT_FALSE(o.stepped);
   EXPECT_EQ(pipeline.counters().scans_rejected, 1);
+  EXPECT_EQ(pipeline.counters().rejected_by_reason[RejectReason::kTooManyInvalidTaxels], 1);
+  EXPECT_EQ(pipeline.counters().rejected_by_reason.total(), 1);
+  ASSERT_TRUE(o.reject_reason.has_value());
+  EXPECT_EQ(*o.reject_reason, RejectReason::kTooManyInvalidTaxels);
   EXPECT_EQ(pipeline.counters().nonfinite_values, 16);
-  EXPECT_EQ(pipeline.fault_state(), 2);
+  EXPECT_EQ(pipeline.fault_state(), FaultState::kFault);
   EXPECT_TRUE(pipeline.last_command().fault);
   for (double v : pipeline.last_command().value) EXPECT_EQ(v, 0.0);
   // The next good scan recovers.
   t += 10'000;
   EXPECT_TRUE(pipeline.ProcessScan(testing::UniformScan(profile, 8e3, t), t, display::WallClockUtime()).stepped);
-  EXPECT_EQ(pipeline.fault_state(), 0);
+  EXPECT_EQ(pipeline.fault_state(), FaultState::kOk);
   EXPECT_EQ(pipeline.counters().steps, 31);
 }
 
