@@ -148,7 +148,9 @@ ScanOutcome BridgePipeline::ProcessScan(const sensors::Scan& scan, int64_t now_u
     msg.utime = now_utime;
     display_->publisher().Publish(display_->publisher().channels().contact, msg);
   }
-  for (int i = 0; i < kNumStages; ++i) stage_stats_[size_t(i)].AddMs(stage_ms.ms[size_t(i)]);
+  // Per stage over the scans that ran it (a contact step presses only when there is contact).
+  for (int i = 0; i < kNumStages; ++i)
+    if (stage_ms.ms[size_t(i)] > 0) stage_stats_[size_t(i)].AddMs(stage_ms.ms[size_t(i)]);
   if (fault_state_ == FaultState::kFault) fault_state_ = FaultState::kOk, fault_message_.clear();
   MaybePublishStatus(now_utime);
   return outcome;
@@ -243,7 +245,7 @@ lcmt_bridge_status BridgePipeline::MakeStatus(int64_t now_utime) const {
   const bool bus_worse = !shut_down_ && static_cast<int8_t>(bus) > static_cast<int8_t>(state);
   s.fault_state = static_cast<int8_t>(bus_worse ? bus : state);
   if (bus_worse) s.fault_message = bus == FaultState::kFault ? "CAN bus-off" : "CAN error-passive";
-  // Median wall time per stage over the window's stepped scans [ms].
+  // Median wall time per stage over the window's stepped scans that ran it [ms].
   const StageTimes& p50 = window_stage_p50_ms_;
   s.conditioning_p50_ms = static_cast<float>(p50[Stage::kConditioning]);
   s.boundary_condition_p50_ms = static_cast<float>(p50[Stage::kBoundaryCondition]);

@@ -96,9 +96,10 @@ class BridgePipeline {
 
   const PipelineCounters& counters() const { return counters_; }
   const LatencyStats& latency() const { return latency_; }
-  /// Per-stage wall time of the stepped scans (ScanOutcome::stage_ms), window and run.
+  /// Per-stage wall time of the stepped scans that ran the stage (ScanOutcome::stage_ms),
+  /// window and run.
   const LatencyStats& stage_stats(Stage stage) const { return stage_stats_[static_cast<size_t>(stage)]; }
-  /// Median per stage over the run's stepped scans [ms].
+  /// Median per stage over the run's stepped scans that ran it [ms] (0: never ran).
   StageTimes RunStageMedians_ms() const;
   display::DisplaySession& display() { return *display_; }
   FeStep& fe() { return *fe_; }

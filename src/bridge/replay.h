@@ -79,7 +79,7 @@ struct ReplayResult {
   std::vector<ReplayRow> rows;
   PipelineCounters counters;
   LatencySummary latency;
-  StageTimes stage_p50_ms;      ///< median per stage over the stepped scans [ms]
+  StageTimes stage_p50_ms;      ///< median per stage over the stepped scans that ran it [ms]
   sensors::BadFrameCounters bad_frames;
   sensors::FrameSourceStats source_stats;
   double wall_s = 0;            ///< processing time (scan loop only, no model load)
