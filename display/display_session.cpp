@@ -32,6 +32,8 @@ DisplaySession::~DisplaySession() {
 }
 
 const DisplayCommand& DisplaySession::OnSedField(const SedField& field, int64_t now_utime) {
+  stage_ms_ = StageTimes{};
+  StageTimer publish_sed_timer(stage_ms_, Stage::kPublish);
   if (options_.publish_sed) {
     const bool due = !sed_published_ || options_.sed_max_rate_Hz <= 0 ||
                      now_utime - last_sed_publish_utime_ >= 1e6 / options_.sed_max_rate_Hz ||
@@ -42,7 +44,11 @@ const DisplayCommand& DisplaySession::OnSedField(const SedField& field, int64_t 
       last_sed_publish_utime_ = now_utime;
     }
   }
+  publish_sed_timer.Stop();
+  StageTimer limiter_timer(stage_ms_, Stage::kLimiter);
   last_ = controller_.OnSedField(field, now_utime);
+  limiter_timer.Stop();
+  const StageTimer publish_timer(stage_ms_, Stage::kPublish);
   publisher_.PublishCommand(last_);
   if (options_.publish_sa1_rate) {
     const auto& sed = controller_.last_mapping().sed_at_site_Pa;

@@ -4,6 +4,7 @@
 
 #include <cstdint>
 
+#include "common/stage_times.h"
 #include "display/display_controller.h"
 #include "display/lcm_channels.h"
 #include "display/lcm_publisher.h"
@@ -50,12 +51,16 @@ class DisplaySession {
   LcmPublisher& publisher() { return publisher_; }
   const LcmPublisher& publisher() const { return publisher_; }
   const DisplayCommand& last_command() const { return last_; }
+  /// Wall time of the last OnSedField: mapping and safety limiter (kLimiter), LCM
+  /// publishing of the field, command and SA1 rates (kPublish).
+  const StageTimes& last_stage_ms() const { return stage_ms_; }
 
  private:
   DisplayController controller_;
   LcmPublisher publisher_;
   DisplaySessionOptions options_;
   DisplayCommand last_;
+  StageTimes stage_ms_;
   bool shut_down_ = false;
   bool sed_published_ = false;
   int64_t last_sed_publish_utime_ = 0;

@@ -112,6 +112,7 @@ bool Walk(const lcmt_bridge_status*, WireCursor& c) {
   c.Skip(8 * kI64);  // counters
   c.Skip(kByte);     // fault_state
   c.String();        // fault_message
+  c.Skip(9 * kF32);  // per-stage medians
   return c.at_end();
 }
 

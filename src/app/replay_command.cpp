@@ -47,10 +47,12 @@ void PrintReplaySummary(const ReplayResult& r, const std::string& out) {
               "%.3f ms\n",
               r.setup_s, static_cast<long long>(c.scans), r.wall_s, r.wall_s > 0 ? c.scans / r.wall_s : 0.0,
               r.latency.p50_ms, r.latency.p99_ms, r.latency.max_ms);
+  std::printf("stages (median ms): %s\n", FormatStageTimes(r.stage_p50_ms).c_str());
+  if (c.scans_rejected > 0) std::printf("rejected scans by reason: %s\n", FormatRejectCounters(c.rejected_by_reason).c_str());
   if (!r.fe_counters.empty()) std::printf("%s\n", r.fe_counters.c_str());
   std::printf("LCM: %lld messages published (%lld errors)\n", static_cast<long long>(r.published),
               static_cast<long long>(r.publish_errors));
-  if (!out.empty()) std::printf("wrote %s/{summary.csv, peak_merkel_sed.csv, peak_command.csv, peak_taxels.csv, bridge.lcmlog}\n", out.c_str());
+  if (!out.empty()) std::printf("wrote %s/{summary.csv, stage_ms.csv, peak_merkel_sed.csv, peak_command.csv, peak_taxels.csv, bridge.lcmlog}\n", out.c_str());
 }
 
 std::string JoinNames(const std::set<std::string>& names) {

@@ -116,6 +116,8 @@ int RunLiveCommand(int argc, char** argv) {
               static_cast<long long>(result.ticks));
   std::printf("latency (receive -> publish): median %.3f ms, p99 %.3f ms, max %.3f ms\n", lat.p50_ms, lat.p99_ms,
               lat.max_ms);
+  std::printf("stages (median ms): %s\n", FormatStageTimes(pipeline.RunStageMedians_ms()).c_str());
+  if (c.scans_rejected > 0) std::printf("rejected scans by reason: %s\n", FormatRejectCounters(c.rejected_by_reason).c_str());
   std::printf("bad frames:\n%s", sensors::FormatCounters(assembler.counters()).c_str());
   std::printf("display driven to zero; LCM messages %lld (%lld errors)\n",
               static_cast<long long>(pipeline.display().publisher().published()),

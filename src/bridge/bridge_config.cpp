@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 #include <sstream>
+#include <stdexcept>
 
 #include "common/resource_path.h"
 #include "common/yaml_reader.h"
@@ -55,9 +56,9 @@ BridgeConfig Parse(const config::YamlDocument& doc) {
     MapReader f = r.Child("fe");
     c.model = f.Optional<std::string>("model", c.model);
     c.preset = f.OptionalChoice("preset", {"fast", "balanced", "accurate"}, c.preset);
-    c.fe_step = f.OptionalChoice("step", {"scene", "reduced", "contact"}, c.fe_step);
+    c.fe_step = FeStepKindFromString(f.OptionalChoice("step", {"scene", "reduced", "contact"}, ToString(c.fe_step)));
     c.compliance_cache_dir = f.Optional<std::string>("compliance_cache", c.compliance_cache_dir);
-    if ((c.fe_step == "reduced" || c.fe_step == "contact") && c.preset != "fast")
+    if (c.fe_step != FeStepKind::kScene && c.preset != "fast")
       f.Fail(f.Node("step"), "'step: reduced' and 'step: contact' need 'preset: fast' (a linear model)");
     f.Finish();
   }
@@ -120,6 +121,21 @@ BridgeConfig Parse(const config::YamlDocument& doc) {
 }
 
 }  // namespace
+
+const char* ToString(FeStepKind kind) {
+  switch (kind) {
+    case FeStepKind::kScene: return "scene";
+    case FeStepKind::kReduced: return "reduced";
+    case FeStepKind::kContact: return "contact";
+  }
+  return "?";
+}
+
+FeStepKind FeStepKindFromString(const std::string& name) {
+  for (FeStepKind k : {FeStepKind::kScene, FeStepKind::kReduced, FeStepKind::kContact})
+    if (name == ToString(k)) return k;
+  throw std::invalid_argument("unknown fe.step '" + name + "' (scene, reduced, contact)");
+}
 
 BridgeConfig LoadBridgeConfig(const std::string& path) { return Parse(config::LoadYamlFile(path)); }
 

@@ -20,6 +20,17 @@ namespace sedbridge::bridge {
 inline constexpr double kMinTick_Hz = 50, kMaxTick_Hz = 10000;
 inline constexpr double kMinStatus_Hz = 0.1, kMaxStatus_Hz = 100;
 
+/// Which FeStep the bridge builds (bridge config `fe.step`).
+enum class FeStepKind {
+  kScene,    ///< "scene": SceneFeStep, the scene solved every scan
+  kReduced,  ///< "reduced": ReducedLinearFeStep (preset fast only)
+  kContact,  ///< "contact": ContactFeStep, reconstructed contact pressed on the model (preset fast only)
+};
+/// "scene", "reduced", "contact".
+const char* ToString(FeStepKind kind);
+/// The kind named by `name` (as in the config); throws std::invalid_argument for others.
+FeStepKind FeStepKindFromString(const std::string& name);
+
 struct BridgeConfig {
   std::string file;  ///< where it was read from ("" = defaults)
 
@@ -31,8 +42,7 @@ struct BridgeConfig {
   // fe:
   std::string model = "B";      ///< model name or path (model::LoadFingertipModel)
   std::string preset = "fast";  ///< fast | balanced | accurate
-  std::string fe_step = "scene";  ///< scene (SceneFeStep) | reduced (ReducedLinearFeStep, preset fast only)
-                                  ///< | contact (ContactFeStep: reconstructed contact, preset fast only)
+  FeStepKind fe_step = FeStepKind::kScene;  ///< fe.step: scene | reduced | contact
   std::string compliance_cache_dir = "out/cache";  ///< fe.compliance_cache: precompute cache of fe.step contact
 
   // registration:

@@ -42,6 +42,7 @@ BridgePipeline::BridgePipeline(const BridgeConfig& config, const sensors::Sensor
       conditioner_(profile, PadRegistration(profile.taxels, config.registration), config.conditioning),
       wall_clock_(wall_clock ? std::move(wall_clock) : WallClock(display::WallClockUtime)),
       status_period_us_(std::max<int64_t>(1, static_cast<int64_t>(std::llround(1e6 / config.status_Hz)))) {
+  stage_stats_.fill(LatencyStats(kMaxStageRunSamples));
   display::DisplaySessionOptions options;
   options.publish_sed = config.publish_sed;
   display_ = std::make_unique<display::DisplaySession>(
@@ -68,10 +69,12 @@ BridgePipeline::~BridgePipeline() {
   }
 }
 
-void BridgePipeline::Reject(const std::string& why, int64_t now_utime, ScanOutcome* outcome) {
+void BridgePipeline::Reject(RejectReason reason, const std::string& why, int64_t now_utime, ScanOutcome* outcome) {
   ++counters_.scans_rejected;
+  ++counters_.rejected_by_reason[reason];
   outcome->problem = why;
-  fault_state_ = 2;
+  outcome->reject_reason = reason;
+  fault_state_ = FaultState::kFault;
   fault_message_ = "scan rejected: " + why;
   fault_field_.utime = now_utime;
   const display::DisplayCommand& c = display_->OnSedField(fault_field_, now_utime);
@@ -90,16 +93,22 @@ ScanOutcome BridgePipeline::ProcessScan(const sensors::Scan& scan, int64_t now_u
   if (window_start_utime_ < 0) window_start_utime_ = now_utime;
   ++counters_.scans;
   ++window_scans_;
-  if (config_.publish_scans) display_->publisher().PublishTactileScan(ToTactileScan(scan, profile_.name));
+  StageTimes& stage_ms = outcome.stage_ms;
+  if (config_.publish_scans) {
+    const StageTimer timer(stage_ms, Stage::kPublish);
+    display_->publisher().PublishTactileScan(ToTactileScan(scan, profile_.name));
+  }
 
   fault_field_.source_scan_utime = scan.utime;
+  StageTimer conditioning_timer(stage_ms, Stage::kConditioning);
   const ConditioningReport cr = conditioner_.Condition(scan, &values_);
+  conditioning_timer.Stop();
   counters_.nonfinite_values += cr.nonfinite_values;
   counters_.invalid_taxels += cr.invalid_taxels;
   window_invalid_ += cr.invalid_taxels;
   outcome.invalid_taxels = cr.invalid_taxels;
   if (!cr.usable) {
-    Reject(cr.reason, now_utime, &outcome);
+    Reject(cr.reject_reason, cr.reason, now_utime, &outcome);
     MaybePublishStatus(now_utime);
     return outcome;
   }
@@ -109,9 +118,11 @@ ScanOutcome BridgePipeline::ProcessScan(const sensors::Scan& scan, int64_t now_u
   outcome.report = r.report;
   last_report_ = r.report;
   outcome.applied_force_N = r.applied_force_N;
+  stage_ms.Add(r.report.stage_ms);
   if (!r.ok || !r.sed_Pa || static_cast<size_t>(r.sed_Pa->size()) != field_.sed_Pa.size()) {
     ++counters_.fe_failures;
-    Reject(r.ok ? std::string("SED size mismatch") : r.error, now_utime, &outcome);
+    if (r.ok) Reject(RejectReason::kSedSizeMismatch, "SED size mismatch", now_utime, &outcome);
+    else Reject(RejectReason::kFeStepFailed, r.error, now_utime, &outcome);
     MaybePublishStatus(now_utime);
     return outcome;
   }
@@ -123,6 +134,7 @@ ScanOutcome BridgePipeline::ProcessScan(const sensors::Scan& scan, int64_t now_u
   outcome.max_sed_Pa = display::MaxFiniteSed(field_);
 
   const display::DisplayCommand& c = display_->OnSedField(field_, now_utime);
+  stage_ms.Add(display_->last_stage_ms());
   outcome.latency_us = wall_clock_() - receive_wall_utime;
   latency_.Add(outcome.latency_us);
   ++counters_.commands;
@@ -131,11 +143,15 @@ ScanOutcome BridgePipeline::ProcessScan(const sensors::Scan& scan, int64_t now_u
   outcome.stepped = true;
   // After the command, so the contact report stays out of the scan-to-command latency.
   if (const lcmt_contact_estimate* m = fe_->contact_message()) {
+    const StageTimer timer(stage_ms, Stage::kPublish);
     lcmt_contact_estimate msg = *m;
     msg.utime = now_utime;
     display_->publisher().Publish(display_->publisher().channels().contact, msg);
   }
-  if (fault_state_ == 2) fault_state_ = 0, fault_message_.clear();
+  // Per stage over the scans that ran it (a contact step presses only when there is contact).
+  for (int i = 0; i < kNumStages; ++i)
+    if (stage_ms.ms[size_t(i)] > 0) stage_stats_[size_t(i)].AddMs(stage_ms.ms[size_t(i)]);
+  if (fault_state_ == FaultState::kFault) fault_state_ = FaultState::kOk, fault_message_.clear();
   MaybePublishStatus(now_utime);
   return outcome;
 }
@@ -172,17 +188,28 @@ void BridgePipeline::MaybePublishStatus(int64_t now_utime) {
   window_rates_[1] = window_steps_ / seconds;
   window_rates_[2] = window_commands_ / seconds;
   window_latency_ = latency_.Window();
+  for (int i = 0; i < kNumStages; ++i) {
+    window_stage_p50_ms_.ms[size_t(i)] = stage_stats_[size_t(i)].Window().p50_ms;
+    stage_stats_[size_t(i)].ResetWindow();
+  }
   // Degraded (not a fault): invalid taxels filled, scans dropped upstream, taxels off the pad.
-  if (fault_state_ < 2) {
-    fault_state_ = 0;
+  if (fault_state_ != FaultState::kFault) {
+    fault_state_ = FaultState::kOk;
     fault_message_.clear();
-    if (window_invalid_ > 0) fault_state_ = 1, fault_message_ = std::to_string(window_invalid_) + " invalid taxel readings";
+    if (window_invalid_ > 0)
+      fault_state_ = FaultState::kDegraded, fault_message_ = std::to_string(window_invalid_) + " invalid taxel readings";
   }
   display_->publisher().PublishStatus(MakeStatus(now_utime));
   ++counters_.status_messages;
   latency_.ResetWindow();
   window_start_utime_ = now_utime;
   window_scans_ = window_steps_ = window_commands_ = window_invalid_ = 0;
+}
+
+StageTimes BridgePipeline::RunStageMedians_ms() const {
+  StageTimes p50;
+  for (int i = 0; i < kNumStages; ++i) p50.ms[size_t(i)] = stage_stats_[size_t(i)].Run().p50_ms;
+  return p50;
 }
 
 lcmt_bridge_status BridgePipeline::MakeStatus(int64_t now_utime) const {
@@ -208,15 +235,27 @@ lcmt_bridge_status BridgePipeline::MakeStatus(int64_t now_utime) const {
   s.commands_clamped = d.commands_clamped;
   s.commands_stale = d.commands_stale;
   s.commands_fault = d.commands_fault;
-  s.fault_state = static_cast<int8_t>(shut_down_ ? 2 : fault_state_);
+  const FaultState state = shut_down_ ? FaultState::kFault : fault_state_;
   s.fault_message = shut_down_ ? "shut down" : fault_message_;
   // The CAN controller's own state: bus-off is a fault (no scans can arrive), error-passive
   // degraded (the bus is failing). Reported while it lasts.
-  const int bus_fault = b.bus_state == sensors::kBusOff ? 2 : b.bus_state == sensors::kBusErrorPassive ? 1 : 0;
-  if (!shut_down_ && bus_fault > s.fault_state) {
-    s.fault_state = static_cast<int8_t>(bus_fault);
-    s.fault_message = bus_fault == 2 ? "CAN bus-off" : "CAN error-passive";
-  }
+  const FaultState bus = b.bus_state == sensors::kBusOff           ? FaultState::kFault
+                         : b.bus_state == sensors::kBusErrorPassive ? FaultState::kDegraded
+                                                                    : FaultState::kOk;
+  const bool bus_worse = !shut_down_ && static_cast<int8_t>(bus) > static_cast<int8_t>(state);
+  s.fault_state = static_cast<int8_t>(bus_worse ? bus : state);
+  if (bus_worse) s.fault_message = bus == FaultState::kFault ? "CAN bus-off" : "CAN error-passive";
+  // Median wall time per stage over the window's stepped scans that ran it [ms].
+  const StageTimes& p50 = window_stage_p50_ms_;
+  s.conditioning_p50_ms = static_cast<float>(p50[Stage::kConditioning]);
+  s.boundary_condition_p50_ms = static_cast<float>(p50[Stage::kBoundaryCondition]);
+  s.assembly_p50_ms = static_cast<float>(p50[Stage::kAssembly]);
+  s.solve_p50_ms = static_cast<float>(p50[Stage::kSolve]);
+  s.sed_p50_ms = static_cast<float>(p50[Stage::kSed]);
+  s.reconstruction_p50_ms = static_cast<float>(p50[Stage::kReconstruction]);
+  s.press_p50_ms = static_cast<float>(p50[Stage::kPress]);
+  s.limiter_p50_ms = static_cast<float>(p50[Stage::kLimiter]);
+  s.publish_p50_ms = static_cast<float>(p50[Stage::kPublish]);
   return s;
 }
 

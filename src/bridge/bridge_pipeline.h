@@ -16,12 +16,16 @@
 
 #include <cstdint>
 #include <functional>
+#include <array>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "bridge/bridge_config.h"
 #include "bridge/fe_step.h"
 #include "bridge/latency_stats.h"
+#include "bridge/pipeline_status.h"
+#include "common/stage_times.h"
 #include "bridge/taxel_values.h"
 #include "display/display_session.h"
 #include "sensors/bad_frame_counters.h"
@@ -35,6 +39,7 @@ namespace sedbridge::bridge {
 struct ScanOutcome {
   bool stepped = false;          ///< the FE step ran and its SED went to the display
   std::string problem;           ///< why not (empty when stepped)
+  std::optional<RejectReason> reject_reason;  ///< set when the scan was rejected
   double total_force_N = 0;      ///< measured normal force of the scan (conditioned)
   double applied_force_N = 0;    ///< force the FE applied (equals total_force_N up to unmapped taxels)
   double max_sed_Pa = 0;         ///< largest Merkel-layer SED
@@ -42,6 +47,8 @@ struct ScanOutcome {
   int64_t latency_us = 0;        ///< receive (wall) -> publish (wall)
   int invalid_taxels = 0;
   fem::StepReport report;
+  /// Wall time per stage of this scan: conditioning, the FE step's stages, limiter, publish.
+  StageTimes stage_ms;
 };
 
 /// Counters since start.
@@ -49,6 +56,7 @@ struct PipelineCounters {
   int64_t scans = 0;              ///< scans handed to ProcessScan
   int64_t steps = 0;              ///< scans stepped
   int64_t scans_rejected = 0;     ///< scans not stepped (conditioning or FE failure)
+  RejectCounters rejected_by_reason;  ///< scans_rejected, per reason
   int64_t fe_failures = 0;        ///< of those, FE step failures
   int64_t nonfinite_values = 0;   ///< NaN/Inf taxel values caught (never reached the FE)
   int64_t invalid_taxels = 0;     ///< invalid taxel readings (filled or zeroed)
@@ -88,6 +96,11 @@ class BridgePipeline {
 
   const PipelineCounters& counters() const { return counters_; }
   const LatencyStats& latency() const { return latency_; }
+  /// Per-stage wall time of the stepped scans that ran the stage (ScanOutcome::stage_ms),
+  /// window and run.
+  const LatencyStats& stage_stats(Stage stage) const { return stage_stats_[static_cast<size_t>(stage)]; }
+  /// Median per stage over the run's stepped scans that ran it [ms] (0: never ran).
+  StageTimes RunStageMedians_ms() const;
   display::DisplaySession& display() { return *display_; }
   FeStep& fe() { return *fe_; }
   const ScanConditioner& conditioner() const { return conditioner_; }
@@ -95,12 +108,12 @@ class BridgePipeline {
   const display::SedField& last_field() const { return field_; }
   const TaxelValues& last_values() const { return values_; }
   const display::DisplayCommand& last_command() const { return display_->last_command(); }
-  /// 0 ok, 1 degraded, 2 fault; with a reason.
-  int fault_state() const { return fault_state_; }
+  /// With a reason in fault_message().
+  FaultState fault_state() const { return fault_state_; }
   const std::string& fault_message() const { return fault_message_; }
 
  private:
-  void Reject(const std::string& why, int64_t now_utime, ScanOutcome* outcome);
+  void Reject(RejectReason reason, const std::string& why, int64_t now_utime, ScanOutcome* outcome);
   void MaybePublishStatus(int64_t now_utime);
 
   BridgeConfig config_;
@@ -113,6 +126,9 @@ class BridgePipeline {
   TaxelValues values_;
   display::SedField field_, fault_field_;
   LatencyStats latency_;
+  // Stage medians are a summary: 100k kept samples per stage bound their memory (1 MB in all).
+  static constexpr int64_t kMaxStageRunSamples = 100'000;
+  std::array<LatencyStats, kNumStages> stage_stats_;
   PipelineCounters counters_;
   sensors::BadFrameCounters sensor_counters_;
   sensors::FrameSourceStats source_stats_;
@@ -124,8 +140,9 @@ class BridgePipeline {
   int64_t window_scans_ = 0, window_steps_ = 0, window_commands_ = 0, window_invalid_ = 0;
   double window_rates_[3] = {0, 0, 0};
   LatencySummary window_latency_;
+  StageTimes window_stage_p50_ms_;
   fem::StepReport last_report_;
-  int fault_state_ = 0;
+  FaultState fault_state_ = FaultState::kOk;
   std::string fault_message_;
   bool shut_down_ = false;
 };

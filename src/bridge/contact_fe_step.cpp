@@ -1,7 +1,6 @@
 #include "bridge/contact_fe_step.h"
 
 #include <cstdio>
-#include <chrono>
 #include <cmath>
 
 #include "bridge/contact_object.h"
@@ -81,18 +80,25 @@ void ContactFeStep::FillMessage(const TaxelValues& values, bool fallback, double
   message_.indentation_mm = static_cast<float>(indentation_mm);
 }
 
+const MerkelSedResult& ContactFeStep::Fallback(const TaxelValues& values, const StageTimes& times) {
+  result_ = fallback_->Step(values);  // its sed_Pa stays valid until the fallback's next step
+  result_.report.stage_ms.Add(times);
+  return result_;
+}
+
 const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
   ++counters_.steps;
+  StageTimes times;
   if (!values.scan) {
     estimate_ = ContactEstimate{};
     FillMessage(values, true, 0);
     last_ = LastStep::kFallback;
-    return fallback_->Step(values);
+    return Fallback(values, times);
   }
-  const auto t0 = std::chrono::steady_clock::now();
+  StageTimer recon_timer(times, Stage::kReconstruction);
   estimate_ = reconstructor_->Reconstruct(*values.scan);
-  const auto t1 = std::chrono::steady_clock::now();
-  recon_time_.Add(std::chrono::duration_cast<std::chrono::microseconds>(t1 - t0).count());
+  recon_timer.Stop();
+  recon_time_.AddMs(times[Stage::kReconstruction]);
   // Into the leader's pad frame.
   sensors::ContactPrimitive& p = estimate_.primitive;
   const double scale = registration_.params().scale;
@@ -111,6 +117,7 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
     result_ = MerkelSedResult{};
     result_.ok = true;
     result_.sed_Pa = &zero_sed_;
+    result_.report.stage_ms = times;
     FillMessage(values, false, 0);
     last_ = LastStep::kNone;
     return result_;
@@ -119,17 +126,19 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
     ++counters_.fit_fallbacks;
     FillMessage(values, true, 0);
     last_ = LastStep::kFallback;
-    return fallback_->Step(values);
+    return Fallback(values, times);
   }
+  StageTimer press_timer(times, Stage::kPress);
   const auto press = leader_->PressToForce({ToRigidObject(p)}, p.normal_force_N, {}, Eigen::Vector2d(p.shear_x_N, p.shear_y_N));
-  press_time_.Add(std::chrono::duration_cast<std::chrono::microseconds>(std::chrono::steady_clock::now() - t1).count());
+  press_timer.Stop();
+  press_time_.AddMs(times[Stage::kPress]);
   if (!PressAnswered(press, *leader_)) {
     ++counters_.press_fallbacks;
     estimate_.ok = false;
     estimate_.problem = std::string("leader press: ") + scene::ToString(press.status) + ": " + press.message;
     FillMessage(values, true, 0);
     last_ = LastStep::kFallback;
-    return fallback_->Step(values);
+    return Fallback(values, times);
   }
   FillMessage(values, false, press.indentation_mm);
   ++counters_.pressed;
@@ -140,6 +149,7 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
   result_.applied_force_N = press.force_N;
   result_.report.converged = true;
   result_.report.newton_iterations = press.iterations;
+  result_.report.stage_ms = times;
   return result_;
 }
 

@@ -69,13 +69,16 @@ class ContactFeStep final : public FeStep {
   Eigen::VectorXd frame_positions_m() const;
   /// Mesh node of each Merkel vertex (the SED's order).
   const std::vector<int>& merkel_nodes() const;
-  /// Wall time per step of the two stages: reconstruction, and the press on the leader
-  /// (contact solves + Merkel SED), over the scans that reached them.
+  /// Wall time per step of the two stages (also in each result's report.stage_ms as
+  /// kReconstruction and kPress): reconstruction, and the press on the leader (contact
+  /// solves + Merkel SED), over the scans that reached them.
   LatencySummary reconstruction_time() const { return recon_time_.Run(); }
   LatencySummary press_time() const { return press_time_.Run(); }
 
  private:
   void FillMessage(const TaxelValues& values, bool fallback, double indentation_mm);
+  /// The fallback's result with this step's stage times added.
+  const MerkelSedResult& Fallback(const TaxelValues& values, const StageTimes& times);
 
   std::unique_ptr<model::FingertipModel> model_;
   std::unique_ptr<scene::FingertipCompliance> leader_;

@@ -16,8 +16,10 @@ double Percentile(std::vector<float>& values, double q) {
 
 LatencyStats::LatencyStats(int64_t max_run_samples) : max_run_samples_(std::max<int64_t>(2, max_run_samples)) {}
 
-void LatencyStats::Add(int64_t latency_us) {
-  const double ms = std::max<int64_t>(0, latency_us) * 1e-3;
+void LatencyStats::Add(int64_t latency_us) { AddMs(static_cast<double>(std::max<int64_t>(0, latency_us)) * 1e-3); }
+
+void LatencyStats::AddMs(double latency_ms) {
+  const double ms = std::max(0.0, latency_ms);
   window_.push_back(static_cast<float>(ms));
   ++count_;
   sum_ms_ += ms;

@@ -25,6 +25,8 @@ class LatencyStats {
 
   /// Adds one latency [us] (negative values, from clocks that disagree, count as 0).
   void Add(int64_t latency_us);
+  /// Adds one duration [ms] (stage times, below the microsecond; negative counts as 0).
+  void AddMs(double latency_ms);
   /// Summary of the samples since the last ResetWindow().
   LatencySummary Window() const;
   void ResetWindow() { window_.clear(); }

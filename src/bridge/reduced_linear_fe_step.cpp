@@ -43,6 +43,8 @@ ReducedLinearFeStep::ReducedLinearFeStep(const scene::SceneDescription& d, const
 
 const MerkelSedResult& ReducedLinearFeStep::Step(const TaxelValues& values) {
   result_ = MerkelSedResult{};
+  StageTimes& times = result_.report.stage_ms;
+  StageTimer bc_timer(times, Stage::kBoundaryCondition);
   if (static_cast<int>(values.pressure_Pa.size()) != num_taxels_) {
     result_.error = "taxel count does not match the reduced FE step";
     return result_;
@@ -60,8 +62,11 @@ const MerkelSedResult& ReducedLinearFeStep::Step(const TaxelValues& values) {
     result_.error = "non-finite taxel values";
     return result_;
   }
+  bc_timer.Stop();
+  StageTimer solve_timer(times, Stage::kSolve);
   x_m_ = rest_m_;
   x_m_.noalias() += U_ * v_;
+  solve_timer.Stop();
   result_.applied_force_N = force_per_Pa_N_.dot(v_.head(num_taxels_));
   result_.report.finite = x_m_.allFinite();
   result_.report.converged = true;
@@ -69,6 +74,7 @@ const MerkelSedResult& ReducedLinearFeStep::Step(const TaxelValues& values) {
     result_.error = "reduced step produced NaN/Inf";
     return result_;
   }
+  const StageTimer sed_timer(times, Stage::kSed);
   result_.sed_Pa = &scene_step_->scene().merkel()->Evaluate(x_m_);
   result_.ok = true;
   return result_;

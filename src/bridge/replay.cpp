@@ -27,24 +27,24 @@ constexpr double kAtCeilingFraction = 1 - 1e-6;
 
 std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::SensorProfile& profile,
                                    bool full_field) {
-  if (config.fe_step == "contact" && (!profile.has_forward_model || profile.axes != 3)) {
+  if (config.fe_step == FeStepKind::kContact && (!profile.has_forward_model || profile.axes != 3)) {
     std::fprintf(stderr,
                  "note: fe.step contact needs a three-axis sensor profile with a calibrated forward_model ('%s' has "
                  "none); using the pressure map (fe.step reduced)\n",
                  profile.name.c_str());
     BridgeConfig map = config;
-    map.fe_step = "reduced";
+    map.fe_step = FeStepKind::kReduced;
     return MakeFeStep(map, profile);
   }
-  if (config.fe_step == "contact") {
+  if (config.fe_step == FeStepKind::kContact) {
     // The pressure map stays as the fallback for scans the reconstruction cannot explain.
     BridgeConfig map = config;
-    map.fe_step = "reduced";
+    map.fe_step = FeStepKind::kReduced;
     return std::make_unique<ContactFeStep>(config.model, profile, PadRegistration(profile.taxels, config.registration),
                                            MakeFeStep(map, profile), config.compliance_cache_dir,
                                            ReconstructionOptions{}, full_field);
   }
-  if (config.fe_step == "reduced")
+  if (config.fe_step == FeStepKind::kReduced)
     return std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, config.preset), profile,
                                                  PadRegistration(profile.taxels, config.registration), config.traction);
   return std::make_unique<SceneFeStep>(BridgeSceneDescription(config.model, config.preset), profile,
@@ -61,6 +61,24 @@ void WriteSummaryCsv(const std::string& path, const std::vector<ReplayRow>& rows
                   r.total_force_N, r.applied_force_N, r.max_sed_Pa, r.max_command, r.latency_ms, r.stepped ? 1 : 0,
                   r.invalid_taxels);
     f << buf;
+  }
+  if (!f) throw std::runtime_error("write failed: " + path);
+}
+
+void WriteStageCsv(const std::string& path, const std::vector<ReplayRow>& rows) {
+  std::ofstream f(path);
+  if (!f) throw std::runtime_error("cannot write " + path);
+  f << "utime";
+  for (int i = 0; i < kNumStages; ++i) f << ',' << ToString(static_cast<Stage>(i)) << "_ms";
+  f << '\n';
+  char buf[32];
+  for (const ReplayRow& r : rows) {
+    f << r.utime;
+    for (double ms : r.stage_ms.ms) {
+      std::snprintf(buf, sizeof buf, ",%.4f", ms);
+      f << buf;
+    }
+    f << '\n';
   }
   if (!f) throw std::runtime_error("write failed: " + path);
 }
@@ -174,6 +192,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
     row.latency_ms = o.latency_us * 1e-3;
     row.stepped = o.stepped;
     row.invalid_taxels = o.invalid_taxels;
+    row.stage_ms = o.stage_ms;
     result.rows.push_back(row);
     if (o.stepped && o.max_sed_Pa > peak_sed) {
       peak_sed = o.max_sed_Pa;
@@ -224,6 +243,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
 
   result.counters = pipeline.counters();
   result.latency = pipeline.latency().Run();
+  result.stage_p50_ms = pipeline.RunStageMedians_ms();
   result.bad_frames = assembler.counters();
   result.source_stats = source.Stats();
   result.published = pipeline.display().publisher().published();
@@ -243,6 +263,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   if (!options.out_dir.empty()) {
     const std::filesystem::path dir(options.out_dir);
     WriteSummaryCsv((dir / "summary.csv").string(), result.rows);
+    WriteStageCsv((dir / "stage_ms.csv").string(), result.rows);
     std::ofstream sed((dir / "peak_merkel_sed.csv").string());
     sed << "x_mm,y_mm,z_mm,sed_Pa\n";
     for (size_t k = 0; k < peak_field.sed_Pa.size(); ++k)

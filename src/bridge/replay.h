@@ -10,6 +10,9 @@
 //   peak_merkel_sed.csv     x_mm,y_mm,z_mm,sed_Pa of the Merkel layer at the scan of peak SED
 //   peak_command.csv        actuator,x_mm,y_mm,value (display unit) at that scan
 //   peak_taxels.csv         taxel,x_mm,y_mm,pressure_Pa (pad frame, registered) at that scan
+//   stage_ms.csv            one row per scan: utime, then the wall time [ms] of each stage
+//                           (common/stage_times.h); apart from summary.csv, which stays
+//                           identical between runs but for latency_ms
 //   bridge.lcmlog           every published LCM message (lcm-logplayer, lcm-spy)
 //   frames.pvd, frame_*.vtu with vtu_every > 0 (ParaView)
 
@@ -69,12 +72,14 @@ struct ReplayRow {
   double total_force_N = 0, applied_force_N = 0, max_sed_Pa = 0, max_command = 0, latency_ms = 0;
   bool stepped = false;
   int invalid_taxels = 0;
+  StageTimes stage_ms;  ///< wall time per stage (ScanOutcome::stage_ms)
 };
 
 struct ReplayResult {
   std::vector<ReplayRow> rows;
   PipelineCounters counters;
   LatencySummary latency;
+  StageTimes stage_p50_ms;      ///< median per stage over the stepped scans that ran it [ms]
   sensors::BadFrameCounters bad_frames;
   sensors::FrameSourceStats source_stats;
   double wall_s = 0;            ///< processing time (scan loop only, no model load)
@@ -105,5 +110,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
 
 /// Writes summary.csv for `rows`.
 void WriteSummaryCsv(const std::string& path, const std::vector<ReplayRow>& rows);
+/// Writes stage_ms.csv for `rows`: utime, then one column per stage named `<stage>_ms`.
+void WriteStageCsv(const std::string& path, const std::vector<ReplayRow>& rows);
 
 }  // namespace sedbridge::bridge

@@ -40,6 +40,8 @@ void SetFeThreads(int threads) { omp_set_num_threads(threads < 1 ? 1 : threads);
 
 const MerkelSedResult& SceneFeStep::Step(const TaxelValues& values) {
   result_ = MerkelSedResult{};
+  StageTimes bc_time;
+  StageTimer bc_timer(bc_time, Stage::kBoundaryCondition);
   const Eigen::Matrix3Xd& traction = bc_->Apply(values);
   if (!traction.allFinite()) {  // cannot happen with conditioned values; never hand NaN to the FE
     result_.error = "non-finite traction";
@@ -51,7 +53,9 @@ const MerkelSedResult& SceneFeStep::Step(const TaxelValues& values) {
     result_.error = e.what();
     return result_;
   }
+  bc_timer.Stop();
   result_.report = scene_->Step();
+  result_.report.stage_ms.Add(bc_time);
   const Eigen::Vector3d f_model = scene_->traction()->TotalForce();
   result_.applied_force_N = -(scene_->model().pad_frame.model_from_pad.linear().transpose() * f_model).z();
   if (!result_.report.finite) {

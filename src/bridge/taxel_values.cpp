@@ -51,16 +51,17 @@ ScanConditioner::ScanConditioner(const sensors::SensorProfile& profile, const Pa
 ConditioningReport ScanConditioner::Condition(const sensors::Scan& scan, TaxelValues* out) const {
   ConditioningReport report;
   const size_t n = static_cast<size_t>(num_taxels_);
-  auto reject = [&](const std::string& why) {
+  auto reject = [&](RejectReason reason, const std::string& why) {
     report.usable = false;
+    report.reject_reason = reason;
     report.reason = why;
     return report;
   };
   if (scan.num_taxels != num_taxels_ || scan.pressure_Pa.size() != n || scan.valid.size() != n)
-    return reject("scan has " + std::to_string(scan.pressure_Pa.size()) + " taxels, profile " +
+    return reject(RejectReason::kWrongTaxelCount, "scan has " + std::to_string(scan.pressure_Pa.size()) + " taxels, profile " +
                   std::to_string(num_taxels_));
   const bool shear = has_shear_ && scan.shear_x_Pa.size() == n && scan.shear_y_Pa.size() == n;
-  if (has_shear_ && !shear) return reject("3-axis profile but the scan carries no shear");
+  if (has_shear_ && !shear) return reject(RejectReason::kMissingShear, "3-axis profile but the scan carries no shear");
 
   out->scan_utime = scan.utime;
   out->scan = &scan;
@@ -86,7 +87,7 @@ ConditioningReport ScanConditioner::Condition(const sensors::Scan& scan, TaxelVa
     }
   }
   if (report.invalid_taxels > options_.max_invalid_fraction * num_taxels_)
-    return reject(std::to_string(report.invalid_taxels) + " of " + std::to_string(num_taxels_) +
+    return reject(RejectReason::kTooManyInvalidTaxels, std::to_string(report.invalid_taxels) + " of " + std::to_string(num_taxels_) +
                   " taxels invalid");
   if (report.invalid_taxels > 0 && options_.invalid == InvalidTaxelPolicy::kFill) {
     for (size_t i = 0; i < n; ++i) {

@@ -23,6 +23,7 @@
 
 #include <Eigen/Core>
 
+#include "bridge/pipeline_status.h"
 #include "bridge/pad_registration.h"
 #include "sensors/scan.h"
 #include "sensors/sensor_profile.h"
@@ -53,8 +54,9 @@ struct ScanConditioningOptions {
 
 /// What conditioning did to one scan.
 struct ConditioningReport {
-  bool usable = true;        ///< false: do not step; `reason` says why
-  std::string reason;
+  bool usable = true;        ///< false: do not step; `reject_reason` and `reason` say why
+  RejectReason reject_reason = RejectReason::kWrongTaxelCount;  ///< when not usable
+  std::string reason;        ///< detail text, e.g. "9 of 16 taxels invalid"
   int invalid_taxels = 0;    ///< taxels with valid == 0 or a non-finite value
   int nonfinite_values = 0;  ///< NaN/Inf values found in taxels marked valid
 };

@@ -10,6 +10,7 @@
 #include <memory>
 #include <string>
 
+#include "common/no_copy_no_move.h"
 #include "fem/linear_solver.h"
 
 namespace sedbridge::fem {
@@ -23,10 +24,10 @@ enum class CholmodOrdering {
 
 class CholmodSolver final : public LinearSolver {
  public:
+  // Impl holds CHOLMOD's factor and workspace.
+  SEDBRIDGE_NO_COPY_NO_MOVE(CholmodSolver)
   explicit CholmodSolver(CholmodOrdering ordering = CholmodOrdering::kBest);
   ~CholmodSolver() override;
-  CholmodSolver(const CholmodSolver&) = delete;
-  CholmodSolver& operator=(const CholmodSolver&) = delete;
 
   std::string name() const override { return "cholmod"; }
   /// Factorizes A (symmetric; its lower triangle is read). The pattern is analysed on the

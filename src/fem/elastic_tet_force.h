@@ -5,7 +5,9 @@
 #include <Eigen/Geometry>
 #include <vector>
 
+#include "common/no_copy_no_move.h"
 #include "fem/force_term.h"
+#include "fem/node_rotation_source.h"
 #include "fem/system_matrix.h"
 #include "fem/tet_element.h"
 
@@ -13,8 +15,11 @@ namespace sedbridge::fem {
 
 enum class ElasticFormulation { kCorotational, kLinear };
 
-class ElasticTetForce final : public ForceTerm {
+class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
  public:
+  // Holds its own rest-stiffness SystemMatrix and slots bound to the system matrix.
+  SEDBRIDGE_NO_COPY_NO_MOVE(ElasticTetForce)
+
   /// @param mesh            rest mesh (kept by reference; must outlive the term)
   /// @param formulation     corotational or linear
   /// @param rayleigh_beta_s stiffness-proportional damping D = beta K [s]; 0 = none
@@ -34,7 +39,7 @@ class ElasticTetForce final : public ForceTerm {
   const std::vector<Eigen::Matrix3d>& rotations() const { return rotations_; }
   /// Per-node rotation (closest rotation to the sum of the adjacent element rotations),
   /// for the warped preconditioner. Computed on demand from rotations().
-  void ComputeNodeRotations(std::vector<Eigen::Matrix3d>& node_rotations) const;
+  void ComputeNodeRotations(std::vector<Eigen::Matrix3d>& node_rotations) const override;
   /// Elements with det F <= 0 at the last AddForce.
   int inverted_elements() const { return inverted_elements_; }
 

@@ -48,8 +48,10 @@ std::unique_ptr<LinearSolver> MakeDirectSolver(DirectSolverKind kind) {
   return std::make_unique<DirectLdltSolver>();
 }
 
-PcgSolver::PcgSolver(PcgSettings settings)
-    : settings_(settings), rest_factor_(MakeDirectSolver(settings.direct)), fallback_(MakeDirectSolver(settings.direct)) {}
+PcgSolver::PcgSolver(PcgSettings settings, const NodeRotationSource* rotations)
+    : settings_(settings),
+      rotation_source_(rotations),
+      rest_factor_(MakeDirectSolver(settings.direct)), fallback_(MakeDirectSolver(settings.direct)) {}
 
 std::string PcgSolver::name() const {
   switch (settings_.preconditioner) {
@@ -75,6 +77,7 @@ void PcgSolver::SetReferenceMatrix(const SystemMatrix& A0) {
 }
 
 void PcgSolver::Prepare(const SystemMatrix& A) {
+  if (warped() && rotation_source_) rotation_source_->ComputeNodeRotations(rotations_);
   if (settings_.preconditioner == PreconditionerKind::kBlockJacobi || !has_rest_factor_) {  // also the fallback
     block_inverse_.resize(size_t(A.num_nodes()));
     for (int i = 0; i < A.num_nodes(); ++i) {
@@ -95,11 +98,11 @@ void PcgSolver::ApplyPreconditioner(const SystemMatrix& A, const Eigen::VectorXd
       rest_factor_->Solve(A, v, out);  // a direct solver reads its factor, not A
       return out;
     };
-    if (rotations_) {
+    if (!rotations_.empty()) {
       tmp_.resize(r.size());
-      for (int i = 0; i < n; ++i) tmp_.segment<3>(3 * i) = (*rotations_)[size_t(i)].transpose() * r.segment<3>(3 * i);
+      for (int i = 0; i < n; ++i) tmp_.segment<3>(3 * i) = rotations_[size_t(i)].transpose() * r.segment<3>(3 * i);
       z = solve(tmp_);
-      for (int i = 0; i < n; ++i) z.segment<3>(3 * i) = (*rotations_)[size_t(i)] * z.segment<3>(3 * i).eval();
+      for (int i = 0; i < n; ++i) z.segment<3>(3 * i) = rotations_[size_t(i)] * z.segment<3>(3 * i).eval();
     } else {
       z = solve(r);
     }
@@ -170,22 +173,23 @@ LinearSolveReport PcgSolver::Solve(const SystemMatrix& A, const Eigen::VectorXd&
   return report;
 }
 
-std::unique_ptr<LinearSolver> MakeLinearSolver(const std::string& name, const PcgSettings& pcg) {
+std::unique_ptr<LinearSolver> MakeLinearSolver(const std::string& name, const PcgSettings& pcg,
+                                               const NodeRotationSource* rotations) {
   if (name == "ldlt") return std::make_unique<DirectLdltSolver>();
   if (name == "cholmod") return std::make_unique<CholmodSolver>();
   PcgSettings s = pcg;
   if (name == "pcg_jacobi") {
     s.preconditioner = PreconditionerKind::kBlockJacobi;
-    return std::make_unique<PcgSolver>(s);
+    return std::make_unique<PcgSolver>(s, rotations);
   }
   if (name == "pcg_warp" || name == "pcg_warp_ldlt") {
     s.preconditioner = PreconditionerKind::kWarpedRestFactor;
     s.direct = name == "pcg_warp" ? DirectSolverKind::kCholmod : DirectSolverKind::kLdlt;
-    return std::make_unique<PcgSolver>(s);
+    return std::make_unique<PcgSolver>(s, rotations);
   }
   if (name == "pcg_warp_ichol") {
     s.preconditioner = PreconditionerKind::kWarpedRestIncompleteCholesky;
-    return std::make_unique<PcgSolver>(s);
+    return std::make_unique<PcgSolver>(s, rotations);
   }
   throw std::invalid_argument("unknown linear solver '" + name + "' (ldlt, cholmod, pcg_jacobi, pcg_warp, pcg_warp_ldlt, pcg_warp_ichol)");
 }

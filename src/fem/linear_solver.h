@@ -14,6 +14,8 @@
 #include <string>
 #include <vector>
 
+#include "common/no_copy_no_move.h"
+#include "fem/node_rotation_source.h"
 #include "fem/system_matrix.h"
 
 namespace sedbridge::fem {
@@ -35,9 +37,8 @@ class LinearSolver {
   virtual LinearSolveReport Solve(const SystemMatrix& A, const Eigen::VectorXd& b, Eigen::VectorXd& x) = 0;
   /// The system matrix at rest (for factor-reusing preconditioners). Default: ignored.
   virtual void SetReferenceMatrix(const SystemMatrix& A0) {}
-  /// Per-node rotations (for the warped preconditioner), updated before each Prepare.
-  virtual void SetNodeRotations(const std::vector<Eigen::Matrix3d>* rotations) {}
-  virtual bool wants_node_rotations() const { return false; }
+  /// True when SetReferenceMatrix should be called with the first assembled matrix.
+  virtual bool wants_reference_matrix() const { return false; }
 };
 
 /// Which direct factorization a solver uses (the PCG's rest factor and fallback too).
@@ -48,6 +49,8 @@ std::unique_ptr<LinearSolver> MakeDirectSolver(DirectSolverKind kind);
 
 class DirectLdltSolver final : public LinearSolver {
  public:
+  SEDBRIDGE_NO_COPY_NO_MOVE(DirectLdltSolver)
+  DirectLdltSolver() = default;
   std::string name() const override { return "ldlt"; }
   void Prepare(const SystemMatrix& A) override;
   LinearSolveReport Solve(const SystemMatrix& A, const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
@@ -75,24 +78,30 @@ struct PcgSettings {
 
 class PcgSolver final : public LinearSolver {
  public:
-  explicit PcgSolver(PcgSettings settings);
+  SEDBRIDGE_NO_COPY_NO_MOVE(PcgSolver)
+  /// @param settings  tolerance, preconditioner, fallback
+  /// @param rotations where the warped preconditioners take the per-node rotations from,
+  ///                  read at each Prepare (kept by pointer; null = the rest factor unrotated)
+  explicit PcgSolver(PcgSettings settings, const NodeRotationSource* rotations = nullptr);
   std::string name() const override;
+  /// Block Jacobi: inverts the diagonal blocks. Warped: takes the node rotations.
   void Prepare(const SystemMatrix& A) override;
   LinearSolveReport Solve(const SystemMatrix& A, const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
   void SetReferenceMatrix(const SystemMatrix& A0) override;
-  void SetNodeRotations(const std::vector<Eigen::Matrix3d>* rotations) override { rotations_ = rotations; }
-  bool wants_node_rotations() const override { return settings_.preconditioner != PreconditionerKind::kBlockJacobi; }
+  bool wants_reference_matrix() const override { return warped(); }
   int fallbacks() const { return fallbacks_; }
 
  private:
   void ApplyPreconditioner(const SystemMatrix& A, const Eigen::VectorXd& r, Eigen::VectorXd& z);
+  bool warped() const { return settings_.preconditioner != PreconditionerKind::kBlockJacobi; }
 
   PcgSettings settings_;
+  const NodeRotationSource* rotation_source_ = nullptr;
   std::vector<Eigen::Matrix3d> block_inverse_;
   std::unique_ptr<LinearSolver> rest_factor_;  // direct solver holding the rest matrix's factor
   Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> rest_incomplete_;
   bool has_rest_factor_ = false;
-  const std::vector<Eigen::Matrix3d>* rotations_ = nullptr;
+  std::vector<Eigen::Matrix3d> rotations_;  // per node, from rotation_source_ at Prepare
   std::unique_ptr<LinearSolver> fallback_;
   int fallbacks_ = 0;
   Eigen::VectorXd r_, z_, p_, q_, tmp_;
@@ -100,7 +109,9 @@ class PcgSolver final : public LinearSolver {
 
 /// Builds a solver by name: "ldlt", "cholmod", "pcg_jacobi", "pcg_warp" (rest factor and
 /// fallback by CHOLMOD), "pcg_warp_ldlt" (the same by Eigen's LDL^T), "pcg_warp_ichol".
-/// pcg_jacobi and pcg_warp_ichol fall back to pcg.direct.
-std::unique_ptr<LinearSolver> MakeLinearSolver(const std::string& name, const PcgSettings& pcg);
+/// pcg_jacobi and pcg_warp_ichol fall back to pcg.direct. `rotations`: the warped PCGs'
+/// rotation source (normally the elastic term; kept by pointer, null = none).
+std::unique_ptr<LinearSolver> MakeLinearSolver(const std::string& name, const PcgSettings& pcg,
+                                               const NodeRotationSource* rotations = nullptr);
 
 }  // namespace sedbridge::fem

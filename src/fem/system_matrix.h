@@ -8,11 +8,18 @@
 #include <utility>
 #include <vector>
 
+#include "common/no_copy_no_move.h"
+
 namespace sedbridge::fem {
 
 class SystemMatrix {
  public:
   using Csr = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
+
+  // values_ points into csr_'s buffer: a copy (and Eigen 3.4's SparseMatrix has no move
+  // constructor, so a "move" too) would point at the source's values.
+  SEDBRIDGE_NO_COPY_NO_MOVE(SystemMatrix)
+  SystemMatrix() = default;
 
   /// Pattern: the diagonal block of every node plus (i,j) and (j,i) for each pair given.
   void Build(int num_nodes, const std::vector<std::pair<int, int>>& coupled_nodes);

@@ -60,11 +60,11 @@ void FingertipScene::Build() {
     traction_ = traction.get();
     terms.push_back(std::move(traction));
   }
-  const bool compliance = d.solver == "compliance";
+  const bool compliance = d.solver == SolverKind::kCompliance;
   // With the compliance solver the simulation is never stepped (it keeps the state and the
   // terms others read); its linear solver is never factorized.
   simulation_ = std::make_unique<fem::Simulation>(m.soft, std::move(terms), d.integrator,
-                                                  fem::MakeLinearSolver(compliance ? "ldlt" : d.solver, d.pcg));
+                                                  fem::MakeLinearSolver(compliance ? "ldlt" : ToString(d.solver), d.pcg, &elastic_ref));
   if (d.outputs.merkel_sed) merkel_ = std::make_unique<MerkelLayer>(m, *simulation_->elastic(), nodal_pressure_);
   if (compliance) compliance_ = std::make_unique<FingertipCompliance>(m, ComplianceOptionsFromScene(d));
   skin_area_m2_ = fem::VertexAreas(m.skin_triangles, m.soft.rest_positions_m);
@@ -74,21 +74,28 @@ fem::StepReport FingertipScene::Step() {
   if (compliance_) {
     compliance_t_s_ += description_.dt_s;
     static const std::vector<geometry::RigidObject> kNone;
+    fem::StepReport r;
+    StageTimer solve_timer(r.stage_ms, Stage::kSolve);
     const fem::ComplianceStepResult& c =
         compliance_->Step(description_.contact ? description_.contact->objects_pad_frame : kNone, compliance_t_s_);
-    fem::StepReport r;
+    solve_timer.Stop();
     r.t_s = compliance_t_s_;
     r.newton_iterations = c.iterations;
     r.converged = c.ok && c.converged;
     r.finite = c.ok;
     if (c.ok) simulation_->SetPositions(compliance_->contact().positions_m());
     compliance_->contact().EndStep();  // friction anchors, as the simulation's EndStep
-    if (merkel_) merkel_->Evaluate(simulation_->positions_m());
+    EvaluateMerkelSed(r.stage_ms);
     return r;
   }
-  const fem::StepReport r = simulation_->Step(description_.dt_s);
-  if (merkel_) merkel_->Evaluate(simulation_->positions_m());
+  fem::StepReport r = simulation_->Step(description_.dt_s);
+  EvaluateMerkelSed(r.stage_ms);
   return r;
+}
+
+void FingertipScene::EvaluateMerkelSed(StageTimes& times) {
+  const StageTimer timer(times, Stage::kSed);
+  if (merkel_) merkel_->Evaluate(simulation_->positions_m());
 }
 
 std::vector<std::string> FingertipScene::BuiltEffects() const {

@@ -23,7 +23,8 @@ class FingertipScene {
   FingertipScene(const SceneDescription& description, model::FingertipModel model);
 
   /// One scene step of dt (quasi-static: one load increment). Also evaluates the
-  /// Merkel SED when the scene outputs it.
+  /// Merkel SED when the scene outputs it. The report's stage_ms has the assembly, solve
+  /// and SED times.
   fem::StepReport Step();
 
   const SceneDescription& description() const { return description_; }
@@ -56,6 +57,8 @@ class FingertipScene {
 
  private:
   void Build();
+  /// The Merkel SED at the current positions, when the scene outputs it (timed as kSed).
+  void EvaluateMerkelSed(StageTimes& times);
 
   SceneDescription description_;
   std::unique_ptr<model::FingertipModel> model_;

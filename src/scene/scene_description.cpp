@@ -66,9 +66,9 @@ SceneDescription Parse(const config::YamlDocument& doc) {
     MapReader so = r.Child("solver");
     solver_type_given = so.Has("type");
     if (so.Has("type"))
-      s.solver = so.RequiredChoice("type", {"ldlt", "cholmod", "pcg_jacobi", "pcg_warp", "pcg_warp_ldlt", "pcg_warp_ichol", "compliance"});
+      s.solver = SolverKindFromString(so.RequiredChoice("type", {"ldlt", "cholmod", "pcg_jacobi", "pcg_warp", "pcg_warp_ldlt", "pcg_warp_ichol", "compliance"}));
     if (so.Has("cache_dir")) {
-      if (s.solver != "compliance") so.Fail(so.Node("cache_dir"), "'cache_dir' is for solver type 'compliance'");
+      if (s.solver != SolverKind::kCompliance) so.Fail(so.Node("cache_dir"), "'cache_dir' is for solver type 'compliance'");
       s.solver_cache_dir = so.Required<std::string>("cache_dir");
     }
     s.pcg.relative_tolerance = Positive(so, "tolerance", s.pcg.relative_tolerance);
@@ -107,7 +107,7 @@ SceneDescription Parse(const config::YamlDocument& doc) {
     s.contact = std::move(contact);
   }
   // The preset was applied before `contact` was read; its solver choice depends on it.
-  if (s.preset == "fast" && s.contact && !solver_type_given) s.solver = "pcg_warp";
+  if (s.preset == "fast" && s.contact && !solver_type_given) s.solver = SolverKind::kPcgWarp;
 
   if (r.Has("friction")) {
     MapReader f = r.Child("friction");
@@ -130,7 +130,7 @@ SceneDescription Parse(const config::YamlDocument& doc) {
     o.Finish();
   }
   // The compliance solver exists only for linear quasi-static scenes: say so at the key.
-  if (s.solver == "compliance") {
+  if (s.solver == SolverKind::kCompliance) {
     try {
       ComplianceOptionsFromScene(s);
     } catch (const std::invalid_argument& e) {
@@ -142,6 +142,26 @@ SceneDescription Parse(const config::YamlDocument& doc) {
 }
 
 }  // namespace
+
+const char* ToString(SolverKind kind) {
+  switch (kind) {
+    case SolverKind::kCholmod: return "cholmod";
+    case SolverKind::kLdlt: return "ldlt";
+    case SolverKind::kPcgJacobi: return "pcg_jacobi";
+    case SolverKind::kPcgWarp: return "pcg_warp";
+    case SolverKind::kPcgWarpLdlt: return "pcg_warp_ldlt";
+    case SolverKind::kPcgWarpIchol: return "pcg_warp_ichol";
+    case SolverKind::kCompliance: return "compliance";
+  }
+  return "?";
+}
+
+SolverKind SolverKindFromString(const std::string& name) {
+  for (SolverKind k : {SolverKind::kCholmod, SolverKind::kLdlt, SolverKind::kPcgJacobi, SolverKind::kPcgWarp,
+                       SolverKind::kPcgWarpLdlt, SolverKind::kPcgWarpIchol, SolverKind::kCompliance})
+    if (name == ToString(k)) return k;
+  throw std::invalid_argument("unknown solver type '" + name + "'");
+}
 
 SceneDescription ReadSceneDescription(const std::string& path) { return Parse(config::LoadYamlFile(path)); }
 
@@ -161,19 +181,19 @@ void ApplyPreset(const std::string& name, SceneDescription& s) {
     // step (CHOLMOD's is ~3x faster than the LDL^T's on B). Contact changes it every
     // step; refactorizing (~11 ms on model B) still costs more than the PCG preconditioned
     // by the rest factor, which is exact without contact and close with it.
-    s.solver = s.contact ? "pcg_warp" : "cholmod";
+    s.solver = s.contact ? SolverKind::kPcgWarp : SolverKind::kCholmod;
     s.integrator.newton_iterations = 1;
   } else if (name == "balanced") {
     s.nodal_pressure = false;
     s.elasticity = fem::ElasticFormulation::kCorotational;
-    s.solver = "pcg_warp";
+    s.solver = SolverKind::kPcgWarp;
     s.pcg.relative_tolerance = 1e-4;
     s.pcg.max_iterations = 50;
     s.integrator.newton_iterations = 1;
   } else if (name == "accurate") {
     s.nodal_pressure = false;
     s.elasticity = fem::ElasticFormulation::kCorotational;
-    s.solver = "cholmod";  // refactorized every Newton iteration: ~7x faster than LDL^T on B
+    s.solver = SolverKind::kCholmod;  // refactorized every Newton iteration: ~7x faster than LDL^T on B
     s.integrator.newton_iterations = 3;
   } else {
     throw std::invalid_argument("unknown preset '" + name + "' (fast, balanced, accurate)");

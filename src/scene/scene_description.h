@@ -43,6 +43,22 @@ struct OutputSection {
   int vtu_every = 0;        ///< write a VTU frame every N steps (0 = none)
 };
 
+/// Scene `solver.type`.
+enum class SolverKind {
+  kCholmod,       ///< "cholmod": supernodal Cholesky (the default)
+  kLdlt,          ///< "ldlt": Eigen's simplicial LDL^T
+  kPcgJacobi,     ///< "pcg_jacobi"
+  kPcgWarp,       ///< "pcg_warp": warped rest factor by CHOLMOD
+  kPcgWarpLdlt,   ///< "pcg_warp_ldlt": warped rest factor by LDL^T
+  kPcgWarpIchol,  ///< "pcg_warp_ichol": warped incomplete Cholesky
+  kCompliance,    ///< "compliance": contact by the compliance method (scene/fingertip_compliance.h),
+                  ///< linear quasi-static scenes with the bone fixed only
+};
+/// The config name, which is also fem::MakeLinearSolver's name for the linear solvers.
+const char* ToString(SolverKind kind);
+/// The kind named by `name`; throws std::invalid_argument for others.
+SolverKind SolverKindFromString(const std::string& name);
+
 struct SceneDescription {
   std::string file;          ///< where it was read from
   std::string model;         ///< model name or path (LoadFingertipModel)
@@ -54,10 +70,8 @@ struct SceneDescription {
   fem::IntegratorSettings integrator;
   double dt_s = 1e-3;        ///< backward Euler step; quasi-static: load increment 1/steps
   int steps = 50;            ///< number of steps the scene runs, in [1, kMaxSceneSteps]
-  /// "cholmod" (supernodal Cholesky, the default), "ldlt" (Eigen's simplicial LDL^T),
-  /// "pcg_*", or "compliance": contact by the compliance method
-  /// (scene/fingertip_compliance.h), linear quasi-static scenes with the bone fixed only.
-  std::string solver = "cholmod";
+  /// `solver.type`: a linear solver of the simulation, or the compliance method.
+  SolverKind solver = SolverKind::kCholmod;
   std::string solver_cache_dir;  ///< compliance: precompute cache folder ("" = none)
   fem::PcgSettings pcg;
   double rayleigh_beta_s = 0.0;

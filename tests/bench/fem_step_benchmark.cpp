@@ -69,13 +69,19 @@ void TractionStep(benchmark::State& state, const std::string& elasticity, const 
   int k = 0;
   for (int warm = 0; warm < 3; ++warm) s.Step();
   double linear_iterations = 0;
+  StageTimes stage_sum_ms;
   for (auto _ : state) {
     ApplyPadPressure(s, 1000.0 + 200.0 * std::sin(0.05 * k++));
     const auto t0 = std::chrono::steady_clock::now();
-    linear_iterations += s.Step().linear_iterations;
+    const fem::StepReport r = s.Step();
     ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    linear_iterations += r.linear_iterations;
+    stage_sum_ms.Add(r.stage_ms);
   }
   state.counters["linear_iterations"] = linear_iterations / double(ms.size());
+  // Where the step's time went (mean per step): assembly, solve, SED.
+  for (Stage stage : {Stage::kAssembly, Stage::kSolve, Stage::kSed})
+    state.counters[std::string(ToString(stage)) + "_ms"] = stage_sum_ms[stage] / double(ms.size());
   Report(state, ms);
 }
 

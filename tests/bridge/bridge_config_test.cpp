@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "bridge/latency_stats.h"
+#include "bridge/pipeline_status.h"
 #include "common/config_error.h"
 #include "common/resource_path.h"
 
@@ -14,7 +15,7 @@ TEST(BridgeConfig, ShippedDefaultLoadsWithEveryKey) {
   EXPECT_EQ(c.sensor_profile, "uskin_4x4");
   EXPECT_EQ(c.model, "B");
   EXPECT_EQ(c.preset, "fast");
-  EXPECT_EQ(c.fe_step, "contact");
+  EXPECT_EQ(c.fe_step, FeStepKind::kContact);
   EXPECT_EQ(c.display_profile, "suction_4x4");
   EXPECT_DOUBLE_EQ(c.status_Hz, 10);
   EXPECT_DOUBLE_EQ(c.conditioning.noise_floor_Pa, 150);
@@ -58,7 +59,7 @@ TEST(BridgeConfig, UnknownKeyNamesFileLineColumn) {
   EXPECT_THROW(ParseBridgeConfig("lcm: {channels: {command: lower}}\n", "b.yaml"), config::ConfigError);
   EXPECT_THROW(ParseBridgeConfig("bogus: 1\n", "b.yaml"), config::ConfigError);
   EXPECT_THROW(ParseBridgeConfig("fe: {preset: accurate, step: reduced}\n", "b.yaml"), config::ConfigError);
-  EXPECT_EQ(ParseBridgeConfig("fe: {step: reduced}\n", "b.yaml").fe_step, "reduced");
+  EXPECT_EQ(ParseBridgeConfig("fe: {step: reduced}\n", "b.yaml").fe_step, FeStepKind::kReduced);
 }
 
 TEST(BridgeConfig, RatesAreBounded) {
@@ -98,6 +99,24 @@ TEST(LatencyStats, BoundedMemoryKeepsAUniformSubsample) {
   EXPECT_EQ(r.count, 10000);
   EXPECT_NEAR(r.p50_ms, 50, 10);
   EXPECT_DOUBLE_EQ(r.max_ms, 99);
+}
+
+TEST(BridgeConfig, FeStepKindNamesRoundTrip) {
+  for (FeStepKind k : {FeStepKind::kScene, FeStepKind::kReduced, FeStepKind::kContact})
+    EXPECT_EQ(FeStepKindFromString(ToString(k)), k);
+  EXPECT_THROW(FeStepKindFromString("exact"), std::invalid_argument);
+}
+
+TEST(PipelineStatus, ReasonsAndStatesHaveNames) {
+  EXPECT_STREQ(ToString(FaultState::kDegraded), "degraded");
+  EXPECT_EQ(static_cast<int>(FaultState::kFault), 2);  // the BRIDGE_STATUS wire value
+  RejectCounters c;
+  EXPECT_EQ(FormatRejectCounters(c), "none");
+  ++c[RejectReason::kTooManyInvalidTaxels];
+  ++c[RejectReason::kFeStepFailed];
+  ++c[RejectReason::kFeStepFailed];
+  EXPECT_EQ(c.total(), 3);
+  EXPECT_EQ(FormatRejectCounters(c), "too_many_invalid_taxels 1, fe_step_failed 2");
 }
 
 }  // namespace

@@ -36,14 +36,18 @@ TEST(BridgePipeline, NanScansAreCountedSkippedAndZeroTheDisplay) {
   const ScanOutcome o = pipeline.ProcessScan(bad, t, display::WallClockUtime());
   EXPECT_FALSE(o.stepped);
   EXPECT_EQ(pipeline.counters().scans_rejected, 1);
+  EXPECT_EQ(pipeline.counters().rejected_by_reason[RejectReason::kTooManyInvalidTaxels], 1);
+  EXPECT_EQ(pipeline.counters().rejected_by_reason.total(), 1);
+  ASSERT_TRUE(o.reject_reason.has_value());
+  EXPECT_EQ(*o.reject_reason, RejectReason::kTooManyInvalidTaxels);
   EXPECT_EQ(pipeline.counters().nonfinite_values, 16);
-  EXPECT_EQ(pipeline.fault_state(), 2);
+  EXPECT_EQ(pipeline.fault_state(), FaultState::kFault);
   EXPECT_TRUE(pipeline.last_command().fault);
   for (double v : pipeline.last_command().value) EXPECT_EQ(v, 0.0);
   // The next good scan recovers.
   t += 10'000;
   EXPECT_TRUE(pipeline.ProcessScan(testing::UniformScan(profile, 8e3, t), t, display::WallClockUtime()).stepped);
-  EXPECT_EQ(pipeline.fault_state(), 0);
+  EXPECT_EQ(pipeline.fault_state(), FaultState::kOk);
   EXPECT_EQ(pipeline.counters().steps, 31);
 }
 

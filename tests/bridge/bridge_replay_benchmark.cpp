@@ -17,11 +17,12 @@ void BM_ReplayExampleLog(benchmark::State& state, const std::string& model, cons
   SetFeThreads(1);
   BridgeConfig config = LoadBridgeConfig(DefaultBridgeConfigPath());
   config.model = model;
-  config.fe_step = step;
+  config.fe_step = FeStepKindFromString(step);
   const std::string log = std::string(SEDBRIDGE_SOURCE_DIR) + "/config/bridge/example_press.log";
   const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
   int64_t scans = 0;
   double wall = 0, p50 = 0, p99 = 0, max = 0;
+  StageTimes stage_p50_ms;
   for (auto _ : state) {
     state.PauseTiming();
     sensors::CandumpLogSource source(log);
@@ -34,11 +35,16 @@ void BM_ReplayExampleLog(benchmark::State& state, const std::string& model, cons
     p50 = r.latency.p50_ms;
     p99 = r.latency.p99_ms;
     max = r.latency.max_ms;
+    stage_p50_ms = r.stage_p50_ms;
   }
   state.counters["scans_per_s"] = wall > 0 ? scans / wall : 0;
   state.counters["latency_p50_ms"] = p50;
   state.counters["latency_p99_ms"] = p99;
   state.counters["latency_max_ms"] = max;
+  // Median per stage (the stages this FE step has).
+  for (int i = 0; i < kNumStages; ++i)
+    if (stage_p50_ms.ms[size_t(i)] > 0)
+      state.counters[std::string(ToString(static_cast<Stage>(i))) + "_p50_ms"] = stage_p50_ms.ms[size_t(i)];
 }
 
 BENCHMARK_CAPTURE(BM_ReplayExampleLog, B_scene, std::string("B"), std::string("scene"))

@@ -25,7 +25,7 @@ namespace {
 
 BridgeConfig ContactConfig() {
   BridgeConfig c = testing::TestConfig();
-  c.fe_step = "contact";
+  c.fe_step = FeStepKind::kContact;
   c.compliance_cache_dir = "";
   return c;
 }

@@ -113,6 +113,17 @@ TEST(Replay, ExampleLogOverMemqPublishesOrderedLimitedCommands) {
   EXPECT_LE(got.status.size(), 32u);
   EXPECT_EQ(got.status.back().fault_state, 2);  // "shut down"
   EXPECT_EQ(got.status.back().scans_received, 300);
+  // Where the time went: every stepped scan ran conditioning, the FE step and the display;
+  // the status carries the window's medians of those stages.
+  for (const ReplayRow& row : r.rows) {
+    EXPECT_GT(row.stage_ms[Stage::kConditioning], 0.0);
+    EXPECT_GT(row.stage_ms[Stage::kSed], 0.0);
+    EXPECT_GT(row.stage_ms[Stage::kLimiter], 0.0);
+    EXPECT_GT(row.stage_ms[Stage::kPublish], 0.0);
+  }
+  EXPECT_GT(r.stage_p50_ms[Stage::kSed], 0.0);
+  EXPECT_GT(got.status[got.status.size() / 2].sed_p50_ms, 0.0f);
+  EXPECT_GT(got.status[got.status.size() / 2].limiter_p50_ms, 0.0f);
 }
 
 std::string SummaryWithoutLatency(const std::string& path) {

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <type_traits>
+
 #include "fem/box_mesh.h"
 #include "fem/elastic_tet_force.h"
 #include "fem/lumped_mass.h"
@@ -12,9 +14,15 @@
 namespace sedbridge::fem {
 namespace {
 
-// M + h^2 K of a block, a typical backward Euler system.
-SystemMatrix StepMatrix(const TetMesh& mesh, ElasticTetForce& elastic, const Eigen::VectorXd& x) {
-  SystemMatrix A;
+// Solvers hold factorizations (and the PCG a pointer to its rotation source): no copies.
+static_assert(!std::is_copy_constructible_v<DirectLdltSolver> && !std::is_move_constructible_v<DirectLdltSolver>);
+static_assert(!std::is_copy_constructible_v<PcgSolver> && !std::is_move_constructible_v<PcgSolver>);
+static_assert(!std::is_copy_constructible_v<CholmodSolver> && !std::is_move_constructible_v<CholmodSolver>);
+static_assert(!std::is_copy_assignable_v<CholmodSolver> && !std::is_move_assignable_v<CholmodSolver>);
+
+// M + h^2 K of a block, a typical backward Euler system, into A (built here; a
+// SystemMatrix is neither copied nor moved).
+void BuildStepMatrix(const TetMesh& mesh, ElasticTetForce& elastic, const Eigen::VectorXd& x, SystemMatrix& A) {
   std::vector<std::pair<int, int>> pairs;
   elastic.AppendCoupledNodes(pairs);
   A.Build(mesh.num_nodes(), pairs);
@@ -25,7 +33,6 @@ SystemMatrix StepMatrix(const TetMesh& mesh, ElasticTetForce& elastic, const Eig
   elastic.AddForce({x, v, 0.0, true}, f, &sink);
   const Eigen::VectorXd m = LumpedNodeMass(mesh);
   for (int i = 0; i < mesh.num_nodes(); ++i) A.AddScaledIdentity(A.DiagonalSlot(i), m[i] + 1e-3);
-  return A;
 }
 
 TEST(LinearSolver, AllSolversAgreeAndWarpIsNearlyExactForLinearFem) {
@@ -33,7 +40,8 @@ TEST(LinearSolver, AllSolversAgreeAndWarpIsNearlyExactForLinearFem) {
   ElasticTetForce elastic(mesh, ElasticFormulation::kLinear);
   Eigen::VectorXd x(3 * mesh.num_nodes());
   for (int i = 0; i < mesh.num_nodes(); ++i) x.segment<3>(3 * i) = mesh.rest_positions_m.col(i);
-  SystemMatrix A = StepMatrix(mesh, elastic, x);
+  SystemMatrix A;
+  BuildStepMatrix(mesh, elastic, x, A);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(x.size(), -1.0, 1.0);
 
   Eigen::VectorXd reference = Eigen::VectorXd::Zero(b.size());
@@ -63,7 +71,8 @@ TEST(LinearSolver, PcgThatCannotConvergeFallsBackAndCountsIt) {
   ElasticTetForce elastic(mesh, ElasticFormulation::kLinear);
   Eigen::VectorXd x(3 * mesh.num_nodes());
   for (int i = 0; i < mesh.num_nodes(); ++i) x.segment<3>(3 * i) = mesh.rest_positions_m.col(i);
-  SystemMatrix A = StepMatrix(mesh, elastic, x);
+  SystemMatrix A;
+  BuildStepMatrix(mesh, elastic, x, A);
   PcgSolver pcg(PcgSettings{1e-12, 2, PreconditionerKind::kBlockJacobi, true});
   pcg.Prepare(A);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(x.size(), -1.0, 1.0);
@@ -91,7 +100,8 @@ TEST(CholmodSolver, MatchesLdltOnABoxMesh) {
     for (double shear : {0.0, 0.2}) {  // rest, then a sheared state: new values, same pattern
       Eigen::VectorXd xs = x;
       for (int i = 0; i < mesh.num_nodes(); ++i) xs[3 * i] += shear * mesh.rest_positions_m(2, i);
-      SystemMatrix A = StepMatrix(mesh, elastic, xs);
+      SystemMatrix A;
+      BuildStepMatrix(mesh, elastic, xs, A);
       ldlt.Prepare(A);
       cholmod.Prepare(A);
       ASSERT_TRUE(cholmod.factor_ok());
@@ -143,6 +153,47 @@ TEST(CholmodSolver, ReportsASingularOrIndefiniteMatrix) {
     const LinearSolveReport rp = pcg->Solve(A, b, y);
     EXPECT_EQ(rp.converged, diagonal != 0.0) << diagonal;
     EXPECT_TRUE(y.allFinite()) << diagonal;
+  }
+}
+
+}  // namespace
+}  // namespace sedbridge::fem
+
+namespace sedbridge::fem {
+namespace {
+
+// Counts the calls: the warped PCG asks its rotation source once per Prepare.
+class CountingRotationSource final : public NodeRotationSource {
+ public:
+  explicit CountingRotationSource(int num_nodes) : num_nodes_(num_nodes) {}
+  void ComputeNodeRotations(std::vector<Eigen::Matrix3d>& node_rotations) const override {
+    ++calls;
+    node_rotations.assign(size_t(num_nodes_), Eigen::Matrix3d::Identity());
+  }
+  mutable int calls = 0;
+
+ private:
+  int num_nodes_;
+};
+
+TEST(LinearSolver, WarpedPcgTakesRotationsFromTheSourceGivenAtConstruction) {
+  const TetMesh mesh = MakeBoxMesh({0.01, 0.01, 0.01}, {3, 3, 3}, testing::Skin(1e5, 0.48));
+  ElasticTetForce elastic(mesh, ElasticFormulation::kLinear);
+  Eigen::VectorXd x(3 * mesh.num_nodes());
+  for (int i = 0; i < mesh.num_nodes(); ++i) x.segment<3>(3 * i) = mesh.rest_positions_m.col(i);
+  SystemMatrix A;
+  BuildStepMatrix(mesh, elastic, x, A);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(x.size(), -1.0, 1.0);
+  for (const char* name : {"pcg_warp", "pcg_jacobi"}) {
+    CountingRotationSource source(mesh.num_nodes());
+    auto solver = MakeLinearSolver(name, PcgSettings{1e-10, 5000}, &source);
+    EXPECT_EQ(solver->wants_reference_matrix(), std::string(name) == "pcg_warp");
+    if (solver->wants_reference_matrix()) solver->SetReferenceMatrix(A);
+    solver->Prepare(A);
+    solver->Prepare(A);
+    EXPECT_EQ(source.calls, std::string(name) == "pcg_warp" ? 2 : 0) << name;
+    Eigen::VectorXd y = Eigen::VectorXd::Zero(b.size());
+    EXPECT_TRUE(solver->Solve(A, b, y).converged) << name;
   }
 }
 

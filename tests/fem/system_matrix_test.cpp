@@ -2,8 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <type_traits>
+
 namespace sedbridge::fem {
 namespace {
+
+// values_ points into the CSR's own buffer: a copy or move would point at the source's.
+static_assert(!std::is_copy_constructible_v<SystemMatrix> && !std::is_copy_assignable_v<SystemMatrix>);
+static_assert(!std::is_move_constructible_v<SystemMatrix> && !std::is_move_assignable_v<SystemMatrix>);
 
 TEST(SystemMatrix, BlocksLandWhereDenseAssemblyPutsThem) {
   SystemMatrix A;

@@ -45,7 +45,7 @@ TEST_P(UniaxialCompression, SedMatchesAnalyticValue) {
   IntegratorSettings settings;
   settings.kind = IntegratorKind::kQuasiStatic;
   settings.newton_iterations = 20;
-  Simulation sim(mesh, std::move(terms), settings, MakeLinearSolver(GetParam().solver, PcgSettings{1e-12, 2000}));
+  Simulation sim(mesh, std::move(terms), settings, MakeLinearSolver(GetParam().solver, PcgSettings{1e-12, 2000}, elastic));
   const StepReport r = sim.Step(1.0);
   EXPECT_TRUE(r.converged);
 

@@ -18,11 +18,11 @@ const model::FingertipModel& Model() {
 
 // Corotational, bone fixed, slightly deformed; stiffness_scale 1 and no mass: the
 // quasi-static K (worst conditioned); h^2 with the mass: the backward Euler step matrix.
-fem::SystemMatrix ModelMatrix(bool with_mass) {
+// Built into A (a SystemMatrix is neither copied nor moved).
+void BuildModelMatrix(bool with_mass, fem::SystemMatrix& A) {
   const std::string yaml = "model: B_coarse\nelasticity: corotational\nbone: {mode: fixed}\n";
   FingertipScene s(ParseSceneDescription(yaml, "test"), Model());
   auto& sim = s.simulation();
-  fem::SystemMatrix A;
   std::vector<std::pair<int, int>> pairs;
   for (const auto& t : sim.terms()) t->AppendCoupledNodes(pairs);
   A.Build(Model().num_soft_nodes(), pairs);
@@ -38,12 +38,12 @@ fem::SystemMatrix ModelMatrix(bool with_mass) {
     const Eigen::VectorXd m = fem::LumpedNodeMass(Model().soft);
     for (int i = 0; i < Model().num_soft_nodes(); ++i) A.AddScaledIdentity(A.DiagonalSlot(i), m[i]);
   }
-  return A;
 }
 
 TEST(CholmodOnFingertip, SameSolutionAsLdltOnStepAndStiffnessMatrices) {
   for (bool with_mass : {true, false}) {
-    const fem::SystemMatrix A = ModelMatrix(with_mass);
+    fem::SystemMatrix A;
+    BuildModelMatrix(with_mass, A);
     const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.csr().rows(), -1.0, 2.0);
     fem::DirectLdltSolver ldlt;
     fem::CholmodSolver cholmod;

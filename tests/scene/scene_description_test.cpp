@@ -55,24 +55,24 @@ TEST(SceneDescription, ErrorsNameTheLine) {
 TEST(SceneDescription, PresetThenExplicitKeysOverride) {
   const SceneDescription s = ParseSceneDescription("model: B\npreset: fast\nsolver: {type: pcg_jacobi}\n", "p.yaml");
   EXPECT_EQ(s.elasticity, fem::ElasticFormulation::kLinear);
-  EXPECT_EQ(s.solver, "pcg_jacobi");
+  EXPECT_EQ(s.solver, SolverKind::kPcgJacobi);
 }
 
 TEST(SceneDescription, FastPresetFactorizesOnceWithoutContactAndPreconditionsWithContact) {
   const std::string contact =
       "contact:\n  objects:\n    - {name: plane, shape: plane, rpy_deg: [180, 0, 0], position_mm: [0, 0, 0]}\n";
   const SceneDescription traction = ParseSceneDescription("model: B\npreset: fast\nsurface_traction: true\n", "t.yaml");
-  EXPECT_EQ(traction.solver, "cholmod");  // constant matrix: one factorization for the whole run
+  EXPECT_EQ(traction.solver, SolverKind::kCholmod);  // constant matrix: one factorization for the whole run
   const SceneDescription press = ParseSceneDescription("model: B\npreset: fast\n" + contact, "c.yaml");
   EXPECT_EQ(press.elasticity, fem::ElasticFormulation::kLinear);
-  EXPECT_EQ(press.solver, "pcg_warp");  // contact would refactorize LDL^T every step
+  EXPECT_EQ(press.solver, SolverKind::kPcgWarp);  // contact would refactorize LDL^T every step
   const SceneDescription forced =
       ParseSceneDescription("model: B\npreset: fast\nsolver: {type: ldlt}\n" + contact, "f.yaml");
-  EXPECT_EQ(forced.solver, "ldlt");  // an explicit choice wins
+  EXPECT_EQ(forced.solver, SolverKind::kLdlt);  // an explicit choice wins
   // Applied after reading (sedbridge press --preset fast on a contact scene).
   SceneDescription cli = ParseSceneDescription("model: B\n" + contact, "cli.yaml");
   ApplyPreset("fast", cli);
-  EXPECT_EQ(cli.solver, "pcg_warp");
+  EXPECT_EQ(cli.solver, SolverKind::kPcgWarp);
 }
 
 

@@ -201,13 +201,15 @@ TEST(Stability, SoakAtRest100kSteps) {
   // fingertip would take minutes at this step count; the fingertip soak follows).
   const fem::TetMesh mesh = fem::MakeBoxMesh({0.008, 0.008, 0.006}, {4, 4, 3}, {"skin", 1e5, 0.48, 1000});
   std::vector<std::unique_ptr<fem::ForceTerm>> terms;
-  terms.push_back(std::make_unique<fem::ElasticTetForce>(mesh, fem::ElasticFormulation::kCorotational));
+  auto elastic = std::make_unique<fem::ElasticTetForce>(mesh, fem::ElasticFormulation::kCorotational);
+  const fem::ElasticTetForce* rotations = elastic.get();
+  terms.push_back(std::move(elastic));
   std::vector<int> bottom;
   for (int i = 0; i < mesh.num_nodes(); ++i)
     if (mesh.rest_positions_m(2, i) == 0.0) bottom.push_back(i);
   terms.push_back(std::make_unique<fem::BoneCouplingForce>(mesh.rest_positions_m, bottom, std::vector<Eigen::Vector3d>{},
                                                            fem::SpringDamperParams{200, 0.1, 1.0}));
-  fem::Simulation sim(mesh, std::move(terms), fem::IntegratorSettings{}, fem::MakeLinearSolver("pcg_warp", {}));
+  fem::Simulation sim(mesh, std::move(terms), fem::IntegratorSettings{}, fem::MakeLinearSolver("pcg_warp", {}, rotations));
   const Eigen::VectorXd x0 = sim.positions_m();
   double max_drift = 0;
   for (int k = 0; k < 100000; ++k) {

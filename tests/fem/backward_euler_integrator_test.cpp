@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <type_traits>
+
+#include "fem/backward_euler_integrator.h"
 #include "fem/box_mesh.h"
 #include "fem/elastic_tet_force.h"
 #include "fem/simulation.h"
@@ -8,16 +11,25 @@
 namespace sedbridge::fem {
 namespace {
 
+// They hold references to each other's members (terms, mass, Newton system).
+static_assert(!std::is_copy_constructible_v<Simulation> && !std::is_move_constructible_v<Simulation>);
+static_assert(!std::is_copy_constructible_v<NewtonSystem> && !std::is_move_constructible_v<NewtonSystem>);
+static_assert(!std::is_copy_constructible_v<BackwardEulerIntegrator> &&
+              !std::is_move_constructible_v<BackwardEulerIntegrator>);
+static_assert(!std::is_copy_constructible_v<ElasticTetForce> && !std::is_move_constructible_v<ElasticTetForce>);
+
 // A block on rollers released from a stretched state oscillates and, backward Euler being
 // dissipative, its total energy never grows and the motion decays.
 void ReleaseStretchedBlock(ElasticFormulation formulation, const char* solver) {
   const TetMesh mesh = MakeBoxMesh({0.008, 0.008, 0.006}, {3, 3, 3}, testing::Skin(1e5, 0.45, 1000));
   std::vector<std::unique_ptr<ForceTerm>> terms;
-  terms.push_back(std::make_unique<ElasticTetForce>(mesh, formulation));
+  auto elastic = std::make_unique<ElasticTetForce>(mesh, formulation);
+  const ElasticTetForce* rotations = elastic.get();
+  terms.push_back(std::move(elastic));
   testing::AddRollerSupport(mesh, terms, 1e5);
   IntegratorSettings s;
   s.kind = IntegratorKind::kBackwardEuler;
-  Simulation sim(mesh, std::move(terms), s, MakeLinearSolver(solver, PcgSettings{1e-10, 500}));
+  Simulation sim(mesh, std::move(terms), s, MakeLinearSolver(solver, PcgSettings{1e-10, 500}, rotations));
   Eigen::VectorXd x = sim.positions_m();
   for (int i = 0; i < mesh.num_nodes(); ++i) x[3 * i + 2] *= 1.05;
   sim.SetPositions(x);
@@ -64,6 +76,25 @@ TEST(BackwardEuler, ConstantMatrixPathMatchesFullAssembly) {
     results[k++] = sim.positions_m();
   }
   EXPECT_LT((results[0] - results[1]).cwiseAbs().maxCoeff(), 1e-12);
+}
+
+}  // namespace
+}  // namespace sedbridge::fem
+
+namespace sedbridge::fem {
+namespace {
+
+TEST(BackwardEuler, StepReportSaysWhereTheTimeWent) {
+  const TetMesh mesh = MakeBoxMesh({0.008, 0.008, 0.006}, {2, 2, 2}, testing::Skin());
+  std::vector<std::unique_ptr<ForceTerm>> terms;
+  terms.push_back(std::make_unique<ElasticTetForce>(mesh, ElasticFormulation::kCorotational));
+  testing::AddRollerSupport(mesh, terms, 1e5);
+  Simulation sim(mesh, std::move(terms), IntegratorSettings{}, MakeLinearSolver("ldlt", {}));
+  const StepReport r = sim.Step(1e-3);
+  EXPECT_GT(r.stage_ms[Stage::kAssembly], 0.0);
+  EXPECT_GT(r.stage_ms[Stage::kSolve], 0.0);
+  EXPECT_EQ(r.stage_ms[Stage::kSed], 0.0);  // the simulation has no SED stage
+  EXPECT_EQ(r.stage_ms[Stage::kConditioning], 0.0);
 }
 
 }  // namespace

@@ -1,0 +1,63 @@
+#pragma once
+// A time integrator advances the simulation state by one step (Drake's
+// DiscreteTimeIntegrator, SOFA's OdeSolver). Each one lives in its own file:
+//  - BackwardEulerIntegrator (fem/backward_euler_integrator.h): dynamics, Newton on the
+//    implicit Euler equations (1 iteration = the paper's linearized step);
+//  - QuasiStaticNewtonIntegrator (fem/quasi_static_newton_integrator.h): equilibrium per
+//    load step, no inertia.
+// Both drive the same Newton pieces (fem/newton_system.h): assemble, prepare, solve.
+// The state itself stays in Simulation (fem/simulation.h).
+
+#include <Eigen/Core>
+
+#include "common/stage_times.h"
+
+namespace sedbridge::fem {
+
+enum class IntegratorKind { kBackwardEuler, kQuasiStatic };
+
+struct IntegratorSettings {
+  IntegratorKind kind = IntegratorKind::kBackwardEuler;
+  /// Backward Euler: Newton iterations per step (1 = the paper's linearized solve).
+  /// Quasi-static: maximum Newton iterations per load step.
+  int newton_iterations = 1;
+  /// Quasi-static convergence: max |dx| below this [m].
+  double newton_tolerance_m = 1e-9;
+  /// Mass-proportional Rayleigh damping alpha [1/s] (backward Euler only).
+  double rayleigh_alpha_1_s = 0.0;
+};
+
+struct StepReport {
+  double t_s = 0;
+  int newton_iterations = 0;
+  int linear_iterations = 0;     ///< summed over Newton iterations
+  double linear_residual = 0;    ///< worst relative residual
+  int solver_fallbacks = 0;      ///< PCG fallbacks to the direct solver in this step
+  bool converged = true;         ///< linear solves and (quasi-static) Newton converged
+  int inverted_elements = 0;     ///< det F <= 0 at the end of the step
+  double max_step_m = 0;         ///< max |dx| of the last Newton iteration
+  bool finite = true;            ///< state is free of NaN/Inf (else it was rolled back)
+  /// Wall time of this step's assembly and solve (factorization included); the callers add
+  /// the stages around it (boundary condition, SED).
+  StageTimes stage_ms;
+};
+
+/// Positions, velocities (3 * #nodes, stacked per node) and time of the simulation.
+struct SimulationState {
+  Eigen::VectorXd x_m;
+  Eigen::VectorXd v_m_s;
+  double t_s = 0;
+};
+
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  /// Advances `state` by dt [s] (quasi-static: the load parameter t; prescribed motions
+  /// are evaluated at the new t). Fills the solver fields of the report; the caller
+  /// checks finiteness and runs the terms' EndStep.
+  virtual StepReport Step(double dt_s, SimulationState& state) = 0;
+  /// True when velocities matter (damping forces are evaluated, EndStep sees dynamics).
+  virtual bool dynamic() const = 0;
+};
+
+}  // namespace sedbridge::fem

@@ -1,0 +1,54 @@
+#include "fem/newton_system.h"
+
+#include <algorithm>
+
+namespace sedbridge::fem {
+
+NewtonSystem::NewtonSystem(int num_nodes, const std::vector<std::unique_ptr<ForceTerm>>& terms,
+                           std::unique_ptr<LinearSolver> solver)
+    : terms_(terms), solver_(std::move(solver)) {
+  std::vector<std::pair<int, int>> pairs;
+  for (const auto& term : terms_) {
+    term->AppendCoupledNodes(pairs);
+    constant_matrix_ = constant_matrix_ && term->JacobianIsConstant();
+  }
+  matrix_.Build(num_nodes, pairs);
+  for (const auto& term : terms_) term->BindMatrix(matrix_);
+  force_ = Eigen::VectorXd::Zero(3 * num_nodes);
+}
+
+void NewtonSystem::Assemble(const SystemState& s, double ks, double kd, bool with_matrix, bool k_times_v,
+                            StageTimes* times) {
+  StageTimes unused;
+  const StageTimer timer(times ? *times : unused, Stage::kAssembly);
+  force_.setZero(s.x_m.size());
+  JacobianSink sink{&matrix_, ks, kd};
+  if (k_times_v) {
+    k_times_v_.setZero(s.x_m.size());
+    sink.velocity = &s.v_m_s;
+    sink.stiffness_times_velocity = &k_times_v_;
+  }
+  if (with_matrix) matrix_.SetZero();
+  for (const auto& term : terms_) term->AddForce(s, force_, with_matrix ? &sink : nullptr);
+}
+
+void NewtonSystem::PrepareSolver(StageTimes& times) {
+  const StageTimer timer(times, Stage::kSolve);
+  if (!matrix_ready_ && solver_->wants_reference_matrix()) solver_->SetReferenceMatrix(matrix_);
+  solver_->Prepare(matrix_);
+  matrix_ready_ = true;
+}
+
+LinearSolveReport NewtonSystem::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& delta, StepReport& report) {
+  StageTimer timer(report.stage_ms, Stage::kSolve);
+  const LinearSolveReport lr = solver_->Solve(matrix_, rhs, delta);
+  timer.Stop();
+  report.newton_iterations++;
+  report.linear_iterations += lr.iterations;
+  report.linear_residual = std::max(report.linear_residual, lr.relative_residual);
+  report.solver_fallbacks += lr.used_fallback ? 1 : 0;
+  report.converged = report.converged && lr.converged;
+  return lr;
+}
+
+}  // namespace sedbridge::fem

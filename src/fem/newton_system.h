@@ -1,0 +1,61 @@
+#pragma once
+// The pieces of a Newton iteration every integrator shares, written once: evaluate the
+// force terms and (when asked) assemble their Jacobians into the fixed-pattern system
+// matrix, prepare the linear solver after the matrix changed, solve and sum the solve
+// into the step's report.
+
+#include <Eigen/Core>
+#include <memory>
+#include <vector>
+
+#include "common/no_copy_no_move.h"
+#include "fem/force_term.h"
+#include "fem/integrator.h"
+#include "fem/linear_solver.h"
+#include "fem/system_matrix.h"
+
+namespace sedbridge::fem {
+
+class NewtonSystem {
+ public:
+  SEDBRIDGE_NO_COPY_NO_MOVE(NewtonSystem)
+
+  /// @param num_nodes mesh nodes (the system has 3 * num_nodes unknowns)
+  /// @param terms     force terms, evaluated in this order (kept by reference)
+  /// @param solver    linear solver for the step system
+  NewtonSystem(int num_nodes, const std::vector<std::unique_ptr<ForceTerm>>& terms,
+               std::unique_ptr<LinearSolver> solver);
+
+  /// Forces at `state` into force_N() and, with_matrix, the system matrix
+  /// stiffness_scale K + damping_scale D; with k_times_v, also K v of the state's
+  /// velocity into stiffness_times_velocity(). Its wall time goes to times[kAssembly]
+  /// when given.
+  void Assemble(const SystemState& state, double stiffness_scale, double damping_scale, bool with_matrix,
+                bool k_times_v = false, StageTimes* times = nullptr);
+  /// After the matrix was assembled: hands the first one to the solver as its reference
+  /// (rest) matrix if it wants one, then prepares (factorizes) the solver. Its wall time
+  /// goes to times[kSolve].
+  void PrepareSolver(StageTimes& times);
+  /// Solves matrix() delta = rhs (delta holds the initial guess) and sums the solve into
+  /// `report` as one Newton iteration (its wall time into report.stage_ms[kSolve]).
+  LinearSolveReport Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& delta, StepReport& report);
+
+  /// True if every term's Jacobian is constant (the matrix is assembled once).
+  bool constant_matrix() const { return constant_matrix_; }
+  /// True once the solver was prepared on an assembled matrix.
+  bool matrix_ready() const { return matrix_ready_; }
+  SystemMatrix& matrix() { return matrix_; }
+  const Eigen::VectorXd& force_N() const { return force_; }
+  const Eigen::VectorXd& stiffness_times_velocity() const { return k_times_v_; }
+  const LinearSolver& solver() const { return *solver_; }
+
+ private:
+  const std::vector<std::unique_ptr<ForceTerm>>& terms_;
+  std::unique_ptr<LinearSolver> solver_;
+  SystemMatrix matrix_;
+  Eigen::VectorXd force_, k_times_v_;
+  bool constant_matrix_ = true;
+  bool matrix_ready_ = false;
+};
+
+}  // namespace sedbridge::fem

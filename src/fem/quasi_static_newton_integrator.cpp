@@ -1,0 +1,42 @@
+#include "fem/quasi_static_newton_integrator.h"
+
+#include <algorithm>
+
+namespace sedbridge::fem {
+
+QuasiStaticNewtonIntegrator::QuasiStaticNewtonIntegrator(NewtonSystem& system, const IntegratorSettings& settings)
+    : system_(system),
+      max_newton_iterations_(std::max(1, settings.newton_iterations)),
+      newton_tolerance_m_(settings.newton_tolerance_m) {}
+
+StepReport QuasiStaticNewtonIntegrator::Step(double dt, SimulationState& state) {
+  StepReport report;
+  const double t1 = state.t_s + dt;
+  Eigen::VectorXd& x = state.x_m;
+  const Eigen::VectorXd zero_v = Eigen::VectorXd::Zero(x.size());
+  bool newton_converged = false;
+  for (int it = 0; it < max_newton_iterations_; ++it) {
+    const SystemState s{x, zero_v, t1, false};
+    const bool build = !(system_.constant_matrix() && system_.matrix_ready());
+    system_.Assemble(s, 1.0, 0.0, build, false, &report.stage_ms);
+    if (build) system_.PrepareSolver(report.stage_ms);
+    delta_.setZero(x.size());
+    const LinearSolveReport lr = system_.Solve(system_.force_N(), delta_, report);
+    x += delta_;
+    report.max_step_m = delta_.cwiseAbs().maxCoeff();
+    if (system_.constant_matrix()) {  // linear problem: one exact solve is the equilibrium
+      newton_converged = lr.converged;
+      break;
+    }
+    if (!(report.max_step_m > newton_tolerance_m_)) {
+      newton_converged = report.max_step_m <= newton_tolerance_m_;
+      break;
+    }
+  }
+  report.converged = report.converged && newton_converged;
+  state.v_m_s.setZero();
+  state.t_s = t1;
+  return report;
+}
+
+}  // namespace sedbridge::fem
