@@ -13,6 +13,7 @@
 
 #include "app/arg_parser.h"
 #include "app/command.h"
+#include "common/wall_clock.h"
 #include "sensors/candump_log.h"
 #include "sensors/scan_assembler.h"
 #include "sensors/scan_csv.h"
@@ -168,8 +169,7 @@ int RunDecode(int argc, char** argv) {
         if (recorder) recorder->Write(*f);
         assembler.Push(*f, &scans);
       } else {
-        assembler.Poll(std::chrono::duration_cast<std::chrono::microseconds>(
-                           std::chrono::system_clock::now().time_since_epoch()).count(), &scans);
+        assembler.Poll(WallClockUtime(), &scans);
       }
       if (!scans.empty()) consume();
     }

@@ -4,6 +4,8 @@
 #include <thread>
 #include <vector>
 
+#include "common/wall_clock.h"
+
 namespace sedbridge::bridge {
 
 LiveBridge::LiveBridge(sensors::FrameSource& source, sensors::ScanAssembler& assembler, BridgePipeline& pipeline,
@@ -16,9 +18,9 @@ void LiveBridge::Receive(const std::atomic<bool>& stop) {
     if (auto frame = source_.Next(options_.receive_timeout_us))
       assembler_.Push(*frame, &scans);
     else
-      assembler_.Poll(display::WallClockUtime(), &scans);
+      assembler_.Poll(WallClockUtime(), &scans);
     if (scans.empty()) continue;
-    const int64_t now = display::WallClockUtime();
+    const int64_t now = WallClockUtime();
     slot_.SetCounters(assembler_.counters(), source_.Stats());
     for (sensors::Scan& s : scans) {
       const int64_t origin = options_.scan_utime_is_wall_clock ? s.utime : now;
@@ -28,7 +30,7 @@ void LiveBridge::Receive(const std::atomic<bool>& stop) {
   }
   if (source_.Done()) {
     assembler_.Flush(&scans);
-    for (sensors::Scan& s : scans) slot_.Put({std::move(s), display::WallClockUtime()});
+    for (sensors::Scan& s : scans) slot_.Put({std::move(s), WallClockUtime()});
   }
   slot_.SetCounters(assembler_.counters(), source_.Stats());
 }
@@ -56,12 +58,12 @@ LiveResult LiveBridge::Run(const std::atomic<bool>& stop) {
         slot_.GetCounters(&counters, &stats);
         pipeline_.SetSensorCounters(counters, stats);
         pipeline_.SetScansDroppedUpstream(slot_.dropped_count());
-        pipeline_.ProcessScan(entry.scan, display::WallClockUtime(), entry.receive_wall_utime);
+        pipeline_.ProcessScan(entry.scan, WallClockUtime(), entry.receive_wall_utime);
         ++result.scans_processed;
       } else if (receiver_done.load()) {
         break;  // closed and empty
       } else {
-        pipeline_.Tick(display::WallClockUtime());
+        pipeline_.Tick(WallClockUtime());
         ++result.ticks;
       }
     }
@@ -73,7 +75,7 @@ LiveResult LiveBridge::Run(const std::atomic<bool>& stop) {
   receiver.join();
   source_.Close();
   pipeline_.SetScansDroppedUpstream(slot_.dropped_count());
-  pipeline_.Shutdown(display::WallClockUtime());  // zero on exit and on any fault
+  pipeline_.Shutdown(WallClockUtime());  // zero on exit and on any fault
   result.scans_received = slot_.put_count();
   result.scans_dropped = slot_.dropped_count();
   if (solver_error) std::rethrow_exception(solver_error);

@@ -7,9 +7,10 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "bridge/reduced_linear_fe_step.h"
 #include "bridge/contact_fe_step.h"
+#include "bridge/reduced_linear_fe_step.h"
 #include "bridge/scene_fe_step.h"
+#include "common/wall_clock.h"
 #include "scene/vtu_writer.h"
 #include "sensors/scan_assembler.h"
 
@@ -55,12 +56,8 @@ void WriteSummaryCsv(const std::string& path, const std::vector<ReplayRow>& rows
   if (!f) throw std::runtime_error("write failed: " + path);
 }
 
-ReplayResult RunReplay(const BridgeConfig& config, sensors::FrameSource& source, const ReplayOptions& options) {
-  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
-  return RunReplay(config, profile, nullptr, source, options);
-}
-
-ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile& profile, std::unique_ptr<FeStep> fe,
+ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile& profile,
+                       const display::DisplayProfile& display_profile, std::unique_ptr<FeStep> fe,
                        sensors::FrameSource& source, const ReplayOptions& options) {
   using Clock = std::chrono::steady_clock;
   ReplayResult result;
@@ -68,14 +65,14 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   if (!fe) fe = MakeFeStep(config, profile, options.vtu_every > 0 && !options.out_dir.empty());
   result.fe_description = fe->Describe();
 
-  display::LcmSettings lcm = config.lcm;
+  lcm_io::LcmSettings lcm = config.lcm;
   lcm.url = options.lcm_url;
   lcm.log_path.clear();
   if (!options.out_dir.empty()) {
     std::filesystem::create_directories(options.out_dir);
     if (options.write_lcm_log) lcm.log_path = (std::filesystem::path(options.out_dir) / "bridge.lcmlog").string();
   }
-  BridgePipeline pipeline(config, profile, std::move(fe), lcm);
+  BridgePipeline pipeline(config, profile, display_profile, std::move(fe), lcm);
   result.display_unit = pipeline.display().controller().profile().unit;
   sensors::AssemblerOptions assembler_options;
   assembler_options.tare_scans = config.tare_scans;
@@ -185,7 +182,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   const auto t0 = Clock::now();
   const bool paced = options.paced_speed > 0;
   if (paced && options.idle_tick_period_us <= 0) throw std::invalid_argument("idle_tick_period_us must be > 0");
-  int64_t last_scan_wall = display::WallClockUtime();
+  int64_t last_scan_wall = WallClockUtime();
   try {
     while (!source.Done()) {
       if (options.stop && options.stop->load()) {
@@ -194,7 +191,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
       }
       // Paced: wait at most one tick, so a pause in the log still ticks the watchdog.
       std::optional<sensors::Frame> frame = source.Next(paced ? options.idle_tick_period_us : -1);
-      const int64_t wall = display::WallClockUtime();
+      const int64_t wall = WallClockUtime();
       if (!frame) {
         if (paced && !result.rows.empty()) {
           pipeline.Tick(last_utime + static_cast<int64_t>((wall - last_scan_wall) * options.paced_speed));
@@ -210,7 +207,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
     }
     if (!result.stopped_early) {
       assembler.Flush(&scans);
-      process(display::WallClockUtime());
+      process(WallClockUtime());
     }
   } catch (...) {
     // Zero first, then let the error out (the log is closed when the pipeline goes). A

@@ -13,12 +13,13 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "bridge_test_util.h"
-#include "tests/common/lcm_log_check.h"
-#include "display/lcm_conversions.h"
-#include "display/lcm_log_reader.h"
+#include "lcm/display_command_message.h"
+#include "lcm/lcm_log_reader.h"
+#include "lcm/merkel_sed_message.h"
 #include "sedbridge/lcmt_bridge_status.hpp"
 #include "sedbridge/lcmt_display_command.hpp"
 #include "sensors/candump_log.h"
+#include "tests/common/lcm_log_check.h"
 
 namespace sedbridge::bridge {
 namespace {
@@ -61,14 +62,14 @@ TEST(Replay, ExampleLogOverMemqPublishesOrderedLimitedCommands) {
     drain();
     lcm = nullptr;  // dies with the pipeline
   };
-  const ReplayResult r = RunReplay(config, source, options);
+  const ReplayResult r = testing::ReplayWithConfigProfiles(config, source, options);
 
   // 3 s at 100 Hz: every scan processed, one command each, plus the shutdown commands.
   ASSERT_EQ(r.rows.size(), 300u);
   EXPECT_EQ(r.counters.steps, 300);
   EXPECT_EQ(r.counters.scans_rejected, 0);
   EXPECT_EQ(got.scans, 300);
-  ASSERT_EQ(got.commands.size(), 300u + display::DisplaySession::kShutdownRepeats);
+  ASSERT_EQ(got.commands.size(), 300u + lcm_io::DisplaySession::kShutdownRepeats);
   const double max = 20.0;  // suction_4x4 safety.max [kPa]
   int nonzero = 0;
   for (size_t i = 0; i < got.commands.size(); ++i) {
@@ -117,13 +118,13 @@ TEST(Replay, ExampleLogOverMemqPublishesOrderedLimitedCommands) {
 TEST(Replay, NanScansAreCountedSkippedAndZeroTheDisplay) {
   const BridgeConfig config = testing::TestConfig();
   const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
-  display::LcmSettings lcm;
+  lcm_io::LcmSettings lcm;
   lcm.url = "memq://";
-  BridgePipeline pipeline(config, profile, MakeFeStep(config, profile), lcm);
+  BridgePipeline pipeline(config, profile, testing::ConfigDisplay(config), MakeFeStep(config, profile), lcm);
   int64_t t = 1'000'000;
   // A firm press brings the display up.
   for (int i = 0; i < 30; ++i, t += 10'000) {
-    const ScanOutcome o = pipeline.ProcessScan(testing::UniformScan(profile, 8e3, t), t, display::WallClockUtime());
+    const ScanOutcome o = pipeline.ProcessScan(testing::UniformScan(profile, 8e3, t), t, WallClockUtime());
     ASSERT_TRUE(o.stepped) << o.problem;
   }
   float before = 0;
@@ -132,7 +133,7 @@ TEST(Replay, NanScansAreCountedSkippedAndZeroTheDisplay) {
   // An all-NaN scan: not stepped (the FE would throw), counted, display to zero with fault.
   sensors::Scan bad = testing::UniformScan(profile, 8e3, t);
   for (double& p : bad.pressure_Pa) p = std::nan("");
-  const ScanOutcome o = pipeline.ProcessScan(bad, t, display::WallClockUtime());
+  const ScanOutcome o = pipeline.ProcessScan(bad, t, WallClockUtime());
   EXPECT_FALSE(o.stepped);
   EXPECT_EQ(pipeline.counters().scans_rejected, 1);
   EXPECT_EQ(pipeline.counters().nonfinite_values, 16);
@@ -141,7 +142,7 @@ TEST(Replay, NanScansAreCountedSkippedAndZeroTheDisplay) {
   for (double v : pipeline.last_command().value) EXPECT_EQ(v, 0.0);
   // The next good scan recovers.
   t += 10'000;
-  EXPECT_TRUE(pipeline.ProcessScan(testing::UniformScan(profile, 8e3, t), t, display::WallClockUtime()).stepped);
+  EXPECT_TRUE(pipeline.ProcessScan(testing::UniformScan(profile, 8e3, t), t, WallClockUtime()).stepped);
   EXPECT_EQ(pipeline.fault_state(), 0);
   EXPECT_EQ(pipeline.counters().steps, 31);
 }
@@ -162,7 +163,7 @@ std::string SummaryWithoutLatency(const std::string& path) {
 }
 
 std::vector<std::string> LoggedCommands(const std::string& log) {
-  display::LcmLogReader reader(log);
+  lcm_io::LcmLogReader reader(log);
   std::vector<std::string> out;
   while (const lcm::LogEvent* e = reader.Next())
     if (e->channel == "DISPLAY_COMMAND" || e->channel == "TACTILE_SCAN")
@@ -179,7 +180,7 @@ TEST(Replay, TwoReplaysWriteIdenticalOutput) {
     ReplayOptions options;
     options.out_dir = dir;
     options.vtu_every = 100;
-    RunReplay(config, source, options);
+    testing::ReplayWithConfigProfiles(config, source, options);
   }
   for (const char* f : {"frames.pvd", "frame_000000.vtu", "frame_000100.vtu", "frame_000200.vtu"})
     EXPECT_TRUE(std::filesystem::exists(dirs[0] + "/" + f)) << f;
@@ -214,7 +215,7 @@ TEST(Replay, ExceptionInAStageStillZeroesTheDisplayAndClosesTheLog) {
     max_seen = std::max(max_seen, o.max_command);
     if (max_seen > 1.0) throw std::runtime_error("stage failed");
   };
-  EXPECT_THROW(RunReplay(config, source, options), std::runtime_error);
+  EXPECT_THROW(testing::ReplayWithConfigProfiles(config, source, options), std::runtime_error);
   ASSERT_GT(max_seen, 1.0);
   const auto log = sedbridge::testing::ReadLog(dir + "/bridge.lcmlog");
   EXPECT_TRUE(log.whole());
@@ -233,7 +234,7 @@ TEST(Replay, StopFlagEndsTheRunWithTheDisplayAtZero) {
   options.on_scan = [&](const ScanOutcome& o, BridgePipeline&) {
     if (o.max_command > 1.0) stop = true;
   };
-  const ReplayResult r = RunReplay(config, source, options);
+  const ReplayResult r = testing::ReplayWithConfigProfiles(config, source, options);
   EXPECT_TRUE(r.stopped_early);
   EXPECT_LT(r.rows.size(), 300u);  // not the whole log
 }
@@ -258,7 +259,7 @@ TEST(Replay, BusOffAndErrorPassiveRaiseFaultStateOnBridgeStatus) {
     EXPECT_EQ(p.MakeStatus(0).fault_state, 2);
     EXPECT_EQ(p.MakeStatus(0).fault_message, "CAN bus-off");
   };
-  RunReplay(config, source, options);
+  testing::ReplayWithConfigProfiles(config, source, options);
   EXPECT_GT(checked, 10);
 }
 
