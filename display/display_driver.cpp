@@ -1,16 +1,17 @@
 #include "display/display_driver.h"
 
-#include "display/lcm_safe_decode.h"
-#include "sedbridge/lcmt_display_command.hpp"
+#include <stdexcept>
 
 namespace sedbridge::display {
 
 DisplayDriver::DisplayDriver(const DisplayProfile& profile, std::unique_ptr<ActuatorOutput> output,
-                             std::shared_ptr<const CommandAuthenticator> auth)
+                             DisplayCommandDecoder decode, std::shared_ptr<const CommandAuthenticator> auth)
     : profile_(profile),
       limiter_(SafetyLimits::FromProfile(profile)),
       output_(std::move(output)),
+      decode_(std::move(decode)),
       auth_(std::move(auth)) {
+  if (!decode_) throw std::invalid_argument("DisplayDriver needs a command decoder");
   frame_.value.assign(profile_.size(), 0.0);
 }
 
@@ -25,8 +26,8 @@ bool DisplayDriver::OnMessage(const void* data, std::size_t size, int64_t now_ut
     }
     payload = *n;
   }
-  lcmt_display_command m;
-  if (!SafeDecode(data, payload, &m)) {
+  DisplayCommand m;
+  if (!decode_(data, payload, &m)) {
     ++counters_.malformed;
     return false;
   }
@@ -40,7 +41,7 @@ bool DisplayDriver::OnMessage(const void* data, std::size_t size, int64_t now_ut
     }
   }
   if (m.display_id != profile_.name || m.unit != profile_.unit ||
-      static_cast<std::size_t>(m.num_actuators) != profile_.size()) {
+      m.value.size() != profile_.size()) {
     ++counters_.wrong_display;
     return false;
   }
@@ -48,11 +49,10 @@ bool DisplayDriver::OnMessage(const void* data, std::size_t size, int64_t now_ut
   last_utime_ = m.utime;
   last_sequence_ = m.sequence;
   ++counters_.accepted;
-  std::vector<double> request(m.value.begin(), m.value.end());
   // The bridge's own stale/shutdown flags need no special case: their values are already
   // zero, and this limiter ramps down from wherever it is. Freshness for the watchdog is
   // judged on this driver's clock; the bridge's utime only orders messages.
-  limiter_.Apply(now_utime, m.utime, request);
+  limiter_.Apply(now_utime, m.utime, m.value);
   return true;
 }
 

@@ -223,8 +223,16 @@ DisplayProfile ParseDisplayProfile(const config::YamlDocument& doc) {
   return p;
 }
 
+std::string ResolveDisplayProfilePath(const std::string& name_or_path) {
+  return config::ResolveNameOrPath(name_or_path, "config/displays");
+}
+
 DisplayProfile LoadDisplayProfile(const std::string& path) {
   return ParseDisplayProfile(config::LoadYamlFile(config::ResolveResource(path)));
+}
+
+DisplayProfile LoadNamedDisplayProfile(const std::string& name_or_path) {
+  return LoadDisplayProfile(ResolveDisplayProfilePath(name_or_path));
 }
 
 }  // namespace sedbridge::display

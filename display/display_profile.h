@@ -74,10 +74,17 @@ struct DisplayProfile {
   std::size_t size() const { return x_mm.size(); }
 };
 
+/// A display profile argument: a path, or a shipped name ("suction_4x4" ->
+/// config/displays/suction_4x4.yaml); the rule is config::ResolveNameOrPath's.
+std::string ResolveDisplayProfilePath(const std::string& name_or_path);
+
 /// Loads a profile; `path` is resolved with config::ResolveResource, so
 /// "config/displays/suction_4x4.yaml" works from any directory.
 /// Throws config::ConfigError (file:line:column) on any bad, missing or unknown key.
 DisplayProfile LoadDisplayProfile(const std::string& path);
+
+/// ResolveDisplayProfilePath + LoadDisplayProfile: a shipped name ("suction_4x4") or a path.
+DisplayProfile LoadNamedDisplayProfile(const std::string& name_or_path);
 
 /// Parses an already loaded document (tests, embedded profiles). Throws config::ConfigError.
 DisplayProfile ParseDisplayProfile(const config::YamlDocument& doc);

@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "common/config_error.h"
+#include "common/wall_clock.h"
 
 namespace sedbridge::sensors {
 
@@ -302,11 +303,6 @@ int64_t SteadyNowUs() {
              std::chrono::steady_clock::now().time_since_epoch())
       .count();
 }
-int64_t WallNowUs() {
-  return std::chrono::duration_cast<std::chrono::microseconds>(
-             std::chrono::system_clock::now().time_since_epoch())
-      .count();
-}
 }  // namespace
 
 CandumpLogSource::CandumpLogSource(const std::string& path, PlaybackOptions options)
@@ -357,7 +353,7 @@ std::optional<Frame> CandumpLogSource::Next(int64_t timeout_us) {
   }
   have_pending_ = false;
   Frame f = pending_;
-  if (options_.restamp) f.utime = WallNowUs();
+  if (options_.restamp) f.utime = WallClockUtime();
   ++stats_.frames;
   if (f.error) CountErrorFrame(f, &stats_);
   return f;

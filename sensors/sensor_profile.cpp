@@ -232,10 +232,7 @@ SensorProfile LoadSensorProfile(const std::string& path) {
 }
 
 std::string ResolveProfilePath(const std::string& name_or_path) {
-  if (std::filesystem::exists(name_or_path)) return name_or_path;
-  if (name_or_path.find('/') == std::string::npos && name_or_path.find(".yaml") == std::string::npos)
-    return config::ResolveResource("config/sensors/" + name_or_path + ".yaml");
-  return config::ResolveResource(name_or_path);
+  return config::ResolveNameOrPath(name_or_path, "config/sensors");
 }
 
 SensorProfile LoadNamedSensorProfile(const std::string& name_or_path) {

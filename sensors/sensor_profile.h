@@ -116,7 +116,7 @@ SensorProfile ParseSensorProfileString(const std::string& yaml, const std::strin
 SensorProfile ParseSensorProfile(config::MapReader& reader);
 
 /// Resolves a profile argument: a path to a YAML file, or a shipped profile name
-/// ("uskin_4x4" -> config/sensors/uskin_4x4.yaml).
+/// ("uskin_4x4" -> config/sensors/uskin_4x4.yaml); the rule is config::ResolveNameOrPath's.
 std::string ResolveProfilePath(const std::string& name_or_path);
 
 /// ResolveProfilePath + LoadSensorProfile; when nothing matches, the error lists the shipped

@@ -14,17 +14,13 @@
 #include <ctime>
 #include <stdexcept>
 
+#include "common/wall_clock.h"
+
 namespace sedbridge::sensors {
 
 namespace {
 
 std::string ErrnoText(const std::string& what) { return what + ": " + std::strerror(errno); }
-
-int64_t WallClockUtime() {
-  timespec ts;
-  clock_gettime(CLOCK_REALTIME, &ts);
-  return static_cast<int64_t>(ts.tv_sec) * 1000000 + ts.tv_nsec / 1000;
-}
 
 }  // namespace
 

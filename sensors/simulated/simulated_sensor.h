@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/rigid_object.h"
+#include "common/geometry/rigid_object.h"
 #include "sensors/can_frame.h"
 #include "sensors/frame_source.h"
 #include "sensors/sensor_profile.h"

@@ -16,7 +16,7 @@
 #include "app/arg_parser.h"
 #include "app/command.h"
 #include "app/plot_runner.h"
-#include "display/display_session.h"
+#include "common/wall_clock.h"
 #include "sensors/candump_log.h"
 #include "sensors/frame_pump.h"
 #include "sensors/scan_assembler.h"
@@ -172,7 +172,7 @@ std::unique_ptr<CandumpLogSource> DecodeLog(const DecodeRequest& request, ScanAs
                                                    static_cast<size_t>(request.max_bad_lines));
   const bool tty = isatty(fileno(stderr));
   PumpOptions pump;
-  pump.wall_clock_utime = display::WallClockUtime;
+  pump.wall_clock_utime = WallClockUtime;
   pump.poll_on_timeout = false;  // a log at full speed never times out
   pump.on_frame = [&](const Frame&) {
     const int64_t lines = source->reader().lines_read();
@@ -207,7 +207,7 @@ FrameSourceStats DecodeInterface(const ArgParser& args, const DecodeRequest& req
   std::fprintf(stderr, "decoding %s for %g s (Ctrl-C stops)...\n", request.interface->c_str(), duration_s);
   PumpOptions pump;
   pump.frame_wait_us = kLiveFrameWaitUs;
-  pump.wall_clock_utime = display::WallClockUtime;
+  pump.wall_clock_utime = WallClockUtime;
   pump.stop = [&] { return g_stop || std::chrono::steady_clock::now() >= end; };
   if (recorder) pump.on_frame = [&](const Frame& f) { recorder->Write(f); };
   PumpFrames(source, assembler, [&](const Scan& s, int64_t) { scans.Take(s); }, pump);

@@ -24,12 +24,13 @@
 #include "common/config_error.h"
 #include "common/resource_path.h"
 #include "display/command_authenticator.h"
-#include "display/display_log_frames.h"
 #include "display/display_profile.h"
-#include "display/lcm_channels.h"
-#include "display/lcm_conversions.h"
-#include "display/lcm_safe_decode.h"
 #include "display/terminal_heatmap.h"
+#include "lcm/display_command_message.h"
+#include "lcm/display_log_frames.h"
+#include "lcm/lcm_channels.h"
+#include "lcm/lcm_safe_decode.h"
+#include "lcm/merkel_sed_message.h"
 #include "sedbridge/lcmt_display_command.hpp"
 #include "sedbridge/lcmt_merkel_sed.hpp"
 
@@ -37,6 +38,7 @@ namespace sedbridge::app {
 namespace {
 
 using namespace sedbridge::display;
+using namespace sedbridge::lcm_io;
 
 volatile std::sig_atomic_t g_stop = 0;
 void OnSignal(int) { g_stop = 1; }

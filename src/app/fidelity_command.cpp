@@ -11,6 +11,7 @@
 #include "app/plot_runner.h"
 #include "bridge/fidelity_benchmark.h"
 #include "common/resource_path.h"
+#include "display/display_profile.h"
 
 namespace sedbridge::app {
 namespace {
@@ -47,7 +48,8 @@ int RunFidelity(int argc, char** argv) {
   }
   std::printf("fidelity: %zu presses, model %s, building the leader's compliance ...\n", presses.size(),
               args.Get("model").c_str());
-  FidelityBenchmark bench(args.Get("model"), profile, args.Get("display"), args.Get("cache-dir"));
+  FidelityBenchmark bench(args.Get("model"), profile, display::LoadNamedDisplayProfile(args.Get("display")),
+                          args.Get("cache-dir"));
   std::ofstream csv(out + "/fidelity.csv");
   csv << "case,label,shape,x_mm,y_mm,radius_mm,yaw_deg,force_N,recon_ok,recon_shape,recon_x_mm,recon_y_mm,recon_radius_mm,"
          "recon_yaw_deg,recon_force_N,recon_shear_x_N,recon_shear_y_N,recon_rms_sigma,truth_max_sed_Pa,map_max_sed_Pa,"

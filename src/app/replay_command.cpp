@@ -16,6 +16,7 @@
 #include "bridge/replay.h"
 #include "bridge/scene_fe_step.h"
 #include "common/resource_path.h"
+#include "display/display_profile.h"
 #include "sensors/candump_log.h"
 #include "sensors/interface_filter_source.h"
 
@@ -141,7 +142,9 @@ int RunReplayCommand(int argc, char** argv) {
               config.sensor_profile.c_str(), config.model.c_str(), config.preset.c_str(),
               config.display_profile.c_str());
   std::fflush(stdout);
-  const ReplayResult result = RunReplay(config, source, options);
+  const ReplayResult result =
+      RunReplay(config, sensors::LoadNamedSensorProfile(config.sensor_profile),
+                display::LoadNamedDisplayProfile(config.display_profile), nullptr, source, options);
   PrintReplaySummary(result, options.out_dir);
   if (signals.signal_number()) {
     std::printf("stopped by %s: display driven to zero, log closed\n", SignalName(signals.signal_number()));

@@ -14,6 +14,7 @@
 #include "bridge/replay.h"
 #include "bridge/scene_fe_step.h"
 #include "common/resource_path.h"
+#include "display/display_profile.h"
 #include "sensors/candump_log.h"
 #include "sensors/socketcan_source.h"
 
@@ -74,7 +75,9 @@ int RunLiveCommand(int argc, char** argv) {
                  "run: WARNING: DISPLAY_COMMAND is unsigned (no lcm.auth_key_file): a display driver that requires\n"
                  "     authentication (the default of sedbridge-display-driver) will ignore it; anyone on the LCM\n"
                  "     network could command the display. See display/README.md, \"Threat model\".\n");
-  BridgePipeline pipeline(config, profile, MakeFeStep(config, profile), config.lcm);
+  std::unique_ptr<FeStep> fe = MakeFeStep(config, profile);
+  BridgePipeline pipeline(config, profile, display::LoadNamedDisplayProfile(config.display_profile), std::move(fe),
+                          config.lcm);
   std::printf("%s\n", pipeline.fe().Describe().c_str());
   sensors::AssemblerOptions assembler_options;
   assembler_options.tare_scans = config.tare_scans;

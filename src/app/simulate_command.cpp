@@ -13,6 +13,7 @@
 #include "bridge/replay.h"
 #include "bridge/scene_fe_step.h"
 #include "common/resource_path.h"
+#include "display/display_profile.h"
 #include "sensors/simulated/simulated_sensor.h"
 
 namespace sedbridge::app {
@@ -61,7 +62,8 @@ int RunSimulateCommand(int argc, char** argv) {
               profile.name.c_str(), profile.scan_rate_Hz, sim.duration_s, config.model.c_str(), config.preset.c_str(),
               config.display_profile.c_str());
   std::fflush(stdout);
-  const ReplayResult result = RunReplay(config, profile, nullptr, source, options);
+  const ReplayResult result =
+      RunReplay(config, profile, display::LoadNamedDisplayProfile(config.display_profile), nullptr, source, options);
   std::printf("%s\n", result.fe_description.c_str());
   if (result.rows.empty()) {
     std::fprintf(stderr, "sedbridge simulate: error: the simulated sensor made no scan (%lld frames, %lld rejected)\n",

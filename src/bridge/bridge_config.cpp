@@ -114,7 +114,7 @@ BridgeConfig Parse(const config::YamlDocument& doc) {
   }
   if (r.Has("lcm")) {
     MapReader l = r.Child("lcm");
-    c.lcm = display::ParseLcmSettings(l);
+    c.lcm = lcm_io::ParseLcmSettings(l);
   }
   r.Finish();
   return c;
@@ -141,14 +141,6 @@ BridgeConfig LoadBridgeConfig(const std::string& path) { return Parse(config::Lo
 
 BridgeConfig ParseBridgeConfig(const std::string& yaml_text, const std::string& file) {
   return Parse(config::LoadYamlString(yaml_text, file));
-}
-
-std::string ResolveDisplayProfilePath(const std::string& name_or_path) {
-  if (std::filesystem::exists(name_or_path)) return name_or_path;
-  const bool bare = name_or_path.find('/') == std::string::npos &&
-                    std::filesystem::path(name_or_path).extension().empty();
-  if (bare) return config::ResolveResource("config/displays/" + name_or_path + ".yaml");
-  return config::ResolveResource(name_or_path);
 }
 
 std::string DefaultBridgeConfigPath() { return config::ResolveResource("config/bridge/default.yaml"); }

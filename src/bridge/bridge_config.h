@@ -9,7 +9,7 @@
 #include "bridge/pad_registration.h"
 #include "bridge/taxel_values.h"
 #include "bridge/traction_field.h"
-#include "display/lcm_channels.h"
+#include "lcm/lcm_channels.h"
 
 namespace sedbridge::bridge {
 
@@ -64,17 +64,13 @@ struct BridgeConfig {
   bool publish_scans = true;  ///< TACTILE_SCAN every scan
 
   // lcm:
-  display::LcmSettings lcm;
+  lcm_io::LcmSettings lcm;
 };
 
 /// Reads a bridge YAML. Throws config::ConfigError.
 BridgeConfig LoadBridgeConfig(const std::string& path);
 /// Same from text (`file` is used in messages).
 BridgeConfig ParseBridgeConfig(const std::string& yaml_text, const std::string& file);
-
-/// A display profile argument: a path, or a shipped name ("suction_4x4" ->
-/// config/displays/suction_4x4.yaml).
-std::string ResolveDisplayProfilePath(const std::string& name_or_path);
 
 /// The shipped default config (config/bridge/default.yaml, resolved from any directory).
 std::string DefaultBridgeConfigPath();

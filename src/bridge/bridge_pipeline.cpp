@@ -4,49 +4,23 @@
 #include <cmath>
 #include <limits>
 
-#include "display/display_profile.h"
-#include "display/lcm_conversions.h"
-#include "sedbridge/lcmt_tactile_scan.hpp"
+#include "lcm/tactile_scan_message.h"
 
 namespace sedbridge::bridge {
-namespace {
-
-lcmt_tactile_scan ToTactileScan(const sensors::Scan& s, const std::string& sensor_id) {
-  lcmt_tactile_scan m;
-  m.utime = s.utime;
-  m.sequence = s.sensor_counter >= 0 ? s.sensor_counter : s.sequence;
-  m.sensor_id = sensor_id;
-  m.num_taxels = s.num_taxels;
-  const size_t n = static_cast<size_t>(std::max(0, s.num_taxels));
-  m.raw_counts.assign(n, 0);
-  m.pressure_kPa.assign(n, 0.0f);
-  m.valid.assign(n, false);
-  const int axes = std::max(1, s.num_axes);
-  for (size_t i = 0; i < n; ++i) {
-    // The message has one raw value per taxel: the normal axis.
-    const size_t ch = i * size_t(axes) + size_t(axes == 3 ? 2 : 0);
-    if (ch < s.raw_counts.size()) m.raw_counts[i] = s.raw_counts[ch];
-    if (i < s.pressure_Pa.size()) m.pressure_kPa[i] = display::ToLcmFloat(s.pressure_Pa[i] * 1e-3);
-    if (i < s.valid.size()) m.valid[i] = s.valid[i] != 0;
-  }
-  return m;
-}
-
-}  // namespace
 
 BridgePipeline::BridgePipeline(const BridgeConfig& config, const sensors::SensorProfile& profile,
-                               std::unique_ptr<FeStep> fe, const display::LcmSettings& lcm, WallClock wall_clock)
+                               display::DisplayProfile display_profile, std::unique_ptr<FeStep> fe,
+                               const lcm_io::LcmSettings& lcm, WallClock wall_clock)
     : config_(config),
       profile_(profile),
       fe_(std::move(fe)),
       conditioner_(profile, PadRegistration(profile.taxels, config.registration), config.conditioning),
-      wall_clock_(wall_clock ? std::move(wall_clock) : WallClock(display::WallClockUtime)),
+      wall_clock_(wall_clock ? std::move(wall_clock) : WallClock(WallClockUtime)),
       status_period_us_(std::max<int64_t>(1, static_cast<int64_t>(std::llround(1e6 / config.status_Hz)))) {
   stage_stats_.fill(LatencyStats(kMaxStageRunSamples));
-  display::DisplaySessionOptions options;
+  lcm_io::DisplaySessionOptions options;
   options.publish_sed = config.publish_sed;
-  display_ = std::make_unique<display::DisplaySession>(
-      display::LoadDisplayProfile(ResolveDisplayProfilePath(config.display_profile)), lcm, options);
+  display_ = std::make_unique<lcm_io::DisplaySession>(std::move(display_profile), lcm, options);
   const Eigen::Matrix3Xd& rest = fe_->merkel_rest_pad_mm();
   field_.model_id = fe_->model_id();
   field_.x_mm.resize(size_t(rest.cols()));
@@ -64,7 +38,7 @@ BridgePipeline::BridgePipeline(const BridgeConfig& config, const sensors::Sensor
 
 BridgePipeline::~BridgePipeline() {
   try {
-    Shutdown(display::WallClockUtime());
+    Shutdown(WallClockUtime());
   } catch (...) {
   }
 }
@@ -96,7 +70,7 @@ ScanOutcome BridgePipeline::ProcessScan(const sensors::Scan& scan, int64_t now_u
   StageTimes& stage_ms = outcome.stage_ms;
   if (config_.publish_scans) {
     const StageTimer timer(stage_ms, Stage::kPublish);
-    display_->publisher().PublishTactileScan(ToTactileScan(scan, profile_.name));
+    display_->publisher().Publish(display_->publisher().channels().tactile_scan, lcm_io::ToLcm(scan, profile_.name));
   }
 
   fault_field_.source_scan_utime = scan.utime;
@@ -169,8 +143,8 @@ void BridgePipeline::Shutdown(int64_t now_utime) {
   if (shut_down_) return;
   shut_down_ = true;
   display_->Shutdown(now_utime);
-  counters_.commands += display::DisplaySession::kShutdownRepeats;
-  display_->publisher().PublishStatus(MakeStatus(now_utime));
+  counters_.commands += lcm_io::DisplaySession::kShutdownRepeats;
+  display_->publisher().Publish(display_->publisher().channels().status, MakeStatus(now_utime));
   ++counters_.status_messages;
   if (auto* log = display_->publisher().log()) log->Flush();
 }
@@ -199,7 +173,7 @@ void BridgePipeline::MaybePublishStatus(int64_t now_utime) {
     if (window_invalid_ > 0)
       fault_state_ = FaultState::kDegraded, fault_message_ = std::to_string(window_invalid_) + " invalid taxel readings";
   }
-  display_->publisher().PublishStatus(MakeStatus(now_utime));
+  display_->publisher().Publish(display_->publisher().channels().status, MakeStatus(now_utime));
   ++counters_.status_messages;
   latency_.ResetWindow();
   window_start_utime_ = now_utime;
@@ -231,7 +205,7 @@ lcmt_bridge_status BridgePipeline::MakeStatus(int64_t now_utime) const {
   s.bad_frames_length = b.wrong_length + b.wrong_frame_type;
   s.bad_frames_checksum = b.error_frames + b.bad_frame_index + b.remote_frames;
   s.bad_frames_sequence = b.missing_frames + b.stale_frames + b.duplicates;
-  const display::DisplayStats& d = const_cast<display::DisplaySession&>(*display_).controller().stats();
+  const display::DisplayStats& d = const_cast<lcm_io::DisplaySession&>(*display_).controller().stats();
   s.commands_clamped = d.commands_clamped;
   s.commands_stale = d.commands_stale;
   s.commands_fault = d.commands_fault;

@@ -27,7 +27,9 @@
 #include "bridge/pipeline_status.h"
 #include "common/stage_times.h"
 #include "bridge/taxel_values.h"
-#include "display/display_session.h"
+#include "display/display_profile.h"
+#include "lcm/display_session.h"
+#include "sedbridge/lcmt_bridge_status.hpp"
 #include "sensors/bad_frame_counters.h"
 #include "sensors/frame_source.h"
 #include "sensors/scan.h"
@@ -69,13 +71,16 @@ class BridgePipeline {
  public:
   using WallClock = std::function<int64_t()>;
 
-  /// @param[in] config    bridge config (display profile, rates, outputs, conditioning)
+  /// @param[in] config    bridge config (rates, outputs, conditioning)
   /// @param[in] profile   sensor profile the scans come from
+  /// @param[in] display_profile  the display the commands are for, already loaded by the caller
+  ///                      (the app: display::LoadNamedDisplayProfile(config.display_profile))
   /// @param[in] fe        FE step implementation (owned)
   /// @param[in] lcm       where to publish (URL, channels, optional log)
-  /// @param[in] wall_clock  for latency [us]; defaults to display::WallClockUtime
-  BridgePipeline(const BridgeConfig& config, const sensors::SensorProfile& profile, std::unique_ptr<FeStep> fe,
-                 const display::LcmSettings& lcm, WallClock wall_clock = {});
+  /// @param[in] wall_clock  for latency [us]; defaults to WallClockUtime
+  BridgePipeline(const BridgeConfig& config, const sensors::SensorProfile& profile,
+                 display::DisplayProfile display_profile, std::unique_ptr<FeStep> fe,
+                 const lcm_io::LcmSettings& lcm, WallClock wall_clock = {});
   ~BridgePipeline();
 
   /// Runs one scan through the chain. `receive_wall_utime`: wall time the scan's last
@@ -101,7 +106,7 @@ class BridgePipeline {
   const LatencyStats& stage_stats(Stage stage) const { return stage_stats_[static_cast<size_t>(stage)]; }
   /// Median per stage over the run's stepped scans that ran it [ms] (0: never ran).
   StageTimes RunStageMedians_ms() const;
-  display::DisplaySession& display() { return *display_; }
+  lcm_io::DisplaySession& display() { return *display_; }
   FeStep& fe() { return *fe_; }
   const ScanConditioner& conditioner() const { return conditioner_; }
   /// Last field sent to the display (finite SED of the last stepped scan).
@@ -120,7 +125,7 @@ class BridgePipeline {
   sensors::SensorProfile profile_;
   std::unique_ptr<FeStep> fe_;
   ScanConditioner conditioner_;
-  std::unique_ptr<display::DisplaySession> display_;
+  std::unique_ptr<lcm_io::DisplaySession> display_;
   WallClock wall_clock_;
 
   TaxelValues values_;

@@ -3,7 +3,7 @@
 // model: the same shape, posed in the leader's pad frame at first touch (lowest point on
 // the pad plane z = 0), ready for scene::FingertipCompliance::PressToForce.
 
-#include "geometry/rigid_object.h"
+#include "common/geometry/rigid_object.h"
 #include "scene/fingertip_compliance.h"
 #include "sensors/tactile_forward_model.h"
 

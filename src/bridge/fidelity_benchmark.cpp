@@ -50,7 +50,7 @@ MethodError Compare(const Eigen::Matrix3Xd& pad_mm, const Eigen::VectorXd& s, co
 }  // namespace
 
 FidelityBenchmark::FidelityBenchmark(const std::string& model_name, const sensors::SensorProfile& profile,
-                                     const std::string& display_name, const std::string& cache_dir)
+                                     const display::DisplayProfile& display, const std::string& cache_dir)
     : profile_(profile) {
   model_ = std::make_unique<model::FingertipModel>(model::LoadFingertipModel(model_name));
   scene::FingertipComplianceOptions options;
@@ -62,8 +62,7 @@ FidelityBenchmark::FidelityBenchmark(const std::string& model_name, const sensor
   map_step_ = std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(model_name, "fast"), profile, registration,
                                                     config.traction);
   conditioner_ = std::make_unique<ScanConditioner>(profile, registration, config.conditioning);
-  mapping_ = std::make_unique<display::SedToCommandMapping>(
-      display::LoadDisplayProfile(ResolveDisplayProfilePath(display_name)));
+  mapping_ = std::make_unique<display::SedToCommandMapping>(display);
 }
 
 FidelityBenchmark::~FidelityBenchmark() = default;

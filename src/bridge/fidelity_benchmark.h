@@ -22,6 +22,7 @@
 
 #include "bridge/contact_reconstruction.h"
 #include "bridge/fidelity_case.h"
+#include "display/display_profile.h"
 
 namespace sedbridge::scene {
 class FingertipCompliance;
@@ -70,10 +71,10 @@ class FidelityBenchmark {
  public:
   /// @param model_name     leader model ("B")
   /// @param profile        follower sensor profile (with forward_model)
-  /// @param display_name   display profile for the command metric ("suction_4x4")
+  /// @param display        display profile for the command metric, loaded by the caller
   /// @param cache_dir      compliance precompute cache ("" = none)
   FidelityBenchmark(const std::string& model_name, const sensors::SensorProfile& profile,
-                    const std::string& display_name, const std::string& cache_dir);
+                    const display::DisplayProfile& display, const std::string& cache_dir);
   ~FidelityBenchmark();
 
   FidelityRow Run(const FidelityCase& c, FidelityMaps* maps);

@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "geometry/rigid_object.h"
+#include "common/geometry/rigid_object.h"
 #include "sensors/calibration_press.h"
 #include "sensors/scan.h"
 #include "sensors/sensor_profile.h"

@@ -4,6 +4,7 @@
 #include <thread>
 #include <vector>
 
+#include "common/wall_clock.h"
 #include "sensors/frame_pump.h"
 
 namespace sedbridge::bridge {
@@ -15,7 +16,7 @@ LiveBridge::LiveBridge(sensors::FrameSource& source, sensors::ScanAssembler& ass
 void LiveBridge::Receive(const std::atomic<bool>& stop) {
   sensors::PumpOptions pump;
   pump.frame_wait_us = options_.receive_timeout_us;
-  pump.wall_clock_utime = display::WallClockUtime;
+  pump.wall_clock_utime = WallClockUtime;
   pump.poll_on_timeout = true;  // a scan with a lost frame still goes out after its timeout
   pump.stop = [&] { return stop.load() || slot_.closed(); };
   sensors::PumpFrames(
@@ -52,12 +53,12 @@ LiveResult LiveBridge::Run(const std::atomic<bool>& stop) {
         slot_.GetCounters(&counters, &stats);
         pipeline_.SetSensorCounters(counters, stats);
         pipeline_.SetScansDroppedUpstream(slot_.dropped_count());
-        pipeline_.ProcessScan(entry.scan, display::WallClockUtime(), entry.receive_wall_utime);
+        pipeline_.ProcessScan(entry.scan, WallClockUtime(), entry.receive_wall_utime);
         ++result.scans_processed;
       } else if (receiver_done.load()) {
         break;  // closed and empty
       } else {
-        pipeline_.Tick(display::WallClockUtime());
+        pipeline_.Tick(WallClockUtime());
         ++result.ticks;
       }
     }
@@ -69,7 +70,7 @@ LiveResult LiveBridge::Run(const std::atomic<bool>& stop) {
   receiver.join();
   source_.Close();
   pipeline_.SetScansDroppedUpstream(slot_.dropped_count());
-  pipeline_.Shutdown(display::WallClockUtime());  // zero on exit and on any fault
+  pipeline_.Shutdown(WallClockUtime());  // zero on exit and on any fault
   result.scans_received = slot_.put_count();
   result.scans_dropped = slot_.dropped_count();
   if (solver_error) std::rethrow_exception(solver_error);

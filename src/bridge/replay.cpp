@@ -7,9 +7,10 @@
 #include <fstream>
 #include <stdexcept>
 
-#include "bridge/reduced_linear_fe_step.h"
 #include "bridge/contact_fe_step.h"
+#include "bridge/reduced_linear_fe_step.h"
 #include "bridge/scene_fe_step.h"
+#include "common/wall_clock.h"
 #include "scene/vtu_writer.h"
 #include "sensors/frame_pump.h"
 #include "sensors/scan_assembler.h"
@@ -83,12 +84,8 @@ void WriteStageCsv(const std::string& path, const std::vector<ReplayRow>& rows) 
   if (!f) throw std::runtime_error("write failed: " + path);
 }
 
-ReplayResult RunReplay(const BridgeConfig& config, sensors::FrameSource& source, const ReplayOptions& options) {
-  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
-  return RunReplay(config, profile, nullptr, source, options);
-}
-
-ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile& profile, std::unique_ptr<FeStep> fe,
+ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile& profile,
+                       const display::DisplayProfile& display_profile, std::unique_ptr<FeStep> fe,
                        sensors::FrameSource& source, const ReplayOptions& options) {
   using Clock = std::chrono::steady_clock;
   ReplayResult result;
@@ -96,14 +93,14 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   if (!fe) fe = MakeFeStep(config, profile, options.vtu_every > 0 && !options.out_dir.empty());
   result.fe_description = fe->Describe();
 
-  display::LcmSettings lcm = config.lcm;
+  lcm_io::LcmSettings lcm = config.lcm;
   lcm.url = options.lcm_url;
   lcm.log_path.clear();
   if (!options.out_dir.empty()) {
     std::filesystem::create_directories(options.out_dir);
     if (options.write_lcm_log) lcm.log_path = (std::filesystem::path(options.out_dir) / "bridge.lcmlog").string();
   }
-  BridgePipeline pipeline(config, profile, std::move(fe), lcm);
+  BridgePipeline pipeline(config, profile, display_profile, std::move(fe), lcm);
   result.display_unit = pipeline.display().controller().profile().unit;
   sensors::AssemblerOptions assembler_options;
   assembler_options.tare_scans = config.tare_scans;
@@ -177,7 +174,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   };
 
   // One scan through the pipeline, its row, the peak snapshot and the optional VTU frame.
-  int64_t last_scan_wall = display::WallClockUtime();
+  int64_t last_scan_wall = WallClockUtime();
   auto process = [&](const sensors::Scan& scan, int64_t receive_wall) {
     pipeline.SetSensorCounters(assembler.counters(), source.Stats());
     const ScanOutcome o = pipeline.ProcessScan(scan, scan.utime, receive_wall);
@@ -216,7 +213,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   sensors::PumpOptions pump;
   // Paced: wait at most one tick, so a pause in the log still ticks the watchdog.
   pump.frame_wait_us = paced ? options.idle_tick_period_us : -1;
-  pump.wall_clock_utime = display::WallClockUtime;
+  pump.wall_clock_utime = WallClockUtime;
   pump.poll_on_timeout = false;  // a log's gaps are the recording's, not a late scan
   if (options.stop) pump.stop = [&] { return options.stop->load(); };
   pump.on_idle = [&](int64_t wall) {

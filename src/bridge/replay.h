@@ -100,13 +100,14 @@ struct ReplayResult {
 };
 
 /// Runs `source` to its end (or until options.stop) through a new pipeline built from
-/// `config`. On every way out — end, stop, or an exception from the source, a stage or a
-/// callback — the display is shut down (zero published) and the LCM log closed before
-/// returning or rethrowing.
-ReplayResult RunReplay(const BridgeConfig& config, sensors::FrameSource& source, const ReplayOptions& options);
-/// Same with a given FE step (e.g. one already built; ownership passes to the pipeline).
+/// `config` and the profiles the caller loaded (config.sensor_profile, config.display_profile).
+/// `fe`: a given FE step (e.g. one already built; ownership passes to the pipeline), or
+/// nullptr to build it from `config`. On every way out — end, stop, or an exception from the
+/// source, a stage or a callback — the display is shut down (zero published) and the LCM log
+/// closed before returning or rethrowing.
 ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile& profile,
-                       std::unique_ptr<FeStep> fe, sensors::FrameSource& source, const ReplayOptions& options);
+                       const display::DisplayProfile& display_profile, std::unique_ptr<FeStep> fe,
+                       sensors::FrameSource& source, const ReplayOptions& options);
 
 /// Writes summary.csv for `rows`.
 void WriteSummaryCsv(const std::string& path, const std::vector<ReplayRow>& rows);

@@ -39,4 +39,12 @@ std::string ResolveResource(const std::string& relative) {
   return relative;
 }
 
+std::string ResolveNameOrPath(const std::string& name_or_path, const std::string& shipped_folder) {
+  namespace fs = std::filesystem;
+  const fs::path p(name_or_path);
+  const bool bare_name = !name_or_path.empty() && !p.has_parent_path() && !p.has_extension();
+  if (bare_name && !fs::exists(p)) return ResolveResource(shipped_folder + "/" + name_or_path + ".yaml");
+  return ResolveResource(name_or_path);
+}
+
 }  // namespace sedbridge::config

@@ -12,6 +12,17 @@ namespace sedbridge::config {
 /// user's own spelling of the path).
 std::string ResolveResource(const std::string& relative);
 
+/// The one rule for "a shipped config by name, or a path" (models, sensor and display
+/// profiles), first match of:
+///   1. a file or folder that exists as given (relative to the working directory, or
+///      absolute): returned unchanged;
+///   2. a bare name (no '/', no extension: "B", "uskin_4x4", "suction_4x4"): the shipped
+///      `<shipped_folder>/<name>.yaml`, resolved with ResolveResource;
+///   3. anything else ("my/profile.yaml", "B.msh"): ResolveResource(name_or_path).
+/// Returns a path that may not exist (the caller's open then names it).
+/// @param[in] shipped_folder  relative to SourceRoot(), e.g. "config/displays"
+std::string ResolveNameOrPath(const std::string& name_or_path, const std::string& shipped_folder);
+
 /// The folder that holds config/ and tools/, first match of:
 ///   1. $SEDBRIDGE_ROOT (set and not empty): a checkout or an installed PREFIX/share/sedbridge;
 ///   2. PREFIX/share/sedbridge when this binary runs from PREFIX/bin (an installed tree,

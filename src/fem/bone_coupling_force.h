@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "fem/force_term.h"
-#include "geometry/trajectory.h"
+#include "common/geometry/trajectory.h"
 
 namespace sedbridge::fem {
 

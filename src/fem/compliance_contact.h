@@ -29,7 +29,7 @@
 #include "fem/penalty_contact_force.h"
 #include "fem/strain_energy_density.h"
 #include "fem/tet_mesh.h"
-#include "geometry/rigid_object.h"
+#include "common/geometry/rigid_object.h"
 
 namespace sedbridge::fem {
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "fem/force_term.h"
-#include "geometry/rigid_object.h"
+#include "common/geometry/rigid_object.h"
 
 namespace sedbridge::fem {
 

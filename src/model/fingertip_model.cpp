@@ -454,12 +454,7 @@ FingertipModel BuildFingertipModel(const MshFile& msh, const ModelDescription& d
 
 FingertipModel LoadFingertipModel(const std::string& name_or_path) {
   namespace fs = std::filesystem;
-  std::string path = name_or_path;
-  const fs::path p(name_or_path);
-  if (!p.has_extension() && !p.has_parent_path()) {
-    path = "config/models/" + name_or_path + ".yaml";  // a bare model name
-  }
-  path = config::ResolveResource(path);
+  const std::string path = config::ResolveNameOrPath(name_or_path, "config/models");
   const std::string ext = fs::path(path).extension().string();
   ModelDescription d;
   if (ext == ".yaml" || ext == ".yml") {

@@ -101,8 +101,8 @@ FingertipModel BuildFingertipModel(const MshFile& msh, const ModelDescription& d
 PadFrame ComputePadFrame(const Eigen::Matrix3Xd& positions_m, const std::vector<int>& skin_nodes,
                          double tilt_deg);
 
-/// Loads a model from a model YAML or a .msh. Relative paths are resolved with
-/// config::ResolveResource; a bare name "B" means config/models/B.yaml.
+/// Loads a model from a model YAML or a .msh, or a shipped model by name ("B" means
+/// config/models/B.yaml): config::ResolveNameOrPath.
 /// Throws config::ConfigError naming the file and, for mesh defects, the element
 /// (Gmsh element tag) or group at fault.
 FingertipModel LoadFingertipModel(const std::string& name_or_path);

@@ -26,7 +26,7 @@
 
 #include "fem/bone_coupling_force.h"
 #include "fem/compliance_contact.h"
-#include "geometry/rigid_object.h"
+#include "common/geometry/rigid_object.h"
 #include "model/fingertip_model.h"
 #include "scene/scene_description.h"
 

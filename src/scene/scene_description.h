@@ -13,7 +13,7 @@
 #include "fem/linear_solver.h"
 #include "fem/penalty_contact_force.h"
 #include "fem/simulation.h"
-#include "geometry/rigid_object.h"
+#include "common/geometry/rigid_object.h"
 
 namespace sedbridge::scene {
 

@@ -10,7 +10,8 @@
 
 #include "bridge/replay.h"
 #include "bridge_test_util.h"
-#include "display/display_session.h"
+#include "common/wall_clock.h"
+#include "lcm/display_session.h"
 
 namespace sedbridge::bridge {
 namespace {
@@ -18,13 +19,13 @@ namespace {
 TEST(BridgePipeline, NanScansAreCountedSkippedAndZeroTheDisplay) {
   const BridgeConfig config = testing::TestConfig();
   const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
-  display::LcmSettings lcm;
+  lcm_io::LcmSettings lcm;
   lcm.url = "memq://";
-  BridgePipeline pipeline(config, profile, MakeFeStep(config, profile), lcm);
+  BridgePipeline pipeline(config, profile, testing::ConfigDisplay(config), MakeFeStep(config, profile), lcm);
   int64_t t = 1'000'000;
   // A firm press brings the display up.
   for (int i = 0; i < 30; ++i, t += 10'000) {
-    const ScanOutcome o = pipeline.ProcessScan(testing::UniformScan(profile, 8e3, t), t, display::WallClockUtime());
+    const ScanOutcome o = pipeline.ProcessScan(testing::UniformScan(profile, 8e3, t), t, WallClockUtime());
     ASSERT_TRUE(o.stepped) << o.problem;
   }
   float before = 0;
@@ -33,7 +34,7 @@ TEST(BridgePipeline, NanScansAreCountedSkippedAndZeroTheDisplay) {
   // An all-NaN scan: not stepped (the FE would throw), counted, display to zero with fault.
   sensors::Scan bad = testing::UniformScan(profile, 8e3, t);
   for (double& p : bad.pressure_Pa) p = std::nan("");
-  const ScanOutcome o = pipeline.ProcessScan(bad, t, display::WallClockUtime());
+  const ScanOutcome o = pipeline.ProcessScan(bad, t, WallClockUtime());
   EXPECT_FALSE(o.stepped);
   EXPECT_EQ(pipeline.counters().scans_rejected, 1);
   EXPECT_EQ(pipeline.counters().rejected_by_reason[RejectReason::kTooManyInvalidTaxels], 1);
@@ -46,7 +47,7 @@ TEST(BridgePipeline, NanScansAreCountedSkippedAndZeroTheDisplay) {
   for (double v : pipeline.last_command().value) EXPECT_EQ(v, 0.0);
   // The next good scan recovers.
   t += 10'000;
-  EXPECT_TRUE(pipeline.ProcessScan(testing::UniformScan(profile, 8e3, t), t, display::WallClockUtime()).stepped);
+  EXPECT_TRUE(pipeline.ProcessScan(testing::UniformScan(profile, 8e3, t), t, WallClockUtime()).stepped);
   EXPECT_EQ(pipeline.fault_state(), FaultState::kOk);
   EXPECT_EQ(pipeline.counters().steps, 31);
 }
@@ -54,10 +55,10 @@ TEST(BridgePipeline, NanScansAreCountedSkippedAndZeroTheDisplay) {
 TEST(BridgePipeline, LatencyIsMeasuredOnTheInjectedWallClockFromTheReceiveTime) {
   const BridgeConfig config = testing::TestConfig();
   const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
-  display::LcmSettings lcm;
+  lcm_io::LcmSettings lcm;
   lcm.url = "memq://";
   int64_t wall_us = 50'000;
-  BridgePipeline pipeline(config, profile, MakeFeStep(config, profile), lcm, [&] { return wall_us; });
+  BridgePipeline pipeline(config, profile, testing::ConfigDisplay(config), MakeFeStep(config, profile), lcm, [&] { return wall_us; });
   const ScanOutcome o = pipeline.ProcessScan(testing::UniformScan(profile, 8e3, 1'000'000), 1'000'000, 46'500);
   ASSERT_TRUE(o.stepped) << o.problem;
   EXPECT_EQ(o.latency_us, 3'500);
@@ -69,12 +70,12 @@ TEST(BridgePipeline, LatencyIsMeasuredOnTheInjectedWallClockFromTheReceiveTime) 
 TEST(BridgePipeline, ShutdownZeroesTheDisplayOnceAndRefusesLaterScans) {
   const BridgeConfig config = testing::TestConfig();
   const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
-  display::LcmSettings lcm;
+  lcm_io::LcmSettings lcm;
   lcm.url = "memq://";
-  BridgePipeline pipeline(config, profile, MakeFeStep(config, profile), lcm);
+  BridgePipeline pipeline(config, profile, testing::ConfigDisplay(config), MakeFeStep(config, profile), lcm);
   int64_t t = 1'000'000;
   for (int i = 0; i < 10; ++i, t += 10'000)
-    ASSERT_TRUE(pipeline.ProcessScan(testing::UniformScan(profile, 8e3, t), t, display::WallClockUtime()).stepped);
+    ASSERT_TRUE(pipeline.ProcessScan(testing::UniformScan(profile, 8e3, t), t, WallClockUtime()).stepped);
   pipeline.Shutdown(t);
   for (double v : pipeline.last_command().value) EXPECT_EQ(v, 0.0);
   const int64_t commands = pipeline.counters().commands;
@@ -83,7 +84,7 @@ TEST(BridgePipeline, ShutdownZeroesTheDisplayOnceAndRefusesLaterScans) {
   pipeline.Tick(t + 2000);
   EXPECT_EQ(pipeline.counters().commands, commands);
   EXPECT_EQ(pipeline.counters().status_messages, status);
-  const ScanOutcome o = pipeline.ProcessScan(testing::UniformScan(profile, 8e3, t), t, display::WallClockUtime());
+  const ScanOutcome o = pipeline.ProcessScan(testing::UniformScan(profile, 8e3, t), t, WallClockUtime());
   EXPECT_FALSE(o.stepped);
   EXPECT_EQ(o.problem, "shut down");
   EXPECT_EQ(pipeline.counters().scans, 10);
@@ -93,16 +94,16 @@ TEST(BridgePipeline, ShutdownZeroesTheDisplayOnceAndRefusesLaterScans) {
 TEST(BridgePipeline, StatusCountsScansDroppedUpstreamAndRejected) {
   const BridgeConfig config = testing::TestConfig();
   const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
-  display::LcmSettings lcm;
+  lcm_io::LcmSettings lcm;
   lcm.url = "memq://";
-  BridgePipeline pipeline(config, profile, MakeFeStep(config, profile), lcm);
+  BridgePipeline pipeline(config, profile, testing::ConfigDisplay(config), MakeFeStep(config, profile), lcm);
   sensors::BadFrameCounters counters;
   counters.scans_dropped = 2;
   pipeline.SetSensorCounters(counters, sensors::FrameSourceStats{});
   pipeline.SetScansDroppedUpstream(3);
   sensors::Scan bad = testing::UniformScan(profile, 8e3, 1'000'000);
   for (double& p : bad.pressure_Pa) p = std::nan("");  // nothing usable: rejected
-  EXPECT_FALSE(pipeline.ProcessScan(bad, 1'000'000, display::WallClockUtime()).stepped);
+  EXPECT_FALSE(pipeline.ProcessScan(bad, 1'000'000, WallClockUtime()).stepped);
   EXPECT_EQ(pipeline.counters().scans_rejected, 1);
   EXPECT_EQ(pipeline.MakeStatus(1'000'000).scans_dropped, 2 + 3 + 1);
 }

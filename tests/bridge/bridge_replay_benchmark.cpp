@@ -8,6 +8,7 @@
 
 #include "bridge/replay.h"
 #include "bridge/scene_fe_step.h"
+#include "bridge_test_util.h"
 #include "sensors/candump_log.h"
 
 namespace sedbridge::bridge {
@@ -29,7 +30,7 @@ void BM_ReplayExampleLog(benchmark::State& state, const std::string& model, cons
     auto fe = MakeFeStep(config, profile);  // model load + factorization: not timed
     ReplayOptions options;
     state.ResumeTiming();
-    const ReplayResult r = RunReplay(config, profile, std::move(fe), source, options);
+    const ReplayResult r = RunReplay(config, profile, testing::ConfigDisplay(config), std::move(fe), source, options);
     scans += r.counters.scans;
     wall += r.wall_s;
     p50 = r.latency.p50_ms;

@@ -48,7 +48,7 @@ TEST(ContactFeStep, ExampleLogPublishesContactEstimates) {
     while (lcm && lcm->handleTimeout(0) > 0) {
     }
   };
-  const ReplayResult r = RunReplay(config, source, options);
+  const ReplayResult r = testing::ReplayWithConfigProfiles(config, source, options);
   ASSERT_EQ(got.size(), size_t(r.counters.steps));
   int spheres = 0, none = 0;
   for (const auto& m : got) {
@@ -117,7 +117,7 @@ TEST(ContactFeStep, VtuFramesOfTheWholeMesh) {
   std::filesystem::remove_all(options.out_dir);
   std::filesystem::create_directories(options.out_dir);
   options.vtu_every = 100;
-  const ReplayResult r = RunReplay(config, source, options);
+  const ReplayResult r = testing::ReplayWithConfigProfiles(config, source, options);
   ASSERT_EQ(r.counters.steps, 300);
   for (const char* f : {"frames.pvd", "frame_000000.vtu", "frame_000100.vtu", "frame_000200.vtu"})
     EXPECT_TRUE(std::filesystem::exists(std::filesystem::path(options.out_dir) / f)) << f;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "common/resource_path.h"
+#include "display/display_profile.h"
 
 namespace sedbridge::bridge {
 namespace {
@@ -13,7 +14,7 @@ TEST(FidelityBenchmark, RigPressesMeetTheTargetsWithReconstructedContact) {
   const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
   const auto presses = sensors::LoadCalibrationPresses(
       config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), profile);
-  FidelityBenchmark bench("B", profile, "suction_4x4", "");
+  FidelityBenchmark bench("B", profile, display::LoadNamedDisplayProfile("suction_4x4"), "");
   // Spheres of 2.5, 5, 8 and 15 mm, a flat, and a stroke.
   for (int i : {1, 3, 6, 9, 17, 19}) {
     FidelityMaps maps;

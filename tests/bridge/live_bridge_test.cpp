@@ -10,6 +10,7 @@
 
 #include "bridge/replay.h"
 #include "bridge_test_util.h"
+#include "common/wall_clock.h"
 #include "sensors/scan_assembler.h"
 #include "sensors/simulated/simulated_sensor.h"
 
@@ -28,7 +29,7 @@ class EndlessSimulatedSource final : public sensors::FrameSource {
       sim_.ScanFrames(scan_++ % sim_.scan_count(), &frames_);
     }
     sensors::Frame f = frames_[next_++];
-    f.utime = display::WallClockUtime();
+    f.utime = WallClockUtime();
     ++stats_.frames;
     return f;
   }
@@ -53,9 +54,9 @@ TEST(LiveBridge, FastSensorSlowSolverDropsOldScansAndStopsCleanly) {
       std::string(SEDBRIDGE_SOURCE_DIR) + "/config/bridge/example_press_scene.yaml", config.sensor_profile);
   const sensors::SensorProfile profile = sim.profile;
   EndlessSimulatedSource source(sim);  // frames as fast as the receiver reads: far above the solver
-  display::LcmSettings lcm;
+  lcm_io::LcmSettings lcm;
   lcm.url = "memq://";
-  BridgePipeline pipeline(config, profile, MakeFeStep(config, profile), lcm);
+  BridgePipeline pipeline(config, profile, testing::ConfigDisplay(config), MakeFeStep(config, profile), lcm);
   sensors::ScanAssembler assembler(profile);
   LiveBridge bridge(source, assembler, pipeline);
 
@@ -96,9 +97,9 @@ class ThrowingSource final : public sensors::FrameSource {
 TEST(LiveBridge, ReceiverFaultDrivesDisplayToZeroAndRethrows) {
   const BridgeConfig config = testing::TestConfig();
   const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
-  display::LcmSettings lcm;
+  lcm_io::LcmSettings lcm;
   lcm.url = "memq://";
-  BridgePipeline pipeline(config, profile, MakeFeStep(config, profile), lcm);
+  BridgePipeline pipeline(config, profile, testing::ConfigDisplay(config), MakeFeStep(config, profile), lcm);
   sensors::ScanAssembler assembler(profile);
   ThrowingSource source;
   LiveBridge bridge(source, assembler, pipeline);

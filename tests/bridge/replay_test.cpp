@@ -14,12 +14,13 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "bridge_test_util.h"
-#include "tests/common/lcm_log_check.h"
-#include "display/lcm_conversions.h"
-#include "display/lcm_log_reader.h"
+#include "lcm/display_command_message.h"
+#include "lcm/lcm_log_reader.h"
+#include "lcm/merkel_sed_message.h"
 #include "sedbridge/lcmt_bridge_status.hpp"
 #include "sedbridge/lcmt_display_command.hpp"
 #include "sensors/candump_log.h"
+#include "tests/common/lcm_log_check.h"
 
 namespace sedbridge::bridge {
 namespace {
@@ -62,14 +63,14 @@ TEST(Replay, ExampleLogOverMemqPublishesOrderedLimitedCommands) {
     drain();
     lcm = nullptr;  // dies with the pipeline
   };
-  const ReplayResult r = RunReplay(config, source, options);
+  const ReplayResult r = testing::ReplayWithConfigProfiles(config, source, options);
 
   // 3 s at 100 Hz: every scan processed, one command each, plus the shutdown commands.
   ASSERT_EQ(r.rows.size(), 300u);
   EXPECT_EQ(r.counters.steps, 300);
   EXPECT_EQ(r.counters.scans_rejected, 0);
   EXPECT_EQ(got.scans, 300);
-  ASSERT_EQ(got.commands.size(), 300u + display::DisplaySession::kShutdownRepeats);
+  ASSERT_EQ(got.commands.size(), 300u + lcm_io::DisplaySession::kShutdownRepeats);
   const double max = 20.0;  // suction_4x4 safety.max [kPa]
   int nonzero = 0;
   for (size_t i = 0; i < got.commands.size(); ++i) {
@@ -142,7 +143,7 @@ std::string SummaryWithoutLatency(const std::string& path) {
 }
 
 std::vector<std::string> LoggedCommands(const std::string& log) {
-  display::LcmLogReader reader(log);
+  lcm_io::LcmLogReader reader(log);
   std::vector<std::string> out;
   while (const lcm::LogEvent* e = reader.Next())
     if (e->channel == "DISPLAY_COMMAND" || e->channel == "TACTILE_SCAN")
@@ -159,7 +160,7 @@ TEST(Replay, TwoReplaysWriteIdenticalOutput) {
     ReplayOptions options;
     options.out_dir = dir;
     options.vtu_every = 100;
-    RunReplay(config, source, options);
+    testing::ReplayWithConfigProfiles(config, source, options);
   }
   for (const char* f : {"frames.pvd", "frame_000000.vtu", "frame_000100.vtu", "frame_000200.vtu"})
     EXPECT_TRUE(std::filesystem::exists(dirs[0] + "/" + f)) << f;
@@ -194,7 +195,7 @@ TEST(Replay, ExceptionInAStageStillZeroesTheDisplayAndClosesTheLog) {
     max_seen = std::max(max_seen, o.max_command);
     if (max_seen > 1.0) throw std::runtime_error("stage failed");
   };
-  EXPECT_THROW(RunReplay(config, source, options), std::runtime_error);
+  EXPECT_THROW(testing::ReplayWithConfigProfiles(config, source, options), std::runtime_error);
   ASSERT_GT(max_seen, 1.0);
   const auto log = sedbridge::testing::ReadLog(dir + "/bridge.lcmlog");
   EXPECT_TRUE(log.whole());
@@ -213,7 +214,7 @@ TEST(Replay, StopFlagEndsTheRunWithTheDisplayAtZero) {
   options.on_scan = [&](const ScanOutcome& o, BridgePipeline&) {
     if (o.max_command > 1.0) stop = true;
   };
-  const ReplayResult r = RunReplay(config, source, options);
+  const ReplayResult r = testing::ReplayWithConfigProfiles(config, source, options);
   EXPECT_TRUE(r.stopped_early);
   EXPECT_LT(r.rows.size(), 300u);  // not the whole log
 }
@@ -238,7 +239,7 @@ TEST(Replay, BusOffAndErrorPassiveRaiseFaultStateOnBridgeStatus) {
     EXPECT_EQ(p.MakeStatus(0).fault_state, 2);
     EXPECT_EQ(p.MakeStatus(0).fault_message, "CAN bus-off");
   };
-  RunReplay(config, source, options);
+  testing::ReplayWithConfigProfiles(config, source, options);
   EXPECT_GT(checked, 10);
 }
 

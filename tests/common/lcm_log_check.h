@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "display/lcm_log_reader.h"
+#include "lcm/lcm_log_reader.h"
 #include "sedbridge/lcmt_display_command.hpp"
 
 namespace sedbridge::testing {
@@ -25,13 +25,13 @@ struct LogCheck {
 inline LogCheck ReadLog(const std::string& path, const std::string& command_channel = "DISPLAY_COMMAND") {
   LogCheck c;
   c.file_bytes = static_cast<int64_t>(std::filesystem::file_size(path));
-  display::LcmLogReader reader(path);
+  lcm_io::LcmLogReader reader(path);
   while (const lcm::LogEvent* e = reader.Next()) {
     ++c.events;
     c.record_bytes += 4 + 8 + 8 + 4 + 4 + static_cast<int64_t>(e->channel.size()) + e->datalen;
     if (e->channel != command_channel) continue;
     lcmt_display_command m;
-    if (display::LcmLogReader::Decode(*e, &m)) c.commands.push_back(m);
+    if (lcm_io::LcmLogReader::Decode(*e, &m)) c.commands.push_back(m);
   }
   return c;
 }

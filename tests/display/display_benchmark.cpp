@@ -7,9 +7,11 @@
 #include <string>
 
 #include "display/display_controller.h"
-#include "display/lcm_publisher.h"
+#include "lcm/display_command_message.h"
+#include "lcm/lcm_publisher.h"
 
 namespace sedbridge::display {
+using namespace sedbridge::lcm_io;  // LCM messages in and out
 namespace {
 
 // A Merkel-layer-like field: `n` vertices on a 16 mm x 16 mm patch 1.5 mm under the pad.
@@ -52,7 +54,7 @@ void BM_PublishCommandMemq(benchmark::State& state) {
   int k = 0;
   for (auto _ : state) {
     c.sequence = k++;
-    out.PublishCommand(c);
+    out.Publish(out.channels().command, ToLcm(c));
     if (k % 256 == 0) state.PauseTiming(), out.lcm().handleTimeout(0), state.ResumeTiming();
   }
 }

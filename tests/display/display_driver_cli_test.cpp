@@ -20,8 +20,8 @@
 #include <thread>
 #include <vector>
 
+#include "common/wall_clock.h"
 #include "display/display_profile.h"
-#include "display/display_session.h"
 #include "tests/common/lcm_multicast_probe.h"
 
 namespace {
@@ -141,7 +141,7 @@ TEST(DisplayDriverCli, BridgeKilledMidPressDriverOutputIsZeroWithinWatchdogPlusR
         return !rows.empty() && rows.back().max > 1.0;
       },
       120);
-  const int64_t kill_utime = sedbridge::display::WallClockUtime();
+  const int64_t kill_utime = sedbridge::WallClockUtime();
   ::kill(bridge, SIGKILL);
   int bridge_status = 0;
   ::waitpid(bridge, &bridge_status, 0);

@@ -11,11 +11,13 @@
 #include <filesystem>
 #include <fstream>
 
-#include "display/lcm_conversions.h"
 #include "display/serial_actuator_output.h"
+#include "lcm/display_command_message.h"
+#include "lcm/merkel_sed_message.h"
 #include "sedbridge/lcmt_display_command.hpp"
 
 namespace sedbridge::display {
+using namespace sedbridge::lcm_io;  // LCM messages in and out
 namespace {
 
 constexpr int64_t kMs = 1000;
@@ -54,7 +56,7 @@ double MaxOf(const ActuatorFrame& f) { return *std::max_element(f.value.begin(),
 TEST(DisplayDriver, OwnLimiterAndWatchdogRampToZeroWhenCommandsStop) {
   const DisplayProfile p = Suction();  // max 20 kPa, slew 200 kPa/s, watchdog 0.1 s
   std::vector<ActuatorFrame> frames;
-  DisplayDriver driver(p, std::make_unique<CaptureOutput>(&frames));
+  DisplayDriver driver(p, std::make_unique<CaptureOutput>(&frames), DecodeDisplayCommand);
   int64_t t = kT0;
   // 1 s of commands at 100 Hz asking for 1000 kPa (a bridge gone wrong): clipped to 20.
   for (int k = 0; k < 100; ++k, t += 10 * kMs) {
@@ -84,7 +86,7 @@ TEST(DisplayDriver, OwnLimiterAndWatchdogRampToZeroWhenCommandsStop) {
 TEST(DisplayDriver, MalformedAndWrongDisplayCommandsAreCountedAndIgnored) {
   const DisplayProfile p = Suction();
   std::vector<ActuatorFrame> frames;
-  DisplayDriver driver(p, std::make_unique<CaptureOutput>(&frames));
+  DisplayDriver driver(p, std::make_unique<CaptureOutput>(&frames), DecodeDisplayCommand);
   // The 160-byte num_actuators = 1e9 packet (issue 13).
   std::vector<uint8_t> bomb = Encoded(kT0, 0, 5.0, p);
   const size_t at = 8 + 32 + (4 + p.name.size() + 1) + (4 + p.unit.size() + 1);
@@ -106,7 +108,7 @@ TEST(DisplayDriver, AuthenticationRejectsUnsignedForgedAndReplayedCommands) {
   auto auth = std::make_shared<CommandAuthenticator>(Key(7));
   const CommandAuthenticator attacker(Key(8));
   std::vector<ActuatorFrame> frames;
-  DisplayDriver driver(p, std::make_unique<CaptureOutput>(&frames), auth);
+  DisplayDriver driver(p, std::make_unique<CaptureOutput>(&frames), DecodeDisplayCommand, auth);
   int64_t t = kT0;
   // Forged 1e6 kPa commands: unsigned, signed with the wrong key, or with one bit flipped.
   for (int k = 0; k < 30; ++k, t += 10 * kMs) {
@@ -141,6 +143,27 @@ TEST(DisplayDriver, AuthenticationRejectsUnsignedForgedAndReplayedCommands) {
     }
   EXPECT_EQ(driver.counters().replayed, 90);
   EXPECT_EQ(driver.counters().accepted, 30);
+}
+
+TEST(DisplayDriver, TheWireFormatComesInAsADecoder) {
+  const DisplayProfile p = Suction();
+  std::vector<ActuatorFrame> frames;
+  EXPECT_THROW(DisplayDriver(p, std::make_unique<CaptureOutput>(&frames), nullptr), std::invalid_argument);
+  // Any decoder will do: the core checks the decoded command, not the bytes.
+  const DisplayCommandDecoder one_byte_per_command = [&p](const void* data, std::size_t size, DisplayCommand* c) {
+    if (size != 1) return false;
+    c->utime = kT0 + *static_cast<const uint8_t*>(data);
+    c->display_id = p.name;
+    c->unit = p.unit;
+    c->value.assign(p.size(), 5.0);
+    return true;
+  };
+  DisplayDriver driver(p, std::make_unique<CaptureOutput>(&frames), one_byte_per_command);
+  const uint8_t byte = 1;
+  EXPECT_TRUE(driver.OnMessage(&byte, 1, kT0));
+  EXPECT_FALSE(driver.OnMessage(&byte, 0, kT0));
+  EXPECT_EQ(driver.counters().accepted, 1);
+  EXPECT_EQ(driver.counters().malformed, 1);
 }
 
 TEST(CommandAuthenticator, KeyFileMustBeLongAndPrivate) {

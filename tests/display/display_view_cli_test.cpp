@@ -12,9 +12,10 @@
 #include <string>
 #include <unistd.h>
 
-#include "display/display_session.h"
+#include "lcm/display_session.h"
 
 namespace sedbridge::display {
+using namespace sedbridge::lcm_io;  // LCM messages in and out
 namespace {
 
 namespace fs = std::filesystem;

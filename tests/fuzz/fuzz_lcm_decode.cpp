@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <vector>
 
-#include "display/lcm_safe_decode.h"
+#include "lcm/lcm_safe_decode.h"
 #include "sedbridge/lcmt_bridge_status.hpp"
 #include "sedbridge/lcmt_display_command.hpp"
 #include "sedbridge/lcmt_merkel_sed.hpp"
@@ -30,7 +30,7 @@ void Roundtrip(const Msg& m, const uint8_t* data, size_t size) {
 template <typename Msg, typename Check>
 void Try(const uint8_t* data, size_t size, Check check) {
   Msg m;
-  if (!display::SafeDecode(data, size, &m)) return;
+  if (!lcm_io::SafeDecode(data, size, &m)) return;
   check(m);
   Roundtrip(m, data, size);
 }

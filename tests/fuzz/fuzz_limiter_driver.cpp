@@ -18,11 +18,13 @@
 
 #include "display/command_authenticator.h"
 #include "display/display_driver.h"
-#include "display/lcm_conversions.h"
 #include "display/safety_limiter.h"
+#include "lcm/display_command_message.h"
+#include "lcm/merkel_sed_message.h"
 #include "sedbridge/lcmt_display_command.hpp"
 
 using namespace sedbridge::display;
+using namespace sedbridge::lcm_io;
 using sedbridge::lcmt_display_command;
 
 namespace {
@@ -177,7 +179,7 @@ void FuzzDriver(Bytes& b) {
   auto auth = std::make_shared<CommandAuthenticator>(std::vector<uint8_t>(32, 0x5a));
   const CommandAuthenticator attacker(std::vector<uint8_t>(32, 0xa5));
   std::vector<ActuatorFrame> frames;
-  DisplayDriver driver(p, std::make_unique<Capture>(&frames), auth);
+  DisplayDriver driver(p, std::make_unique<Capture>(&frames), DecodeDisplayCommand, auth);
   // Falls are not checked here: a NaN message between two ticks drops the output to zero at
   // once (with the fault flag) and the next good one clears the flag before the tick sees it.
   int64_t t = 1'700'000'000'000'000, utime = t;

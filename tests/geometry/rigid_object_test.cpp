@@ -1,4 +1,4 @@
-#include "geometry/rigid_object.h"
+#include "common/geometry/rigid_object.h"
 
 #include <gtest/gtest.h>
 

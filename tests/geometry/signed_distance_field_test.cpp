@@ -1,4 +1,4 @@
-#include "geometry/signed_distance_field.h"
+#include "common/geometry/signed_distance_field.h"
 
 #include <gtest/gtest.h>
 

@@ -1,4 +1,4 @@
-#include "geometry/trajectory.h"
+#include "common/geometry/trajectory.h"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,49 @@
+#!/usr/bin/env python3
+"""tools/check_include_graph.py passes on the tree and fails on a tree that breaks the rule."""
+import os
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
+CHECK = os.path.join(ROOT, "tools", "check_include_graph.py")
+
+
+def run(root):
+    p = subprocess.run([sys.executable, CHECK, root], capture_output=True, text=True)
+    return p.returncode, p.stdout
+
+
+def write(root, path, text):
+    full = os.path.join(root, path)
+    os.makedirs(os.path.dirname(full), exist_ok=True)
+    with open(full, "w") as f:
+        f.write(text)
+
+
+def main():
+    rc, out = run(ROOT)
+    assert rc == 0, "the tree breaks the include rule:\n" + out
+
+    with tempfile.TemporaryDirectory() as t:
+        for stage in ("common", "fem", "bridge", "lcm"):
+            os.makedirs(os.path.join(t, "src", stage))
+        write(t, "sensors/ok.cpp", '#include "sensors/scan.h"\n#include "common/yaml_reader.h"\n#include <vector>\n')
+        write(t, "display/ok.h", '#include "display/sed_field.h"\n#include "sedbridge/lcmt_display_command.hpp"\n')
+        rc, out = run(t)
+        assert rc == 0, out
+        write(t, "sensors/simulated/bad.h", '#include "fem/tet_mesh.h"\n')
+        write(t, "display/bad.cpp", '  #  include "lcm/lcm_publisher.h"\n')
+        write(t, "src/common/bad.h", '#include "bridge/replay.h"\n')
+        rc, out = run(t)
+        assert rc == 1, out
+        for where in ("sensors/simulated/bad.h:1", "display/bad.cpp:1", "src/common/bad.h:1"):
+            assert where in out, where + " not reported:\n" + out
+        assert out.count("includes src/") == 3, out
+    print("include graph check: passes on the tree, fails on 3 planted arrows")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

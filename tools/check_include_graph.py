@@ -1,0 +1,67 @@
+#!/usr/bin/env python3
+"""The include graph has no arrow back into src/ (issue 16).
+
+Rules, checked on every quoted #include of the tree at ROOT:
+  * sensors/ and display/ include nothing from src/ except src/common (the one base every
+    stage may use);
+  * src/common includes nothing from another stage (a base depends on no stage).
+An include "X/..." is a src/ include when src/X is a folder (the build's include roots are
+src/ and the project root, so "fem/tet_mesh.h" is src/fem/tet_mesh.h).
+
+Usage: check_include_graph.py [ROOT]; exit 0 when clean, 1 listing every offending line.
+"""
+import os
+import re
+import sys
+
+INCLUDE = re.compile(r'^\s*#\s*include\s*"([^"]+)"')
+SOURCE_SUFFIXES = (".h", ".hpp", ".cpp", ".cc")
+
+
+def stage_of(include, src_stages):
+    """The src/ stage an include points into, or None when it is not a src/ include."""
+    parts = include.split("/")
+    if parts[0] == "src" and len(parts) > 1:
+        return parts[1]
+    return parts[0] if parts[0] in src_stages and len(parts) > 1 else None
+
+
+def violations(root):
+    src = os.path.join(root, "src")
+    src_stages = {d for d in os.listdir(src) if os.path.isdir(os.path.join(src, d))}
+    # folder checked -> stages it may include from src/
+    allowed = {"sensors": {"common"}, "display": {"common"}, os.path.join("src", "common"): {"common"}}
+    found = []
+    for folder, may in allowed.items():
+        for dirpath, _, files in os.walk(os.path.join(root, folder)):
+            for name in sorted(files):
+                if not name.endswith(SOURCE_SUFFIXES):
+                    continue
+                path = os.path.join(dirpath, name)
+                with open(path, encoding="utf-8", errors="replace") as f:
+                    for number, line in enumerate(f, 1):
+                        m = INCLUDE.match(line)
+                        if not m:
+                            continue
+                        stage = stage_of(m.group(1), src_stages)
+                        if stage is not None and stage not in may:
+                            found.append("%s:%d: %s includes src/%s (allowed from src/: %s)" % (
+                                os.path.relpath(path, root), number, folder, m.group(1).removeprefix("src/"),
+                                ", ".join(sorted(may))))
+    return found
+
+
+def main():
+    root = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..")
+    found = violations(root)
+    for v in found:
+        print(v)
+    if found:
+        print("include graph: %d arrow(s) back into src/ (see tools/check_include_graph.py)" % len(found))
+        return 1
+    print("include graph: sensors/, display/ and src/common include nothing from src/ but src/common")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
