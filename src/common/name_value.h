@@ -52,8 +52,8 @@ struct ValueRange {
 /// A field: `name` is the YAML key, `value` the member. Built by Field() and chained setters.
 template <typename T>
 struct NameValue {
-  const char* name;
-  T* value;
+  const char* name = nullptr;
+  T* value = nullptr;
   const char* unit = "";     ///< for messages and docs ("" = none or in the key's name)
   ValueRange range;          ///< numbers (and each number of a sequence)
   bool required = false;     ///< absent key is an error (else the member keeps its default)
@@ -69,6 +69,7 @@ struct NameValue {
   NameValue& Positive() { range.min = 0; range.min_open = true; return *this; }
   NameValue& NonNegative() { range.min = 0; range.min_open = false; return *this; }
   NameValue& AtLeast(double lo) { range.min = lo; range.min_open = false; return *this; }
+  NameValue& Below(double hi) { range.max = hi; range.max_open = true; return *this; }
   /// Closed interval [lo, hi].
   NameValue& InRange(double lo, double hi) { range = {lo, hi, false, false}; return *this; }
   /// Any interval (open or closed at either end).
@@ -80,7 +81,10 @@ struct NameValue {
 /// Names a member: `a->Visit(Field("dt_s", &dt_s).Positive())`.
 template <typename T>
 NameValue<T> Field(const char* name, T* value) {
-  return NameValue<T>{name, value};
+  NameValue<T> field;
+  field.name = name;
+  field.value = value;
+  return field;
 }
 
 }  // namespace sedbridge::config

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "common/enum_names.h"
 #include "fem/elastic_tet_force.h"
 #include "fem/force_term.h"
 #include "fem/linear_solver.h"
@@ -17,6 +18,12 @@
 namespace sedbridge::fem {
 
 enum class IntegratorKind { kBackwardEuler, kQuasiStatic };
+/// "backward_euler", "quasi_static" (scene key dynamics.integrator).
+inline const config::EnumNames<IntegratorKind>& NamesOf(IntegratorKind) {
+  static const config::EnumNames<IntegratorKind> names{{IntegratorKind::kBackwardEuler, "backward_euler"},
+                                                       {IntegratorKind::kQuasiStatic, "quasi_static"}};
+  return names;
+}
 
 struct IntegratorSettings {
   IntegratorKind kind = IntegratorKind::kBackwardEuler;
