@@ -24,6 +24,7 @@
 #include <Eigen/Core>
 
 #include "bridge/pad_registration.h"
+#include "common/enum_names.h"
 #include "sensors/scan.h"
 #include "sensors/sensor_profile.h"
 
@@ -43,6 +44,8 @@ struct TaxelValues {
 };
 
 enum class InvalidTaxelPolicy { kFill, kZero };
+/// "fill", "zero" (bridge key traction.invalid_taxels).
+const config::EnumNames<InvalidTaxelPolicy>& NamesOf(InvalidTaxelPolicy);
 
 struct ScanConditioningOptions {
   InvalidTaxelPolicy invalid = InvalidTaxelPolicy::kFill;

@@ -6,6 +6,7 @@
 
 #include <sstream>
 
+#include "common/yaml_reader.h"
 #include "geometry/rigid_object.h"
 #include "sensors/candump_log.h"
 #include "sensors/scan_assembler.h"
