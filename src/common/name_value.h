@@ -9,7 +9,10 @@
 //     a->Section("solver", [&](auto* s) { s->Visit(Field("type", &solver).OneOf(SolverNames())); });
 //   }
 //
-// and every archive (common/yaml_read_archive.h reads YAML, common/schema_keys.h lists the
+// A key whose value is no plain field (a trajectory, a list of objects) is named with
+// `a->HandRead("motion")` and read by the owner's parser after the archive.
+//
+// Every archive (common/yaml_read_archive.h reads YAML, common/schema_keys.h lists the
 // keys) walks the same list. The default of a field is its member initialiser: a reader
 // leaves a member whose key is absent as it is. This header needs no YAML (Drake's
 // common/name_value.h is the model).

@@ -65,6 +65,12 @@ class YamlReadArchive {
   template <typename Visitor>
   void Section(const char* name, Visitor&& visit);
 
+  /// A key the owner reads itself after the archive (a trajectory, a list of objects):
+  /// named in the schema and accepted here, not read.
+  void HandRead(const char* name) {
+    if (reader_->Has(name)) reader_->Node(name);
+  }
+
   MapReader& reader() { return *reader_; }
 
  private:

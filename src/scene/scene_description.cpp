@@ -39,32 +39,20 @@ SceneDescription Parse(const config::YamlDocument& doc) {
   if (!s.solver_cache_dir.empty() && s.solver != "compliance")
     r.Fail(At(solver_node, "cache_dir"), "'cache_dir' is for solver type 'compliance'");
 
-  if (r.Has("bone")) {
-    MapReader b = r.Child("bone");
-    BoneSection bone;
-    config::YamlReadArchive bone_archive(&b);
-    bone.Serialize(&bone_archive);
-    const std::string mode = b.OptionalChoice("mode", {"fixed", "tracked"}, "fixed");
-    if (mode == "tracked") {
+  if (s.bone) {
+    MapReader b(doc.root["bone"], doc.file);  // keys checked by the archive
+    if (b.OptionalChoice("mode", {"fixed", "tracked"}, "fixed") == "tracked") {
       MapReader m = b.Child("motion");
-      bone.motion = std::make_shared<geometry::Trajectory>(geometry::ParseMotion(m, Eigen::Isometry3d::Identity()));
+      s.bone->motion = std::make_shared<geometry::Trajectory>(geometry::ParseMotion(m, Eigen::Isometry3d::Identity()));
       m.Finish();
     } else if (b.Has("motion")) {
       b.Fail(b.Node("motion"), "'motion' needs mode: tracked");
     }
-    b.Finish();
-    s.bone = bone;
   }
-
-  if (r.Has("contact")) {
-    MapReader c = r.Child("contact");
-    ContactSection contact;
-    config::YamlReadArchive contact_archive(&c);
-    contact.Serialize(&contact_archive);
-    contact.objects_pad_frame = geometry::ParseRigidObjects(c.Node("objects"), doc.file);
-    if (contact.objects_pad_frame.empty()) c.Fail(c.Node("objects"), "'objects' is empty");
-    c.Finish();
-    s.contact = std::move(contact);
+  if (s.contact) {
+    MapReader c(doc.root["contact"], doc.file);
+    s.contact->objects_pad_frame = geometry::ParseRigidObjects(c.Node("objects"), doc.file);
+    if (s.contact->objects_pad_frame.empty()) c.Fail(c.Node("objects"), "'objects' is empty");
   }
   // The preset was applied before `contact` was read; its solver choice depends on it.
   if (s.preset == "fast" && s.contact && !solver_type_given) s.solver = "pcg_warp";

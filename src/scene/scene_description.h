@@ -37,8 +37,8 @@ const config::EnumNames<SceneElasticity>& NamesOf(SceneElasticity);
 /// member initialisers are the defaults. scene_description.cpp reads them.
 struct BoneSection {
   fem::SpringDamperParams spring;   ///< paper: k 200 N/m, b 0.1 N s/m, a 1.0
-  /// Tracked bone pose (model frame, relative to rest); null = fixed. Keys `mode` and
-  /// `motion` are read by hand in scene_description.cpp (a trajectory is not a plain value).
+  /// Tracked bone pose (model frame, relative to rest); null = fixed. Keys `mode`
+  /// (fixed | tracked) and `motion` are read by scene_description.cpp.
   std::shared_ptr<const geometry::Trajectory> motion;
 
   template <typename Archive>
@@ -47,13 +47,15 @@ struct BoneSection {
     a->Visit(Field("stiffness_N_m", &spring.stiffness_N_m).Positive());
     a->Visit(Field("damping_N_s_m", &spring.damping_N_s_m).NonNegative());
     a->Visit(Field("anisotropy", &spring.anisotropy).NonNegative());
+    a->HandRead("mode");
+    a->HandRead("motion");
   }
 };
 
 struct ContactSection {
   fem::ContactParams params;                 ///< paper: k 1e4 N/m, b 0.5 N s/m
-  /// Poses in the pad frame; key `objects` (required, not empty) is read by hand
-  /// (geometry::ParseRigidObjects).
+  /// Poses in the pad frame; key `objects` (required, not empty) is read by
+  /// scene_description.cpp (geometry::ParseRigidObjects).
   std::vector<geometry::RigidObject> objects_pad_frame;
 
   template <typename Archive>
@@ -61,6 +63,7 @@ struct ContactSection {
     using config::Field;
     a->Visit(Field("stiffness_N_m", &params.stiffness_N_m).Positive());
     a->Visit(Field("damping_N_s_m", &params.damping_N_s_m).NonNegative());
+    a->HandRead("objects");
   }
 };
 
@@ -118,8 +121,8 @@ struct SceneDescription {
   SceneElasticity elasticity_name() const;
   void set_elasticity(SceneElasticity e);
 
-  /// Every plain key of a scene YAML. `preset` is applied before the other keys (they
-  /// override it); `bone` and `contact` have hand-read keys (see their structs).
+  /// Every key of a scene YAML. `preset` is applied before the other keys (they override
+  /// it); `bone` and `contact` have hand-read keys (see their structs).
   template <typename Archive>
   void Serialize(Archive* a) {
     using config::Field;
@@ -144,6 +147,8 @@ struct SceneDescription {
       so->Visit(Field("max_iterations", &pcg.max_iterations).AtLeast(1));
       so->Visit(Field("fallback_to_direct", &pcg.fallback_to_direct));
     });
+    a->Visit(Field("bone", &bone));        // absent: the soft tissue floats
+    a->Visit(Field("contact", &contact));  // absent: no contact term
     a->Visit(Field("friction", &friction));  // needs contact; a = 0 is dropped after reading
     a->Visit(Field("surface_traction", &surface_traction));
     a->Visit(Field("outputs", &outputs));

@@ -1,4 +1,5 @@
 #include "common/yaml_read_archive.h"
+#include "common/schema_keys.h"
 
 #include <gtest/gtest.h>
 
@@ -167,6 +168,23 @@ TEST(EnumNames, OneTableGivesBothDirections) {
   } catch (const std::invalid_argument& e) {
     EXPECT_EQ(std::string(e.what()), "unknown shape 'cube' (sphere, cylinder)");
   }
+}
+
+}  // namespace
+}  // namespace sedbridge::config
+
+// ---- common/schema_keys.h: the same Serialize, listed ----
+
+namespace sedbridge::config {
+namespace {
+
+TEST(SchemaKeys, ListsEveryKeyDottedWithNestedStructsAndSections) {
+  const std::vector<std::string> keys = SchemaKeys<Example>();
+  const std::vector<std::string> expected = {
+      "name", "rate_Hz", "steps", "tolerance_mm", "shape", "preset", "verbose",
+      "spring.stiffness_N_m", "spring.damping_N_s_m", "extra.stiffness_N_m", "extra.damping_N_s_m",
+      "limit", "gains", "offset_mm", "group.flat"};
+  EXPECT_EQ(keys, expected);
 }
 
 }  // namespace
