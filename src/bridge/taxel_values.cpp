@@ -6,12 +6,6 @@
 
 namespace sedbridge::bridge {
 
-const config::EnumNames<InvalidTaxelPolicy>& NamesOf(InvalidTaxelPolicy) {
-  static const config::EnumNames<InvalidTaxelPolicy> names{{InvalidTaxelPolicy::kFill, "fill"},
-                                                           {InvalidTaxelPolicy::kZero, "zero"}};
-  return names;
-}
-
 double SmallestTaxelSpacing_mm(const std::vector<sensors::TaxelPosition>& taxels) {
   double best = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < taxels.size(); ++i)

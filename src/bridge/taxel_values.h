@@ -44,8 +44,13 @@ struct TaxelValues {
 };
 
 enum class InvalidTaxelPolicy { kFill, kZero };
-/// "fill", "zero" (bridge key traction.invalid_taxels).
-const config::EnumNames<InvalidTaxelPolicy>& NamesOf(InvalidTaxelPolicy);
+/// "fill", "zero" (bridge key traction.invalid_taxels). Inline: the YAML fuzzer links the
+/// config readers without the stages.
+inline const config::EnumNames<InvalidTaxelPolicy>& NamesOf(InvalidTaxelPolicy) {
+  static const config::EnumNames<InvalidTaxelPolicy> names{{InvalidTaxelPolicy::kFill, "fill"},
+                                                           {InvalidTaxelPolicy::kZero, "zero"}};
+  return names;
+}
 
 struct ScanConditioningOptions {
   InvalidTaxelPolicy invalid = InvalidTaxelPolicy::kFill;

@@ -8,11 +8,6 @@
 
 namespace sedbridge::bridge {
 
-const config::EnumNames<NodalLoad>& NamesOf(NodalLoad) {
-  static const config::EnumNames<NodalLoad> names{{NodalLoad::kLumped, "lumped"}, {NodalLoad::kConsistent, "consistent"}};
-  return names;
-}
-
 bool InsideFootprint(const sensors::SensorProfile& profile, const Eigen::Vector2d& s) {
   if (profile.taxels.empty()) return false;
   double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;

@@ -81,14 +81,6 @@ SceneDescription ParseSceneDescription(const std::string& text, const std::strin
   return Parse(config::LoadYamlString(text, file));
 }
 
-const config::EnumNames<Preset>& NamesOf(Preset) {
-  static const config::EnumNames<Preset> names{
-      {Preset::kFast, "fast"}, {Preset::kBalanced, "balanced"}, {Preset::kAccurate, "accurate"}};
-  return names;
-}
-
-std::vector<std::string> PresetNames() { return config::AllNames<Preset>(); }
-
 const config::EnumNames<SceneElasticity>& NamesOf(SceneElasticity) {
   static const config::EnumNames<SceneElasticity> names{{SceneElasticity::kCorotational, "corotational"},
                                                         {SceneElasticity::kLinear, "linear"},

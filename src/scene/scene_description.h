@@ -25,8 +25,13 @@ inline constexpr int kMaxSceneSteps = 1000000;
 
 /// Named solver presets (docs/accuracy-cost.md): `preset:` in scene and bridge YAML.
 enum class Preset { kFast, kBalanced, kAccurate };
-/// "fast", "balanced", "accurate": the one list of preset names.
-const config::EnumNames<Preset>& NamesOf(Preset);
+/// "fast", "balanced", "accurate": the one list of preset names. Inline (and PresetNames):
+/// the YAML fuzzer links the bridge config reader without the scene stage.
+inline const config::EnumNames<Preset>& NamesOf(Preset) {
+  static const config::EnumNames<Preset> names{
+      {Preset::kFast, "fast"}, {Preset::kBalanced, "balanced"}, {Preset::kAccurate, "accurate"}};
+  return names;
+}
 
 /// The scene key `elasticity`: the element formulation, one name for two members.
 enum class SceneElasticity { kCorotational, kLinear, kNodalPressure };
@@ -167,6 +172,6 @@ SceneDescription ParseSceneDescription(const std::string& yaml_text, const std::
 /// Throws std::invalid_argument "unknown preset 'x' (fast, balanced, accurate)".
 void ApplyPreset(const std::string& name, SceneDescription& scene);
 /// Every preset name (NamesOf(Preset)).
-std::vector<std::string> PresetNames();
+inline std::vector<std::string> PresetNames() { return config::AllNames<Preset>(); }
 
 }  // namespace sedbridge::scene

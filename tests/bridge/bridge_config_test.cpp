@@ -116,8 +116,11 @@ TEST(BridgeConfig, ReadmeTableNamesEverySchemaKeyAndNoOther) {
   std::set<std::string> schema;
   for (const std::string& key : config::SchemaKeys<BridgeConfig>()) schema.insert(key);
   for (const std::string& key : schema) EXPECT_TRUE(documented.count(key)) << key << " is not in config/bridge/README.md";
-  for (const std::string& key : documented)
-    if (key.rfind("lcm.", 0) != 0) EXPECT_TRUE(schema.count(key)) << key << " (README) is no key of BridgeConfig";
+  for (const std::string& key : documented) {
+    if (key.rfind("lcm.", 0) != 0) {
+      EXPECT_TRUE(schema.count(key)) << key << " (README) is no key of BridgeConfig";
+    }
+  }
 }
 
 }  // namespace
