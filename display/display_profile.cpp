@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "common/resource_path.h"
+#include "common/yaml_read_archive.h"
 #include "display/display_kind_limits.h"
 
 namespace sedbridge::display {
@@ -124,11 +125,8 @@ void ReadSafety(MapReader& r, DisplayProfile& p) {
 
 void ReadMapping(MapReader& r, DisplayProfile& p) {
   MappingParams& m = p.mapping;
-  const std::string sampling = r.RequiredChoice(
-      "sampling", {"interpolate", "max_within_radius", "mean_within_radius"});
-  m.sampling = sampling == "interpolate"         ? SamplingMethod::kInterpolate
-               : sampling == "max_within_radius" ? SamplingMethod::kMaxWithinRadius
-                                                 : SamplingMethod::kMeanWithinRadius;
+  config::YamlReadArchive archive(&r);
+  archive.Visit(config::Field("sampling", &m.sampling).Required());
   auto positive = [](double x) { return x > 0; };
   m.radius_mm = ReadNumber(r, "radius_mm", positive, "must be > 0");
   if (r.Has("z_window_mm")) {
@@ -169,14 +167,20 @@ void ReadMapping(MapReader& r, DisplayProfile& p) {
 
 }  // namespace
 
-std::string ToString(DisplayKind kind) {
-  switch (kind) {
-    case DisplayKind::kSuction: return "suction";
-    case DisplayKind::kPin: return "pin";
-    case DisplayKind::kElectrotactile: return "electrotactile";
-  }
-  return "?";
+const config::EnumNames<DisplayKind>& NamesOf(DisplayKind) {
+  static const config::EnumNames<DisplayKind> names{
+      {DisplayKind::kSuction, "suction"}, {DisplayKind::kPin, "pin"}, {DisplayKind::kElectrotactile, "electrotactile"}};
+  return names;
 }
+
+const config::EnumNames<SamplingMethod>& NamesOf(SamplingMethod) {
+  static const config::EnumNames<SamplingMethod> names{{SamplingMethod::kInterpolate, "interpolate"},
+                                                       {SamplingMethod::kMaxWithinRadius, "max_within_radius"},
+                                                       {SamplingMethod::kMeanWithinRadius, "mean_within_radius"}};
+  return names;
+}
+
+std::string ToString(DisplayKind kind) { return config::NameOf(kind); }
 
 std::string UnitOf(DisplayKind kind) {
   switch (kind) {
@@ -187,16 +191,17 @@ std::string UnitOf(DisplayKind kind) {
   return "?";
 }
 
-DisplayProfile ParseDisplayProfile(const config::YamlDocument& doc) {
+namespace {
+
+DisplayProfile Parse(const config::YamlDocument& doc) {
   MapReader r(doc.root, doc.file);
   DisplayProfile p;
   p.file = doc.file;
   p.name = r.Required<std::string>("name");
   p.description = r.Optional<std::string>("description", "");
-  const std::string kind = r.RequiredChoice("kind", {"suction", "pin", "electrotactile"});
-  p.kind = kind == "suction" ? DisplayKind::kSuction
-           : kind == "pin"   ? DisplayKind::kPin
-                             : DisplayKind::kElectrotactile;
+  config::YamlReadArchive archive(&r);
+  archive.Visit(config::Field("kind", &p.kind).Required());
+  const std::string kind = ToString(p.kind);
   YAML::Node unit_node = r.Node("unit");
   p.unit = As<std::string>(unit_node, r.file(), "unit");
   if (p.unit != UnitOf(p.kind))
@@ -223,12 +228,18 @@ DisplayProfile ParseDisplayProfile(const config::YamlDocument& doc) {
   return p;
 }
 
+}  // namespace
+
+DisplayProfile ParseDisplayProfile(const std::string& yaml_text, const std::string& file) {
+  return Parse(config::LoadYamlString(yaml_text, file));
+}
+
 std::string ResolveDisplayProfilePath(const std::string& name_or_path) {
   return config::ResolveNameOrPath(name_or_path, "config/displays");
 }
 
 DisplayProfile LoadDisplayProfile(const std::string& path) {
-  return ParseDisplayProfile(config::LoadYamlFile(config::ResolveResource(path)));
+  return Parse(config::LoadYamlFile(config::ResolveResource(path)));
 }
 
 DisplayProfile LoadNamedDisplayProfile(const std::string& name_or_path) {

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "common/yaml_reader.h"
+#include "common/enum_names.h"
 
 namespace sedbridge::display {
 
@@ -17,6 +17,8 @@ enum class DisplayKind {
   kPin,             ///< pin array; unit mm of pin height above the rest plane
   kElectrotactile,  ///< electrode array; unit mA of stimulation current
 };
+/// "suction", "pin", "electrotactile" (key `kind`).
+const config::EnumNames<DisplayKind>& NamesOf(DisplayKind);
 
 /// How the SED field is sampled at an actuator site (all within `radius_mm` in x-y).
 enum class SamplingMethod {
@@ -24,6 +26,8 @@ enum class SamplingMethod {
   kMaxWithinRadius,   ///< largest vertex SED within the radius
   kMeanWithinRadius,  ///< mean vertex SED within the radius
 };
+/// "interpolate", "max_within_radius", "mean_within_radius" (key mapping.sampling).
+const config::EnumNames<SamplingMethod>& NamesOf(SamplingMethod);
 
 /// SED [Pa] -> actuator value [display unit]:
 ///   s = sample(SED) at the site;  x = max(0, s - threshold_Pa)
@@ -86,10 +90,11 @@ DisplayProfile LoadDisplayProfile(const std::string& path);
 /// ResolveDisplayProfilePath + LoadDisplayProfile: a shipped name ("suction_4x4") or a path.
 DisplayProfile LoadNamedDisplayProfile(const std::string& name_or_path);
 
-/// Parses an already loaded document (tests, embedded profiles). Throws config::ConfigError.
-DisplayProfile ParseDisplayProfile(const config::YamlDocument& doc);
+/// Parses YAML text (tests, embedded profiles); `file` names it in messages. Throws
+/// config::ConfigError.
+DisplayProfile ParseDisplayProfile(const std::string& yaml_text, const std::string& file);
 
-/// "suction", "pin", "electrotactile".
+/// "suction", "pin", "electrotactile" (NameOf(kind)).
 std::string ToString(DisplayKind kind);
 /// The unit every profile of that kind must use.
 std::string UnitOf(DisplayKind kind);

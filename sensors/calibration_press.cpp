@@ -5,6 +5,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "common/yaml_reader.h"
 #include "sensors/candump_log.h"
 #include "sensors/scan_assembler.h"
 

@@ -6,9 +6,21 @@
 #include <stdexcept>
 
 #include "common/resource_path.h"
+#include "common/yaml_read_archive.h"
 #include "sensors/candump_log.h"
 
 namespace sedbridge::sensors {
+
+const config::EnumNames<ByteOrder>& NamesOf(ByteOrder) {
+  static const config::EnumNames<ByteOrder> names{{ByteOrder::kBig, "big"}, {ByteOrder::kLittle, "little"}};
+  return names;
+}
+
+const config::EnumNames<CalibrationUnit>& NamesOf(CalibrationUnit) {
+  static const config::EnumNames<CalibrationUnit> names{
+      {CalibrationUnit::kPascal, "Pa"}, {CalibrationUnit::kKiloPascal, "kPa"}, {CalibrationUnit::kNewton, "N"}};
+  return names;
+}
 
 int64_t SensorProfile::RawMin() const {
   return layout.sample_signed ? -(int64_t{1} << (layout.sample_bits - 1)) : 0;
@@ -34,15 +46,10 @@ std::vector<double> PerAxis(MapReader& r, const std::string& key, int n, double 
   return v;
 }
 
-BitField ParseBitField(MapReader& parent, const std::string& key) {
+BitField ParseBitField(MapReader& parent, const char* key) {
   BitField f;
-  if (!parent.Has(key)) return f;
-  MapReader r = parent.Child(key);
-  f.first_bit = r.Required<int>("first_bit");
-  f.bits = r.Required<int>("bits");
-  if (f.bits < 1 || f.bits > 24) r.Fail(r.Node("bits"), "'bits' must be 1..24");
-  if (f.first_bit < 0) r.Fail(r.Node("first_bit"), "'first_bit' must be >= 0");
-  r.Finish();
+  config::YamlReadArchive archive(&parent);
+  archive.Visit(config::Field(key, &f));
   return f;
 }
 
@@ -121,8 +128,8 @@ void ParseFrames(MapReader& r, SensorProfile* p) {
   // before validation runs (found by fuzz_yaml_configs: sample_bits 73 was a UB shift).
   if (l.sample_bits < 1 || l.sample_bits > 24) r.Fail(r.Node("sample_bits"), "'sample_bits' must be 1..24");
   l.sample_signed = r.Optional<bool>("signed", false);
-  l.byte_order = r.RequiredChoice("byte_order", {"big", "little"}) == "big" ? ByteOrder::kBig
-                                                                           : ByteOrder::kLittle;
+  config::YamlReadArchive archive(&r);
+  archive.Visit(config::Field("byte_order", &l.byte_order).Required());
   l.first_sample_bit = r.Optional<int>("first_sample_bit", 0);
   l.frame_index = ParseBitField(r, "frame_index");
   l.scan_counter = ParseBitField(r, "scan_counter");
@@ -147,9 +154,8 @@ void ParseFrames(MapReader& r, SensorProfile* p) {
 
 void ParseCalibration(MapReader& r, SensorProfile* p) {
   Calibration& c = p->calibration;
-  const std::string unit = r.RequiredChoice("unit", {"Pa", "kPa", "N"});
-  c.unit = unit == "Pa" ? CalibrationUnit::kPascal
-                        : unit == "kPa" ? CalibrationUnit::kKiloPascal : CalibrationUnit::kNewton;
+  config::YamlReadArchive archive(&r);
+  archive.Visit(config::Field("unit", &c.unit).Required());
   r.Node("scale_per_count");  // presence check with the "missing key" message
   c.scale_per_count = PerAxis(r, "scale_per_count", p->axes, 0);
   c.offset_counts = PerAxis(r, "offset_counts", p->axes, 0);
@@ -174,8 +180,6 @@ void ParseCalibration(MapReader& r, SensorProfile* p) {
     c.saturation_high_counts = s[1];
   }
 }
-
-}  // namespace
 
 SensorProfile ParseSensorProfile(MapReader& r) {
   SensorProfile p;
@@ -218,6 +222,8 @@ SensorProfile ParseSensorProfile(MapReader& r) {
   r.Finish();
   return p;
 }
+
+}  // namespace
 
 SensorProfile ParseSensorProfileString(const std::string& yaml, const std::string& file) {
   auto doc = config::LoadYamlString(yaml, file);

@@ -23,19 +23,28 @@
 #include <string>
 #include <vector>
 
-#include "common/yaml_reader.h"
+#include "common/enum_names.h"
+#include "common/name_value.h"
 #include "sensors/can_frame.h"
 #include "sensors/tactile_model_params.h"
 
 namespace sedbridge::sensors {
 
 enum class ByteOrder { kBig, kLittle };
+/// "big", "little" (key frames.byte_order).
+const config::EnumNames<ByteOrder>& NamesOf(ByteOrder);
 
 /// A bit field inside a frame payload; bits == 0 means "absent".
 struct BitField {
   int first_bit = 0;
   int bits = 0;
   bool present() const { return bits > 0; }
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(config::Field("first_bit", &first_bit).Required().NonNegative());
+    a->Visit(config::Field("bits", &bits).Required().InRange(1, 24));
+  }
 };
 
 struct FrameLayout {
@@ -56,6 +65,8 @@ struct FrameLayout {
 
 /// Calibrated unit of (raw - offset) * scale.
 enum class CalibrationUnit { kPascal, kKiloPascal, kNewton };
+/// "Pa", "kPa", "N" (key calibration.unit).
+const config::EnumNames<CalibrationUnit>& NamesOf(CalibrationUnit);
 
 struct Calibration {
   CalibrationUnit unit = CalibrationUnit::kKiloPascal;
@@ -112,8 +123,6 @@ struct SensorProfile {
 SensorProfile LoadSensorProfile(const std::string& path);
 /// Same, from YAML text (`file` used in messages).
 SensorProfile ParseSensorProfileString(const std::string& yaml, const std::string& file);
-/// Parses a profile mapping.
-SensorProfile ParseSensorProfile(config::MapReader& reader);
 
 /// Resolves a profile argument: a path to a YAML file, or a shipped profile name
 /// ("uskin_4x4" -> config/sensors/uskin_4x4.yaml); the rule is config::ResolveNameOrPath's.

@@ -4,6 +4,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/yaml_read_archive.h"
+
 namespace sedbridge::sensors {
 
 void CheckKernel(const RadialKernel& k, const char* name) {
@@ -44,15 +46,8 @@ const std::array<const char*, TactileModelParams::kCount>& TactileModelParams::N
 
 TactileModelParams ParseTactileModelParams(config::MapReader& reader) {
   TactileModelParams p;
-  auto positive = [&](const std::string& key, double fallback) {
-    const double v = reader.Optional<double>(key, fallback);
-    if (!(v > 0) || !std::isfinite(v)) reader.Fail(reader.Node(key), "'" + key + "' must be finite and > 0");
-    return v;
-  };
-  p.contact_modulus_kPa = positive("contact_modulus_kPa", p.contact_modulus_kPa);
-  p.pad_size_mm = positive("pad_size_mm", p.pad_size_mm);
-  p.grid_mm = positive("grid_mm", p.grid_mm);
-  if (p.grid_mm < 0.05 || p.grid_mm > 2.0) reader.Fail(reader.Node("grid_mm"), "'grid_mm' must be 0.05..2");
+  config::YamlReadArchive archive(&reader);
+  p.Serialize(&archive);
   config::MapReader kernels = reader.Child("kernels");
   const std::pair<const char*, RadialKernel*> named[5] = {{"normal", &p.normal},
                                                            {"spread", &p.spread},

@@ -5,7 +5,11 @@
 #include <array>
 #include <string>
 
-#include "common/yaml_reader.h"
+#include "common/name_value.h"
+
+namespace sedbridge::config {
+class MapReader;
+}
 
 namespace sedbridge::sensors {
 
@@ -32,6 +36,16 @@ struct TactileModelParams {
   std::array<double, kCount> ToArray() const;
   static TactileModelParams FromArray(const std::array<double, kCount>& a, double grid_mm);
   static const std::array<const char*, kCount>& Names();
+
+  /// The scalar keys; `kernels` ([gain, width_mm, power] each) is read by
+  /// ParseTactileModelParams.
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Visit(Field("contact_modulus_kPa", &contact_modulus_kPa).Positive());
+    a->Visit(Field("pad_size_mm", &pad_size_mm).Positive());
+    a->Visit(Field("grid_mm", &grid_mm).InRange(0.05, 2.0));
+  }
 };
 
 /// Throws std::invalid_argument unless gain is finite, width_mm > 0 and power > 0.

@@ -6,7 +6,7 @@
 #include <limits>
 
 #include "common/config_error.h"
-#include "common/yaml_reader.h"
+#include "common/yaml_read_archive.h"
 
 namespace sedbridge::sensors {
 
@@ -22,18 +22,6 @@ Eigen::Vector3d Vec3(config::MapReader& r, const std::string& key) {
   auto v = r.Required<std::vector<double>>(key);
   if (v.size() != 3) r.Fail(r.Node(key), "'" + key + "' needs 3 numbers");
   return {v[0], v[1], v[2]};
-}
-
-double Positive(config::MapReader& r, const std::string& key, double fallback) {
-  const double v = r.Optional<double>(key, fallback);
-  if (!(v > 0)) r.Fail(r.Node(key), "'" + key + "' must be > 0");
-  return v;
-}
-
-double Probability(config::MapReader& r, const std::string& key) {
-  const double v = r.Optional<double>(key, 0.0);
-  if (!(v >= 0 && v <= 1)) r.Fail(r.Node(key), "'" + key + "' must be in [0, 1]");
-  return v;
 }
 
 }  // namespace
@@ -53,6 +41,12 @@ double PenetrationAlong(const geometry::RigidObject& object, const Eigen::Vector
     sdf = object.Evaluate(q_m + travelled * inward, t_s).distance_m;
   }
   return travelled;
+}
+
+const config::EnumNames<PadMechanics>& NamesOf(PadMechanics) {
+  static const config::EnumNames<PadMechanics> names{{PadMechanics::kWinkler, "winkler"},
+                                                     {PadMechanics::kKernel, "kernel"}};
+  return names;
 }
 
 SimulatedSensorConfig LoadSimulatedSensorScene(const std::string& path,
@@ -78,42 +72,19 @@ SimulatedSensorConfig LoadSimulatedSensorScene(const std::string& path,
   if (c.interface.empty() || c.interface.size() >= kInterfaceNameMax)
     s.Fail(s.Node("interface"), "'interface' must have 1..15 characters");
   c.start_utime = s.Optional<int64_t>("start_utime", c.start_utime);
-  c.duration_s = Positive(s, "duration_s", 1.0);
-  if (c.duration_s > kMaxSimulatedDuration_s)
-    s.Fail(s.Node("duration_s"), "'duration_s' must be at most " + std::to_string(int(kMaxSimulatedDuration_s)) +
-                                     " s (one day)");
+  config::YamlReadArchive sensor_archive(&s);
+  // At most one day: a longer scene is refused, not run until killed.
+  sensor_archive.Visit(config::Field("duration_s", &c.duration_s).Unit("s").Within({0, kMaxSimulatedDuration_s, true, false}));
+  sensor_archive.Visit(config::Field("pad", &c.pad));
   if (s.Has("pad")) {
-    config::MapReader p = s.Child("pad");
-    c.pad.mechanics = p.OptionalChoice("model", {"winkler", "kernel"}, "winkler") == "kernel" ? PadMechanics::kKernel
-                                                                                            : PadMechanics::kWinkler;
+    config::MapReader p(s.node()["pad"], s.file());  // keys checked by the archive
     if (c.pad.mechanics == PadMechanics::kKernel && !c.profile.has_forward_model)
       p.Fail(p.Node("model"), "'model: kernel' needs a sensor profile with a forward_model (profile '" +
                                   c.profile.name + "' has none)");
-    c.pad.thickness_m = Positive(p, "thickness_mm", 3.0) * 1e-3;
-    c.pad.youngs_modulus_Pa = Positive(p, "youngs_modulus_kPa", 300.0) * 1e3;
-    c.pad.poisson_ratio = p.Optional<double>("poisson_ratio", 0.0);
-    if (!(c.pad.poisson_ratio >= 0 && c.pad.poisson_ratio < 0.5))
-      p.Fail(p.Node("poisson_ratio"), "'poisson_ratio' must be in [0, 0.5)");
-    c.pad.friction_coefficient = p.Optional<double>("friction_coefficient", 0.0);
-    if (c.pad.friction_coefficient < 0)
-      p.Fail(p.Node("friction_coefficient"), "'friction_coefficient' must be >= 0");
-    c.pad.subsamples = p.Optional<int>("subsamples", 3);
-    if (c.pad.subsamples < 1 || c.pad.subsamples > 16) p.Fail(p.Node("subsamples"), "'subsamples' must be 1..16");
-    c.pad.smoothing_m = p.Optional<double>("smoothing_mm", 0.0) * 1e-3;
-    if (c.pad.smoothing_m < 0) p.Fail(p.Node("smoothing_mm"), "'smoothing_mm' must be >= 0");
     c.pad.scene_from_pad.translation() = Vec3(p, "position_mm") * 1e-3;
     c.pad.scene_from_pad.linear() = geometry::RotationFromRpyDeg(Vec3(p, "rpy_deg"));
-    p.Finish();
   }
-  if (s.Has("noise")) {
-    config::MapReader n = s.Child("noise");
-    c.noise.seed = n.Optional<uint64_t>("seed", 1);
-    c.noise.stddev_counts = n.Optional<double>("stddev_counts", 0.0);
-    if (!(c.noise.stddev_counts >= 0)) n.Fail(n.Node("stddev_counts"), "'stddev_counts' must be >= 0");
-    c.noise.dropout_probability = Probability(n, "dropout_probability");
-    c.noise.bit_error_probability = Probability(n, "bit_error_probability");
-    n.Finish();
-  }
+  sensor_archive.Visit(config::Field("noise", &c.noise));
   c.frame_spacing_us = s.Optional<int64_t>("frame_spacing_us", 130);
   if (c.frame_spacing_us < 0) s.Fail(s.Node("frame_spacing_us"), "'frame_spacing_us' must be >= 0");
   s.Finish();

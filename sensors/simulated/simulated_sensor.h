@@ -26,7 +26,9 @@
 #include <string>
 #include <vector>
 
+#include "common/enum_names.h"
 #include "common/geometry/rigid_object.h"
+#include "common/name_value.h"
 #include "sensors/can_frame.h"
 #include "sensors/frame_source.h"
 #include "sensors/sensor_profile.h"
@@ -43,6 +45,8 @@ enum class PadMechanics {
              ///< respond, shear channels see normal presses, part of the load is lost, as in
              ///< a real elastomer. Needs a profile with `forward_model`.
 };
+/// "winkler", "kernel" (key sensor.pad.model).
+const config::EnumNames<PadMechanics>& NamesOf(PadMechanics);
 
 struct PadModel {
   PadMechanics mechanics = PadMechanics::kWinkler;  ///< key `model: winkler | kernel`
@@ -57,6 +61,22 @@ struct PadModel {
 
   /// E_eff of the layer [Pa].
   double EffectiveModulus_Pa() const;
+
+  /// Keys of `sensor.pad`; `position_mm` and `rpy_deg` (default [0, 0, 0]) are read by
+  /// LoadSimulatedSensorScene into scene_from_pad.
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Visit(Field("model", &mechanics));
+    a->Visit(Field("thickness_mm", &thickness_m).Positive().Scale(1e-3));
+    a->Visit(Field("youngs_modulus_kPa", &youngs_modulus_Pa).Positive().Scale(1e3));
+    a->Visit(Field("poisson_ratio", &poisson_ratio).Within({0, 0.5, false, true}));
+    a->Visit(Field("friction_coefficient", &friction_coefficient).NonNegative());
+    a->Visit(Field("subsamples", &subsamples).InRange(1, 16));
+    a->Visit(Field("smoothing_mm", &smoothing_m).NonNegative().Scale(1e-3));
+    a->HandRead("position_mm");
+    a->HandRead("rpy_deg");
+  }
 };
 
 /// Longest simulated run [s] (a scene asking for more is refused, not run until killed).
@@ -67,6 +87,15 @@ struct SimulationNoise {
   double stddev_counts = 0;          ///< Gaussian noise added to every raw reading
   double dropout_probability = 0;    ///< a frame is not sent
   double bit_error_probability = 0;  ///< each payload bit flips independently
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Visit(Field("seed", &seed));
+    a->Visit(Field("stddev_counts", &stddev_counts).NonNegative());
+    a->Visit(Field("dropout_probability", &dropout_probability).InRange(0, 1));
+    a->Visit(Field("bit_error_probability", &bit_error_probability).InRange(0, 1));
+  }
 };
 
 /// Everything a simulated-sensor scene file (config/scenes/sensor_*.yaml) describes.

@@ -9,7 +9,10 @@
 #include "bridge/pad_registration.h"
 #include "bridge/taxel_values.h"
 #include "bridge/traction_field.h"
+#include "common/enum_names.h"
+#include "common/name_value.h"
 #include "lcm/lcm_channels.h"
+#include "scene/scene_description.h"
 
 namespace sedbridge::bridge {
 
@@ -26,11 +29,15 @@ enum class FeStepKind {
   kReduced,  ///< "reduced": ReducedLinearFeStep (preset fast only)
   kContact,  ///< "contact": ContactFeStep, reconstructed contact pressed on the model (preset fast only)
 };
-/// "scene", "reduced", "contact".
+/// "scene", "reduced", "contact": the one name table (common/enum_names.h).
+const config::EnumNames<FeStepKind>& NamesOf(FeStepKind);
+/// NameOf through the table.
 const char* ToString(FeStepKind kind);
-/// The kind named by `name` (as in the config); throws std::invalid_argument for others.
+/// The kind named `name` (as in the config); throws std::invalid_argument for others.
 FeStepKind FeStepKindFromString(const std::string& name);
 
+/// Every key but `lcm:` (lcm_io::ParseLcmSettings) is named in Serialize, with its range;
+/// the member initialisers are the defaults.
 struct BridgeConfig {
   std::string file;  ///< where it was read from ("" = defaults)
 
@@ -65,6 +72,45 @@ struct BridgeConfig {
 
   // lcm:
   lcm_io::LcmSettings lcm;
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Section("sensor", [&](auto* s) {
+      s->Visit(Field("profile", &sensor_profile));
+      s->Visit(Field("interface", &can_interface));
+      s->Visit(Field("tare_scans", &tare_scans).NonNegative());
+    });
+    a->Section("fe", [&](auto* f) {
+      f->Visit(Field("model", &model));
+      f->Visit(Field("preset", &preset).OneOf(scene::PresetNames()));
+      f->Visit(Field("step", &fe_step));
+      f->Visit(Field("compliance_cache", &compliance_cache_dir));
+    });
+    a->Section("registration", [&](auto* g) {
+      g->Visit(Field("offset_mm", &registration.offset_mm));
+      g->Visit(Field("rotation_deg", &registration.rotation_deg));
+      g->Visit(Field("scale", &registration.scale).Positive());
+    });
+    a->Section("traction", [&](auto* t) {
+      t->Visit(Field("kernel_sigma_mm", &traction.kernel_sigma_mm).NonNegative());
+      t->Visit(Field("min_facing", &traction.min_facing).InRange(-1, 1));
+      t->Visit(Field("max_depth_mm", &traction.max_depth_mm).Positive());
+      t->Visit(Field("nodal_load", &traction.nodal_load));
+      t->Visit(Field("invalid_taxels", &conditioning.invalid));
+      t->Visit(Field("max_invalid_fraction", &conditioning.max_invalid_fraction).InRange(0, 1));
+      t->Visit(Field("noise_floor_Pa", &conditioning.noise_floor_Pa).NonNegative());
+    });
+    a->Section("display", [&](auto* d) { d->Visit(Field("profile", &display_profile).Required()); });
+    a->Section("rates", [&](auto* q) {
+      q->Visit(Field("status_Hz", &status_Hz).Unit("Hz").InRange(kMinStatus_Hz, kMaxStatus_Hz));
+      q->Visit(Field("tick_Hz", &tick_Hz).Unit("Hz").InRange(kMinTick_Hz, kMaxTick_Hz));
+    });
+    a->Section("outputs", [&](auto* o) {
+      o->Visit(Field("publish_sed", &publish_sed));
+      o->Visit(Field("publish_scans", &publish_scans));
+    });
+  }
 };
 
 /// Reads a bridge YAML. Throws config::ConfigError.

@@ -4,6 +4,7 @@
 #include <cstdio>
 
 #include "bridge/contact_object.h"
+#include "common/yaml_reader.h"
 #include "sensors/scan_assembler.h"
 #include "sensors/simulated/simulated_sensor.h"
 

@@ -25,6 +25,7 @@
 
 #include "bridge/pipeline_status.h"
 #include "bridge/pad_registration.h"
+#include "common/enum_names.h"
 #include "sensors/scan.h"
 #include "sensors/sensor_profile.h"
 
@@ -44,6 +45,13 @@ struct TaxelValues {
 };
 
 enum class InvalidTaxelPolicy { kFill, kZero };
+/// "fill", "zero" (bridge key traction.invalid_taxels). Inline: the YAML fuzzer links the
+/// config readers without the stages.
+inline const config::EnumNames<InvalidTaxelPolicy>& NamesOf(InvalidTaxelPolicy) {
+  static const config::EnumNames<InvalidTaxelPolicy> names{{InvalidTaxelPolicy::kFill, "fill"},
+                                                           {InvalidTaxelPolicy::kZero, "zero"}};
+  return names;
+}
 
 struct ScanConditioningOptions {
   InvalidTaxelPolicy invalid = InvalidTaxelPolicy::kFill;

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "bridge/pad_registration.h"
+#include "common/enum_names.h"
 #include "sensors/sensor_profile.h"
 
 namespace sedbridge::bridge {
@@ -44,6 +45,12 @@ namespace sedbridge::bridge {
 ///               taxel); the applied tractions may oscillate, the nodal forces do not.
 ///               Force balance holds either way.
 enum class NodalLoad { kConsistent, kLumped };
+/// "lumped", "consistent" (bridge key traction.nodal_load). Inline: the YAML fuzzer links
+/// the config readers without the stages.
+inline const config::EnumNames<NodalLoad>& NamesOf(NodalLoad) {
+  static const config::EnumNames<NodalLoad> names{{NodalLoad::kLumped, "lumped"}, {NodalLoad::kConsistent, "consistent"}};
+  return names;
+}
 
 struct TractionFieldOptions {
   double kernel_sigma_mm = 0;  ///< Gaussian width on the sensor pad [mm]; 0 = half the smallest taxel spacing

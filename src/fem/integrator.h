@@ -10,11 +10,18 @@
 
 #include <Eigen/Core>
 
+#include "common/enum_names.h"
 #include "common/stage_times.h"
 
 namespace sedbridge::fem {
 
 enum class IntegratorKind { kBackwardEuler, kQuasiStatic };
+/// "backward_euler", "quasi_static" (scene key dynamics.integrator).
+inline const config::EnumNames<IntegratorKind>& NamesOf(IntegratorKind) {
+  static const config::EnumNames<IntegratorKind> names{{IntegratorKind::kBackwardEuler, "backward_euler"},
+                                                       {IntegratorKind::kQuasiStatic, "quasi_static"}};
+  return names;
+}
 
 struct IntegratorSettings {
   IntegratorKind kind = IntegratorKind::kBackwardEuler;

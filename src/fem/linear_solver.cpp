@@ -173,25 +173,34 @@ LinearSolveReport PcgSolver::Solve(const SystemMatrix& A, const Eigen::VectorXd&
   return report;
 }
 
+const config::EnumNames<LinearSolverKind>& NamesOf(LinearSolverKind) {
+  static const config::EnumNames<LinearSolverKind> names{
+      {LinearSolverKind::kLdlt, "ldlt"},          {LinearSolverKind::kCholmod, "cholmod"},
+      {LinearSolverKind::kPcgJacobi, "pcg_jacobi"}, {LinearSolverKind::kPcgWarp, "pcg_warp"},
+      {LinearSolverKind::kPcgWarpLdlt, "pcg_warp_ldlt"}, {LinearSolverKind::kPcgWarpIchol, "pcg_warp_ichol"}};
+  return names;
+}
+
+std::vector<std::string> LinearSolverNames() { return config::AllNames<LinearSolverKind>(); }
+
 std::unique_ptr<LinearSolver> MakeLinearSolver(const std::string& name, const PcgSettings& pcg,
                                                const NodeRotationSource* rotations) {
-  if (name == "ldlt") return std::make_unique<DirectLdltSolver>();
-  if (name == "cholmod") return std::make_unique<CholmodSolver>();
   PcgSettings s = pcg;
-  if (name == "pcg_jacobi") {
-    s.preconditioner = PreconditionerKind::kBlockJacobi;
-    return std::make_unique<PcgSolver>(s, rotations);
+  switch (config::ParseEnum<LinearSolverKind>(name, "linear solver")) {
+    case LinearSolverKind::kLdlt: return std::make_unique<DirectLdltSolver>();
+    case LinearSolverKind::kCholmod: return std::make_unique<CholmodSolver>();
+    case LinearSolverKind::kPcgJacobi: s.preconditioner = PreconditionerKind::kBlockJacobi; break;
+    case LinearSolverKind::kPcgWarp:
+      s.preconditioner = PreconditionerKind::kWarpedRestFactor;
+      s.direct = DirectSolverKind::kCholmod;
+      break;
+    case LinearSolverKind::kPcgWarpLdlt:
+      s.preconditioner = PreconditionerKind::kWarpedRestFactor;
+      s.direct = DirectSolverKind::kLdlt;
+      break;
+    case LinearSolverKind::kPcgWarpIchol: s.preconditioner = PreconditionerKind::kWarpedRestIncompleteCholesky; break;
   }
-  if (name == "pcg_warp" || name == "pcg_warp_ldlt") {
-    s.preconditioner = PreconditionerKind::kWarpedRestFactor;
-    s.direct = name == "pcg_warp" ? DirectSolverKind::kCholmod : DirectSolverKind::kLdlt;
-    return std::make_unique<PcgSolver>(s, rotations);
-  }
-  if (name == "pcg_warp_ichol") {
-    s.preconditioner = PreconditionerKind::kWarpedRestIncompleteCholesky;
-    return std::make_unique<PcgSolver>(s, rotations);
-  }
-  throw std::invalid_argument("unknown linear solver '" + name + "' (ldlt, cholmod, pcg_jacobi, pcg_warp, pcg_warp_ldlt, pcg_warp_ichol)");
+  return std::make_unique<PcgSolver>(s, rotations);
 }
 
 }  // namespace sedbridge::fem

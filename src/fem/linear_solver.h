@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "common/enum_names.h"
 #include "common/no_copy_no_move.h"
 #include "fem/node_rotation_source.h"
 #include "fem/system_matrix.h"
@@ -107,10 +108,18 @@ class PcgSolver final : public LinearSolver {
   Eigen::VectorXd r_, z_, p_, q_, tmp_;
 };
 
-/// Builds a solver by name: "ldlt", "cholmod", "pcg_jacobi", "pcg_warp" (rest factor and
-/// fallback by CHOLMOD), "pcg_warp_ldlt" (the same by Eigen's LDL^T), "pcg_warp_ichol".
-/// pcg_jacobi and pcg_warp_ichol fall back to pcg.direct. `rotations`: the warped PCGs'
-/// rotation source (normally the elastic term; kept by pointer, null = none).
+/// The linear solvers MakeLinearSolver builds, by name (LinearSolverNames()).
+enum class LinearSolverKind { kLdlt, kCholmod, kPcgJacobi, kPcgWarp, kPcgWarpLdlt, kPcgWarpIchol };
+/// "ldlt", "cholmod", "pcg_jacobi", "pcg_warp" (rest factor and fallback by CHOLMOD),
+/// "pcg_warp_ldlt" (the same by Eigen's LDL^T), "pcg_warp_ichol": the one list of names.
+const config::EnumNames<LinearSolverKind>& NamesOf(LinearSolverKind);
+/// Every solver name, in the order messages list them.
+std::vector<std::string> LinearSolverNames();
+
+/// Builds a solver by name (NamesOf(LinearSolverKind)); pcg_jacobi and pcg_warp_ichol fall
+/// back to pcg.direct. Throws std::invalid_argument for an unknown name, listing the names.
+/// `rotations`: the warped PCGs' rotation source (normally the elastic term; kept by
+/// pointer, null = none).
 std::unique_ptr<LinearSolver> MakeLinearSolver(const std::string& name, const PcgSettings& pcg,
                                                const NodeRotationSource* rotations = nullptr);
 

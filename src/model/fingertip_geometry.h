@@ -6,7 +6,11 @@
 // The generator (tools/fingertip_generator) builds the mesh from these; the loader reads
 // them too so that a typo in a model YAML is an error even when only loading.
 
-#include "common/yaml_reader.h"
+#include "common/name_value.h"
+
+namespace sedbridge::config {
+class MapReader;
+}
 
 namespace sedbridge::model {
 
@@ -19,6 +23,15 @@ struct OuterShapeParams {
   double depth_mm = 14.0;          ///< dorsal-palmar (z) extent
   double length_mm = 22.0;         ///< DIP crease (y = 0) to tip
   double tip_cap_length_mm = 8.0;  ///< y semi-axis of the tip cap; < length_mm
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Visit(Field("width_mm", &width_mm).Required().Positive());
+    a->Visit(Field("depth_mm", &depth_mm).Required().Positive());
+    a->Visit(Field("length_mm", &length_mm).Required().Positive());
+    a->Visit(Field("tip_cap_length_mm", &tip_cap_length_mm).Required().Positive());
+  }
 };
 
 /// Distal phalanx: a tapered elliptic cone along y from the crease to `length_mm`, ending
@@ -30,6 +43,17 @@ struct BoneParams {
   double taper_ratio = 0.6;           ///< distal / proximal section size, (0, 1]
   double tuft_scale = 1.15;           ///< tuft radius / distal shaft radius (> 1: no shared edge)
   double center_z_mm = -1.5;          ///< z of the bone axis (negative: dorsal)
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Visit(Field("length_mm", &length_mm).Required().Positive());
+    a->Visit(Field("base_half_width_mm", &base_half_width_mm).Required().Positive());
+    a->Visit(Field("base_half_height_mm", &base_half_height_mm).Required().Positive());
+    a->Visit(Field("taper_ratio", &taper_ratio).Required().Within({0, 1, true, false}));
+    a->Visit(Field("tuft_scale", &tuft_scale).Required().Positive());
+    a->Visit(Field("center_z_mm", &center_z_mm).Required());
+  }
 };
 
 /// Nail plate: the outer `thickness_mm` of the skin shape inside the box
@@ -40,6 +64,16 @@ struct NailParams {
   double end_y_mm = 19.5;
   double half_width_mm = 5.5;
   double max_z_mm = -3.0;
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Visit(Field("thickness_mm", &thickness_mm).Required().Positive());
+    a->Visit(Field("start_y_mm", &start_y_mm).Required().NonNegative());
+    a->Visit(Field("end_y_mm", &end_y_mm).Required().Positive());
+    a->Visit(Field("half_width_mm", &half_width_mm).Required().Positive());
+    a->Visit(Field("max_z_mm", &max_z_mm).Required().Below(0));  // dorsal
+  }
 };
 
 /// Soft-tissue layer thicknesses measured inward from the outer skin (Table I).
@@ -47,6 +81,14 @@ struct LayerParams {
   double stratum_corneum_mm = 0.0;  ///< > 0: a `stratum_corneum` shell group on the skin (model A)
   double epidermis_mm = 1.5;
   double dermis_mm = 3.0;           ///< the rest of the soft tissue is subcutaneous
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Visit(Field("stratum_corneum_mm", &stratum_corneum_mm).Required().NonNegative());
+    a->Visit(Field("epidermis_mm", &epidermis_mm).Required().Positive());
+    a->Visit(Field("dermis_mm", &dermis_mm).Required().Positive());
+  }
 };
 
 /// Target tetrahedron edge lengths. Size is `skin_mm` within epidermis + dermis depth of the
@@ -55,6 +97,14 @@ struct MeshSizeParams {
   double skin_mm = 1.5;
   double core_mm = 1.5;
   double transition_mm = 2.0;
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Visit(Field("skin_mm", &skin_mm).Required().Positive());
+    a->Visit(Field("core_mm", &core_mm).Required().Positive());
+    a->Visit(Field("transition_mm", &transition_mm).Required().NonNegative());
+  }
 };
 
 struct FingertipGeometry {
@@ -63,6 +113,19 @@ struct FingertipGeometry {
   NailParams nail;
   LayerParams layers;
   MeshSizeParams mesh_size;
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    // Each mapping is optional as a whole; a mapping given must give every key.
+    a->Section("geometry", [&](auto* g) {
+      outer.Serialize(g);
+      g->Visit(Field("bone", &bone).Required());
+      g->Visit(Field("nail", &nail).Required());
+    });
+    a->Visit(Field("layers", &layers));
+    a->Visit(Field("mesh_size", &mesh_size));
+  }
 };
 
 /// Reads the `geometry`, `layers` and `mesh_size` mappings of a model YAML. Each mapping is

@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <stdexcept>
 
-#include "common/yaml_reader.h"
+#include "common/yaml_read_archive.h"
 #include "model/fingertip_model.h"
 
 namespace sedbridge::model {
@@ -18,6 +18,31 @@ fem::LinearElasticMaterial Make(const std::string& name, double youngs_modulus_M
   m.density_kg_m3 = density_g_cm3 * 1e3;
   return m;
 }
+
+// One tissue under `materials:`, in the units of the YAML.
+struct MaterialKeys {
+  double youngs_modulus_MPa = 0;
+  double poisson_ratio = 0;
+  double density_g_cm3 = 0;
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Visit(Field("youngs_modulus_MPa", &youngs_modulus_MPa).Required().Positive());
+    a->Visit(Field("poisson_ratio", &poisson_ratio).Required().Within({-1, 0.5, true, true}));
+    a->Visit(Field("density_g_cm3", &density_g_cm3).Required().Positive());
+  }
+};
+
+// `pad_frame:` of a model YAML.
+struct PadFrameKeys {
+  double tilt_deg = 0;
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(config::Field("tilt_deg", &tilt_deg).Required().Within({-90, 90, true, true}));
+  }
+};
 
 const char* const kMaterialGroups[] = {kEpidermis, kDermis, kSubcutaneous, kSoftTissue,
                                        kStratumCorneum, kBone, kNail};
@@ -53,24 +78,17 @@ ModelDescription ReadModelDescription(const std::string& yaml_path) {
   for (const char* group : kMaterialGroups) {
     if (!materials.Has(group)) continue;
     config::MapReader m = materials.Child(group);
-    const double E_MPa = m.Required<double>("youngs_modulus_MPa");
-    const double nu = m.Required<double>("poisson_ratio");
-    const double rho_g_cm3 = m.Required<double>("density_g_cm3");
-    if (!(E_MPa > 0)) m.Fail(m.node()["youngs_modulus_MPa"], "'youngs_modulus_MPa' must be > 0");
-    if (!(nu > -1.0 && nu < 0.5)) m.Fail(m.node()["poisson_ratio"], "'poisson_ratio' must be in (-1, 0.5)");
-    if (!(rho_g_cm3 > 0)) m.Fail(m.node()["density_g_cm3"], "'density_g_cm3' must be > 0");
-    m.Finish();
-    d.materials[group] = Make(group, E_MPa, nu, rho_g_cm3);
+    MaterialKeys keys;
+    config::ReadYaml(m, &keys);
+    d.materials[group] = Make(group, keys.youngs_modulus_MPa, keys.poisson_ratio, keys.density_g_cm3);
   }
   materials.Finish();  // an unknown tissue name is an error, not silently ignored
 
   if (root.Has("pad_frame")) {
     config::MapReader pad = root.Child("pad_frame");
-    d.pad_tilt_deg = pad.Required<double>("tilt_deg");
-    if (!(d.pad_tilt_deg > -90.0 && d.pad_tilt_deg < 90.0)) {
-      pad.Fail(pad.node()["tilt_deg"], "'tilt_deg' must be in (-90, 90)");
-    }
-    pad.Finish();
+    PadFrameKeys keys;
+    config::ReadYaml(pad, &keys);
+    d.pad_tilt_deg = keys.tilt_deg;
   }
   root.Finish();
   // Rigid bodies and the shell only matter to reference solvers: Table II unless given.

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "common/enum_names.h"
+#include "common/name_value.h"
 #include "fem/bone_coupling_force.h"
 #include "fem/elastic_tet_force.h"
 #include "fem/linear_solver.h"
@@ -21,26 +23,77 @@ namespace sedbridge::scene {
 /// 2e9 ran until killed.
 inline constexpr int kMaxSceneSteps = 1000000;
 
+/// Named solver presets (docs/accuracy-cost.md): `preset:` in scene and bridge YAML.
+enum class Preset { kFast, kBalanced, kAccurate };
+/// "fast", "balanced", "accurate": the one list of preset names. Inline (and PresetNames):
+/// the YAML fuzzer links the bridge config reader without the scene stage.
+inline const config::EnumNames<Preset>& NamesOf(Preset) {
+  static const config::EnumNames<Preset> names{
+      {Preset::kFast, "fast"}, {Preset::kBalanced, "balanced"}, {Preset::kAccurate, "accurate"}};
+  return names;
+}
+
+/// The scene key `elasticity`: the element formulation, one name for two members.
+enum class SceneElasticity { kCorotational, kLinear, kNodalPressure };
+/// "corotational", "linear", "nodal_pressure".
+const config::EnumNames<SceneElasticity>& NamesOf(SceneElasticity);
+
+/// Fields are named in each Serialize (common/name_value.h): key, unit, allowed range; the
+/// member initialisers are the defaults. scene_description.cpp reads them.
 struct BoneSection {
   fem::SpringDamperParams spring;   ///< paper: k 200 N/m, b 0.1 N s/m, a 1.0
-  /// Tracked bone pose (model frame, relative to rest); null = fixed.
+  /// Tracked bone pose (model frame, relative to rest); null = fixed. Keys `mode`
+  /// (fixed | tracked) and `motion` are read by scene_description.cpp.
   std::shared_ptr<const geometry::Trajectory> motion;
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Visit(Field("stiffness_N_m", &spring.stiffness_N_m).Positive());
+    a->Visit(Field("damping_N_s_m", &spring.damping_N_s_m).NonNegative());
+    a->Visit(Field("anisotropy", &spring.anisotropy).NonNegative());
+    a->HandRead("mode");
+    a->HandRead("motion");
+  }
 };
 
 struct ContactSection {
   fem::ContactParams params;                 ///< paper: k 1e4 N/m, b 0.5 N s/m
-  std::vector<geometry::RigidObject> objects_pad_frame;  ///< poses in the pad frame
+  /// Poses in the pad frame; key `objects` (required, not empty) is read by
+  /// scene_description.cpp (geometry::ParseRigidObjects).
+  std::vector<geometry::RigidObject> objects_pad_frame;
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Visit(Field("stiffness_N_m", &params.stiffness_N_m).Positive());
+    a->Visit(Field("damping_N_s_m", &params.damping_N_s_m).NonNegative());
+    a->HandRead("objects");
+  }
 };
 
 struct FrictionSection {
   double anisotropy = 0.0;  ///< tangential stiffness factor a (0 = frictionless: not built)
   double coulomb_mu = 0.0;  ///< sliding limit, 0 = sticking springs only
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(config::Field("anisotropy", &anisotropy).NonNegative());
+    a->Visit(config::Field("coulomb_mu", &coulomb_mu).NonNegative());
+  }
 };
 
 struct OutputSection {
   bool merkel_sed = true;   ///< SED on the Merkel layer every step
   bool full_sed = false;    ///< SED on every node (VTU); costs a full element pass
   int vtu_every = 0;        ///< write a VTU frame every N steps (0 = none)
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(config::Field("merkel_sed", &merkel_sed));
+    a->Visit(config::Field("full_sed", &full_sed));
+    a->Visit(config::Field("vtu_every", &vtu_every).NonNegative());
+  }
 };
 
 /// Scene `solver.type`.
@@ -54,7 +107,10 @@ enum class SolverKind {
   kCompliance,    ///< "compliance": contact by the compliance method (scene/fingertip_compliance.h),
                   ///< linear quasi-static scenes with the bone fixed only
 };
-/// The config name, which is also fem::MakeLinearSolver's name for the linear solvers.
+/// "ldlt", "cholmod", "pcg_jacobi", "pcg_warp", "pcg_warp_ldlt", "pcg_warp_ichol" (the
+/// names of fem::LinearSolverKind, which fem::MakeLinearSolver takes) and "compliance".
+const config::EnumNames<SolverKind>& NamesOf(SolverKind);
+/// The config name (NamesOf).
 const char* ToString(SolverKind kind);
 /// The kind named by `name`; throws std::invalid_argument for others.
 SolverKind SolverKindFromString(const std::string& name);
@@ -80,6 +136,42 @@ struct SceneDescription {
   std::optional<FrictionSection> friction;  ///< needs contact
   bool surface_traction = false;            ///< the bridge's sensor-driven load
   OutputSection outputs;
+
+  SceneElasticity elasticity_name() const;
+  void set_elasticity(SceneElasticity e);
+
+  /// Every key of a scene YAML. `preset` is applied before the other keys (they override
+  /// it); `bone` and `contact` have hand-read keys (see their structs).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Visit(Field("model", &model).Required());
+    a->Visit(Field("preset", &preset));  // checked by ApplyPreset
+    SceneElasticity e = elasticity_name();
+    a->Visit(Field("elasticity", &e));
+    set_elasticity(e);
+    a->Section("dynamics", [&](auto* d) {
+      d->Visit(Field("integrator", &integrator.kind));
+      d->Visit(Field("dt_s", &dt_s).Positive());
+      d->Visit(Field("steps", &steps).InRange(1, kMaxSceneSteps));
+      d->Visit(Field("newton_iterations", &integrator.newton_iterations).AtLeast(1));
+      d->Visit(Field("newton_tolerance_mm", &integrator.newton_tolerance_m).Positive().Scale(1e-3));
+      d->Visit(Field("rayleigh_alpha_1_s", &integrator.rayleigh_alpha_1_s).NonNegative());
+      d->Visit(Field("rayleigh_beta_s", &rayleigh_beta_s).NonNegative());
+    });
+    a->Section("solver", [&](auto* so) {
+      so->Visit(Field("type", &solver));
+      so->Visit(Field("cache_dir", &solver_cache_dir));  // compliance only: checked after reading
+      so->Visit(Field("tolerance", &pcg.relative_tolerance).Positive());
+      so->Visit(Field("max_iterations", &pcg.max_iterations).AtLeast(1));
+      so->Visit(Field("fallback_to_direct", &pcg.fallback_to_direct));
+    });
+    a->Visit(Field("bone", &bone));        // absent: the soft tissue floats
+    a->Visit(Field("contact", &contact));  // absent: no contact term
+    a->Visit(Field("friction", &friction));  // needs contact; a = 0 is dropped after reading
+    a->Visit(Field("surface_traction", &surface_traction));
+    a->Visit(Field("outputs", &outputs));
+  }
 };
 
 /// Reads a scene file. Throws config::ConfigError (file:line:column) on any error.
@@ -91,8 +183,9 @@ SceneDescription ParseSceneDescription(const std::string& yaml_text, const std::
 /// the solver-related fields. `fast` picks a Cholesky (CHOLMOD) factorized once for a scene without
 /// contact and pcg_warp with it (contact changes the matrix every step), so apply it after
 /// `scene.contact` is set (ReadSceneDescription does; an explicit `solver.type` wins).
-/// Throws std::invalid_argument for an unknown name.
+/// Throws std::invalid_argument "unknown preset 'x' (fast, balanced, accurate)".
 void ApplyPreset(const std::string& name, SceneDescription& scene);
-std::vector<std::string> PresetNames();
+/// Every preset name (NamesOf(Preset)).
+inline std::vector<std::string> PresetNames() { return config::AllNames<Preset>(); }
 
 }  // namespace sedbridge::scene

@@ -6,6 +6,8 @@
 #include "bridge/pipeline_status.h"
 #include "common/config_error.h"
 #include "common/resource_path.h"
+#include "common/schema_keys.h"
+#include "tests/common/readme_keys.h"
 
 namespace sedbridge::bridge {
 namespace {
@@ -117,6 +119,27 @@ TEST(PipelineStatus, ReasonsAndStatesHaveNames) {
   ++c[RejectReason::kFeStepFailed];
   EXPECT_EQ(c.total(), 3);
   EXPECT_EQ(FormatRejectCounters(c), "too_many_invalid_taxels 1, fe_step_failed 2");
+}
+
+}  // namespace
+}  // namespace sedbridge::bridge
+
+// The key table of config/bridge/README.md and BridgeConfig::Serialize name the same keys.
+// `lcm.*` is read by display::ParseLcmSettings and documented there too.
+namespace sedbridge::bridge {
+namespace {
+
+TEST(BridgeConfig, ReadmeTableNamesEverySchemaKeyAndNoOther) {
+  const std::set<std::string> documented = test_util::ReadmeKeys(config::ResolveResource("config/bridge/README.md"));
+  ASSERT_GT(documented.size(), 10u);
+  std::set<std::string> schema;
+  for (const std::string& key : config::SchemaKeys<BridgeConfig>()) schema.insert(key);
+  for (const std::string& key : schema) EXPECT_TRUE(documented.count(key)) << key << " is not in config/bridge/README.md";
+  for (const std::string& key : documented) {
+    if (key.rfind("lcm.", 0) != 0) {
+      EXPECT_TRUE(schema.count(key)) << key << " (README) is no key of BridgeConfig";
+    }
+  }
 }
 
 }  // namespace

@@ -32,7 +32,7 @@ std::string Profile(const std::string& extra_safety = "", const std::string& ext
 }
 
 DisplayProfile Parse(const std::string& text) {
-  return ParseDisplayProfile(config::LoadYamlString(text, "p.yaml"));
+  return ParseDisplayProfile(text, "p.yaml");
 }
 
 TEST(DisplayProfile, ShippedProfilesLoad) {

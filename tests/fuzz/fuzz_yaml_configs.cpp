@@ -42,7 +42,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data + 1), size - 1);
   try {
     switch (kind) {
-      case 0: CheckProfile(display::ParseDisplayProfile(config::LoadYamlString(text, "fuzz.yaml"))); break;
+      case 0: CheckProfile(display::ParseDisplayProfile(text, "fuzz.yaml")); break;
       case 1: (void)sensors::ParseSensorProfileString(text, "fuzz.yaml"); break;
       case 2: {
         const bridge::BridgeConfig c = bridge::ParseBridgeConfig(text, "fuzz.yaml");

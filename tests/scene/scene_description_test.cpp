@@ -3,6 +3,8 @@
 #include <gtest/gtest.h>
 
 #include "common/resource_path.h"
+#include "common/schema_keys.h"
+#include "tests/common/readme_keys.h"
 
 namespace sedbridge::scene {
 namespace {
@@ -113,4 +115,28 @@ TEST(SceneDescription, NodalPressureIsOneMoreElasticityValue) {
 }
 
 }  // namespace
+}  // namespace sedbridge::scene
+
+// The key table of config/scenes/README.md and the scene schema name the same keys.
+namespace sedbridge::scene {
+namespace {
+
+TEST(SceneDescription, ReadmeTableNamesEverySchemaKeyAndNoOther) {
+  const std::set<std::string> documented = test_util::ReadmeKeys(config::ResolveResource("config/scenes/README.md"));
+  ASSERT_GT(documented.size(), 10u);
+  std::set<std::string> schema;
+  for (const std::string& key : config::SchemaKeys<SceneDescription>()) schema.insert(key);
+  for (const std::string& key : schema) EXPECT_TRUE(documented.count(key)) << key << " is not in config/scenes/README.md";
+  for (const std::string& key : documented) EXPECT_TRUE(schema.count(key)) << key << " (README) is no scene key";
+}
+
+}  // namespace
+TEST(SceneDescription, SolverTypesAreTheLinearSolversAndCompliance) {
+  // fem::MakeLinearSolver is handed ToString(solver): the two tables must agree.
+  std::vector<std::string> scene_names = config::AllNames<SolverKind>();
+  ASSERT_EQ(scene_names.back(), "compliance");
+  scene_names.pop_back();
+  EXPECT_EQ(scene_names, fem::LinearSolverNames());
+}
+
 }  // namespace sedbridge::scene

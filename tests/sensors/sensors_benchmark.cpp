@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "common/geometry/rigid_object.h"
+#include "common/yaml_reader.h"
 #include "sensors/candump_log.h"
 #include "sensors/scan_assembler.h"
 #include "sensors/simulated/simulated_sensor.h"

@@ -8,6 +8,7 @@
 
 #include "common/config_error.h"
 #include "common/resource_path.h"
+#include "common/yaml_reader.h"
 #include "sensors/scan_assembler.h"
 
 namespace sedbridge::sensors {
