@@ -39,11 +39,7 @@ const config::EnumNames<FeStepKind>& NamesOf(FeStepKind) {
   return names;
 }
 
-const char* ToString(FeStepKind kind) {
-  for (const auto& [k, name] : NamesOf(kind))
-    if (k == kind) return name;
-  return "?";
-}
+const char* ToString(FeStepKind kind) { return config::NameCStrOf(kind); }
 
 FeStepKind FeStepKindFromString(const std::string& name) { return config::ParseEnum<FeStepKind>(name, "fe.step"); }
 

@@ -31,12 +31,19 @@ struct HasEnumNames : std::false_type {};
 template <typename E>
 struct HasEnumNames<E, std::void_t<decltype(NamesOf(E{}))>> : std::true_type {};
 
-/// The name of `value` ("?" for a value outside the table).
+/// The name of `value` ("?" for a value outside the table), as the table's static string
+/// (for ToString functions that return const char*).
 template <typename E>
-std::string NameOf(E value) {
+const char* NameCStrOf(E value) {
   for (const auto& [v, name] : NamesOf(E{}))
     if (v == value) return name;
   return "?";
+}
+
+/// The name of `value` ("?" for a value outside the table).
+template <typename E>
+std::string NameOf(E value) {
+  return NameCStrOf(value);
 }
 
 /// The value named `name`, nullopt if none is.

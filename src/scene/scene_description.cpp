@@ -84,11 +84,7 @@ const config::EnumNames<SolverKind>& NamesOf(SolverKind) {
   return names;
 }
 
-const char* ToString(SolverKind kind) {
-  for (const auto& [k, name] : NamesOf(kind))
-    if (k == kind) return name;
-  return "?";
-}
+const char* ToString(SolverKind kind) { return config::NameCStrOf(kind); }
 
 SolverKind SolverKindFromString(const std::string& name) { return config::ParseEnum<SolverKind>(name, "solver type"); }
 

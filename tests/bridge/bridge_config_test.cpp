@@ -125,7 +125,7 @@ TEST(PipelineStatus, ReasonsAndStatesHaveNames) {
 }  // namespace sedbridge::bridge
 
 // The key table of config/bridge/README.md and BridgeConfig::Serialize name the same keys.
-// `lcm.*` is read by display::ParseLcmSettings and documented there too.
+// `lcm.*` is read by lcm_io::ParseLcmSettings and documented there too.
 namespace sedbridge::bridge {
 namespace {
 
