@@ -16,11 +16,17 @@
 namespace sedbridge::bridge {
 namespace {
 
+// LCM inside the process: the pipeline publishes, nothing leaves the machine.
+lcm_io::LcmSettings InProcessLcm() {
+  lcm_io::LcmSettings lcm;
+  lcm.url = "memq://";
+  return lcm;
+}
+
 TEST(BridgePipeline, NanScansAreCountedSkippedAndZeroTheDisplay) {
   const BridgeConfig config = testing::TestConfig();
   const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
-  lcm_io::LcmSettings lcm;
-  lcm.url = "memq://";
+  const lcm_io::LcmSettings lcm = InProcessLcm();
   BridgePipeline pipeline(config, profile, testing::ConfigDisplay(config), MakeFeStep(config, profile), lcm);
   int64_t t = 1'000'000;
   // A firm press brings the display up.
@@ -55,8 +61,7 @@ TEST(BridgePipeline, NanScansAreCountedSkippedAndZeroTheDisplay) {
 TEST(BridgePipeline, LatencyIsMeasuredOnTheInjectedWallClockFromTheReceiveTime) {
   const BridgeConfig config = testing::TestConfig();
   const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
-  lcm_io::LcmSettings lcm;
-  lcm.url = "memq://";
+  const lcm_io::LcmSettings lcm = InProcessLcm();
   int64_t wall_us = 50'000;
   BridgePipeline pipeline(config, profile, testing::ConfigDisplay(config), MakeFeStep(config, profile), lcm, [&] { return wall_us; });
   const ScanOutcome o = pipeline.ProcessScan(testing::UniformScan(profile, 8e3, 1'000'000), 1'000'000, 46'500);
@@ -70,8 +75,7 @@ TEST(BridgePipeline, LatencyIsMeasuredOnTheInjectedWallClockFromTheReceiveTime) 
 TEST(BridgePipeline, ShutdownZeroesTheDisplayOnceAndRefusesLaterScans) {
   const BridgeConfig config = testing::TestConfig();
   const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
-  lcm_io::LcmSettings lcm;
-  lcm.url = "memq://";
+  const lcm_io::LcmSettings lcm = InProcessLcm();
   BridgePipeline pipeline(config, profile, testing::ConfigDisplay(config), MakeFeStep(config, profile), lcm);
   int64_t t = 1'000'000;
   for (int i = 0; i < 10; ++i, t += 10'000)
@@ -94,8 +98,7 @@ TEST(BridgePipeline, ShutdownZeroesTheDisplayOnceAndRefusesLaterScans) {
 TEST(BridgePipeline, StatusCountsScansDroppedUpstreamAndRejected) {
   const BridgeConfig config = testing::TestConfig();
   const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
-  lcm_io::LcmSettings lcm;
-  lcm.url = "memq://";
+  const lcm_io::LcmSettings lcm = InProcessLcm();
   BridgePipeline pipeline(config, profile, testing::ConfigDisplay(config), MakeFeStep(config, profile), lcm);
   sensors::BadFrameCounters counters;
   counters.scans_dropped = 2;

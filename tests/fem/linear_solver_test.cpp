@@ -35,11 +35,16 @@ void BuildStepMatrix(const TetMesh& mesh, ElasticTetForce& elastic, const Eigen:
   for (int i = 0; i < mesh.num_nodes(); ++i) A.AddScaledIdentity(A.DiagonalSlot(i), m[i] + 1e-3);
 }
 
+Eigen::VectorXd RestPositions(const TetMesh& mesh) {
+  Eigen::VectorXd x(3 * mesh.num_nodes());
+  for (int i = 0; i < mesh.num_nodes(); ++i) x.segment<3>(3 * i) = mesh.rest_positions_m.col(i);
+  return x;
+}
+
 TEST(LinearSolver, AllSolversAgreeAndWarpIsNearlyExactForLinearFem) {
   const TetMesh mesh = MakeBoxMesh({0.01, 0.01, 0.01}, {4, 4, 4}, testing::Skin(1e5, 0.48));
   ElasticTetForce elastic(mesh, ElasticFormulation::kLinear);
-  Eigen::VectorXd x(3 * mesh.num_nodes());
-  for (int i = 0; i < mesh.num_nodes(); ++i) x.segment<3>(3 * i) = mesh.rest_positions_m.col(i);
+  const Eigen::VectorXd x = RestPositions(mesh);
   SystemMatrix A;
   BuildStepMatrix(mesh, elastic, x, A);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(x.size(), -1.0, 1.0);
@@ -69,8 +74,7 @@ TEST(LinearSolver, AllSolversAgreeAndWarpIsNearlyExactForLinearFem) {
 TEST(LinearSolver, PcgThatCannotConvergeFallsBackAndCountsIt) {
   const TetMesh mesh = MakeBoxMesh({0.01, 0.01, 0.01}, {3, 3, 3}, testing::Skin(1e5, 0.49));
   ElasticTetForce elastic(mesh, ElasticFormulation::kLinear);
-  Eigen::VectorXd x(3 * mesh.num_nodes());
-  for (int i = 0; i < mesh.num_nodes(); ++i) x.segment<3>(3 * i) = mesh.rest_positions_m.col(i);
+  const Eigen::VectorXd x = RestPositions(mesh);
   SystemMatrix A;
   BuildStepMatrix(mesh, elastic, x, A);
   PcgSolver pcg(PcgSettings{1e-12, 2, PreconditionerKind::kBlockJacobi, true});
@@ -91,8 +95,7 @@ TEST(LinearSolver, UnknownNameIsAnError) { EXPECT_THROW(MakeLinearSolver("umfpac
 TEST(CholmodSolver, MatchesLdltOnABoxMesh) {
   const TetMesh mesh = MakeBoxMesh({0.01, 0.01, 0.01}, {6, 5, 4}, testing::Skin(1e5, 0.48));
   ElasticTetForce elastic(mesh, ElasticFormulation::kCorotational);
-  Eigen::VectorXd x(3 * mesh.num_nodes());
-  for (int i = 0; i < mesh.num_nodes(); ++i) x.segment<3>(3 * i) = mesh.rest_positions_m.col(i);
+  const Eigen::VectorXd x = RestPositions(mesh);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(x.size(), -1.0, 1.0);
   for (CholmodOrdering ordering : {CholmodOrdering::kBest, CholmodOrdering::kAmd, CholmodOrdering::kMetis}) {
     CholmodSolver cholmod(ordering);
@@ -126,8 +129,7 @@ TEST(CholmodSolver, MatchesLdltOnABoxMesh) {
 TEST(CholmodSolver, ReportsASingularOrIndefiniteMatrix) {
   const TetMesh mesh = MakeBoxMesh({0.01, 0.01, 0.01}, {3, 3, 3}, testing::Skin(1e5, 0.45));
   ElasticTetForce elastic(mesh, ElasticFormulation::kLinear);
-  Eigen::VectorXd x(3 * mesh.num_nodes());
-  for (int i = 0; i < mesh.num_nodes(); ++i) x.segment<3>(3 * i) = mesh.rest_positions_m.col(i);
+  const Eigen::VectorXd x = RestPositions(mesh);
   for (double diagonal : {0.0, -1.0}) {
     SystemMatrix A;
     std::vector<std::pair<int, int>> pairs;
@@ -179,8 +181,7 @@ class CountingRotationSource final : public NodeRotationSource {
 TEST(LinearSolver, WarpedPcgTakesRotationsFromTheSourceGivenAtConstruction) {
   const TetMesh mesh = MakeBoxMesh({0.01, 0.01, 0.01}, {3, 3, 3}, testing::Skin(1e5, 0.48));
   ElasticTetForce elastic(mesh, ElasticFormulation::kLinear);
-  Eigen::VectorXd x(3 * mesh.num_nodes());
-  for (int i = 0; i < mesh.num_nodes(); ++i) x.segment<3>(3 * i) = mesh.rest_positions_m.col(i);
+  const Eigen::VectorXd x = RestPositions(mesh);
   SystemMatrix A;
   BuildStepMatrix(mesh, elastic, x, A);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(x.size(), -1.0, 1.0);
