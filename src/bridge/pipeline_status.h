@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <string>
 
+#include "common/enum_names.h"
+
 namespace sedbridge::bridge {
 
 /// BRIDGE_STATUS fault_state (the wire value is the enum's).
@@ -14,15 +16,13 @@ enum class FaultState : int8_t {
   kDegraded = 1,  ///< warnings: invalid taxels filled, CAN error-passive
   kFault = 2,     ///< display held at zero: scan rejected, CAN bus-off, shut down
 };
-/// "ok", "degraded", "fault".
-constexpr const char* ToString(FaultState state) {
-  switch (state) {
-    case FaultState::kOk: return "ok";
-    case FaultState::kDegraded: return "degraded";
-    case FaultState::kFault: return "fault";
-  }
-  return "?";
+/// "ok", "degraded", "fault" (the one name table, common/enum_names.h).
+inline const config::EnumNames<FaultState>& NamesOf(FaultState) {
+  static const config::EnumNames<FaultState> names{
+      {FaultState::kOk, "ok"}, {FaultState::kDegraded, "degraded"}, {FaultState::kFault, "fault"}};
+  return names;
 }
+inline const char* ToString(FaultState state) { return config::NameCStrOf(state); }
 
 /// Why a scan was not stepped (the detail text goes with it in ScanOutcome::problem).
 enum class RejectReason {
@@ -34,17 +34,17 @@ enum class RejectReason {
 };
 constexpr int kNumRejectReasons = 5;
 
-/// Snake-case name, e.g. "too_many_invalid_taxels".
-constexpr const char* ToString(RejectReason reason) {
-  switch (reason) {
-    case RejectReason::kWrongTaxelCount: return "wrong_taxel_count";
-    case RejectReason::kMissingShear: return "missing_shear";
-    case RejectReason::kTooManyInvalidTaxels: return "too_many_invalid_taxels";
-    case RejectReason::kFeStepFailed: return "fe_step_failed";
-    case RejectReason::kSedSizeMismatch: return "sed_size_mismatch";
-  }
-  return "?";
+/// Snake-case names, e.g. "too_many_invalid_taxels", in enum order.
+inline const config::EnumNames<RejectReason>& NamesOf(RejectReason) {
+  static const config::EnumNames<RejectReason> names{
+      {RejectReason::kWrongTaxelCount, "wrong_taxel_count"},
+      {RejectReason::kMissingShear, "missing_shear"},
+      {RejectReason::kTooManyInvalidTaxels, "too_many_invalid_taxels"},
+      {RejectReason::kFeStepFailed, "fe_step_failed"},
+      {RejectReason::kSedSizeMismatch, "sed_size_mismatch"}};
+  return names;
 }
+inline const char* ToString(RejectReason reason) { return config::NameCStrOf(reason); }
 
 /// Rejected scans per reason since start.
 struct RejectCounters {
@@ -62,10 +62,9 @@ struct RejectCounters {
 /// "too_many_invalid_taxels 3, fe_step_failed 1": the reasons with a count > 0; "none".
 inline std::string FormatRejectCounters(const RejectCounters& counters) {
   std::string line;
-  for (int i = 0; i < kNumRejectReasons; ++i) {
-    if (counters.count[size_t(i)] == 0) continue;
-    line += (line.empty() ? "" : ", ") + std::string(ToString(static_cast<RejectReason>(i))) + " " +
-            std::to_string(counters.count[size_t(i)]);
+  for (const auto& [reason, name] : NamesOf(RejectReason{})) {
+    if (counters[reason] == 0) continue;
+    line += (line.empty() ? "" : ", ") + std::string(name) + " " + std::to_string(counters[reason]);
   }
   return line.empty() ? "none" : line;
 }

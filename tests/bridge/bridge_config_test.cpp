@@ -112,6 +112,10 @@ TEST(BridgeConfig, FeStepKindNamesRoundTrip) {
 TEST(PipelineStatus, ReasonsAndStatesHaveNames) {
   EXPECT_STREQ(ToString(FaultState::kDegraded), "degraded");
   EXPECT_EQ(static_cast<int>(FaultState::kFault), 2);  // the BRIDGE_STATUS wire value
+  // One name per reason, in enum order (RejectCounters indexes by the enum).
+  ASSERT_EQ(config::AllNames<RejectReason>().size(), size_t(kNumRejectReasons));
+  for (int i = 0; i < kNumRejectReasons; ++i)
+    EXPECT_EQ(NamesOf(RejectReason{}).at(size_t(i)).first, static_cast<RejectReason>(i));
   RejectCounters c;
   EXPECT_EQ(FormatRejectCounters(c), "none");
   ++c[RejectReason::kTooManyInvalidTaxels];
