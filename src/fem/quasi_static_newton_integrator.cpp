@@ -14,6 +14,12 @@ StepReport QuasiStaticNewtonIntegrator::Step(double dt, SimulationState& state) 
   const double t1 = state.t_s + dt;
   Eigen::VectorXd& x = state.x_m;
   const Eigen::VectorXd zero_v = Eigen::VectorXd::Zero(x.size());
+  const Eigen::VectorXd x0 = x;
+  // The predictor applies only where this integrator's own previous step ended: a state
+  // reset or edited from outside starts from itself.
+  const bool continues = !system_.constant_matrix() && last_dt_s_ > 0 && dt > 0 &&
+                         last_end_x_m_.size() == x.size() && last_end_x_m_ == x;
+  if (continues) x += last_increment_m_ * (dt / last_dt_s_);
   bool newton_converged = false;
   for (int it = 0; it < max_newton_iterations_; ++it) {
     const SystemState s{x, zero_v, t1, false};
@@ -34,6 +40,13 @@ StepReport QuasiStaticNewtonIntegrator::Step(double dt, SimulationState& state) 
     }
   }
   report.converged = report.converged && newton_converged;
+  if (report.converged && x.allFinite()) {
+    last_increment_m_ = x - x0;
+    last_end_x_m_ = x;
+    last_dt_s_ = dt;
+  } else {
+    last_dt_s_ = 0;
+  }
   state.v_m_s.setZero();
   state.t_s = t1;
   return report;

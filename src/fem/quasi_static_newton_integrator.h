@@ -18,7 +18,9 @@ class QuasiStaticNewtonIntegrator final : public Integrator {
   /// @param settings maximum Newton iterations and the convergence tolerance [m]
   QuasiStaticNewtonIntegrator(NewtonSystem& system, const IntegratorSettings& settings);
 
-  /// Velocities are set to zero.
+  /// Velocities are set to zero. When the state is where the previous step left it, the
+  /// Newton iterations start from the previous step's increment extrapolated to this one
+  /// (a load path is smooth; CalculiX does the same), not from the previous equilibrium.
   StepReport Step(double dt_s, SimulationState& state) override;
   bool dynamic() const override { return false; }
 
@@ -27,6 +29,10 @@ class QuasiStaticNewtonIntegrator final : public Integrator {
   int max_newton_iterations_;
   double newton_tolerance_m_;
   Eigen::VectorXd delta_;
+  // The previous step's end state and increment, for the predictor.
+  Eigen::VectorXd last_end_x_m_;
+  Eigen::VectorXd last_increment_m_;
+  double last_dt_s_ = 0;
 };
 
 }  // namespace sedbridge::fem
