@@ -200,6 +200,11 @@ lcmt_bridge_status BridgePipeline::MakeStatus(int64_t now_utime) const {
   s.solver_residual = static_cast<float>(last_report_.linear_residual);
   s.scans_received = counters_.scans;
   s.scans_dropped = dropped_upstream_ + sensor_counters_.scans_dropped + counters_.scans_rejected;
+  s.num_reject_reasons = static_cast<int8_t>(kNumRejectReasons);
+  for (const auto& [reason, name] : NamesOf(RejectReason{})) {
+    s.reject_reason.push_back(name);
+    s.scans_rejected.push_back(counters_.rejected_by_reason[reason]);
+  }
   // The message predates BadFrameCounters; map its three buckets (see config/bridge/README.md).
   const sensors::BadFrameCounters& b = sensor_counters_;
   s.bad_frames_length = b.wrong_length + b.wrong_frame_type;

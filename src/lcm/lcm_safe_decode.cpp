@@ -34,6 +34,15 @@ class WireCursor {
     Skip(4);
     return static_cast<int32_t>(v);
   }
+  int8_t Int8() {
+    if (!ok_ || left_ < 1) {
+      ok_ = false;
+      return 0;
+    }
+    const int8_t v = static_cast<int8_t>(p_[0]);
+    Skip(1);
+    return v;
+  }
   // int32 length including the terminating NUL, then the bytes.
   void String() {
     const int32_t n = Int32();
@@ -109,7 +118,12 @@ bool Walk(const lcmt_bridge_status*, WireCursor& c) {
   c.Skip(7 * kF32);  // rates and latencies
   c.Skip(kI32);      // solver_iterations
   c.Skip(kF32);      // solver_residual
-  c.Skip(8 * kI64);  // counters
+  c.Skip(5 * kI64);  // scans_received, scans_dropped, bad_frames_*
+  const int8_t reasons = c.Int8();  // num_reject_reasons
+  if (reasons < 0) return false;
+  for (int k = 0; k < reasons && c.ok(); ++k) c.String();  // reject_reason
+  c.Array(reasons, kI64);  // scans_rejected
+  c.Skip(3 * kI64);  // commands_clamped, commands_stale, commands_fault
   c.Skip(kByte);     // fault_state
   c.String();        // fault_message
   c.Skip(9 * kF32);  // per-stage medians

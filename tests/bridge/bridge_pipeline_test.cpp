@@ -108,7 +108,15 @@ TEST(BridgePipeline, StatusCountsScansDroppedUpstreamAndRejected) {
   for (double& p : bad.pressure_Pa) p = std::nan("");  // nothing usable: rejected
   EXPECT_FALSE(pipeline.ProcessScan(bad, 1'000'000, WallClockUtime()).stepped);
   EXPECT_EQ(pipeline.counters().scans_rejected, 1);
-  EXPECT_EQ(pipeline.MakeStatus(1'000'000).scans_dropped, 2 + 3 + 1);
+  const lcmt_bridge_status status = pipeline.MakeStatus(1'000'000);
+  EXPECT_EQ(status.scans_dropped, 2 + 3 + 1);
+  // The rejected scan under its reason, every reason named in enum order.
+  ASSERT_EQ(status.num_reject_reasons, kNumRejectReasons);
+  for (int k = 0; k < kNumRejectReasons; ++k) {
+    const auto reason = static_cast<RejectReason>(k);
+    EXPECT_EQ(status.reject_reason[size_t(k)], ToString(reason));
+    EXPECT_EQ(status.scans_rejected[size_t(k)], reason == RejectReason::kTooManyInvalidTaxels ? 1 : 0);
+  }
 }
 
 }  // namespace

@@ -96,6 +96,9 @@ TEST(LcmSafeDecode, EveryTypeRoundTripsAndRejectsInflatedCounts) {
   scan.valid = {1, 0};
   lcmt_bridge_status status{};
   status.fault_message = "degraded";
+  status.num_reject_reasons = 2;
+  status.reject_reason = {"wrong_taxel_count", "missing_shear"};
+  status.scans_rejected = {3, 0};
   lcmt_sa1_rate_estimate sa1{};
   sa1.display_id = "x";
   sa1.num_sites = 2;
@@ -118,6 +121,13 @@ TEST(LcmSafeDecode, EveryTypeRoundTripsAndRejectsInflatedCounts) {
   check(sed, {8 + 16 + 6, 8 + 16 + 6 + 4, 8 + 16 + 6 + 8 + 36});
   check(scan, {8 + 16 + 14});
   check(status, {});
+  // A negative reject-reason count (int8 at 8 + 8 + 28 + 4 + 4 + 40) is refused.
+  {
+    std::vector<uint8_t> bad = Encode(status);
+    bad[8 + 8 + 28 + 4 + 4 + 40] = 0xff;
+    lcmt_bridge_status out;
+    EXPECT_FALSE(SafeDecode(bad.data(), bad.size(), &out));
+  }
   check(sa1, {8 + 8 + 6});
 }
 
