@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <string>
 
+#include "common/enum_names.h"
+
 namespace sedbridge {
 
 /// The stages of the data path, in order. A path uses the ones it has (the reduced FE step
@@ -26,21 +28,18 @@ enum class Stage {
 };
 constexpr int kNumStages = 9;
 
-/// Snake-case name of a stage, as in BRIDGE_STATUS fields and CSV columns ("solve").
-constexpr const char* ToString(Stage stage) {
-  switch (stage) {
-    case Stage::kConditioning: return "conditioning";
-    case Stage::kBoundaryCondition: return "boundary_condition";
-    case Stage::kAssembly: return "assembly";
-    case Stage::kSolve: return "solve";
-    case Stage::kSed: return "sed";
-    case Stage::kReconstruction: return "reconstruction";
-    case Stage::kPress: return "press";
-    case Stage::kLimiter: return "limiter";
-    case Stage::kPublish: return "publish";
-  }
-  return "?";
+/// Snake-case names, as in BRIDGE_STATUS fields and CSV columns ("solve"), in enum order
+/// (the one name table, common/enum_names.h).
+inline const config::EnumNames<Stage>& NamesOf(Stage) {
+  static const config::EnumNames<Stage> names{
+      {Stage::kConditioning, "conditioning"}, {Stage::kBoundaryCondition, "boundary_condition"},
+      {Stage::kAssembly, "assembly"},         {Stage::kSolve, "solve"},
+      {Stage::kSed, "sed"},                   {Stage::kReconstruction, "reconstruction"},
+      {Stage::kPress, "press"},               {Stage::kLimiter, "limiter"},
+      {Stage::kPublish, "publish"}};
+  return names;
 }
+inline const char* ToString(Stage stage) { return config::NameCStrOf(stage); }
 
 /// Wall time per stage [ms] of one step or scan (0 for stages that did not run).
 struct StageTimes {

@@ -15,6 +15,9 @@ TEST(StageTimes, EveryStageHasItsOwnName) {
   EXPECT_EQ(names.size(), size_t(kNumStages));
   EXPECT_EQ(names.count("?"), 0u);
   EXPECT_STREQ(ToString(Stage::kBoundaryCondition), "boundary_condition");
+  // The table is in enum order: CSV columns and BRIDGE_STATUS fields follow it.
+  ASSERT_EQ(NamesOf(Stage{}).size(), size_t(kNumStages));
+  for (int i = 0; i < kNumStages; ++i) EXPECT_EQ(NamesOf(Stage{})[size_t(i)].first, static_cast<Stage>(i));
 }
 
 TEST(StageTimes, TimerAddsItsWallTimeToOneStageOnce) {
