@@ -33,17 +33,17 @@ std::string ContactFeStep::Describe() const {
          fallback_->Describe();
 }
 
-const fem::TetMesh& ContactFeStep::mesh() const { return model_->soft; }
-const std::vector<int>& ContactFeStep::merkel_nodes() const { return model_->merkel_nodes; }
-
-Eigen::VectorXd ContactFeStep::frame_positions_m() const {
+bool ContactFeStep::Frame(FeFrame* frame) const {
   Eigen::VectorXd x = leader_->contact().full_positions_m();
-  if (x.size() == 0) return x;
-  if (last_ == LastStep::kNone)
-    x = Eigen::Map<const Eigen::VectorXd>(model_->soft.rest_positions_m.data(), model_->soft.rest_positions_m.size());
-  if (last_ == LastStep::kFallback)
-    if (const auto* reduced = dynamic_cast<const ReducedLinearFeStep*>(fallback_.get())) x = reduced->positions_m();
-  return x;
+  if (x.size() == 0) return false;  // built without full_field
+  if (last_ == LastStep::kFallback && fallback_->Frame(frame)) return true;
+  const fem::TetMesh& mesh = model_->soft;
+  if (last_ == LastStep::kNone) x = Eigen::Map<const Eigen::VectorXd>(mesh.rest_positions_m.data(), mesh.rest_positions_m.size());
+  frame->mesh = &mesh;
+  frame->positions_m = std::move(x);
+  const Eigen::VectorXd& sed = result_.ok && result_.sed_Pa ? *result_.sed_Pa : zero_sed_;
+  frame->point_fields = {MerkelSedPointField(mesh.num_nodes(), model_->merkel_nodes, sed)};
+  return true;
 }
 
 std::string ContactFeStep::CountersLine() const {

@@ -57,18 +57,14 @@ class ContactFeStep final : public FeStep {
   std::string Describe() const override;
   std::string CountersLine() const override;
   const lcmt_contact_estimate* contact_message() const override { return &message_; }
+  /// With full_field: the leader's mesh under the pressed object and the step's Merkel SED
+  /// (a fallback scan shows the fallback's own frame, or rest). False without full_field.
+  bool Frame(FeFrame* frame) const override;
 
   /// The last scan's estimate in the leader's pad frame.
   const ContactEstimate& last_estimate() const { return estimate_; }
   const ContactStepCounters& counters() const { return counters_; }
   const ContactReconstructor& reconstructor() const { return *reconstructor_; }
-  /// The leader's soft mesh and every node's position after the last step [m] (the
-  /// pressed object's field, the fallback's, or rest), for VTU frames; empty without
-  /// full_field.
-  const fem::TetMesh& mesh() const;
-  Eigen::VectorXd frame_positions_m() const;
-  /// Mesh node of each Merkel vertex (the SED's order).
-  const std::vector<int>& merkel_nodes() const;
   /// Wall time per step of the two stages (also in each result's report.stage_ms as
   /// kReconstruction and kPress): reconstruction, and the press on the leader (contact
   /// solves + Merkel SED), over the scans that reached them.

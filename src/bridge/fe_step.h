@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "bridge/fe_frame.h"
 #include "bridge/taxel_values.h"
 #include "sedbridge/lcmt_contact_estimate.hpp"
 #include "fem/simulation.h"
@@ -38,6 +39,12 @@ class FeStep {
   /// The last step's reconstructed contact (leader pad frame), or null when this step
   /// does not reconstruct contacts.
   virtual const lcmt_contact_estimate* contact_message() const { return nullptr; }
+  /// The deformed mesh and its fields after the last Step() (rest before the first), for
+  /// VTU frames. False when this step keeps no full displacement field.
+  virtual bool Frame(FeFrame* frame) const {
+    (void)frame;
+    return false;
+  }
 };
 
 }  // namespace sedbridge::bridge

@@ -80,6 +80,14 @@ const MerkelSedResult& ReducedLinearFeStep::Step(const TaxelValues& values) {
   return result_;
 }
 
+bool ReducedLinearFeStep::Frame(FeFrame* frame) const {
+  const scene::FingertipScene& sc = scene_step_->scene();
+  frame->mesh = &sc.model().soft;
+  frame->positions_m = x_m_;
+  frame->point_fields = {MerkelSedPointField(sc.model().soft.num_nodes(), sc.merkel()->nodes(), sc.merkel()->sed_Pa())};
+  return true;
+}
+
 std::string ReducedLinearFeStep::Describe() const {
   char buf[96];
   std::snprintf(buf, sizeof buf, " -- reduced linear step: %ld x %ld displacement map", static_cast<long>(U_.rows()),

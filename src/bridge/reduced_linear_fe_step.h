@@ -26,6 +26,8 @@ class ReducedLinearFeStep final : public FeStep {
   const Eigen::Matrix3Xd& merkel_rest_pad_mm() const override { return scene_step_->merkel_rest_pad_mm(); }
   const std::string& model_id() const override { return scene_step_->model_id(); }
   std::string Describe() const override;
+  /// The positions U v and the Merkel SED (no traction field: this step never builds one).
+  bool Frame(FeFrame* frame) const override;
 
   /// Displacement per unit taxel value [m/Pa], 3 #soft nodes x (#taxels * #axes); columns
   /// ordered normal (all taxels), then shear x, then shear y.

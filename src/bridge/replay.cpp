@@ -118,57 +118,22 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   lcmt_contact_estimate peak_contact{};
   int64_t last_utime = 0;
 
-  // Optional VTU frames: the scene step's own state, or the reduced step's positions on
-  // the same scene's mesh (its displacement is U v, so the frames cost one write each).
-  auto* scene_step = dynamic_cast<SceneFeStep*>(&pipeline.fe());
-  auto* reduced_step = dynamic_cast<ReducedLinearFeStep*>(&pipeline.fe());
-  auto* contact_step = dynamic_cast<ContactFeStep*>(&pipeline.fe());
-  const bool contact_frames = contact_step && contact_step->frame_positions_m().size() > 0;
+  // Optional VTU frames of whatever the FE step can show (FeStep::Frame).
+  FeFrame frame;
+  const bool has_frames = pipeline.fe().Frame(&frame);
   std::unique_ptr<scene::PvdCollection> pvd;
-  if (options.vtu_every > 0 && !scene_step && !reduced_step && !contact_frames)
+  if (options.vtu_every > 0 && !has_frames)
     std::fprintf(stderr, "note: --vtu-every: this FE step keeps no full displacement field, no frames written\n");
-  if (options.vtu_every > 0 && (scene_step || reduced_step || contact_frames) && !options.out_dir.empty())
+  if (options.vtu_every > 0 && has_frames && !options.out_dir.empty())
     pvd = std::make_unique<scene::PvdCollection>((std::filesystem::path(options.out_dir) / "frames.pvd").string(),
                                                  "time since the first scan [s] (log time)");
   auto write_vtu = [&](size_t index, int64_t utime) {
-    if (contact_frames) {  // the leader's mesh under the pressed object, Merkel SED of the step
-      const fem::TetMesh& mesh = contact_step->mesh();
-      const Eigen::VectorXd x = contact_step->frame_positions_m();
-      const int n = mesh.num_nodes();
-      scene::VtuField sed{"merkel_sed_Pa", 1, std::vector<double>(size_t(n), 0.0)};
-      const auto& merkel = contact_step->merkel_nodes();
-      const auto& field = pipeline.last_field().sed_Pa;
-      for (size_t k = 0; k < merkel.size() && k < field.size(); ++k) sed.values[size_t(merkel[k])] = field[k];
-      char name[64];
-      std::snprintf(name, sizeof name, "frame_%06zu.vtu", index);
-      const double t_s = (utime - result.rows.front().utime) * 1e-6;
-      scene::WriteVtu((std::filesystem::path(options.out_dir) / name).string(), mesh, x, {sed}, {},
-                      {{"time_s", t_s}, {"scan", double(index)}, {"applied_force_N", result.rows.back().applied_force_N}});
-      pvd->Add(t_s, name);
-      return;
-    }
-    SceneFeStep& step = scene_step ? *scene_step : reduced_step->scene_step();
-    scene::FingertipScene& sc = step.scene();
-    const fem::TetMesh& mesh = sc.model().soft;
-    const Eigen::VectorXd& x = scene_step ? sc.simulation().positions_m() : reduced_step->positions_m();
-    const int n = mesh.num_nodes();
-    std::vector<scene::VtuField> fields;
-    if (scene_step) {  // the reduced step never builds the traction field: no array rather than a wrong one
-      scene::VtuField trac{"traction_pad_Pa", 3, std::vector<double>(size_t(3 * n), 0.0)};
-      const Eigen::Matrix3Xd& t = scene_step->boundary_condition().traction_pad_Pa();
-      const std::vector<int>& ids = sc.traction()->nodes();
-      for (size_t k = 0; k < ids.size(); ++k)
-        for (int d = 0; d < 3; ++d) trac.values[size_t(3 * ids[k] + d)] = t(d, Eigen::Index(k));
-      fields.push_back(std::move(trac));
-    }
-    scene::VtuField sed{"merkel_sed_Pa", 1, std::vector<double>(size_t(n), 0.0)};
-    const std::vector<int>& merkel = sc.merkel()->nodes();
-    for (size_t k = 0; k < merkel.size(); ++k) sed.values[size_t(merkel[k])] = sc.merkel()->sed_Pa()[Eigen::Index(k)];
-    fields.push_back(std::move(sed));
+    if (!pipeline.fe().Frame(&frame)) return;
     char name[64];
     std::snprintf(name, sizeof name, "frame_%06zu.vtu", index);
     const double t_s = (utime - result.rows.front().utime) * 1e-6;
-    scene::WriteVtu((std::filesystem::path(options.out_dir) / name).string(), mesh, x, fields, {},
+    scene::WriteVtu((std::filesystem::path(options.out_dir) / name).string(), *frame.mesh, frame.positions_m,
+                    frame.point_fields, {},
                     {{"time_s", t_s}, {"scan", double(index)}, {"applied_force_N", result.rows.back().applied_force_N}});
     pvd->Add(t_s, name);
   };

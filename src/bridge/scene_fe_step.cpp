@@ -76,6 +76,21 @@ const MerkelSedResult& SceneFeStep::Step(const TaxelValues& values) {
 
 const Eigen::Matrix3Xd& SceneFeStep::merkel_rest_pad_mm() const { return scene_->merkel()->rest_pad_mm(); }
 
+bool SceneFeStep::Frame(FeFrame* frame) const {
+  const scene::FingertipScene& sc = *scene_;
+  const fem::TetMesh& mesh = sc.model().soft;
+  const int n = mesh.num_nodes();
+  frame->mesh = &mesh;
+  frame->positions_m = sc.simulation().positions_m();
+  scene::VtuField traction{"traction_pad_Pa", 3, std::vector<double>(size_t(3 * n), 0.0)};
+  const Eigen::Matrix3Xd& t = bc_->traction_pad_Pa();
+  const std::vector<int>& ids = sc.traction()->nodes();
+  for (size_t k = 0; k < ids.size(); ++k)
+    for (int d = 0; d < 3; ++d) traction.values[size_t(3 * ids[k] + d)] = t(d, Eigen::Index(k));
+  frame->point_fields = {std::move(traction), MerkelSedPointField(n, sc.merkel()->nodes(), sc.merkel()->sed_Pa())};
+  return true;
+}
+
 std::string SceneFeStep::Describe() const {
   const auto& m = scene_->model();
   char buf[256];

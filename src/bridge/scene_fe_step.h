@@ -36,6 +36,8 @@ class SceneFeStep final : public FeStep {
   const Eigen::Matrix3Xd& merkel_rest_pad_mm() const override;
   const std::string& model_id() const override { return model_id_; }
   std::string Describe() const override;
+  /// The scene's positions, the traction field and the Merkel SED.
+  bool Frame(FeFrame* frame) const override;
 
   scene::FingertipScene& scene() { return *scene_; }
   const PressureBoundaryCondition& boundary_condition() const { return *bc_; }
