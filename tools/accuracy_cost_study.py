@@ -3,7 +3,7 @@
 ms/step and the SED error against a reference run (issue 3).
 
 usage: accuracy_cost_study.py --reference DIR [--out out/accuracy_cost] [--quick] [--plot-only]
-                              [--sedbridge build/sedbridge] [--only NAME,...]
+                              [--sedbridge build/sedbridge] [--only NAME,...] [--rescore]
 
 REFERENCE is a press-shaped result folder (sed_path.csv, merkel_sed.csv,
 force_displacement.csv), e.g. CalculiX model A from tools/ccx/run_reference.py. Every
@@ -204,6 +204,9 @@ def main():
     ap.add_argument("--quick", action="store_true", help="fewer configurations")
     ap.add_argument("--only", default="", help="comma-separated configuration names")
     ap.add_argument("--plot-only", action="store_true", help="redraw OUT/pareto.png from OUT/study.csv, run nothing")
+    ap.add_argument("--rescore", action="store_true",
+                    help="run nothing: score the run folders already in OUT against --reference (a new reference); "
+                         "times come from OUT/study.csv")
     a = ap.parse_args()
     if a.plot_only:
         write_pareto(read_csv(os.path.join(a.out, "study.csv")), os.path.join(a.out, "pareto.png"))
@@ -220,21 +223,31 @@ def main():
     if a.only:
         keep = set(a.only.split(","))
         configs = [c for c in configs if c[0] in keep]
+    study_csv = os.path.join(a.out, "study.csv")
+    earlier = {r["name"]: r for r in read_csv(study_csv)} if a.rescore and os.path.exists(study_csv) else {}
     rows = []
     for i, (name, kw) in enumerate(configs, 1):
         d = os.path.join(a.out, name)
-        os.makedirs(d, exist_ok=True)
-        scene = os.path.join(d, "scene.yaml")
-        with open(scene, "w") as f:
-            f.write(scene_yaml(**kw))
-        print(f"[{i}/{len(configs)}] {name} ...", flush=True)
-        t0 = time.time()
-        r = subprocess.run([a.sedbridge, "press", "--scene", scene, "--out", d, "--no-plots", "--quiet"],
-                           capture_output=True, text=True)
-        wall = time.time() - t0
-        if r.returncode != 0:
-            print(f"  failed: {r.stderr.strip() or r.stdout.strip()}", file=sys.stderr)
-            continue
+        if a.rescore:
+            if not os.path.exists(os.path.join(d, "sed_path.csv")):
+                continue
+            wall = float(earlier.get(name, {}).get("total_s", "nan"))
+            load = float(earlier.get(name, {}).get("load_avg_1min", "nan"))
+        else:
+            os.makedirs(d, exist_ok=True)
+            scene = os.path.join(d, "scene.yaml")
+            with open(scene, "w") as f:
+                f.write(scene_yaml(**kw))
+            print(f"[{i}/{len(configs)}] {name} ...", flush=True)
+            t0 = time.time()
+            r = subprocess.run([a.sedbridge, "press", "--scene", scene, "--out", d, "--no-plots", "--quiet"],
+                               capture_output=True, text=True)
+            wall = time.time() - t0
+            # 1-min load average after the run: times from a loaded machine are not comparable
+            load = os.getloadavg()[0]
+            if r.returncode != 0:
+                print(f"  failed: {r.stderr.strip() or r.stdout.strip()}", file=sys.stderr)
+                continue
         timing = read_csv(os.path.join(d, "step_timing.csv"))
         ms = sorted(float(t["wall_ms"]) for t in timing)
         med = statistics.median(ms)
@@ -252,15 +265,14 @@ def main():
                    unconverged=sum(1 for t in timing if t["converged"] != "1"),
                    fallbacks=sum(int(t["solver_fallbacks"]) for t in timing),
                    max_inverted=max(int(t["inverted_elements"]) for t in timing),
-                   # 1-min load average after the run: times from a loaded machine are not comparable
-                   load_avg_1min=os.getloadavg()[0])
+                   load_avg_1min=load)
         rows.append(row)
         print(f"  {med:.1f} ms/step median, p99 {p99:.1f}; path MAE {mae:.3f} max {mx:.3f}; "
               f"max SED {100 * row['max_sed_rel_err']:+.1f} %; F(1 mm) {100 * row['force_1mm_rel_err']:+.1f} %; "
               f"F(2 mm) {100 * row['force_2mm_rel_err']:+.1f} %", flush=True)
     if not rows:
         return 1
-    with open(os.path.join(a.out, "study.csv"), "w", newline="") as f:
+    with open(study_csv, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=list(rows[0].keys()))
         w.writeheader()
         w.writerows(rows)
@@ -271,7 +283,11 @@ def main():
               f"{r['path_max']:.3f} | {100 * r['max_sed_rel_err']:+.1f} % | {100 * r['force_1mm_rel_err']:+.1f} % | "
               f"{100 * r['force_2mm_rel_err']:+.1f} % | "
               f"{r['unconverged']} | {r['fallbacks']} |")
-    write_pareto(rows, os.path.join(a.out, "pareto.png"))
+    timed = [r for r in rows if r["total_s"] == r["total_s"]]  # NaN: rescored without an earlier time
+    if timed:
+        write_pareto(timed, os.path.join(a.out, "pareto.png"))
+    else:
+        print("pareto plot skipped: no run times (rescored folders without an earlier study.csv)")
     return 0
 
 
