@@ -24,7 +24,4 @@ struct DisplayKindLimits {
 /// The bounds for `kind` (see DisplayKindLimits for the reasons).
 DisplayKindLimits LimitsOf(DisplayKind kind);
 
-/// Largest `mapping.calibration.gain` entry [-]: a per-actuator correction, not an amplifier.
-inline constexpr double kMaxCalibrationGain = 10.0;
-
 }  // namespace sedbridge::display

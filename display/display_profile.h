@@ -3,12 +3,14 @@
 // pad, what unit they take, the hard safety limits, and how Merkel-layer SED maps to them.
 // Loaded from config/displays/*.yaml (keys documented in config/displays/README.md).
 
+#include <array>
 #include <cstddef>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include "common/enum_names.h"
+#include "common/name_value.h"
 
 namespace sedbridge::display {
 
@@ -29,6 +31,9 @@ enum class SamplingMethod {
 /// "interpolate", "max_within_radius", "mean_within_radius" (key mapping.sampling).
 const config::EnumNames<SamplingMethod>& NamesOf(SamplingMethod);
 
+/// Largest `mapping.calibration.gain` entry [-]: a per-actuator correction, not an amplifier.
+inline constexpr double kMaxCalibrationGain = 10.0;
+
 /// SED [Pa] -> actuator value [display unit]:
 ///   s = sample(SED) at the site;  x = max(0, s - threshold_Pa)
 ///   y = min(saturation, gain * (x / reference_Pa)^exponent)
@@ -47,7 +52,33 @@ struct MappingParams {
   double saturation = 1;         ///< transfer output cap [unit]
   std::vector<double> calibration_gain;    ///< per actuator [-]; empty = all 1
   std::vector<double> calibration_offset;  ///< per actuator [unit]; empty = all 0
+
+  /// Keys of `mapping`. Limits that depend on the display kind (saturation, offsets) and
+  /// list lengths are checked by display_profile.cpp.
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Visit(Field("sampling", &sampling).Required());
+    a->Visit(Field("radius_mm", &radius_mm).Required().Positive());
+    std::array<double, 2> z_window_mm{z_min_mm, z_max_mm};
+    a->Visit(Field("z_window_mm", &z_window_mm));  // min < max
+    z_min_mm = z_window_mm[0];
+    z_max_mm = z_window_mm[1];
+    a->Visit(Field("threshold_Pa", &threshold_Pa).NonNegative());
+    a->Visit(Field("reference_Pa", &reference_Pa).Required().Positive());
+    a->Visit(Field("gain", &gain).Required().Positive());
+    a->Visit(Field("exponent", &exponent).InRange(0.1, 10));
+    a->Visit(Field("saturation", &saturation).Positive());
+    a->Section("calibration", [&](auto* c) {
+      c->Visit(Field("gain", &calibration_gain).Within({0, kMaxCalibrationGain, true, false}));
+      c->Visit(Field("offset", &calibration_offset));
+    });
+  }
 };
+
+/// Upper bound on any profile's watchdog timeout [s]: a config cannot turn the watchdog off
+/// by making it very long.
+inline constexpr double kMaxWatchdogTimeout_s = 1.0;
 
 /// Limits the SafetyLimiter enforces. These are not switchable: every field is required to be
 /// finite and positive, and the watchdog timeout is capped at kMaxWatchdogTimeout_s.
@@ -56,11 +87,18 @@ struct SafetyParams {
   std::vector<double> max_per_actuator;   ///< filled: min(max, per-actuator override) [unit]
   double slew_rate_per_s = 0;             ///< largest rise (and normal fall) rate [unit/s]
   double watchdog_timeout_s = 0;          ///< no fresh input this long -> ramp to zero [s]
-};
 
-/// Upper bound on any profile's watchdog timeout [s]: a config cannot turn the watchdog off
-/// by making it very long.
-inline constexpr double kMaxWatchdogTimeout_s = 1.0;
+  /// Keys of `safety`. Bounds that depend on the device range or the display kind (max,
+  /// slew rate) and the length of max_per_actuator are checked by display_profile.cpp.
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Visit(Field("max", &max).Required().Positive());
+    a->Visit(Field("max_per_actuator", &max_per_actuator).NonNegative());  // default: max for every actuator
+    a->Visit(Field("slew_rate_per_s", &slew_rate_per_s).Required().Positive());
+    a->Visit(Field("watchdog_timeout_s", &watchdog_timeout_s).Required().Unit("s").Within({0, kMaxWatchdogTimeout_s, true, false}));
+  }
+};
 
 struct DisplayProfile {
   std::string name;         ///< e.g. "suction_4x4"; published as display_id
@@ -76,6 +114,29 @@ struct DisplayProfile {
   std::string file;         ///< where it was loaded from (for messages)
 
   std::size_t size() const { return x_mm.size(); }
+
+  /// Every key of a display profile (config/displays/README.md). `actuators` (a grid or a
+  /// list of sites) is hand-read by display_profile.cpp, which also checks every bound that
+  /// spans keys: unit vs kind, range and safety limits vs the kind's limits, list lengths.
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Visit(Field("name", &name).Required());
+    a->Visit(Field("description", &description));
+    a->Visit(Field("kind", &kind).Required());
+    a->Visit(Field("unit", &unit).Required());
+    a->Section("actuators", [&](auto* s) {
+      s->HandRead("grid");
+      s->HandRead("positions_mm");
+    });
+    std::array<double, 2> range{range_min, range_max};
+    a->Visit(Field("range", &range).Required().NonNegative());  // min < max
+    range_min = range[0];
+    range_max = range[1];
+    a->Visit(Field("safety", &safety).Required());
+    mapping.saturation = safety.max;  // default of mapping.saturation
+    a->Visit(Field("mapping", &mapping).Required());
+  }
 };
 
 /// A display profile argument: a path, or a shipped name ("suction_4x4" ->

@@ -1,11 +1,13 @@
 #include "sensors/calibration_press.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
+#include <optional>
 #include <stdexcept>
 
-#include "common/yaml_reader.h"
+#include "common/yaml_read_archive.h"
 #include "sensors/candump_log.h"
 #include "sensors/scan_assembler.h"
 
@@ -66,53 +68,103 @@ double NewtonsPerCount(const SensorProfile& profile, int taxel, int axis) {
   return n * (cal.taxel_gain.empty() ? 1.0 : cal.taxel_gain[static_cast<size_t>(taxel)]);
 }
 
+namespace {
+
+using config::Field;
+
+/// `object` of one case in cases.json: the object at the peak force.
+struct PressObjectKeys {
+  ContactShape shape = ContactShape::kSphere;
+  std::array<double, 2> position_mm{};
+  std::optional<double> radius_mm;  ///< > 0, required for a sphere or a cylinder
+  double yaw_deg = 0;
+  std::array<double, 2> traction{0, 0};  ///< tangential force / normal force
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(Field("shape", &shape).Required());
+    a->Visit(Field("position_mm", &position_mm).Required());
+    a->Visit(Field("radius_mm", &radius_mm));
+    a->Visit(Field("yaw_deg", &yaw_deg));
+    a->Visit(Field("traction", &traction));
+  }
+};
+
+/// One entry of `cases`.
+struct PressCaseKeys {
+  std::string log;  ///< relative to cases.json
+  double force_N = 0;
+  PressObjectKeys object;
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(Field("log", &log).Required());
+    a->Visit(Field("force_N", &force_N).Required().Unit("N").Within({0, 1e3, true, false}));
+    a->Visit(Field("object", &object).Required());
+  }
+};
+
+struct CasesFile {
+  std::vector<PressCaseKeys> cases;
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(Field("cases", &cases).Required());
+  }
+};
+
+// A flat's radius is never used, so only a sphere or cylinder needs one.
+void CheckRadius(const PressObjectKeys& object, const config::MapReader& object_reader) {
+  if (object.shape == ContactShape::kFlat || object.radius_mm.value_or(-1) > 0) return;
+  object_reader.Fail("'radius_mm' (> 0) is required for a " + std::string(ContactShapeName(object.shape)));
+}
+
+ContactPrimitive PeakObject(const PressCaseKeys& c) {
+  ContactPrimitive o;
+  o.shape = c.object.shape;
+  o.x_mm = c.object.position_mm[0];
+  o.y_mm = c.object.position_mm[1];
+  o.radius_mm = c.object.radius_mm.value_or(0.0);
+  o.yaw_deg = c.object.yaw_deg;
+  o.normal_force_N = c.force_N;
+  o.shear_x_N = c.object.traction[0] * c.force_N;
+  o.shear_y_N = c.object.traction[1] * c.force_N;
+  return o;
+}
+
+void DecodeLog(const std::string& cases_file, const SensorProfile& profile, CalibrationPress* p) {
+  std::ifstream in(p->log_path);
+  if (!in) throw std::runtime_error(cases_file + ": cannot open log '" + p->log_path + "'");
+  CandumpLogReader reader(in, p->log_path);
+  ScanAssembler assembler(profile);
+  Frame f;
+  while (reader.Next(&f)) assembler.Push(f, &p->scans);
+  assembler.Flush(&p->scans);
+  if (p->scans.empty()) throw std::runtime_error(p->log_path + ": no scan of profile '" + profile.name + "'");
+  const int64_t t0 = p->scans.front().utime;
+  for (const Scan& s : p->scans) {
+    p->t_s.push_back(1e-6 * static_cast<double>(s.utime - t0));
+    p->readings_N.push_back(ScanReadings_N(s, profile));
+  }
+}
+
+}  // namespace
+
 std::vector<CalibrationPress> LoadCalibrationPresses(const std::string& cases_json, const SensorProfile& profile) {
   const config::YamlDocument doc = config::LoadYamlFile(cases_json);
   config::MapReader root(doc.root, doc.file);
-  const YAML::Node list = root.Node("cases");
-  root.Finish();
-  if (!list.IsSequence()) root.Fail(list, "'cases' must be a list");
+  CasesFile file;
+  config::ReadYaml(root, &file);
   const std::string dir = cases_json.find('/') == std::string::npos ? "." : cases_json.substr(0, cases_json.rfind('/'));
   std::vector<CalibrationPress> presses;
-  for (const YAML::Node& entry : list) {
-    config::MapReader e(entry, doc.file);
+  for (std::size_t i = 0; i < file.cases.size(); ++i) {
+    const PressCaseKeys& c = file.cases[i];
+    CheckRadius(c.object, config::MapReader(doc.root["cases"][i]["object"], doc.file));
     CalibrationPress p;
-    p.name = e.Required<std::string>("log");
-    p.log_path = dir + "/" + p.name;
-    const double force = e.Required<double>("force_N");
-    if (!(force > 0) || force > 1e3) e.Fail(e.Node("force_N"), "'force_N' must be in (0, 1000]");
-    config::MapReader o = e.Child("object");
-    const std::string shape = o.RequiredChoice("shape", {"sphere", "cylinder", "flat"});
-    p.object.shape = ContactShapeFromName(shape);
-    const auto pos = o.Required<std::vector<double>>("position_mm");
-    if (pos.size() != 2) o.Fail(o.Node("position_mm"), "'position_mm' needs [x, y]");
-    p.object.x_mm = pos[0];
-    p.object.y_mm = pos[1];
-    p.object.radius_mm = o.Optional<double>("radius_mm", p.object.shape == ContactShape::kFlat ? 0.0 : -1.0);
-    if (p.object.shape != ContactShape::kFlat && !(p.object.radius_mm > 0))
-      o.Fail("'radius_mm' (> 0) is required for a " + shape);
-    p.object.yaw_deg = o.Optional<double>("yaw_deg", 0.0);
-    const auto traction = o.Optional<std::vector<double>>("traction", {0.0, 0.0});
-    if (traction.size() != 2) o.Fail(o.Node("traction"), "'traction' needs [x, y]");
-    o.Finish();
-    e.Finish();
-    p.object.normal_force_N = force;
-    p.object.shear_x_N = traction[0] * force;
-    p.object.shear_y_N = traction[1] * force;
-
-    std::ifstream in(p.log_path);
-    if (!in) throw std::runtime_error(doc.file + ": cannot open log '" + p.log_path + "'");
-    CandumpLogReader reader(in, p.log_path);
-    ScanAssembler assembler(profile);
-    Frame f;
-    while (reader.Next(&f)) assembler.Push(f, &p.scans);
-    assembler.Flush(&p.scans);
-    if (p.scans.empty()) throw std::runtime_error(p.log_path + ": no scan of profile '" + profile.name + "'");
-    const int64_t t0 = p.scans.front().utime;
-    for (const Scan& s : p.scans) {
-      p.t_s.push_back(1e-6 * static_cast<double>(s.utime - t0));
-      p.readings_N.push_back(ScanReadings_N(s, profile));
-    }
+    p.name = c.log;
+    p.log_path = dir + "/" + c.log;
+    p.object = PeakObject(c);
+    DecodeLog(doc.file, profile, &p);
     presses.push_back(std::move(p));
   }
   return presses;

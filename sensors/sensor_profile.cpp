@@ -1,8 +1,8 @@
 #include "sensors/sensor_profile.h"
 
 #include <bitset>
-#include <cmath>
 #include <filesystem>
+#include <optional>
 #include <stdexcept>
 
 #include "common/resource_path.h"
@@ -31,9 +31,31 @@ int64_t SensorProfile::RawMax() const {
                               : (int64_t{1} << layout.sample_bits) - 1;
 }
 
+std::array<int64_t, 2> SensorProfile::DefaultSaturationCounts() const {
+  // Unsigned: 0 is a reading like any other, so only the top end saturates.
+  return {layout.sample_signed ? RawMin() : RawMin() - 1, RawMax()};
+}
+
 namespace {
 
+using config::Field;
 using config::MapReader;
+
+/// The keys of `taxels.grid`.
+struct TaxelGrid {
+  int rows = 0;
+  int cols = 0;
+  std::array<double, 2> pitch_mm{};
+  std::optional<std::array<double, 2>> first_mm;  ///< default: the grid centred on the pad origin
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(Field("rows", &rows).Required().AtLeast(1));
+    a->Visit(Field("cols", &cols).Required().AtLeast(1));
+    a->Visit(Field("pitch_mm", &pitch_mm).Required());
+    a->Visit(Field("first_mm", &first_mm));
+  }
+};
 
 /// A list of `n` doubles, or one number repeated n times.
 std::vector<double> PerAxis(MapReader& r, const std::string& key, int n, double fallback) {
@@ -44,13 +66,6 @@ std::vector<double> PerAxis(MapReader& r, const std::string& key, int n, double 
   if (static_cast<int>(v.size()) != n)
     r.Fail(node, "'" + key + "' needs one number or " + std::to_string(n) + " (one per axis)");
   return v;
-}
-
-BitField ParseBitField(MapReader& parent, const char* key) {
-  BitField f;
-  config::YamlReadArchive archive(&parent);
-  archive.Visit(config::Field(key, &f));
-  return f;
 }
 
 Frame ParseCommandFrame(const YAML::Node& node, const std::string& file) {
@@ -74,144 +89,96 @@ std::vector<Frame> ParseCommandFrames(MapReader& r, const std::string& key) {
   return out;
 }
 
-void ParseTaxels(MapReader& r, SensorProfile* p) {
-  p->taxel_count = r.Required<int>("count");
-  if (p->taxel_count < 1 || p->taxel_count > 4096) r.Fail(r.Node("count"), "'count' must be 1..4096");
-  p->axes = r.Required<int>("axes");
-  if (p->axes != 1 && p->axes != 3) r.Fail(r.Node("axes"), "'axes' must be 1 (normal) or 3 (x, y, z)");
-  const auto size = r.Required<std::vector<double>>("size_mm");
-  if (size.size() != 2 || !(size[0] > 0) || !(size[1] > 0))
-    r.Fail(r.Node("size_mm"), "'size_mm' needs two positive numbers [width, height]");
-  p->taxel_width_mm = size[0];
-  p->taxel_height_mm = size[1];
-  if (r.Has("grid") == r.Has("positions_mm"))
-    r.Fail("give exactly one of 'grid' and 'positions_mm'");
-  if (r.Has("grid")) {
-    MapReader g = r.Child("grid");
-    const int rows = g.Required<int>("rows"), cols = g.Required<int>("cols");
-    const auto pitch = g.Required<std::vector<double>>("pitch_mm");
-    if (pitch.size() != 2) g.Fail(g.Node("pitch_mm"), "'pitch_mm' needs [x, y]");
-    if (rows < 1 || cols < 1 || rows * cols != p->taxel_count)
-      g.Fail("rows * cols must equal taxels.count");
-    // Centred on the pad origin unless told otherwise; row-major, taxel = row * cols + col.
-    std::vector<double> origin = {-0.5 * (cols - 1) * pitch[0], -0.5 * (rows - 1) * pitch[1]};
-    if (g.Has("first_mm")) {
-      origin = g.Required<std::vector<double>>("first_mm");
-      if (origin.size() != 2) g.Fail(g.Node("first_mm"), "'first_mm' needs [x, y]");
-    }
-    g.Finish();
-    for (int row = 0; row < rows; ++row)
-      for (int col = 0; col < cols; ++col)
-        p->taxels.push_back({origin[0] + col * pitch[0], origin[1] + row * pitch[1]});
+// Row-major, taxel = row * cols + col.
+void ReadTaxelGrid(MapReader& taxels, SensorProfile* p) {
+  MapReader g = taxels.Child("grid");
+  TaxelGrid grid;
+  config::ReadYaml(g, &grid);
+  if (int64_t{grid.rows} * grid.cols != p->taxel_count) g.Fail("rows * cols must equal taxels.count");
+  const auto& pitch = grid.pitch_mm;
+  const std::array<double, 2> origin =
+      grid.first_mm.value_or(std::array<double, 2>{-0.5 * (grid.cols - 1) * pitch[0], -0.5 * (grid.rows - 1) * pitch[1]});
+  for (int row = 0; row < grid.rows; ++row)
+    for (int col = 0; col < grid.cols; ++col)
+      p->taxels.push_back({origin[0] + col * pitch[0], origin[1] + row * pitch[1]});
+}
+
+void ReadTaxelList(MapReader& taxels, SensorProfile* p) {
+  std::vector<std::array<double, 2>> xy;
+  config::YamlReadArchive archive(&taxels);
+  archive.Visit(Field("positions_mm", &xy));
+  if (static_cast<int>(xy.size()) != p->taxel_count)
+    taxels.Fail(taxels.Node("positions_mm"), "'positions_mm' must list taxels.count [x, y] pairs");
+  for (const auto& [x, y] : xy) p->taxels.push_back({x, y});
+}
+
+void ReadTaxels(MapReader& taxels, SensorProfile* p) {
+  if (p->axes != 1 && p->axes != 3) taxels.Fail(taxels.Node("axes"), "'axes' must be 1 (normal) or 3 (x, y, z)");
+  if (taxels.Has("grid") == taxels.Has("positions_mm")) taxels.Fail("give exactly one of 'grid' and 'positions_mm'");
+  if (taxels.Has("grid")) {
+    ReadTaxelGrid(taxels, p);
   } else {
-    const YAML::Node list = r.Node("positions_mm");
-    if (!list.IsSequence() || static_cast<int>(list.size()) != p->taxel_count)
-      r.Fail(list, "'positions_mm' must list taxels.count [x, y] pairs");
-    for (const auto& item : list) {
-      auto xy = config::As<std::vector<double>>(item, r.file(), "positions_mm");
-      if (xy.size() != 2)
-        throw config::ConfigError(config::LocationOf(item, r.file()), "a position needs [x, y]");
-      p->taxels.push_back({xy[0], xy[1]});
-    }
+    ReadTaxelList(taxels, p);
   }
 }
 
-void ParseFrames(MapReader& r, SensorProfile* p) {
-  FrameLayout& l = p->layout;
-  l.extended_ids = r.Optional<bool>("extended_ids", false);
-  l.fd = r.Optional<bool>("fd", false);
-  l.fd_flags = static_cast<uint8_t>(r.Optional<int>("fd_flags", l.fd ? kCanFdBrs : 0));
-  l.length = r.Required<int>("length");
-  l.samples_per_frame = r.Required<int>("samples_per_frame");
-  l.sample_bits = r.Required<int>("sample_bits");
-  // Checked here, not only in ValidateProfile: the calibration defaults (RawMax) shift by it
-  // before validation runs (found by fuzz_yaml_configs: sample_bits 73 was a UB shift).
-  if (l.sample_bits < 1 || l.sample_bits > 24) r.Fail(r.Node("sample_bits"), "'sample_bits' must be 1..24");
-  l.sample_signed = r.Optional<bool>("signed", false);
-  config::YamlReadArchive archive(&r);
-  archive.Visit(config::Field("byte_order", &l.byte_order).Required());
-  l.first_sample_bit = r.Optional<int>("first_sample_bit", 0);
-  l.frame_index = ParseBitField(r, "frame_index");
-  l.scan_counter = ParseBitField(r, "scan_counter");
-  if (r.Has("ids") == r.Has("id_base")) r.Fail("give exactly one of 'ids' and 'id_base'");
-  if (r.Has("ids")) {
-    l.ids = r.Required<std::vector<uint32_t>>("ids");
-    if (l.ids.empty()) r.Fail(r.Node("ids"), "'ids' must not be empty");
-    l.frame_count = l.frame_index.present() ? r.Required<int>("count")
-                                            : r.Optional<int>("count", static_cast<int>(l.ids.size()));
-  } else {
-    const uint32_t base = r.Required<uint32_t>("id_base");
-    const uint32_t step = r.Optional<uint32_t>("id_step", 1);
-    l.frame_count = r.Required<int>("count");
-    if (l.frame_count < 1 || l.frame_count > 4096) r.Fail(r.Node("count"), "'count' must be 1..4096");
-    if (l.frame_index.present()) {
-      l.ids = {base};
-    } else {
-      for (int k = 0; k < l.frame_count; ++k) l.ids.push_back(base + step * static_cast<uint32_t>(k));
-    }
+// One id per slot from `ids` as given, or id_base + k * id_step; with frame_index every slot
+// shares the first id.
+void ReadSlotIds(MapReader& frames, FrameLayout* l) {
+  if (frames.Has("ids") == frames.Has("id_base")) frames.Fail("give exactly one of 'ids' and 'id_base'");
+  if (frames.Has("ids")) {
+    if (l->ids.empty()) frames.Fail(frames.Node("ids"), "'ids' must not be empty");
+    if (frames.Has("id_step")) frames.Fail(frames.Node("id_step"), "'id_step' goes with 'id_base', not 'ids'");
+    if (frames.Has("count")) return;
+    if (l->frame_index.present()) frames.Fail("missing required key 'count'");
+    l->frame_count = static_cast<int>(l->ids.size());
+    return;
   }
+  const uint32_t base = frames.Required<uint32_t>("id_base");
+  const uint32_t step = frames.Optional<uint32_t>("id_step", 1);
+  if (!frames.Has("count")) frames.Fail("missing required key 'count'");
+  if (l->frame_count > kMaxFrameSlots) frames.Fail(frames.Node("count"), "'count' must be 1..4096");
+  if (l->frame_index.present()) {
+    l->ids = {base};
+    return;
+  }
+  for (int k = 0; k < l->frame_count; ++k) l->ids.push_back(base + step * static_cast<uint32_t>(k));
 }
 
-void ParseCalibration(MapReader& r, SensorProfile* p) {
+void ReadCalibration(MapReader& r, SensorProfile* p) {
   Calibration& c = p->calibration;
-  config::YamlReadArchive archive(&r);
-  archive.Visit(config::Field("unit", &c.unit).Required());
   r.Node("scale_per_count");  // presence check with the "missing key" message
   c.scale_per_count = PerAxis(r, "scale_per_count", p->axes, 0);
   c.offset_counts = PerAxis(r, "offset_counts", p->axes, 0);
   for (double s : c.scale_per_count)
-    if (!std::isfinite(s) || s == 0) r.Fail(r.Node("scale_per_count"), "'scale_per_count' must be finite and non-zero");
-  for (double o : c.offset_counts)
-    if (!std::isfinite(o)) r.Fail(r.Node("offset_counts"), "'offset_counts' must be finite");
-  c.taxel_gain.assign(p->taxel_count, 1.0);
-  if (r.Has("taxel_gain")) {
-    c.taxel_gain = r.Required<std::vector<double>>("taxel_gain");
-    if (static_cast<int>(c.taxel_gain.size()) != p->taxel_count)
-      r.Fail(r.Node("taxel_gain"), "'taxel_gain' needs one number per taxel");
-    for (double g : c.taxel_gain)
-      if (!std::isfinite(g)) r.Fail(r.Node("taxel_gain"), "'taxel_gain' entries must be finite");
-  }
-  c.saturation_low_counts = p->layout.sample_signed ? p->RawMin() : p->RawMin() - 1;
-  c.saturation_high_counts = p->RawMax();
-  if (r.Has("saturation_counts")) {
-    auto s = r.Required<std::vector<int64_t>>("saturation_counts");
-    if (s.size() != 2 || s[0] >= s[1]) r.Fail(r.Node("saturation_counts"), "'saturation_counts' needs [low, high], low < high");
-    c.saturation_low_counts = s[0];
-    c.saturation_high_counts = s[1];
-  }
+    if (s == 0) r.Fail(r.Node("scale_per_count"), "'scale_per_count' must be finite and non-zero");
+  if (!r.Has("taxel_gain")) c.taxel_gain.assign(p->taxel_count, 1.0);
+  if (static_cast<int>(c.taxel_gain.size()) != p->taxel_count)
+    r.Fail(r.Node("taxel_gain"), "'taxel_gain' needs one number per taxel");
+  if (c.saturation_low_counts >= c.saturation_high_counts)
+    r.Fail(r.Node("saturation_counts"), "'saturation_counts' needs [low, high], low < high");
+}
+
+void ReadForwardModel(MapReader& r, SensorProfile* p) {
+  if (!r.Has("forward_model")) return;
+  MapReader fm = r.Child("forward_model");
+  p->forward_model = ParseTactileModelParams(fm);
+  fm.Finish();
+  p->has_forward_model = true;
 }
 
 SensorProfile ParseSensorProfile(MapReader& r) {
   SensorProfile p;
   p.file = r.file();
-  p.name = r.Required<std::string>("name");
-  p.description = r.Optional<std::string>("description", "");
-  {
-    MapReader t = r.Child("taxels");
-    ParseTaxels(t, &p);
-    t.Finish();
-  }
+  config::YamlReadArchive archive(&r);
+  p.Serialize(&archive);
+  MapReader taxels = r.Child("taxels");
+  ReadTaxels(taxels, &p);
   MapReader frames = r.Child("frames");
-  ParseFrames(frames, &p);
-  frames.Finish();
-  {
-    MapReader c = r.Child("calibration");
-    ParseCalibration(c, &p);
-    c.Finish();
-  }
-  p.scan_rate_Hz = r.Required<double>("scan_rate_Hz");
-  if (!(p.scan_rate_Hz > 0 && p.scan_rate_Hz < 1e6)) r.Fail(r.Node("scan_rate_Hz"), "'scan_rate_Hz' must be in (0, 1e6)");
-  const double timeout_ms = r.Optional<double>("partial_timeout_ms", 1500.0 / p.scan_rate_Hz);
-  if (!(timeout_ms > 0)) r.Fail(r.Node("partial_timeout_ms"), "'partial_timeout_ms' must be > 0");
-  p.partial_timeout_us = static_cast<int64_t>(timeout_ms * 1000.0);
-  if (r.Has("forward_model")) {
-    config::MapReader fm = r.Child("forward_model");
-    p.forward_model = ParseTactileModelParams(fm);
-    fm.Finish();
-    p.has_forward_model = true;
-  }
-  p.stale_after_scans = r.Optional<int>("stale_after_scans", 0);
-  if (p.stale_after_scans < 0) r.Fail(r.Node("stale_after_scans"), "'stale_after_scans' must be >= 0");
+  ReadSlotIds(frames, &p.layout);
+  MapReader calibration = r.Child("calibration");
+  ReadCalibration(calibration, &p);
+  ReadForwardModel(r, &p);
   p.start_frames = ParseCommandFrames(r, "start_frames");
   p.stop_frames = ParseCommandFrames(r, "stop_frames");
   try {

@@ -19,6 +19,7 @@
 //     first (Intel). The same numbering is used for frame_index and scan_counter.
 // The YAML keys are documented in config/sensors/README.md.
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -29,6 +30,11 @@
 #include "sensors/tactile_model_params.h"
 
 namespace sedbridge::sensors {
+
+/// Most taxels a profile may have (taxels.count) and most frame slots an `id_base` profile
+/// may expand to (frames.count): larger values are typos, and would allocate per slot.
+inline constexpr int kMaxTaxelCount = 4096;
+inline constexpr int kMaxFrameSlots = 4096;
 
 enum class ByteOrder { kBig, kLittle };
 /// "big", "little" (key frames.byte_order).
@@ -61,6 +67,31 @@ struct FrameLayout {
   int first_sample_bit = 0;   ///< samples are contiguous from here
   BitField frame_index;       ///< slot number in the payload (libbarrett's group nibble)
   BitField scan_counter;      ///< rolling scan counter, wraps at 2^bits
+
+  /// Keys of `frames`. `ids` xor `id_base`/`id_step` (then `count` is required and ids are
+  /// expanded), and the layout as a whole, are checked by sensor_profile.cpp.
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Visit(Field("ids", &ids));
+    a->HandRead("id_base");
+    a->HandRead("id_step");
+    a->Visit(Field("count", &frame_count).AtLeast(1));  // default: one slot per id
+    a->Visit(Field("extended_ids", &extended_ids));
+    a->Visit(Field("fd", &fd));
+    int fd_flags_given = fd ? kCanFdBrs : 0;
+    a->Visit(Field("fd_flags", &fd_flags_given).InRange(0, 255));
+    fd_flags = static_cast<uint8_t>(fd_flags_given);
+    a->Visit(Field("length", &length).Required());  // 1..8, or a CAN FD length: ValidateProfile
+    a->Visit(Field("samples_per_frame", &samples_per_frame).Required().AtLeast(1));
+    // Range checked here: the calibration defaults shift by it (sample_bits 73 was a UB shift).
+    a->Visit(Field("sample_bits", &sample_bits).Required().InRange(1, 24));
+    a->Visit(Field("signed", &sample_signed));
+    a->Visit(Field("byte_order", &byte_order).Required());
+    a->Visit(Field("first_sample_bit", &first_sample_bit).NonNegative());
+    a->Visit(Field("frame_index", &frame_index));
+    a->Visit(Field("scan_counter", &scan_counter));
+  }
 };
 
 /// Calibrated unit of (raw - offset) * scale.
@@ -115,8 +146,50 @@ struct SensorProfile {
   /// Range a sample can hold.
   int64_t RawMin() const;
   int64_t RawMax() const;
+  /// calibration.saturation_counts when the file gives none: the top of the sample range,
+  /// and the bottom too for signed samples.
+  std::array<int64_t, 2> DefaultSaturationCounts() const;
   /// Normal-axis index inside a taxel's channels (2 for 3-axis, 0 otherwise).
   int NormalAxis() const { return axes == 3 ? 2 : 0; }
+
+  /// Every key of a profile (config/sensors/README.md). Keys whose file form is not the
+  /// member's (a grid of taxels, one number for every axis, candump frames) are hand-read by
+  /// sensor_profile.cpp, which also checks what spans keys (axes, grid size, the layout).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Visit(Field("name", &name).Required());
+    a->Visit(Field("description", &description));
+    a->Section("taxels", [&](auto* t) {
+      t->Visit(Field("count", &taxel_count).Required().InRange(1, kMaxTaxelCount));
+      t->Visit(Field("axes", &axes).Required());  // 1 or 3
+      t->HandRead("grid");
+      t->HandRead("positions_mm");
+      std::array<double, 2> size_mm{taxel_width_mm, taxel_height_mm};
+      t->Visit(Field("size_mm", &size_mm).Required().Positive());
+      taxel_width_mm = size_mm[0];
+      taxel_height_mm = size_mm[1];
+    });
+    a->Visit(Field("frames", &layout).Required());
+    a->Section("calibration", [&](auto* c) {
+      c->Visit(Field("unit", &calibration.unit).Required());
+      c->HandRead("scale_per_count");
+      c->HandRead("offset_counts");
+      c->Visit(Field("taxel_gain", &calibration.taxel_gain));  // default: all 1
+      std::array<int64_t, 2> saturation = DefaultSaturationCounts();
+      c->Visit(Field("saturation_counts", &saturation));  // low < high
+      calibration.saturation_low_counts = saturation[0];
+      calibration.saturation_high_counts = saturation[1];
+    });
+    a->Visit(Field("scan_rate_Hz", &scan_rate_Hz).Required().Unit("Hz").Within({0, 1e6, true, true}));
+    double partial_timeout_ms = 1500.0 / scan_rate_Hz;  // default: 1.5 scan periods
+    a->Visit(Field("partial_timeout_ms", &partial_timeout_ms).Positive());
+    partial_timeout_us = static_cast<int64_t>(partial_timeout_ms * 1000.0);
+    a->HandRead("forward_model");  // ParseTactileModelParams
+    a->Visit(Field("stale_after_scans", &stale_after_scans).NonNegative());
+    a->HandRead("start_frames");
+    a->HandRead("stop_frames");
+  }
 };
 
 /// Loads and checks a profile; errors are config::ConfigError naming file:line:column.

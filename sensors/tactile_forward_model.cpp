@@ -56,21 +56,15 @@ double Coverage1d(double c, double h, double half) {
 
 }  // namespace
 
-ContactShape ContactShapeFromName(const std::string& name) {
-  if (name == "sphere") return ContactShape::kSphere;
-  if (name == "cylinder") return ContactShape::kCylinder;
-  if (name == "flat") return ContactShape::kFlat;
-  throw std::invalid_argument("unknown contact shape '" + name + "' (sphere, cylinder, flat)");
+const config::EnumNames<ContactShape>& NamesOf(ContactShape) {
+  static const config::EnumNames<ContactShape> names{
+      {ContactShape::kSphere, "sphere"}, {ContactShape::kCylinder, "cylinder"}, {ContactShape::kFlat, "flat"}};
+  return names;
 }
 
-const char* ContactShapeName(ContactShape shape) {
-  switch (shape) {
-    case ContactShape::kSphere: return "sphere";
-    case ContactShape::kCylinder: return "cylinder";
-    case ContactShape::kFlat: return "flat";
-  }
-  return "?";
-}
+ContactShape ContactShapeFromName(const std::string& name) { return config::ParseEnum<ContactShape>(name, "contact shape"); }
+
+const char* ContactShapeName(ContactShape shape) { return config::NameCStrOf(shape); }
 
 TactileForwardModel::TactileForwardModel(const SensorProfile& profile, const TactileModelParams& params)
     : TactileForwardModel(profile.taxels, profile.taxel_width_mm, profile.taxel_height_mm, params) {

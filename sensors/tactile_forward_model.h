@@ -29,6 +29,7 @@
 #include <string>
 #include <vector>
 
+#include "common/enum_names.h"
 #include "sensors/sensor_profile.h"
 #include "sensors/tactile_model_params.h"
 
@@ -37,6 +38,8 @@ namespace sedbridge::sensors {
 /// The contact shapes the model and the reconstruction know.
 enum class ContactShape { kSphere, kCylinder, kFlat };
 
+/// "sphere", "cylinder", "flat": the one name table (common/enum_names.h).
+const config::EnumNames<ContactShape>& NamesOf(ContactShape);
 /// "sphere" | "cylinder" | "flat"; throws std::invalid_argument for anything else.
 ContactShape ContactShapeFromName(const std::string& name);
 const char* ContactShapeName(ContactShape shape);

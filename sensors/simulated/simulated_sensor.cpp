@@ -88,7 +88,7 @@ SimulatedSensorConfig LoadSimulatedSensorScene(const std::string& path,
   c.frame_spacing_us = s.Optional<int64_t>("frame_spacing_us", 130);
   if (c.frame_spacing_us < 0) s.Fail(s.Node("frame_spacing_us"), "'frame_spacing_us' must be >= 0");
   s.Finish();
-  c.objects = geometry::ParseRigidObjects(root.Node("objects"), doc.file);
+  c.objects = geometry::ParseRigidObjects(root, "objects");
   root.Finish();
   return c;
 }

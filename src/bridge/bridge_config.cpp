@@ -23,10 +23,7 @@ BridgeConfig Parse(const config::YamlDocument& doc) {
   c.conditioning.fill_sigma_mm = c.traction.kernel_sigma_mm;
   if (c.fe_step != FeStepKind::kScene && c.preset != "fast")
     r.Fail(doc.root["fe"]["step"], "'step: reduced' and 'step: contact' need 'preset: fast' (a linear model)");
-  if (r.Has("lcm")) {
-    MapReader l = r.Child("lcm");
-    c.lcm = lcm_io::ParseLcmSettings(l);
-  }
+  if (r.Has("lcm")) lcm_io::CheckChannelNames(MapReader(doc.root["lcm"], doc.file));
   r.Finish();
   return c;
 }

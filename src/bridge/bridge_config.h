@@ -36,8 +36,8 @@ const char* ToString(FeStepKind kind);
 /// The kind named `name` (as in the config); throws std::invalid_argument for others.
 FeStepKind FeStepKindFromString(const std::string& name);
 
-/// Every key but `lcm:` (lcm_io::ParseLcmSettings) is named in Serialize, with its range;
-/// the member initialisers are the defaults.
+/// Every key is named in Serialize, with its range; the member initialisers are the
+/// defaults. Channel names are checked after reading (lcm_io::CheckChannelNames).
 struct BridgeConfig {
   std::string file;  ///< where it was read from ("" = defaults)
 
@@ -110,6 +110,7 @@ struct BridgeConfig {
       o->Visit(Field("publish_sed", &publish_sed));
       o->Visit(Field("publish_scans", &publish_scans));
     });
+    a->Visit(Field("lcm", &lcm));
   }
 };
 

@@ -137,7 +137,7 @@ std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& p
     config.noise.seed = seed;
     config.noise.stddev_counts = 2;
     config.duration_s = kEnd_s + 0.1;
-    std::string yaml = "[";
+    std::string yaml = "objects: [";
     size_t start = 0;
     for (;;) {  // entries separated by '|'
       const size_t bar = spec.objects_yaml.find('|', start);
@@ -148,7 +148,9 @@ std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& p
       start = bar + 1;
     }
     yaml += "]";
-    config.objects = geometry::ParseRigidObjects(YAML::Load(yaml), "synthetic:" + spec.name);
+    const config::YamlDocument doc = config::LoadYamlString(yaml, "synthetic:" + spec.name);
+    config::MapReader objects_owner(doc.root, doc.file);
+    config.objects = geometry::ParseRigidObjects(objects_owner, "objects");
     FidelityCase c;
     c.name = spec.name;
     c.label = spec.label;

@@ -2,6 +2,8 @@
 
 #include <stdexcept>
 
+#include "common/yaml_read_archive.h"
+
 namespace sedbridge::lcm_io {
 
 bool IsUpperSnake(const std::string& name) {
@@ -20,31 +22,19 @@ void LcmChannels::Validate() const {
       throw std::invalid_argument("LCM channel '" + *c + "' is not UPPER_SNAKE");
 }
 
+void CheckChannelNames(const config::MapReader& lcm_section) {
+  const YAML::Node channels = lcm_section.node()["channels"];
+  if (!channels) return;
+  for (auto it = channels.begin(); it != channels.end(); ++it) {
+    const std::string name = config::As<std::string>(it->second, lcm_section.file(), it->first.Scalar());
+    if (!IsUpperSnake(name)) lcm_section.Fail(it->second, "channel '" + name + "' must be UPPER_SNAKE");
+  }
+}
+
 LcmSettings ParseLcmSettings(config::MapReader& r) {
   LcmSettings s;
-  s.url = r.Optional<std::string>("url", s.url);
-  s.log_path = r.Optional<std::string>("log", "");
-  s.auth_key_file = r.Optional<std::string>("auth_key_file", "");
-  if (r.Has("channels")) {
-    config::MapReader c = r.Child("channels");
-    auto read = [&c](const char* key, std::string& out) {
-      if (!c.Has(key)) {
-        c.Optional<std::string>(key, out);
-        return;
-      }
-      YAML::Node v = c.Node(key);
-      out = config::As<std::string>(v, c.file(), key);
-      if (!IsUpperSnake(out)) c.Fail(v, "channel '" + out + "' must be UPPER_SNAKE");
-    };
-    read("tactile_scan", s.channels.tactile_scan);
-    read("sed", s.channels.sed);
-    read("command", s.channels.command);
-    read("status", s.channels.status);
-    read("sa1_rate", s.channels.sa1_rate);
-    read("contact", s.channels.contact);
-    c.Finish();
-  }
-  r.Finish();
+  config::ReadYaml(r, &s);
+  CheckChannelNames(r);
   return s;
 }
 

@@ -3,7 +3,11 @@
 
 #include <string>
 
-#include "common/yaml_reader.h"
+#include "common/name_value.h"
+
+namespace sedbridge::config {
+class MapReader;
+}
 
 namespace sedbridge::lcm_io {
 
@@ -21,6 +25,18 @@ struct LcmChannels {
 
   /// Throws std::invalid_argument naming the first channel that is not UPPER_SNAKE.
   void Validate() const;
+
+  /// Keys of `lcm.channels`; each name must be UPPER_SNAKE (CheckChannelNames).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Visit(Field("tactile_scan", &tactile_scan));
+    a->Visit(Field("sed", &sed));
+    a->Visit(Field("command", &command));
+    a->Visit(Field("status", &status));
+    a->Visit(Field("sa1_rate", &sa1_rate));
+    a->Visit(Field("contact", &contact));
+  }
 };
 
 /// True for names like "DISPLAY_COMMAND", "SED2": [A-Z][A-Z0-9_]*, no trailing/double '_'.
@@ -40,10 +56,24 @@ struct LcmSettings {
   /// display/command_authenticator.h. The log gets the unsigned message.
   std::string auth_key_file;
   LcmChannels channels;
+
+  /// Keys of the bridge's `lcm:` section (config/bridge/README.md).
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Visit(Field("url", &url));
+    a->Visit(Field("log", &log_path));
+    a->Visit(Field("auth_key_file", &auth_key_file));
+    a->Visit(Field("channels", &channels));
+  }
 };
 
 /// Reads an `lcm:` mapping strictly; throws config::ConfigError (file:line:column) for unknown
 /// keys or channel names that are not UPPER_SNAKE. Calls Finish() on `r`.
 LcmSettings ParseLcmSettings(config::MapReader& r);
+
+/// Throws config::ConfigError at the first channel name of the `lcm:` mapping `lcm_section`
+/// that is not UPPER_SNAKE (for readers that read the section through its Serialize).
+void CheckChannelNames(const config::MapReader& lcm_section);
 
 }  // namespace sedbridge::lcm_io

@@ -51,7 +51,7 @@ SceneDescription Parse(const config::YamlDocument& doc) {
   }
   if (s.contact) {
     MapReader c(doc.root["contact"], doc.file);
-    s.contact->objects_pad_frame = geometry::ParseRigidObjects(c.Node("objects"), doc.file);
+    s.contact->objects_pad_frame = geometry::ParseRigidObjects(c, "objects");
     if (s.contact->objects_pad_frame.empty()) c.Fail(c.Node("objects"), "'objects' is empty");
   }
   // The preset was applied before `contact` was read; its solver choice depends on it.

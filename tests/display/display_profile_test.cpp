@@ -2,9 +2,14 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <set>
 #include <string>
 
 #include "common/config_error.h"
+#include "common/resource_path.h"
+#include "common/schema_keys.h"
+#include "tests/common/readme_keys.h"
 #include "display/safety_limiter.h"
 
 namespace sedbridge::display {
@@ -203,6 +208,54 @@ TEST(DisplayProfile, MissingFileNamesThePath) {
   } catch (const config::ConfigError& e) {
     EXPECT_NE(std::string(e.what()).find("does_not_exist.yaml"), std::string::npos);
   }
+}
+
+}  // namespace
+}  // namespace sedbridge::display
+
+// The key table of config/displays/README.md and the profile schema name the same keys.
+namespace sedbridge::display {
+namespace {
+
+TEST(DisplayProfile, ReadmeTableNamesEverySchemaKeyAndNoOther) {
+  const std::set<std::string> documented = test_util::ReadmeKeys(config::ResolveResource("config/displays/README.md"));
+  ASSERT_GT(documented.size(), 10u);
+  std::set<std::string> schema;
+  for (const std::string& key : config::SchemaKeys<DisplayProfile>()) schema.insert(key);
+  for (const std::string& key : schema) EXPECT_TRUE(documented.count(key)) << key << " is not in config/displays/README.md";
+  for (const std::string& key : documented) EXPECT_TRUE(schema.count(key)) << key << " (README) is no display profile key";
+}
+
+TEST(DisplayProfile, EveryShippedProfileLoads) {
+  int loaded = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(config::ResolveResource("config/displays"))) {
+    if (entry.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(entry.path().string());
+    EXPECT_EQ(LoadDisplayProfile(entry.path().string()).name, entry.path().stem().string());
+    ++loaded;
+  }
+  EXPECT_GE(loaded, 3);
+}
+
+TEST(DisplayProfile, DefaultsFollowOtherKeysAndListsMatchTheActuators) {
+  const DisplayProfile p = Parse(Profile());
+  EXPECT_EQ(p.safety.max_per_actuator, std::vector<double>(6, 20.0));  // safety.max for each
+  EXPECT_DOUBLE_EQ(p.mapping.saturation, p.safety.max);
+  EXPECT_EQ(p.mapping.z_min_mm, -std::numeric_limits<double>::infinity());
+  auto message = [](const std::string& text) -> std::string {
+    try {
+      Parse(text);
+    } catch (const config::ConfigError& e) {
+      return e.what();
+    }
+    return "accepted";
+  };
+  EXPECT_EQ(message(Profile("  max_per_actuator: [1, 2]\n")), "p.yaml:11:21: 'max_per_actuator' must be a list of 6 numbers");
+  EXPECT_EQ(message(Profile("", "  calibration: {offset: []}\n")), "p.yaml:16:25: 'offset' must be a list of 6 numbers");
+  EXPECT_EQ(message(Profile("", "  z_window_mm: [2, 1]\n")), "p.yaml:16:16: 'z_window_mm' must be [min, max], min < max");
+  std::string no_actuators = Profile();
+  no_actuators.replace(no_actuators.find("actuators:"), 10, "actuatorz:");
+  EXPECT_EQ(message(no_actuators), "p.yaml:1:1: missing required key 'actuators'");
 }
 
 }  // namespace

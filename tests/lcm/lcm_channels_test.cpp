@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "common/config_error.h"
+#include "common/yaml_reader.h"
 
 namespace sedbridge::lcm_io {
 namespace {

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "common/config_error.h"
 #include "common/resource_path.h"
 #include "common/schema_keys.h"
 #include "tests/common/readme_keys.h"

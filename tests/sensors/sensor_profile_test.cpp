@@ -2,8 +2,13 @@
 
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <set>
+
 #include "common/config_error.h"
 #include "common/resource_path.h"
+#include "common/schema_keys.h"
+#include "tests/common/readme_keys.h"
 
 namespace sedbridge::sensors {
 namespace {
@@ -131,6 +136,45 @@ TEST(SensorProfileTest, UnknownProfileNameListsTheShippedOnes) {
     EXPECT_NE(what.find("barrett_bh8_pad"), std::string::npos) << what;
   }
   EXPECT_EQ(LoadNamedSensorProfile("cyskin_16").name, "cyskin_16");
+}
+
+}  // namespace
+}  // namespace sedbridge::sensors
+
+// The key table of config/sensors/README.md and the profile schema name the same keys.
+namespace sedbridge::sensors {
+namespace {
+
+TEST(SensorProfileTest, ReadmeTableNamesEverySchemaKeyAndNoOther) {
+  const std::set<std::string> documented = test_util::ReadmeKeys(config::ResolveResource("config/sensors/README.md"));
+  ASSERT_GT(documented.size(), 10u);
+  std::set<std::string> schema;
+  for (const std::string& key : config::SchemaKeys<SensorProfile>()) schema.insert(key);
+  for (const std::string& key : schema) EXPECT_TRUE(documented.count(key)) << key << " is not in config/sensors/README.md";
+  for (const std::string& key : documented) EXPECT_TRUE(schema.count(key)) << key << " (README) is no profile key";
+}
+
+TEST(SensorProfileTest, EveryShippedProfileLoads) {
+  int loaded = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(config::ResolveResource("config/sensors"))) {
+    if (entry.path().extension() != ".yaml") continue;
+    SCOPED_TRACE(entry.path().string());
+    EXPECT_EQ(LoadSensorProfile(entry.path().string()).name, entry.path().stem().string());
+    ++loaded;
+  }
+  EXPECT_GE(loaded, 4);
+}
+
+TEST(SensorProfileTest, SlotIdsFromIdBaseAndKeysThatGoTogether) {
+  const SensorProfile p =
+      ParseSensorProfileString(Replace(kMinimal, "ids: [0x100, 0x101]", "id_base: 0x100\n  id_step: 2\n  count: 2"), "p.yaml");
+  EXPECT_EQ(p.layout.ids, (std::vector<uint32_t>{0x100, 0x102}));
+  EXPECT_EQ(ErrorOf(Replace(kMinimal, "ids: [0x100, 0x101]", "id_base: 0x100")), "p.yaml:9:3: missing required key 'count'");
+  EXPECT_EQ(ErrorOf(Replace(kMinimal, "ids: [0x100, 0x101]", "ids: [0x100, 0x101]\n  id_step: 2")),
+            "p.yaml:10:12: 'id_step' goes with 'id_base', not 'ids'");
+  EXPECT_EQ(ErrorOf(Replace(kMinimal, "  axes: 1", "  axes: 2")), "p.yaml:5:9: 'axes' must be 1 (normal) or 3 (x, y, z)");
+  EXPECT_EQ(ErrorOf(Replace(kMinimal, "  size_mm: [1.5, 1.5]\n", "")), "p.yaml:4:3: missing required key 'size_mm'");
+  EXPECT_EQ(ErrorOf(Replace(kMinimal, "taxels:", "taxelz:")), "p.yaml:2:1: missing required key 'taxels'");
 }
 
 }  // namespace

@@ -24,10 +24,11 @@ std::vector<Frame> SimulatedFrames(const std::string& profile_name) {
   c.duration_s = 2.0;
   c.noise.stddev_counts = 2;
   auto doc = config::LoadYamlString(
-      "- shape: sphere\n  radius_mm: 10\n  position_mm: [0, 0, 10.2]\n"
+      "objects:\n- shape: sphere\n  radius_mm: 10\n  position_mm: [0, 0, 10.2]\n"
       "  motion: {keyframes: [{t_s: 0, offset_mm: [0,0,0]}, {t_s: 2, offset_mm: [0,0,-1.5]}]}\n",
       "bench.yaml");
-  c.objects = geometry::ParseRigidObjects(doc.root, doc.file);
+  config::MapReader owner(doc.root, doc.file);
+  c.objects = geometry::ParseRigidObjects(owner, "objects");
   SimulatedSensor sim(c);
   std::vector<Frame> frames;
   for (int64_t k = 0; k < sim.scan_count(); ++k) sim.ScanFrames(k, &frames);

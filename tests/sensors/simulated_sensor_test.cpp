@@ -16,9 +16,11 @@ namespace {
 
 SensorProfile Shipped(const std::string& name) { return LoadSensorProfile(ResolveProfilePath(name)); }
 
-geometry::RigidObject Parse(const std::string& yaml) {
-  auto doc = config::LoadYamlString(yaml, "objects.yaml");
-  return geometry::ParseRigidObjects(doc.root, doc.file).at(0);
+// The first object of `list_yaml`, read as the `objects:` list of a file.
+geometry::RigidObject Parse(const std::string& list_yaml) {
+  auto doc = config::LoadYamlString("objects:\n" + list_yaml, "objects.yaml");
+  config::MapReader owner(doc.root, doc.file);
+  return geometry::ParseRigidObjects(owner, "objects").at(0);
 }
 
 // A flat plate 0.5 mm into the pad everywhere: every taxel reads E_eff * d / h.

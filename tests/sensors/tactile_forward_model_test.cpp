@@ -8,6 +8,7 @@
 #include <cmath>
 #include <fstream>
 
+#include "common/config_error.h"
 #include "common/resource_path.h"
 #include "sensors/calibration_press.h"
 #include "sensors/tactile_model_fit.h"
@@ -117,6 +118,32 @@ TEST(CalibrationPress, BadCasesFileNamesTheLocation) {
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find(":1:"), std::string::npos) << e.what();
   }
+}
+
+// The error a cases file with `cases_json` gives ("" = none).
+std::string CasesError(const std::string& cases_json) {
+  const std::string path = ::testing::TempDir() + "/cases_err_" + std::to_string(getpid()) + ".json";
+  {
+    std::ofstream f(path);
+    f << cases_json;
+  }
+  try {
+    LoadCalibrationPresses(path, Uskin());
+  } catch (const config::ConfigError& e) {
+    return std::string(e.what()).substr(path.size());
+  }
+  return "";
+}
+
+TEST(CalibrationPress, CaseKeysAreCheckedWhereTheyStand) {
+  EXPECT_EQ(CasesError("{\"cases\": [{\"object\": {\"shape\": \"cone\", \"position_mm\": [0, 0]}, \"force_N\": 1, \"log\": \"x.log\"}]}"),
+            ":1:33: 'shape' must be one of: sphere, cylinder, flat (got 'cone')");
+  EXPECT_EQ(CasesError("{\"cases\": [{\"object\": {\"shape\": \"sphere\", \"position_mm\": [0, 0]}, \"force_N\": 1, \"log\": \"x.log\"}]}"),
+            ":1:23: 'radius_mm' (> 0) is required for a sphere");
+  EXPECT_EQ(CasesError("{\"cases\": [{\"object\": {\"shape\": \"flat\", \"position_mm\": [0, 0]}, \"force_N\": 2000, \"log\": \"x.log\"}]}"),
+            ":1:76: 'force_N' must be in (0, 1000] N (got 2000)");
+  EXPECT_EQ(CasesError("{\"cases\": 3}"), ":1:11: 'cases' must be a list");
+  EXPECT_EQ(ContactShapeFromName(ContactShapeName(ContactShape::kCylinder)), ContactShape::kCylinder);
 }
 
 }  // namespace

@@ -6,9 +6,12 @@
 #include <string>
 #include <vector>
 
-#include "common/yaml_reader.h"
 #include "common/geometry/signed_distance_field.h"
 #include "common/geometry/trajectory.h"
+
+namespace sedbridge::config {
+class MapReader;
+}
 
 namespace sedbridge::geometry {
 
@@ -41,8 +44,8 @@ RigidObject ParseRigidObject(config::MapReader& reader);
 /// Parses a `motion` mapping (keyframes, vibration) around the t = 0 pose `pose0`.
 Trajectory ParseMotion(config::MapReader& motion, const Eigen::Isometry3d& pose0);
 
-/// Parses a YAML sequence of object mappings.
-std::vector<RigidObject> ParseRigidObjects(const YAML::Node& list, const std::string& file);
+/// Parses the list of object mappings under `key` of `owner` (required; may be empty).
+std::vector<RigidObject> ParseRigidObjects(config::MapReader& owner, const std::string& key);
 
 /// Rotation from roll/pitch/yaw in degrees: Rz(yaw) * Ry(pitch) * Rx(roll).
 Eigen::Matrix3d RotationFromRpyDeg(const Eigen::Vector3d& rpy_deg);
