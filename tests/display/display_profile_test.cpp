@@ -218,12 +218,7 @@ namespace sedbridge::display {
 namespace {
 
 TEST(DisplayProfile, ReadmeTableNamesEverySchemaKeyAndNoOther) {
-  const std::set<std::string> documented = test_util::ReadmeKeys(config::ResolveResource("config/displays/README.md"));
-  ASSERT_GT(documented.size(), 10u);
-  std::set<std::string> schema;
-  for (const std::string& key : config::SchemaKeys<DisplayProfile>()) schema.insert(key);
-  for (const std::string& key : schema) EXPECT_TRUE(documented.count(key)) << key << " is not in config/displays/README.md";
-  for (const std::string& key : documented) EXPECT_TRUE(schema.count(key)) << key << " (README) is no display profile key";
+  test_util::ExpectReadmeNamesSchemaKeys(config::ResolveResource("config/displays/README.md"), config::SchemaKeys<DisplayProfile>());
 }
 
 TEST(DisplayProfile, EveryShippedProfileLoads) {
