@@ -40,6 +40,16 @@ DisplayProfile Parse(const std::string& text) {
   return ParseDisplayProfile(text, "p.yaml");
 }
 
+// The error a profile text gets, or "accepted".
+std::string ParseMessage(const std::string& text) {
+  try {
+    Parse(text);
+  } catch (const config::ConfigError& e) {
+    return e.what();
+  }
+  return "accepted";
+}
+
 TEST(DisplayProfile, ShippedProfilesLoad) {
   for (const char* name : {"suction_4x4", "pin_6x4", "electrotactile_4x4"}) {
     SCOPED_TRACE(name);
@@ -119,44 +129,36 @@ TEST(DisplayProfile, EveryLimitIsCheckedAgainstItsKindsSaneRange) {
     text.replace(text.find(from), from.size(), to);
     return text;
   };
-  auto message = [](const std::string& text) -> std::string {
-    try {
-      Parse(text);
-    } catch (const config::ConfigError& e) {
-      return e.what();
-    }
-    return "accepted";
-  };
   // Suction cannot go past ambient: range above 100 kPa is rejected, naming the limit.
-  const std::string range = message(with("range: [0.0, 40.0]", "range: [0.0, 1e30]"));
+  const std::string range = ParseMessage(with("range: [0.0, 40.0]", "range: [0.0, 1e30]"));
   EXPECT_NE(range.find("p.yaml:6:8: 'range' maximum 1e+30 kPa exceeds 100 kPa"), std::string::npos) << range;
-  EXPECT_NE(message(with("range: [0.0, 40.0]", "range: [0.0, 101]")), "accepted");
-  EXPECT_EQ(message(with("range: [0.0, 40.0]", "range: [0.0, 100]")), "accepted");
+  EXPECT_NE(ParseMessage(with("range: [0.0, 40.0]", "range: [0.0, 101]")), "accepted");
+  EXPECT_EQ(ParseMessage(with("range: [0.0, 40.0]", "range: [0.0, 100]")), "accepted");
   // max 1e300 (issue 13: published +Inf) is far outside any range.
-  EXPECT_NE(message(with("max: 20.0", "max: 1e300")), "accepted");
+  EXPECT_NE(ParseMessage(with("max: 20.0", "max: 1e300")), "accepted");
   // Slew: full scale in no less than 0.1 s.
-  const std::string slew = message(with("slew_rate_per_s: 100.0", "slew_rate_per_s: 1e30"));
+  const std::string slew = ParseMessage(with("slew_rate_per_s: 100.0", "slew_rate_per_s: 1e30"));
   EXPECT_NE(slew.find("'slew_rate_per_s' must be in (0, 1000 kPa/s]"), std::string::npos) << slew;
-  EXPECT_EQ(message(with("slew_rate_per_s: 100.0", "slew_rate_per_s: 1000")), "accepted");
+  EXPECT_EQ(ParseMessage(with("slew_rate_per_s: 100.0", "slew_rate_per_s: 1000")), "accepted");
   // Transfer cap and calibration cannot exceed the kind's limit either.
-  EXPECT_NE(message(Profile("", "  saturation: 500\n")), "accepted");
-  EXPECT_NE(message(Profile("", "  calibration: {offset: [0, 0, 0, 0, 0, 1000]}\n")), "accepted");
-  EXPECT_NE(message(Profile("", "  calibration: {gain: [1, 1, 1, 1, 1, 1e6]}\n")), "accepted");
+  EXPECT_NE(ParseMessage(Profile("", "  saturation: 500\n")), "accepted");
+  EXPECT_NE(ParseMessage(Profile("", "  calibration: {offset: [0, 0, 0, 0, 0, 1000]}\n")), "accepted");
+  EXPECT_NE(ParseMessage(Profile("", "  calibration: {gain: [1, 1, 1, 1, 1, 1e6]}\n")), "accepted");
   // Pins: 5 mm at most; current: 10 mA at most.
   std::string pin = Profile();
   pin.replace(pin.find("kind: suction"), 13, "kind: pin");
   pin.replace(pin.find("unit: kPa"), 9, "unit: mm");
-  EXPECT_NE(message(pin), "accepted");  // range 40 mm
+  EXPECT_NE(ParseMessage(pin), "accepted");  // range 40 mm
   pin.replace(pin.find("range: [0.0, 40.0]"), 18, "range: [0.0, 5.0]");
   pin.replace(pin.find("max: 20.0"), 9, "max: 2.0");
   pin.replace(pin.find("slew_rate_per_s: 100.0"), 22, "slew_rate_per_s: 20.0");
-  EXPECT_EQ(message(pin), "accepted");
+  EXPECT_EQ(ParseMessage(pin), "accepted");
   std::string current = Profile();
   current.replace(current.find("kind: suction"), 13, "kind: electrotactile");
   current.replace(current.find("unit: kPa"), 9, "unit: mA");
   current.replace(current.find("range: [0.0, 40.0]"), 18, "range: [0.0, 12.0]");
   current.replace(current.find("max: 20.0"), 9, "max: 4.0");
-  EXPECT_NE(message(current).find("exceeds 10 mA"), std::string::npos) << message(current);
+  EXPECT_NE(ParseMessage(current).find("exceeds 10 mA"), std::string::npos) << ParseMessage(current);
 }
 
 TEST(DisplayProfile, RangeMinimumIsHonoured) {
@@ -237,20 +239,12 @@ TEST(DisplayProfile, DefaultsFollowOtherKeysAndListsMatchTheActuators) {
   EXPECT_EQ(p.safety.max_per_actuator, std::vector<double>(6, 20.0));  // safety.max for each
   EXPECT_DOUBLE_EQ(p.mapping.saturation, p.safety.max);
   EXPECT_EQ(p.mapping.z_min_mm, -std::numeric_limits<double>::infinity());
-  auto message = [](const std::string& text) -> std::string {
-    try {
-      Parse(text);
-    } catch (const config::ConfigError& e) {
-      return e.what();
-    }
-    return "accepted";
-  };
-  EXPECT_EQ(message(Profile("  max_per_actuator: [1, 2]\n")), "p.yaml:11:21: 'max_per_actuator' must be a list of 6 numbers");
-  EXPECT_EQ(message(Profile("", "  calibration: {offset: []}\n")), "p.yaml:16:25: 'offset' must be a list of 6 numbers");
-  EXPECT_EQ(message(Profile("", "  z_window_mm: [2, 1]\n")), "p.yaml:16:16: 'z_window_mm' must be [min, max], min < max");
+  EXPECT_EQ(ParseMessage(Profile("  max_per_actuator: [1, 2]\n")), "p.yaml:11:21: 'max_per_actuator' must be a list of 6 numbers");
+  EXPECT_EQ(ParseMessage(Profile("", "  calibration: {offset: []}\n")), "p.yaml:16:25: 'offset' must be a list of 6 numbers");
+  EXPECT_EQ(ParseMessage(Profile("", "  z_window_mm: [2, 1]\n")), "p.yaml:16:16: 'z_window_mm' must be [min, max], min < max");
   std::string no_actuators = Profile();
   no_actuators.replace(no_actuators.find("actuators:"), 10, "actuatorz:");
-  EXPECT_EQ(message(no_actuators), "p.yaml:1:1: missing required key 'actuators'");
+  EXPECT_EQ(ParseMessage(no_actuators), "p.yaml:1:1: missing required key 'actuators'");
 }
 
 }  // namespace
