@@ -13,12 +13,15 @@ StepReport QuasiStaticNewtonIntegrator::Step(double dt, SimulationState& state) 
   StepReport report;
   const double t1 = state.t_s + dt;
   Eigen::VectorXd& x = state.x_m;
-  const Eigen::VectorXd zero_v = Eigen::VectorXd::Zero(x.size());
-  const Eigen::VectorXd x0 = x;
-  // The predictor applies only where this integrator's own previous step ended: a state
-  // reset or edited from outside starts from itself.
-  const bool continues = !system_.constant_matrix() && last_dt_s_ > 0 && dt > 0 &&
-                         last_end_x_m_.size() == x.size() && last_end_x_m_ == x;
+  if (zero_v_.size() != x.size()) zero_v_.setZero(x.size());
+  const Eigen::VectorXd& zero_v = zero_v_;
+  // The predictor (and its bookkeeping) only for a nonlinear system: one solve of a linear
+  // one is exact from anywhere. It applies only where this integrator's own previous step
+  // ended: a state reset or edited from outside starts from itself.
+  const bool predict = !system_.constant_matrix();
+  if (predict) step_start_x_m_ = x;  // reused buffer: no allocation after the first step
+  const bool continues = predict && last_dt_s_ > 0 && dt > 0 && last_end_x_m_.size() == x.size() &&
+                         last_end_x_m_ == x;
   if (continues) x += last_increment_m_ * (dt / last_dt_s_);
   bool newton_converged = false;
   for (int it = 0; it < max_newton_iterations_; ++it) {
@@ -40,8 +43,8 @@ StepReport QuasiStaticNewtonIntegrator::Step(double dt, SimulationState& state) 
     }
   }
   report.converged = report.converged && newton_converged;
-  if (report.converged && x.allFinite()) {
-    last_increment_m_ = x - x0;
+  if (predict && report.converged && x.allFinite()) {
+    last_increment_m_ = x - step_start_x_m_;
     last_end_x_m_ = x;
     last_dt_s_ = dt;
   } else {

@@ -29,7 +29,9 @@ class QuasiStaticNewtonIntegrator final : public Integrator {
   int max_newton_iterations_;
   double newton_tolerance_m_;
   Eigen::VectorXd delta_;
-  // The previous step's end state and increment, for the predictor.
+  Eigen::VectorXd zero_v_;
+  // The predictor: this step's start, the previous step's end state and increment.
+  Eigen::VectorXd step_start_x_m_;
   Eigen::VectorXd last_end_x_m_;
   Eigen::VectorXd last_increment_m_;
   double last_dt_s_ = 0;
