@@ -10,9 +10,11 @@
 
 namespace sedbridge::fem {
 
-/// Iterative rotation extraction (maximises tr(R^T F) over rotations, warm-started from
-/// `q`, which is updated in place). Converges in 1-3 iterations when F changes little
-/// between steps. Returns R.
+/// Rotation extraction: maximises tr(R^T F) over rotations by Newton's method on the
+/// rotation (quadratic convergence), falling back to Mueller et al.'s robust step where
+/// Newton's is not safe. Warm-started from `q`, which is updated in place: 2-3 iterations
+/// when F changes little between calls. Stops when the update is below 1e-12 rad or after
+/// `max_iterations`. Returns R.
 Eigen::Matrix3d ExtractRotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q,
                                 int max_iterations = 20);
 
