@@ -1,6 +1,8 @@
 #include "fem/elastic_tet_force.h"
 
 #include <Eigen/Dense>
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <omp.h>
 #include <stdexcept>
@@ -16,6 +18,43 @@ constexpr size_t kParallelInversionCheckMinTets = 100000;
 // Tets below which assembly runs on one thread [elements]: below this the per-thread
 // partial sums and their reduction cost more than the element work they split.
 constexpr size_t kParallelAssemblyMinTets = 256;
+// Twist stiffness (sigma_i + sigma_j) / (s_i + s_j) is only used where the element is not
+// near inversion in that plane (s_i + s_j above this) [-]: near 0 the quotient is
+// ill-conditioned, and the warped stiffness is the safe choice there.
+constexpr double kMinTwistStretchSum = 0.5;
+
+// The consistent tangent's twist terms of one element: up to three vectors t (12 entries as
+// 4 node blocks) with K += sign t t^T. Returns how many.
+int TwistTerms(const TetElement& e, const Eigen::Matrix3d& R, const Eigen::Matrix3d& F,
+               std::array<std::array<Eigen::Vector3d, 4>, 3>& t, std::array<double, 3>& sign) {
+  Eigen::Matrix3d A = R.transpose() * F;
+  const Eigen::Matrix3d S = 0.5 * (A + A.transpose());
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
+  eig.computeDirect(S);
+  const Eigen::Vector3d s = eig.eigenvalues();
+  const Eigen::Matrix3d V = eig.eigenvectors();
+  const Eigen::Matrix3d U = R * V;
+  const double tr_eps = s.sum() - 3.0;
+  const Eigen::Vector3d sigma = (2.0 * e.mu_Pa) * (s.array() - 1.0).matrix() +
+                                Eigen::Vector3d::Constant(e.lambda_Pa * tr_eps);
+  Eigen::Vector3d g_local[4];  // shape gradients in the principal frame
+  for (int a = 0; a < 4; ++a) g_local[a] = V.transpose() * e.shape_gradients.row(a).transpose();
+  static constexpr int kPlanes[3][2] = {{0, 1}, {0, 2}, {1, 2}};
+  int n = 0;
+  for (const auto& plane : kPlanes) {
+    const int i = plane[0], j = plane[1];
+    const double stretch_sum = s[i] + s[j];
+    if (!(stretch_sum > kMinTwistStretchSum)) continue;
+    const double k = (sigma[i] + sigma[j]) / stretch_sum;
+    if (k == 0) continue;
+    // Twist mode dF = U (e_i e_j^T - e_j e_i^T) V^T / sqrt(2); node a's entry is dF g_a.
+    const double scale = std::sqrt(0.5 * std::abs(k) * e.volume_m3);
+    sign[size_t(n)] = k < 0 ? -1.0 : 1.0;
+    for (int a = 0; a < 4; ++a) t[size_t(n)][size_t(a)] = scale * (U.col(i) * g_local[a][j] - U.col(j) * g_local[a][i]);
+    ++n;
+  }
+  return n;
+}
 
 }  // namespace
 
@@ -158,9 +197,10 @@ int ElasticTetForce::AccumulateElement(int t, const SystemState& state, bool for
   const Tet& n = mesh_.tets[size_t(t)];
   int inverted = 0;
   Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
+  Eigen::Matrix3d F;
   if (corotational) {
     const Eigen::Vector3d x0 = state.x_m.segment<3>(3 * n[0]);
-    const Eigen::Matrix3d F = DeformationGradient(e, x0, state.x_m.segment<3>(3 * n[1]),
+    F = DeformationGradient(e, x0, state.x_m.segment<3>(3 * n[1]),
                                                   state.x_m.segment<3>(3 * n[2]), state.x_m.segment<3>(3 * n[3]));
     if (F.determinant() <= 0) inverted = 1;
     R = ExtractRotation(F, quaternions_[size_t(t)]);
@@ -188,10 +228,15 @@ int ElasticTetForce::AccumulateElement(int t, const SystemState& state, bool for
   if (!sink) return inverted;
   Eigen::Vector3d h[4];
   for (int a = 0; a < 4; ++a) h[a] = R * e.shape_gradients.row(a).transpose();
+  std::array<std::array<Eigen::Vector3d, 4>, 3> twist;
+  std::array<double, 3> twist_sign;
+  const int twists =
+      corotational && tangent_ == CorotationalTangent::kConsistent && !definite_ && !inverted ? TwistTerms(e, R, F, twist, twist_sign) : 0;
   for (int a = 0; a < 4; ++a) {
     for (int b = a; b < 4; ++b) {
-      const Eigen::Matrix3d K = StiffnessBlock(e, h[a], h[b], e.shape_gradients.row(a).dot(e.shape_gradients.row(b)));
-      const Eigen::Matrix3d D = beta_s_ * K;
+      Eigen::Matrix3d K = StiffnessBlock(e, h[a], h[b], e.shape_gradients.row(a).dot(e.shape_gradients.row(b)));
+      const Eigen::Matrix3d D = beta_s_ * K;  // damping stays the warped stiffness's
+      for (int k = 0; k < twists; ++k) K.noalias() += twist_sign[size_t(k)] * twist[size_t(k)][size_t(a)] * twist[size_t(k)][size_t(b)].transpose();
       sink->AddTo(values, k_times_v, slots_[size_t(t)][size_t(4 * a + b)], n[size_t(a)], n[size_t(b)], K,
                   damping ? &D : nullptr);
       if (b != a) {
@@ -203,6 +248,12 @@ int ElasticTetForce::AccumulateElement(int t, const SystemState& state, bool for
     }
   }
   return inverted;
+}
+
+bool ElasticTetForce::UseDefiniteJacobian(bool definite) {
+  if (formulation_ != ElasticFormulation::kCorotational || tangent_ != CorotationalTangent::kConsistent) return false;
+  definite_ = definite;
+  return true;
 }
 
 double ElasticTetForce::PotentialEnergy(const SystemState& state) const {

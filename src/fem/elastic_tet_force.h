@@ -15,6 +15,20 @@ namespace sedbridge::fem {
 
 enum class ElasticFormulation { kCorotational, kLinear };
 
+/// Stiffness of the corotational element handed to the solver.
+/// - kWarped: R K0 R^T (SOFA, the paper). It misses how R turns with the nodes, so Newton
+///   converges linearly once elements rotate (about a factor 3 per iteration on the paper's
+///   press).
+/// - kConsistent: the derivative of the corotational force, rotation included: R K0 R^T
+///   plus, per element, three rank-one "twist" terms. Rotating the element in the (i, j)
+///   principal plane of its stretch S has stiffness V (sigma_i + sigma_j) / (s_i + s_j)
+///   (principal stresses sigma_i, principal stretches s_i), which R K0 R^T sets to 0.
+///   Newton then converges quadratically. Under compression a twist stiffness is negative,
+///   so the matrix can be indefinite: UseDefiniteJacobian(true) drops the twist terms
+///   (the warped tangent) until it is called with false. Elements inverted or close to it
+///   in a plane (s_i + s_j <= 0.5) keep the warped stiffness there.
+enum class CorotationalTangent { kWarped, kConsistent };
+
 class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
  public:
   // Holds its own rest-stiffness SystemMatrix and slots bound to the system matrix.
@@ -34,6 +48,7 @@ class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
   void AddForce(const SystemState& state, Eigen::VectorXd& force_N, JacobianSink* sink) override;
   bool JacobianIsConstant() const override { return formulation_ == ElasticFormulation::kLinear; }
   double PotentialEnergy(const SystemState& state) const override;
+  bool UseDefiniteJacobian(bool definite) override;
 
   /// Rotation of each element at the last AddForce (identity for linear FEM).
   const std::vector<Eigen::Matrix3d>& rotations() const { return rotations_; }
@@ -47,12 +62,17 @@ class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
   const std::vector<TetElement>& elements() const { return elements_; }
   ElasticFormulation formulation() const { return formulation_; }
   bool deviatoric_only() const { return deviatoric_only_; }
+  /// Corotational stiffness (ignored by linear FEM). Default kWarped.
+  void set_corotational_tangent(CorotationalTangent tangent) { tangent_ = tangent; }
+  CorotationalTangent corotational_tangent() const { return tangent_; }
 
  private:
   const TetMesh& mesh_;
   ElasticFormulation formulation_;
   double beta_s_;
   bool deviatoric_only_;
+  CorotationalTangent tangent_ = CorotationalTangent::kWarped;
+  bool definite_ = false;  // UseDefiniteJacobian: the warped tangent for now
   std::vector<TetElement> elements_;
   std::vector<std::array<int, 16>> slots_;
   std::vector<Eigen::Quaterniond> quaternions_;  // warm starts

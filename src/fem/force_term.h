@@ -68,6 +68,10 @@ class ForceTerm {
   /// (friction anchors) update here.
   virtual void EndStep(const SystemState& state) {}
 
+  /// Terms whose exact Jacobian can be indefinite (the consistent corotational tangent
+  /// under compression) switch to a positive definite approximation while `definite` is
+  /// true. Returns true if this term has such an approximation (false: nothing changes).
+  virtual bool UseDefiniteJacobian(bool definite) { return false; }
   /// Total work-conjugate energy of the term where defined (elastic, springs) [J];
   /// used by stability tests to bound energy. 0 if not meaningful.
   virtual double PotentialEnergy(const SystemState& state) const { return 0.0; }

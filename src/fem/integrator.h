@@ -40,6 +40,8 @@ struct StepReport {
   int linear_iterations = 0;     ///< summed over Newton iterations
   double linear_residual = 0;    ///< worst relative residual
   int solver_fallbacks = 0;      ///< PCG fallbacks to the direct solver in this step
+  int tangent_fallbacks = 0;     ///< Newton iterations whose exact tangent did not factorize
+                                 ///< and were solved with the definite one (UseDefiniteJacobian)
   bool converged = true;         ///< linear solves and (quasi-static) Newton converged
   int inverted_elements = 0;     ///< det F <= 0 at the end of the step
   double max_step_m = 0;         ///< max |dx| of the last Newton iteration

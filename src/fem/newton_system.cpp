@@ -40,15 +40,28 @@ void NewtonSystem::PrepareSolver(StageTimes& times) {
 }
 
 LinearSolveReport NewtonSystem::Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& delta, StepReport& report) {
-  StageTimer timer(report.stage_ms, Stage::kSolve);
-  const LinearSolveReport lr = solver_->Solve(matrix_, rhs, delta);
-  timer.Stop();
+  const LinearSolveReport lr = TrySolve(rhs, delta, report.stage_ms);
+  Record(lr, report);
+  return lr;
+}
+
+LinearSolveReport NewtonSystem::TrySolve(const Eigen::VectorXd& rhs, Eigen::VectorXd& delta, StageTimes& times) {
+  const StageTimer timer(times, Stage::kSolve);
+  return solver_->Solve(matrix_, rhs, delta);
+}
+
+bool NewtonSystem::UseDefiniteJacobians(bool definite) {
+  bool any = false;
+  for (const auto& term : terms_) any = term->UseDefiniteJacobian(definite) || any;
+  return any;
+}
+
+void NewtonSystem::Record(const LinearSolveReport& lr, StepReport& report) {
   report.newton_iterations++;
   report.linear_iterations += lr.iterations;
   report.linear_residual = std::max(report.linear_residual, lr.relative_residual);
   report.solver_fallbacks += lr.used_fallback ? 1 : 0;
   report.converged = report.converged && lr.converged;
-  return lr;
 }
 
 }  // namespace sedbridge::fem

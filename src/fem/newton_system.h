@@ -39,6 +39,14 @@ class NewtonSystem {
   /// Solves matrix() delta = rhs (delta holds the initial guess) and sums the solve into
   /// `report` as one Newton iteration (its wall time into report.stage_ms[kSolve]).
   LinearSolveReport Solve(const Eigen::VectorXd& rhs, Eigen::VectorXd& delta, StepReport& report);
+  /// Solve without summing it into a report (its wall time into times[kSolve]): for a
+  /// solve that may be retried. Record() sums the one that counts.
+  LinearSolveReport TrySolve(const Eigen::VectorXd& rhs, Eigen::VectorXd& delta, StageTimes& times);
+  /// Sums a solve into `report` as one Newton iteration.
+  static void Record(const LinearSolveReport& lr, StepReport& report);
+  /// Asks every term for its positive definite Jacobian (or back to the exact one):
+  /// ForceTerm::UseDefiniteJacobian. True if any term has one.
+  bool UseDefiniteJacobians(bool definite);
 
   /// True if every term's Jacobian is constant (the matrix is assembled once).
   bool constant_matrix() const { return constant_matrix_; }

@@ -24,13 +24,25 @@ StepReport QuasiStaticNewtonIntegrator::Step(double dt, SimulationState& state) 
                          last_end_x_m_ == x;
   if (continues) x += last_increment_m_ * (dt / last_dt_s_);
   bool newton_converged = false;
+  bool definite = false;
   for (int it = 0; it < max_newton_iterations_; ++it) {
     const SystemState s{x, zero_v, t1, false};
     const bool build = !(system_.constant_matrix() && system_.matrix_ready());
     system_.Assemble(s, 1.0, 0.0, build, false, &report.stage_ms);
     if (build) system_.PrepareSolver(report.stage_ms);
     delta_.setZero(x.size());
-    const LinearSolveReport lr = system_.Solve(system_.force_N(), delta_, report);
+    LinearSolveReport lr = system_.TrySolve(system_.force_N(), delta_, report.stage_ms);
+    if (!lr.converged && build && !definite && system_.UseDefiniteJacobians(true)) {
+      // The exact tangent can be indefinite (a Cholesky refuses it): this iteration, and
+      // the rest of the step, with the positive definite one.
+      definite = true;
+      ++report.tangent_fallbacks;
+      system_.Assemble(s, 1.0, 0.0, true, false, &report.stage_ms);
+      system_.PrepareSolver(report.stage_ms);
+      delta_.setZero(x.size());
+      lr = system_.TrySolve(system_.force_N(), delta_, report.stage_ms);
+    }
+    NewtonSystem::Record(lr, report);
     x += delta_;
     report.max_step_m = delta_.cwiseAbs().maxCoeff();
     if (system_.constant_matrix()) {  // linear problem: one exact solve is the equilibrium
@@ -42,6 +54,7 @@ StepReport QuasiStaticNewtonIntegrator::Step(double dt, SimulationState& state) 
       break;
     }
   }
+  if (definite) system_.UseDefiniteJacobians(false);  // the next step tries the exact one again
   report.converged = report.converged && newton_converged;
   if (predict && report.converged && x.allFinite()) {
     last_increment_m_ = x - step_start_x_m_;

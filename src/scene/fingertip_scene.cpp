@@ -24,6 +24,10 @@ void FingertipScene::Build() {
   std::vector<std::unique_ptr<fem::ForceTerm>> terms;
 
   auto elastic = std::make_unique<fem::ElasticTetForce>(m.soft, d.elasticity, d.rayleigh_beta_s, d.nodal_pressure);
+  // Quasi-static Newton iterates to equilibrium: the consistent tangent takes it there in
+  // fewer iterations (docs/performance.md). Same equilibria either way.
+  if (d.integrator.kind == fem::IntegratorKind::kQuasiStatic)
+    elastic->set_corotational_tangent(fem::CorotationalTangent::kConsistent);
   const fem::ElasticTetForce& elastic_ref = *elastic;
   terms.push_back(std::move(elastic));
   if (d.nodal_pressure) {
