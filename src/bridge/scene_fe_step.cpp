@@ -2,6 +2,8 @@
 
 #include <omp.h>
 
+#include "fem/thread_team.h"
+
 #include <cstdio>
 #include <stdexcept>
 
@@ -36,7 +38,10 @@ SceneFeStep::SceneFeStep(const scene::SceneDescription& description, const senso
   Step(zero);
 }
 
-void SetFeThreads(int threads) { omp_set_num_threads(threads < 1 ? 1 : threads); }
+void SetFeThreads(int threads) {
+  fem::SetAutoThreadTeam(false);  // the bridge's team is what it asked for
+  omp_set_num_threads(threads < 1 ? 1 : threads);
+}
 
 const MerkelSedResult& SceneFeStep::Step(const TaxelValues& values) {
   result_ = MerkelSedResult{};

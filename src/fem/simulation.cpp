@@ -1,5 +1,10 @@
 #include "fem/simulation.h"
 
+#include <omp.h>
+
+#include <algorithm>
+#include <chrono>
+
 #include "fem/backward_euler_integrator.h"
 #include "fem/lumped_mass.h"
 #include "fem/quasi_static_newton_integrator.h"
@@ -8,7 +13,7 @@ namespace sedbridge::fem {
 
 Simulation::Simulation(const TetMesh& mesh, std::vector<std::unique_ptr<ForceTerm>> terms,
                        IntegratorSettings settings, std::unique_ptr<LinearSolver> solver)
-    : mesh_(mesh), terms_(std::move(terms)), settings_(settings) {
+    : mesh_(mesh), terms_(std::move(terms)), settings_(settings), thread_team_(omp_get_max_threads()) {
   const int n = mesh.num_nodes();
   state_.x_m.resize(3 * n);
   for (int i = 0; i < n; ++i) state_.x_m.segment<3>(3 * i) = mesh.rest_positions_m.col(i);
@@ -29,7 +34,17 @@ StepReport Simulation::Step(double dt) {
   // The step's start state: kept once per step (no allocation after the first) for the
   // rollback below.
   step_start_ = state_;
+  const bool choose = AutoThreadTeam() && thread_team_.max_threads() > 1;
+  const int caller_threads = omp_get_max_threads();
+  const int team = choose ? thread_team_.Next() : caller_threads;
+  if (choose) omp_set_num_threads(team);
+  const auto t0 = std::chrono::steady_clock::now();
   StepReport r = integrator_->Step(dt, state_);
+  if (choose) {
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    thread_team_.Record(team, ms / std::max(1, r.newton_iterations));
+    omp_set_num_threads(caller_threads);
+  }
   r.finite = state_.x_m.allFinite() && state_.v_m_s.allFinite();
   if (!r.finite) {
     // Never hand NaN downstream: keep the last good state and say so.

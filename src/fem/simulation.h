@@ -17,6 +17,7 @@
 #include "fem/integrator.h"
 #include "fem/linear_solver.h"
 #include "fem/newton_system.h"
+#include "fem/thread_team.h"
 
 namespace sedbridge::fem {
 
@@ -35,6 +36,8 @@ class Simulation {
 
   /// Advances time by dt (quasi-static: the load parameter t; prescribed motions are
   /// evaluated at the new t). A step that produces NaN/Inf is rolled back and reported.
+  /// With AutoThreadTeam() the step runs with the team ThreadTeamChooser picks between 1
+  /// and omp_get_max_threads() at construction (the caller's setting is restored after).
   StepReport Step(double dt_s);
 
   const Eigen::VectorXd& positions_m() const { return state_.x_m; }
@@ -61,6 +64,8 @@ class Simulation {
   double PotentialEnergy() const;
   /// Sum of all term forces at the current state [N] (equilibrium residual when static).
   Eigen::VectorXd TotalForce();
+  /// The team-size chooser of Step (fem/thread_team.h).
+  const ThreadTeamChooser& thread_team() const { return thread_team_; }
   /// True if every term's Jacobian is constant (system matrix assembled once).
   bool constant_matrix() const { return system_->constant_matrix(); }
 
@@ -74,6 +79,7 @@ class Simulation {
   SimulationState step_start_;  // for the rollback of a non-finite step
   std::unique_ptr<NewtonSystem> system_;
   std::unique_ptr<Integrator> integrator_;
+  ThreadTeamChooser thread_team_;
 };
 
 }  // namespace sedbridge::fem

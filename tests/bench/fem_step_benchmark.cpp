@@ -3,6 +3,8 @@
 //   build/tests/bench/fem_step_benchmark                      # model B, all cases
 //   SEDBRIDGE_BENCH_MODEL=B_coarse build/tests/bench/fem_step_benchmark --benchmark_filter=Traction
 // Counters: median_ms / p99_ms per step, steps_per_s (from the median), threads.
+// The argument is the OpenMP team: 1, 2, or 0 = chosen by the step itself
+// (fem/thread_team.h; `threads` then reports the team it kept at the end, 0 = still measuring).
 
 #include <benchmark/benchmark.h>
 #include <omp.h>
@@ -14,6 +16,7 @@
 #include <memory>
 
 #include "fem/cholmod_solver.h"
+#include "fem/thread_team.h"
 #include "scene/fingertip_scene.h"
 
 namespace sedbridge {
@@ -29,6 +32,14 @@ const model::FingertipModel& SharedModel() {
   return model;
 }
 
+// Team size from the benchmark argument; 0 = the step chooses (all cores to choose from).
+void SetThreads(benchmark::State& state) {
+  const int threads = int(state.range(0));
+  fem::SetAutoThreadTeam(threads == 0);
+  omp_set_num_threads(threads == 0 ? omp_get_num_procs() : threads);
+  fem::SetBlasThreads(threads == 0 ? 1 : threads);  // CHOLMOD's BLAS too
+}
+
 void Report(benchmark::State& state, std::vector<double> ms) {
   std::sort(ms.begin(), ms.end());
   const double median = ms[ms.size() / 2];
@@ -37,6 +48,10 @@ void Report(benchmark::State& state, std::vector<double> ms) {
   state.counters["p99_ms"] = p99;
   state.counters["steps_per_s"] = 1000.0 / median;
   state.counters["threads"] = omp_get_max_threads();
+}
+
+void ReportTeam(benchmark::State& state, const fem::Simulation& sim) {
+  if (state.range(0) == 0) state.counters["threads"] = sim.thread_team().chosen();
 }
 
 // A pressure patch on the pad, as the bridge applies from a taxel grid (1 kPa over ~8x8 mm).
@@ -61,8 +76,7 @@ std::string TractionScene(const std::string& elasticity, const std::string& solv
 // backward Euler or quasi-static, then the Merkel SED.
 void TractionStep(benchmark::State& state, const std::string& elasticity, const std::string& solver,
                   const std::string& integrator) {
-  omp_set_num_threads(int(state.range(0)));
-  fem::SetBlasThreads(int(state.range(0)));  // CHOLMOD's BLAS too
+  SetThreads(state);
   scene::FingertipScene s(scene::ParseSceneDescription(TractionScene(elasticity, solver, integrator), "bench"),
                           SharedModel());
   std::vector<double> ms;
@@ -83,13 +97,13 @@ void TractionStep(benchmark::State& state, const std::string& elasticity, const 
   for (Stage stage : {Stage::kAssembly, Stage::kSolve, Stage::kSed})
     state.counters[std::string(ToString(stage)) + "_ms"] = stage_sum_ms[stage] / double(ms.size());
   Report(state, ms);
+  ReportTeam(state, s.simulation());
 }
 
 // The paper's press, dynamic: backward Euler at 1 ms with penalty contact, the plane
 // pushed 2 mm in 1 s; timed while in contact.
 void ContactPressStep(benchmark::State& state, const std::string& elasticity, const std::string& solver) {
-  omp_set_num_threads(int(state.range(0)));
-  fem::SetBlasThreads(int(state.range(0)));  // CHOLMOD's BLAS too
+  SetThreads(state);
   const std::string yaml = "model: " + ModelName() + "\nelasticity: " + elasticity + "\nsolver: {type: " + solver +
                            ", tolerance: 1.0e-6, max_iterations: 200}\n"
                            "dynamics: {integrator: backward_euler, dt_s: 0.001, newton_iterations: 1}\n"
@@ -106,12 +120,12 @@ void ContactPressStep(benchmark::State& state, const std::string& elasticity, co
   }
   state.counters["contacts"] = double(s.contact()->active_contacts().size());
   Report(state, ms);
+  ReportTeam(state, s.simulation());
 }
 
 // Per-effect breakdown: force + Jacobian of each term alone, and the pieces of a solve.
 void EffectCost(benchmark::State& state, const std::string& effect) {
-  omp_set_num_threads(int(state.range(0)));
-  fem::SetBlasThreads(int(state.range(0)));  // CHOLMOD's BLAS too
+  SetThreads(state);
   // The nodal pressure term exists only in a scene that asks for it.
   std::string yaml = "model: " + ModelName() + (effect == "nodal_pressure" ? "\nelasticity: nodal_pressure" : "") +
                      "\nbone: {}\nsurface_traction: true\n"
@@ -157,7 +171,7 @@ void Register() {
       if (std::string(integrator) == "quasi_static" && std::string(el) != "linear") continue;
       const std::string name = std::string("TractionStep/") + integrator + "/" + el + "/" + solver;
       benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { TractionStep(st, el, solver, integrator); })
-          ->Arg(1)->Arg(2)->Iterations((std::string(solver) == "ldlt" || std::string(solver) == "cholmod") &&
+          ->Arg(1)->Arg(2)->Arg(0)->Iterations((std::string(solver) == "ldlt" || std::string(solver) == "cholmod") &&
                                             std::string(el) != "linear" ? 10 : 200)
           ->Unit(benchmark::kMillisecond)->UseRealTime();
     }
@@ -167,7 +181,7 @@ void Register() {
            {"linear", "pcg_warp_ichol"}, {"nodal_pressure", "pcg_warp"}, {"nodal_pressure", "pcg_jacobi"}}) {
     const std::string name = std::string("ContactPressStep/backward_euler/") + el + "/" + solver;
     benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { ContactPressStep(st, el, solver); })
-        ->Arg(1)->Arg(2)->Iterations(200)->Unit(benchmark::kMillisecond)->UseRealTime();
+        ->Arg(1)->Arg(2)->Arg(0)->Iterations(200)->Unit(benchmark::kMillisecond)->UseRealTime();
   }
   for (const char* effect : {"elastic_corotational", "nodal_pressure", "bone_coupling", "penalty_contact", "pseudo_friction",
                              "surface_traction", "merkel_sed"}) {
