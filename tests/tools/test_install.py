@@ -45,7 +45,7 @@ class InstalledTree(unittest.TestCase):
 
     def test_layout(self):
         share = os.path.join(self.prefix, "share", "sedbridge")
-        for path in ["bin/sedbridge", "share/sedbridge/config/bridge/default.yaml", "share/sedbridge/config/models/B.msh",
+        for path in ["bin/sedbridge", "bin/sedbridge-display-driver", "share/sedbridge/config/bridge/default.yaml", "share/sedbridge/config/models/B.msh",
                      "share/sedbridge/tools/plot_bridge.py", "share/sedbridge/tools/plot_press.py",
                      "share/sedbridge/tools/lcm_spy.sh", "share/sedbridge/python/sedbridge/__init__.py",
                      "share/sedbridge/python/sedbridge_lcm.py", "include/sedbridge/lcmt_display_command.hpp",
@@ -60,6 +60,11 @@ class InstalledTree(unittest.TestCase):
                            env=env_without_root())
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertIn("replay", r.stdout)
+
+    def test_display_driver_help(self):
+        r = subprocess.run([os.path.join(self.prefix, "bin", "sedbridge-display-driver"), "--help"],
+                           capture_output=True, text=True, env=env_without_root())
+        self.assertEqual(r.returncode, 0, r.stderr)
 
     def test_replay_uses_the_installed_resources_even_after_a_move(self):
         out = self.replay(self.prefix, "out1")

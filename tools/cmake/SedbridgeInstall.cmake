@@ -10,7 +10,8 @@
 
 set(SEDBRIDGE_INSTALL_DATA ${CMAKE_INSTALL_DATADIR}/sedbridge)
 
-install(TARGETS sedbridge RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# The bridge and the driver that runs beside the display (docs/two-host.md).
+install(TARGETS sedbridge sedbridge-display-driver RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/config DESTINATION ${SEDBRIDGE_INSTALL_DATA})
 # Scripts only: the model generator's and fidelity study's C++ sources and the CMake files stay behind.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/tools DESTINATION ${SEDBRIDGE_INSTALL_DATA}
