@@ -131,12 +131,12 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
     const ContactReconstructor* self;
     ContactShape shape;
     bool shear;
-    mutable int evaluations = 0;
+    int* evaluations;  // shared: NumericalDiff evaluates through its own copy of the functor
     mutable Eigen::VectorXd pred;
     int inputs() const { return UnknownCount(shape, shear); }
     int values() const { return static_cast<int>(self->obs_.size()); }
     int operator()(const Eigen::VectorXd& u, Eigen::VectorXd& r) const {
-      ++evaluations;
+      ++*evaluations;
       self->model_.Predict(FromUnknowns(shape, u, shear), &pred);
       r = (pred - self->obs_).cwiseProduct(self->weight_);
       for (size_t k = 0; k < self->saturated_.size(); ++k)
@@ -147,7 +147,8 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
       return 0;
     }
   };
-  Functor f{{}, this, shape, shear, 0, {}};
+  int evaluations = 0;
+  Functor f{{}, this, shape, shear, &evaluations, {}};
   Eigen::NumericalDiff<Functor> numeric(f, 1e-6);
   Eigen::LevenbergMarquardt<Eigen::NumericalDiff<Functor>> lm(numeric);
   lm.parameters.maxfev = max_evaluations > 0 ? max_evaluations : options_.max_evaluations;
@@ -164,7 +165,7 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
   f(u, r);
   fit.chi2 = r.allFinite() ? r.squaredNorm() : std::numeric_limits<double>::infinity();
   fit.unknowns = UnknownCount(shape, shear);
-  fit.evaluations = f.evaluations;
+  fit.evaluations = evaluations;
   return fit;
 }
 
