@@ -258,6 +258,46 @@ void TactileForwardModel::Predict(const ContactPrimitive& c, Eigen::VectorXd* re
   Respond(loads, readings_N);
 }
 
+void TactileForwardModel::PredictLinearInShear(const ContactPrimitive& c, Eigen::VectorXd* normal_part,
+                                               Eigen::VectorXd* per_shear_x, Eigen::VectorXd* per_shear_y) const {
+  const int n = taxel_count();
+  normal_part->setZero(3 * n);
+  per_shear_x->setZero(3 * n);
+  per_shear_y->setZero(3 * n);
+  if (!(c.normal_force_N > 0) || !std::isfinite(c.normal_force_N)) return;
+  if (c.shape == ContactShape::kFlat && flat_normal_.size() > 0) {
+    *normal_part = c.normal_force_N * flat_normal_;
+    *per_shear_x = flat_shear_x_;
+    *per_shear_y = flat_shear_y_;
+    return;
+  }
+  thread_local std::vector<SurfaceLoad> loads;
+  ContactPrimitive normal_only = c;
+  normal_only.shear_x_N = normal_only.shear_y_N = 0;
+  Patch(normal_only, &loads);
+  if (loads.empty()) return;
+  // One pass: the 9 kernel values of every (taxel, cell) times the cell's share of the force.
+  const double inv_F = 1.0 / c.normal_force_N;
+  double* a = normal_part->data();
+  double* bx = per_shear_x->data();
+  double* by = per_shear_y->data();
+  for (int k = 0; k < n; ++k) {
+    double r[9] = {};
+    const int base = taxel_base_[k];
+    for (const auto& l : loads) {
+      const int i = l.cell % grid_n_, j = l.cell / grid_n_;
+      const double* t = &table_[9 * (base - i - j * table_stride_)];
+      const double P = l.normal_N;
+      for (int q = 0; q < 9; ++q) r[q] += P * t[q];
+    }
+    for (int q = 0; q < 3; ++q) {
+      a[3 * k + q] = r[q];
+      bx[3 * k + q] = r[3 + q] * inv_F;
+      by[3 * k + q] = r[6 + q] * inv_F;
+    }
+  }
+}
+
 void TactileForwardModel::Respond(const std::vector<SurfaceLoad>& loads, Eigen::VectorXd* readings_N) const {
   const int n = taxel_count();
   readings_N->setZero(3 * n);

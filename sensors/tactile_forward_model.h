@@ -79,6 +79,13 @@ class TactileForwardModel {
 
   /// Readings [N] of every taxel: out(3 k + a), a = x, y, z. Resized to 3 * #taxels.
   void Predict(const ContactPrimitive& contact, Eigen::VectorXd* readings_N) const;
+  /// Predict split by the tangential force, which enters linearly (it spreads over the
+  /// patch of the normal force in proportion to the pressure):
+  ///   readings = normal_part + shear_x_N * per_shear_x + shear_y_N * per_shear_y  [N, N/N].
+  /// Same cost as one Predict; contact.shear_x_N/shear_y_N are ignored. Contact
+  /// reconstruction gets the two tangential Jacobian columns from it for free.
+  void PredictLinearInShear(const ContactPrimitive& contact, Eigen::VectorXd* normal_part,
+                            Eigen::VectorXd* per_shear_x, Eigen::VectorXd* per_shear_y) const;
   /// The pressure patch on the load grid (cells sum to the normal force and the tangential
   /// force; empty if none).
   void Patch(const ContactPrimitive& contact, std::vector<SurfaceLoad>* loads) const;

@@ -292,7 +292,8 @@ void ComplianceContact::CandidateDisplacements() {
 }
 
 const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::RigidObject>& objects, double t_s,
-                                                    const Eigen::Vector3d& tangential_force_N) {
+                                                    const Eigen::Vector3d& tangential_force_N, bool compute_sed) {
+  sed_current_ = false;
   result_.ok = result_.converged = false;
   result_.iterations = 0;
   result_.error.clear();
@@ -499,7 +500,16 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
   if (friction)
     for (Eigen::Index p = 0; p < friction_.cols(); ++p) result_.friction_force_N += friction_.col(p);
 
-  // 3. SED from the displacements of the nodes it reads.
+  result_.ok = true;
+  if (compute_sed) ComputeSed();
+  return result_;
+}
+
+void ComplianceContact::ComputeSed() {
+  if (!result_.ok || sed_current_) return;
+  const int c = int(candidates_.size());
+  // SED from the displacements of the nodes it reads (G f: most of a step with few
+  // contacts, so a root find over many steps asks for it only at its answer).
   u_s_.setZero();
   for (int j : loaded_) AddColumns3(G_, j, f_c_.segment<3>(3 * j), u_s_);
   for (size_t a = 0; a < sed_nodes_.size(); ++a) {
@@ -525,8 +535,7 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
     element_sed_[Eigen::Index(e)] = se.mu_Pa * eps_eps + 0.5 * se.lambda_Pa * tr * tr;
   }
   sed_->AverageToVertices(element_sed_, result_.sed_Pa);
-  result_.ok = true;
-  return result_;
+  sed_current_ = true;
 }
 
 bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau) {

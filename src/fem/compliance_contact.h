@@ -91,8 +91,16 @@ class ComplianceContact {
   /// Contact with rigid objects (model frame, posed at time t_s), plus an optional total
   /// tangential load [N, model frame] spread over the contacts in proportion to their
   /// normal force (ignored while nothing touches). Warm-started from the last call.
+  /// With compute_sed = false the step leaves sed_Pa and positions_m() as they were (a
+  /// root find that needs only the force: PressToForce); ComputeSed() fills them later.
   const ComplianceStepResult& Step(const std::vector<geometry::RigidObject>& objects, double t_s = 0.0,
-                                   const Eigen::Vector3d& tangential_force_N = Eigen::Vector3d::Zero());
+                                   const Eigen::Vector3d& tangential_force_N = Eigen::Vector3d::Zero(),
+                                   bool compute_sed = true);
+  /// The last step's Merkel SED (result sed_Pa) and positions_m(), from its contact forces;
+  /// what Step does at its end unless told not to. No-op if the last step failed.
+  void ComputeSed();
+  /// True when sed_Pa and positions_m() belong to the last step.
+  bool sed_current() const { return sed_current_; }
   const ComplianceStepResult& last() const { return result_; }
   /// Forgets the warm start (the next step starts from no contact) and friction anchors.
   void ResetWarmStart();
@@ -184,6 +192,7 @@ class ComplianceContact {
   std::vector<Eigen::Isometry3d> pose_, pose_inverse_;  // per object, this step
   std::vector<Eigen::Matrix3d> pose_rotation_;
   Eigen::VectorXd x_;
+  bool sed_current_ = false;
   ComplianceStepResult result_;
 };
 

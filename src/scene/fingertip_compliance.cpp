@@ -16,6 +16,18 @@ namespace {
 // Bracket width of the force-controlled press below which it has collapsed [mm]: far below
 // any change of depth that changes the force, so the target force cannot be matched.
 constexpr double kCollapsedBracket_mm = 1e-12;
+// The press brackets the target force by Hertz-like steps (F ~ d^1.5) aimed this factor
+// past it [-]: close enough that the root find starts from a tight bracket (scan after
+// scan the force changes by about 1 %), far enough that the step brackets it.
+constexpr double kBracketOvershoot = 1.02;
+// Smallest bracketing step [mm]: below any indentation change a scan asks for.
+constexpr double kMinBracketStep_mm = 1e-4;
+
+// Indentation at which a Hertz-like contact (F ~ d^1.5) at (d_mm, force_N) reaches
+// target_N [mm].
+double HertzDepth_mm(double d_mm, double force_N, double target_N) {
+  return d_mm * std::pow(target_N / force_N, 2.0 / 3.0);
+}
 
 }  // namespace
 
@@ -176,7 +188,8 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
     state_indentation_mm_ = d_mm;
     const Eigen::Vector3d t_model = model_.pad_frame.model_from_pad.linear() *
                                     Eigen::Vector3d(tangential_pad_N.x(), tangential_pad_N.y(), 0.0);
-    const fem::ComplianceStepResult& s = contact_->Step(last_model, 0.0, t_model);
+    // The root find needs only the force: the SED once, at the answer (finish).
+    const fem::ComplianceStepResult& s = contact_->Step(last_model, 0.0, t_model, /*compute_sed=*/false);
     ++r.iterations;
     if (!s.ok) solve_failed = true;
     if (!s.converged) solve_unconverged = true;
@@ -187,6 +200,7 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
     // The contact state must be the answer's: re-solve where the answer is if the last
     // evaluation was elsewhere.
     if (r.indentation_mm != d_mm || r.iterations == 0) f_N = force_at(d_mm);
+    contact_->ComputeSed();
     r.indentation_mm = d_mm;
     r.force_N = f_N;
     r.status = status;
@@ -234,6 +248,11 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
   const double f_zero = f_lo;
   if (state < 0) contact_->ResetWarmStart();
   double d = std::clamp(state > 0 ? state : 0.0, 0.0, opt.max_indentation_mm);
+  // The state is the last answer (scan after scan): start where Hertz scaling from it puts
+  // the new target, at most max_step_mm away (thin objects: see there).
+  if (state > 0 && state == last_indentation_mm_ && last_target_N_ > 0)
+    d = std::clamp(HertzDepth_mm(state, last_target_N_, target_N), std::max(0.0, state - opt.max_step_mm),
+                   std::min(opt.max_indentation_mm, state + opt.max_step_mm));
   double f = f_zero;
   bool restarted = d <= 0;
   auto restart = [&] {
@@ -263,9 +282,10 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
       }
       if (r.iterations >= opt.max_iterations)
         return finish(PressStatus::kNotConverged, lo, f_lo, "bracketing ran out of iterations");
-      // The Hertz estimate (F ~ d^1.5) plus 5 %, capped at max_step_mm.
+      // The Hertz estimate (F ~ d^1.5) a little past the target, capped at max_step_mm.
       double step = step_max;
-      if (f_lo > 0 && lo > 0) step = std::clamp(lo * (1.05 * std::pow(target_N / f_lo, 2.0 / 3.0) - 1.0), 0.01, step_max);
+      if (f_lo > 0 && lo > 0)
+        step = std::clamp(HertzDepth_mm(lo, f_lo, kBracketOvershoot * target_N) - lo, kMinBracketStep_mm, step_max);
       hi = std::min(opt.max_indentation_mm, lo + step);
       f_hi = evaluate(hi);
       if (solve_failed) return finish(PressStatus::kInvalidInput, hi, f_hi, contact_->last().error);
@@ -283,7 +303,9 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
         return finish(PressStatus::kAboveTarget, 0.0, f_hi, "objects press harder than the target at indentation 0");
       if (r.iterations >= opt.max_iterations)
         return finish(PressStatus::kNotConverged, hi, f_hi, "bracketing ran out of iterations");
-      lo = std::max(0.0, hi - step_max);
+      // The Hertz estimate a little short of the target, at most max_step_mm back.
+      const double step = std::clamp(hi - HertzDepth_mm(hi, f_hi, target_N / kBracketOvershoot), kMinBracketStep_mm, step_max);
+      lo = std::max(0.0, hi - step);
       f_lo = evaluate(lo);
       if (solve_failed) return finish(PressStatus::kInvalidInput, lo, f_lo, contact_->last().error);
       if (f_lo <= target_N) break;

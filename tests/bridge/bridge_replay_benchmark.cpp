@@ -14,12 +14,13 @@
 namespace sedbridge::bridge {
 namespace {
 
-void BM_ReplayExampleLog(benchmark::State& state, const std::string& model, const std::string& step) {
+void BM_ReplayLog(benchmark::State& state, const std::string& model, const std::string& step,
+                  const std::string& log_in_source) {
   SetFeThreads(1);
   BridgeConfig config = LoadBridgeConfig(DefaultBridgeConfigPath());
   config.model = model;
   config.fe_step = FeStepKindFromString(step);
-  const std::string log = std::string(SEDBRIDGE_SOURCE_DIR) + "/config/bridge/example_press.log";
+  const std::string log = std::string(SEDBRIDGE_SOURCE_DIR) + "/" + log_in_source;
   const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
   int64_t scans = 0;
   double wall = 0, p50 = 0, p99 = 0, max = 0;
@@ -48,11 +49,19 @@ void BM_ReplayExampleLog(benchmark::State& state, const std::string& model, cons
       state.counters[std::string(ToString(static_cast<Stage>(i))) + "_p50_ms"] = stage_p50_ms.ms[size_t(i)];
 }
 
+void BM_ReplayExampleLog(benchmark::State& state, const std::string& model, const std::string& step) {
+  BM_ReplayLog(state, model, step, "config/bridge/example_press.log");
+}
+
 BENCHMARK_CAPTURE(BM_ReplayExampleLog, B_scene, std::string("B"), std::string("scene"))
     ->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK_CAPTURE(BM_ReplayExampleLog, B_reduced, std::string("B"), std::string("reduced"))
     ->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK_CAPTURE(BM_ReplayExampleLog, B_contact, std::string("B"), std::string("contact"))
+    ->Unit(benchmark::kMillisecond)->Iterations(3);
+// The reconstructed contact on the rig's hardest press for time: a 1 mm rod (docs/bridge-fidelity.md §5).
+BENCHMARK_CAPTURE(BM_ReplayLog, B_contact_rig_rod_1mm, std::string("B"), std::string("contact"),
+                  std::string("config/sensors/rig_uskin_4x4/press_12.log"))
     ->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK_CAPTURE(BM_ReplayExampleLog, B_coarse_scene, std::string("B_coarse"), std::string("scene"))
     ->Unit(benchmark::kMillisecond)->Iterations(3);

@@ -116,6 +116,49 @@ TEST(FingertipCompliance, PressToForceReachesTheTargetAndWarmStarts) {
   EXPECT_EQ(objects.size(), 2u);
 }
 
+// Scan after scan the press starts from the last answer scaled by Hertz (F ~ d^1.5) and
+// brackets the target tightly; the answer (force, SED) must be the one a press from no
+// contact finds, and the warm sequence must need fewer contact solves than cold presses.
+TEST(FingertipCompliance, WarmStartedPressMatchesTheColdPress) {
+  FingertipCompliance warm(Model()), cold(Model());
+  const std::vector<geometry::RigidObject> sphere{Sphere(8, {0.5, 1, 8})};
+  int warm_solves = 0, cold_solves = 0;
+  for (const double target_N : {0.30, 0.31, 0.33, 0.32, 0.50, 0.45, 0.451, 0.20}) {
+    const PressToForceResult w = warm.PressToForce(sphere, target_N);
+    cold.ResetWarmStart();
+    const PressToForceResult c = cold.PressToForce(sphere, target_N);
+    ASSERT_TRUE(w.reached) << target_N << ": " << w.message;
+    ASSERT_TRUE(c.reached) << target_N << ": " << c.message;
+    EXPECT_NEAR(w.force_N, target_N, 1e-6 * target_N);
+    EXPECT_NEAR(w.indentation_mm, c.indentation_mm, 1e-5) << target_N;
+    EXPECT_LT((warm.sed_Pa() - cold.sed_Pa()).norm(), 1e-5 * cold.sed_Pa().norm()) << target_N;
+    warm_solves += w.iterations;
+    cold_solves += c.iterations;
+  }
+  EXPECT_LT(3 * warm_solves, 2 * cold_solves) << "warm " << warm_solves << ", cold " << cold_solves;
+}
+
+// PressToForce asks the contact solves for their force only and the SED once, at the
+// answer: the deferred SED must be the one a solve computes itself.
+TEST(FingertipCompliance, DeferredSedEqualsTheSolvesOwn) {
+  FingertipCompliance cc(Model());
+  fem::ComplianceContact& contact = cc.contact();
+  const auto objects = std::vector<geometry::RigidObject>{Sphere(4, {1, 1, 3.6})};
+  std::vector<geometry::RigidObject> model_objects;
+  for (const auto& o : objects)
+    model_objects.push_back({o.name, o.shape, o.trajectory.Transformed(Model().pad_frame.model_from_pad)});
+  const Eigen::VectorXd immediate = contact.Step(model_objects).sed_Pa;
+  const Eigen::VectorXd positions = contact.positions_m();
+  ASSERT_GT(immediate.maxCoeff(), 0.0);
+  contact.ResetWarmStart();
+  contact.Step(model_objects, 0.0, Eigen::Vector3d::Zero(), /*compute_sed=*/false);
+  EXPECT_FALSE(contact.sed_current());
+  contact.ComputeSed();
+  EXPECT_TRUE(contact.sed_current());
+  EXPECT_LT((contact.last().sed_Pa - immediate).norm(), 1e-12 * immediate.norm());
+  EXPECT_LT((contact.positions_m() - positions).norm(), 1e-15);
+}
+
 // A thin rod pushed deeper than its radius in one solve lets skin nodes tunnel through it
 // (the SDF is evaluated at the displaced nodes) and its force falls to zero; the press
 // marches in steps below max_step_mm instead, and starts again from no contact when a

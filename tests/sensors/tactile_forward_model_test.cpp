@@ -170,3 +170,30 @@ TEST(TactileForwardModel, FlatShortcutEqualsThePatch) {
 
 }  // namespace
 }  // namespace sedbridge::sensors
+
+namespace sedbridge::sensors {
+namespace {
+
+// The reconstruction's Jacobian takes the tangential columns from the split prediction:
+// recombined it must be Predict, for every shape.
+TEST(TactileForwardModel, PredictLinearInShearRecombinesToPredict) {
+  const SensorProfile p = Uskin();
+  TactileForwardModel m(p, p.forward_model);
+  ContactPrimitive sphere;
+  sphere.x_mm = 1.3, sphere.y_mm = -2.1, sphere.radius_mm = 6, sphere.normal_force_N = 0.9;
+  sphere.shear_x_N = 0.1, sphere.shear_y_N = -0.05;
+  ContactPrimitive rod = sphere, flat = sphere;
+  rod.shape = ContactShape::kCylinder, rod.radius_mm = 1.0, rod.yaw_deg = 20;
+  flat.shape = ContactShape::kFlat;
+  for (const ContactPrimitive& c : {sphere, rod, flat}) {
+    Eigen::VectorXd expected, normal, per_x, per_y;
+    m.Predict(c, &expected);
+    m.PredictLinearInShear(c, &normal, &per_x, &per_y);
+    const Eigen::VectorXd recombined = normal + c.shear_x_N * per_x + c.shear_y_N * per_y;
+    EXPECT_GT(per_x.norm(), 0) << ContactShapeName(c.shape);
+    EXPECT_LT((recombined - expected).norm(), 1e-12 * expected.norm()) << ContactShapeName(c.shape);
+  }
+}
+
+}  // namespace
+}  // namespace sedbridge::sensors
