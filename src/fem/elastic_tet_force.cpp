@@ -23,10 +23,10 @@ constexpr size_t kParallelAssemblyMinTets = 256;
 // ill-conditioned, and the warped stiffness is the safe choice there.
 constexpr double kMinTwistStretchSum = 0.5;
 
-// The consistent tangent's twist terms of one element: up to three vectors t (12 entries as
-// 4 node blocks) with K += sign t t^T. Returns how many.
-int TwistTerms(const TetElement& e, const Eigen::Matrix3d& R, const Eigen::Matrix3d& F,
-               std::array<std::array<Eigen::Vector3d, 4>, 3>& t, std::array<double, 3>& sign) {
+}  // namespace
+
+int CorotationalTwistTerms(const TetElement& e, const Eigen::Matrix3d& R, const Eigen::Matrix3d& F,
+                           bool with_element_stress, double pressure_Pa, TwistVectors& t, std::array<double, 3>& sign) {
   Eigen::Matrix3d A = R.transpose() * F;
   const Eigen::Matrix3d S = 0.5 * (A + A.transpose());
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig;
@@ -35,8 +35,9 @@ int TwistTerms(const TetElement& e, const Eigen::Matrix3d& R, const Eigen::Matri
   const Eigen::Matrix3d V = eig.eigenvectors();
   const Eigen::Matrix3d U = R * V;
   const double tr_eps = s.sum() - 3.0;
-  const Eigen::Vector3d sigma = (2.0 * e.mu_Pa) * (s.array() - 1.0).matrix() +
-                                Eigen::Vector3d::Constant(e.lambda_Pa * tr_eps);
+  Eigen::Vector3d sigma = Eigen::Vector3d::Constant(pressure_Pa);
+  if (with_element_stress)
+    sigma += (2.0 * e.mu_Pa) * (s.array() - 1.0).matrix() + Eigen::Vector3d::Constant(e.lambda_Pa * tr_eps);
   Eigen::Vector3d g_local[4];  // shape gradients in the principal frame
   for (int a = 0; a < 4; ++a) g_local[a] = V.transpose() * e.shape_gradients.row(a).transpose();
   static constexpr int kPlanes[3][2] = {{0, 1}, {0, 2}, {1, 2}};
@@ -55,8 +56,6 @@ int TwistTerms(const TetElement& e, const Eigen::Matrix3d& R, const Eigen::Matri
   }
   return n;
 }
-
-}  // namespace
 
 ElasticTetForce::ElasticTetForce(const TetMesh& mesh, ElasticFormulation formulation,
                                  double rayleigh_beta_s, bool deviatoric_only)
@@ -228,10 +227,11 @@ int ElasticTetForce::AccumulateElement(int t, const SystemState& state, bool for
   if (!sink) return inverted;
   Eigen::Vector3d h[4];
   for (int a = 0; a < 4; ++a) h[a] = R * e.shape_gradients.row(a).transpose();
-  std::array<std::array<Eigen::Vector3d, 4>, 3> twist;
+  TwistVectors twist;
   std::array<double, 3> twist_sign;
   const int twists =
-      corotational && tangent_ == CorotationalTangent::kConsistent && !definite_ && !inverted ? TwistTerms(e, R, F, twist, twist_sign) : 0;
+      corotational && tangent_ == CorotationalTangent::kConsistent && !definite_ && !inverted ? CorotationalTwistTerms(e, R, F, true, 0.0, twist, twist_sign)
+                                                                                          : 0;
   for (int a = 0; a < 4; ++a) {
     for (int b = a; b < 4; ++b) {
       Eigen::Matrix3d K = StiffnessBlock(e, h[a], h[b], e.shape_gradients.row(a).dot(e.shape_gradients.row(b)));

@@ -3,6 +3,7 @@
 // plain linear FEM. Optional stiffness-proportional (Rayleigh beta) damping.
 
 #include <Eigen/Geometry>
+#include <array>
 #include <vector>
 
 #include "common/no_copy_no_move.h"
@@ -28,6 +29,19 @@ enum class ElasticFormulation { kCorotational, kLinear };
 ///   (the warped tangent) until it is called with false. Elements inverted or close to it
 ///   in a plane (s_i + s_j <= 0.5) keep the warped stiffness there.
 enum class CorotationalTangent { kWarped, kConsistent };
+
+/// Per twist plane, the 4 node blocks of one twist vector.
+using TwistVectors = std::array<std::array<Eigen::Vector3d, 4>, 3>;
+
+/// The consistent corotational tangent's twist terms of one element (CorotationalTangent):
+/// K += sum_k sign_k t_k t_k^T for up to three twist planes; returns how many were written.
+/// @param R, F               element rotation and deformation gradient
+/// @param with_element_stress include the element's own stress 2 mu eps + lambda tr(eps) I
+/// @param pressure_Pa        an isotropic stress added to it (the nodal pressure term's
+///                           pbar; 0 for the plain element)
+/// Planes with s_i + s_j <= 0.5 (near inversion) or zero stiffness are left out.
+int CorotationalTwistTerms(const TetElement& e, const Eigen::Matrix3d& R, const Eigen::Matrix3d& F,
+                           bool with_element_stress, double pressure_Pa, TwistVectors& t, std::array<double, 3>& sign);
 
 class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
  public:

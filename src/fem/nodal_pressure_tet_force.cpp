@@ -86,6 +86,24 @@ void NodalPressureTetForce::BindMatrix(const SystemMatrix& matrix) {
     slot_offsets_.push_back(int(slots_.size()));
   }
   b_.resize(widest);
+  // The element blocks for the twist terms of the consistent tangent.
+  element_slots_.clear();
+  if (elastic_.formulation() == ElasticFormulation::kCorotational) {
+    const TetMesh& mesh = elastic_.mesh();
+    element_slots_.resize(size_t(mesh.num_tets()));
+    for (int t = 0; t < mesh.num_tets(); ++t)
+      for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b)
+          element_slots_[size_t(t)][size_t(4 * a + b)] = matrix.Slot(mesh.tets[size_t(t)][size_t(a)], mesh.tets[size_t(t)][size_t(b)]);
+  }
+}
+
+bool NodalPressureTetForce::UseDefiniteJacobian(bool definite) {
+  if (elastic_.formulation() != ElasticFormulation::kCorotational ||
+      elastic_.corotational_tangent() != CorotationalTangent::kConsistent)
+    return false;
+  definite_ = definite;
+  return true;
 }
 
 void NodalPressureTetForce::PatchStrains(const Eigen::VectorXd& element_theta, Eigen::VectorXd& patch_theta) const {
@@ -165,6 +183,28 @@ void NodalPressureTetForce::AddForce(const SystemState& state, Eigen::VectorXd& 
         }
       }
     }
+  }
+  if (elastic_.corotational_tangent() != CorotationalTangent::kConsistent || definite_ || element_slots_.empty()) return;
+  // Consistent tangent: -V pbar R g_a turns with R too. For an isotropic stress pbar that is
+  // the twist stiffness V 2 pbar / (s_i + s_j) of each principal plane (the elastic term's
+  // formula with sigma_i = pbar); pbar's own derivative is the patch part above.
+  TwistVectors twist;
+  std::array<double, 3> sign;
+  for (int t = 0; t < num_tets; ++t) {
+    const Tet& n = mesh.tets[size_t(t)];
+    const TetElement& e = elements[size_t(t)];
+    const Eigen::Matrix3d F = DeformationGradient(e, state.x_m.segment<3>(3 * n[0]), state.x_m.segment<3>(3 * n[1]),
+                                                  state.x_m.segment<3>(3 * n[2]), state.x_m.segment<3>(3 * n[3]));
+    if (F.determinant() <= 0) continue;  // inverted: the warped stiffness, as the elastic term
+    const auto& pt = element_patch_[size_t(t)];
+    const double pbar = 0.25 * (patch_pressure_[pt[0]] + patch_pressure_[pt[1]] + patch_pressure_[pt[2]] + patch_pressure_[pt[3]]);
+    const int twists = CorotationalTwistTerms(e, rotations[size_t(t)], F, false, pbar, twist, sign);
+    for (int k = 0; k < twists; ++k)
+      for (int a = 0; a < 4; ++a)
+        for (int b = 0; b < 4; ++b) {
+          const Eigen::Matrix3d K = sign[size_t(k)] * twist[size_t(k)][size_t(a)] * twist[size_t(k)][size_t(b)].transpose();
+          sink->AddTo(values, sink->stiffness_times_velocity, element_slots_[size_t(t)][size_t(4 * a + b)], n[size_t(a)], n[size_t(b)], K);
+        }
   }
 }
 

@@ -18,7 +18,9 @@
 // patches (d tr(R^T F) / dx is exactly R g: the rotation's variation drops out of the
 // trace). Stiffness: K = sum_P V_P kappa_P b_P b_P^T with b_P = d theta_P / dx (R held
 // fixed, as the corotational element does), which couples all nodes of a patch: the
-// matrix pattern grows from the 1-ring to the 2-ring of each node.
+// matrix pattern grows from the 1-ring to the 2-ring of each node. With the elastic term's
+// consistent tangent, R's variation adds per element the twist terms of the isotropic
+// stress pbar (CorotationalTwistTerms).
 
 #include <Eigen/Core>
 #include <array>
@@ -45,6 +47,8 @@ class NodalPressureTetForce final : public ForceTerm {
   bool JacobianIsConstant() const override { return elastic_.formulation() == ElasticFormulation::kLinear; }
   /// sum_P V_P kappa_P theta_P^2 / 2 [J] with the elastic term's last rotations.
   double PotentialEnergy(const SystemState& state) const override;
+  /// With the elastic term's consistent tangent: true drops this term's twist terms too.
+  bool UseDefiniteJacobian(bool definite) override;
 
   /// Volumetric strain of one element, tr(R^T F) - 3 (R = I for linear FEM).
   static double ElementVolumetricStrain(const Eigen::Matrix3d& F, const Eigen::Matrix3d& R);
@@ -75,6 +79,8 @@ class NodalPressureTetForce final : public ForceTerm {
   std::vector<int> slot_offsets_, slots_;             // per patch: n_P x n_P slots, row-major
   Eigen::VectorXd element_theta_, patch_theta_, patch_pressure_;
   std::vector<Eigen::Vector3d> b_;                    // scratch: b_P per local node
+  std::vector<std::array<int, 16>> element_slots_;    // corotational: element node-pair slots
+  bool definite_ = false;
 };
 
 }  // namespace sedbridge::fem
