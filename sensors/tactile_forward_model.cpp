@@ -161,6 +161,14 @@ void TactileForwardModel::BuildKernelTable() {
   }
 }
 
+void TactileForwardModel::TableOffsets(const std::vector<SurfaceLoad>& loads, std::vector<int>* offsets) const {
+  offsets->resize(loads.size());
+  for (size_t c = 0; c < loads.size(); ++c) {
+    const int i = loads[c].cell % grid_n_, j = loads[c].cell / grid_n_;
+    (*offsets)[c] = 9 * (i + j * table_stride_);
+  }
+}
+
 void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLoad>* loads) const {
   loads->clear();
   if (!(c.normal_force_N > 0) || !std::isfinite(c.normal_force_N)) return;
@@ -281,13 +289,15 @@ void TactileForwardModel::PredictLinearInShear(const ContactPrimitive& c, Eigen:
   double* a = normal_part->data();
   double* bx = per_shear_x->data();
   double* by = per_shear_y->data();
+  thread_local std::vector<int> offsets;
+  TableOffsets(loads, &offsets);
+  const int m = static_cast<int>(loads.size());
   for (int k = 0; k < n; ++k) {
     double r[9] = {};
-    const int base = taxel_base_[k];
-    for (const auto& l : loads) {
-      const int i = l.cell % grid_n_, j = l.cell / grid_n_;
-      const double* t = &table_[9 * (base - i - j * table_stride_)];
-      const double P = l.normal_N;
+    const double* row = &table_[9 * static_cast<size_t>(taxel_base_[k])];
+    for (int c_i = 0; c_i < m; ++c_i) {
+      const double* t = row - offsets[static_cast<size_t>(c_i)];
+      const double P = loads[static_cast<size_t>(c_i)].normal_N;
       for (int q = 0; q < 9; ++q) r[q] += P * t[q];
     }
     for (int q = 0; q < 3; ++q) {
@@ -305,12 +315,15 @@ void TactileForwardModel::Respond(const std::vector<SurfaceLoad>& loads, Eigen::
   bool shear = false;
   for (const auto& l : loads) shear = shear || l.shear_x_N != 0 || l.shear_y_N != 0;
   double* out = readings_N->data();
+  thread_local std::vector<int> offsets;
+  TableOffsets(loads, &offsets);
+  const size_t m = loads.size();
   for (int k = 0; k < n; ++k) {
     double rx = 0, ry = 0, rz = 0;
-    const int base = taxel_base_[k];
-    for (const auto& l : loads) {
-      const int i = l.cell % grid_n_, j = l.cell / grid_n_;
-      const double* t = &table_[9 * (base - i - j * table_stride_)];
+    const double* row = &table_[9 * static_cast<size_t>(taxel_base_[k])];
+    for (size_t c_i = 0; c_i < m; ++c_i) {
+      const SurfaceLoad& l = loads[c_i];
+      const double* t = row - offsets[c_i];
       const double P = l.normal_N;
       rx += P * t[0];
       ry += P * t[1];
