@@ -5,6 +5,7 @@
 
 #include "bridge/contact_object.h"
 #include "bridge/reduced_linear_fe_step.h"
+#include "common/thread_cpu_time.h"
 #include "model/fingertip_model.h"
 #include "scene/fingertip_compliance.h"
 
@@ -48,16 +49,16 @@ bool ContactFeStep::Frame(FeFrame* frame) const {
 
 std::string ContactFeStep::CountersLine() const {
   const auto& r = reconstructor_->counters();
-  const LatencySummary rt = recon_time_.Run(), pt = press_time_.Run();
-  char line[512];
+  const LatencySummary rt = recon_time_.Run(), pt = press_time_.Run(), ct = cpu_time_.Run();
+  char line[640];
   std::snprintf(line, sizeof line,
                 "contact: %lld scans pressed on the leader, %lld no contact, %lld fit fallbacks, %lld press fallbacks "
                 "(pressure map); %lld of %lld fits warm-started; reconstruction median %.3f / p99 %.3f ms, "
-                "leader press median %.3f / p99 %.3f ms",
+                "leader press median %.3f / p99 %.3f ms; CPU per scan median %.3f / p99 %.3f ms",
                 static_cast<long long>(counters_.pressed), static_cast<long long>(counters_.no_contact),
                 static_cast<long long>(counters_.fit_fallbacks), static_cast<long long>(counters_.press_fallbacks),
                 static_cast<long long>(r.warm_fits), static_cast<long long>(r.fits), rt.p50_ms, rt.p99_ms, pt.p50_ms,
-                pt.p99_ms);
+                pt.p99_ms, ct.p50_ms, ct.p99_ms);
   return line;
 }
 
@@ -95,6 +96,12 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
     last_ = LastStep::kFallback;
     return Fallback(values, times);
   }
+  // Thread CPU time of everything below, on every return.
+  struct CpuTimer {
+    LatencyStats* stats;
+    double start_ms = ThreadCpuTime_ms();
+    ~CpuTimer() { stats->AddMs(ThreadCpuTime_ms() - start_ms); }
+  } cpu_timer{&cpu_time_};
   StageTimer recon_timer(times, Stage::kReconstruction);
   estimate_ = reconstructor_->Reconstruct(*values.scan);
   recon_timer.Stop();

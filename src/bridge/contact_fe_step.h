@@ -70,6 +70,9 @@ class ContactFeStep final : public FeStep {
   /// solves + Merkel SED), over the scans that reached them.
   LatencySummary reconstruction_time() const { return recon_time_.Run(); }
   LatencySummary press_time() const { return press_time_.Run(); }
+  /// Thread CPU time per step over the scans that reached the reconstruction (reconstruction
+  /// + press + SED, or the fallback's step): the cost without preemption.
+  LatencySummary cpu_time() const { return cpu_time_.Run(); }
 
  private:
   void FillMessage(const TaxelValues& values, bool fallback, double indentation_mm);
@@ -90,7 +93,7 @@ class ContactFeStep final : public FeStep {
   // Samples kept for the run's percentiles of each stage time [-]: 100k (400 kB) are enough
   // for a p99 of a counters line; the bridge's own latency keeps the default 4M.
   static constexpr int64_t kStageTimeSamples = 100000;
-  LatencyStats recon_time_{kStageTimeSamples}, press_time_{kStageTimeSamples};
+  LatencyStats recon_time_{kStageTimeSamples}, press_time_{kStageTimeSamples}, cpu_time_{kStageTimeSamples};
 };
 
 }  // namespace sedbridge::bridge
