@@ -90,6 +90,7 @@ struct ContactReconstructor::Fit {
   double chi2 = std::numeric_limits<double>::infinity();
   int unknowns = 0;
   int evaluations = 0;
+  bool converged = false;  // LM stopped by its own tests, not by a budget or an error
   double Penalized() const { return chi2 + 2.0 * unknowns; }
 };
 
@@ -124,7 +125,7 @@ bool ContactReconstructor::Plausible(const ContactPrimitive& p) const {
 }
 
 ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, const ContactPrimitive& start,
-                                                         int max_evaluations) const {
+                                                         int max_evaluations, int evaluation_budget) const {
   const bool shear = options_.fit_shear;
   // Residuals and their Jacobian. The tangential force enters the forward model linearly,
   // so its two columns are exact and free (PredictLinearInShear); the others are forward
@@ -204,8 +205,22 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
   s.shape = shape;
   if (shape == ContactShape::kFlat) s.x_mm = s.y_mm = 0;
   Eigen::VectorXd u = ToUnknowns(s, shear);
-  lm.minimize(u);
+  // lm.minimize(u), stopped early when the budget is spent.
+  Eigen::LevenbergMarquardtSpace::Status status = lm.minimizeInit(u);
+  if (status != Eigen::LevenbergMarquardtSpace::ImproperInputParameters) {
+    do {
+      status = lm.minimizeOneStep(u);
+    } while (status == Eigen::LevenbergMarquardtSpace::Running &&
+             (evaluation_budget <= 0 || evaluations < evaluation_budget));
+  }
   Fit fit;
+  fit.converged = status == Eigen::LevenbergMarquardtSpace::RelativeReductionTooSmall ||
+                  status == Eigen::LevenbergMarquardtSpace::RelativeErrorTooSmall ||
+                  status == Eigen::LevenbergMarquardtSpace::RelativeErrorAndReductionTooSmall ||
+                  status == Eigen::LevenbergMarquardtSpace::CosinusTooSmall ||
+                  status == Eigen::LevenbergMarquardtSpace::FtolTooSmall ||
+                  status == Eigen::LevenbergMarquardtSpace::XtolTooSmall ||
+                  status == Eigen::LevenbergMarquardtSpace::GtolTooSmall;
   fit.primitive = FromUnknowns(shape, u, shear);
   Eigen::VectorXd r;
   f(u, r);
@@ -253,6 +268,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     estimate_.problem = "fewer than 4 usable taxels";
     ++counters_.fallbacks;
     have_last_ = false;
+    have_candidate_ = false;
     return estimate_;
   }
 
@@ -269,6 +285,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     estimate_.ok = true;  // "no contact" is a trustworthy answer
     estimate_.primitive.normal_force_N = 0;
     have_last_ = false;
+    have_candidate_ = false;
     explored_ = 0;
     return estimate_;
   }
@@ -332,10 +349,11 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     return Plausible(a.primitive) && std::isfinite(a.chi2) && (!std::isfinite(b.chi2) || a.Penalized() < b.Penalized());
   };
 
+  const bool amortized = options_.selection == ModelSelection::kAmortized;
   Fit best;
   bool warm_won = false;
   if (have_last_) {
-    best = FitShape(last_.shape, last_);
+    best = FitShape(last_.shape, last_, 0, amortized ? options_.warm_scan_evaluations : 0);
     estimate_.evaluations += best.evaluations;
     warm_won = Plausible(best.primitive);
     if (!warm_won) best = Fit{};
@@ -347,21 +365,51 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
       const Fit fit = fit_start(s);
       if (better(fit, best)) best = fit, warm_won = false;
     }
-  } else if (options_.selection == ModelSelection::kAmortized && !settled) {
-    // One start a scan (two at first touch), rotating, so a scan costs at most a warm fit
-    // and one or two cold ones; the winner is kept and refined by the next scans.
-    const int tries = have_last_ ? 1 : 2;
-    for (int t = 0; t < tries; ++t) {
-      const Fit fit = fit_start(starts[next_start_]);
-      next_start_ = (next_start_ + 1) % kStarts;
-      ++explored_;
-      if (better(fit, best)) best = fit, warm_won = false;
+  } else if (amortized && !settled) {
+    // One candidate at a time, rotating through the starts, refined within a budget per
+    // scan and continued by the next scan; it replaces the current model as soon as it
+    // explains the scan better, and is given up when it converged or spent its share.
+    // Without a current model (first touch, or the warm fit left the plausible domain)
+    // the candidates get the warm budget too, and the next start is tried while budget
+    // is left and nothing explains the scan.
+    int budget = options_.candidate_scan_evaluations + (warm_won ? 0 : options_.warm_scan_evaluations);
+    for (int tried = 0; budget > 0 && tried < kStarts; ++tried) {
+      if (!have_candidate_) {
+        const Start& st = starts[next_start_];
+        next_start_ = (next_start_ + 1) % kStarts;
+        candidate_ = guess;
+        candidate_.shape = st.shape;
+        candidate_.radius_mm = st.radius_mm;
+        candidate_.yaw_deg = st.yaw_deg;
+        candidate_spent_ = 0;
+        have_candidate_ = true;
+      }
+      const Fit fit = FitShape(candidate_.shape, candidate_, options_.explore_evaluations, budget);
+      estimate_.evaluations += fit.evaluations;
+      budget -= fit.evaluations;
+      candidate_ = fit.primitive;
+      candidate_spent_ += fit.evaluations;
+      bool done = fit.converged || candidate_spent_ >= options_.candidate_evaluations || !Plausible(fit.primitive) ||
+                  !std::isfinite(fit.chi2);
+      if (better(fit, best)) best = fit, warm_won = false, done = true;
+      if (done) {
+        have_candidate_ = false;
+        ++explored_;
+      }
+      if (std::isfinite(best.chi2)) break;  // the scan is explained: the rest waits for the next
+    }
+    // Still nothing: the flat, whose evaluations are precomputed unit responses (about a
+    // microsecond each), so that a scan between two models is answered, not dropped.
+    if (!std::isfinite(best.chi2)) {
+      const Fit flat = FitShape(ContactShape::kFlat, guess);
+      estimate_.evaluations += flat.evaluations;
+      if (better(flat, best)) best = flat;
     }
   }
   if (!std::isfinite(best.chi2)) {
     estimate_.problem = "no shape fitted";
     ++counters_.fallbacks;
-    have_last_ = false;
+    have_last_ = false;  // the candidate (amortized) goes on from its iterate
     return estimate_;
   }
   if (warm_won) ++counters_.warm_fits;

@@ -14,9 +14,11 @@
 //  - warm start: the last scan's shape and parameters, refined (contacts move
 //    continuously, so this is the common path);
 //  - model selection among starts of every shape (moments of the normal readings), the
-//    least penalized residual (chi^2 + 2 x #unknowns) winning: amortized (default) tries one
-//    start per scan until all were tried in the contact episode and the fit is within
-//    noise, so a scan costs at most about two fits; full tries them all at once;
+//    least penalized residual (chi^2 + 2 x #unknowns) winning: amortized (default) refines
+//    the current model and at most one candidate start per scan, each within a budget of
+//    forward-model evaluations, continuing from where the last scan stopped (a fit of the
+//    scan before is a good start for this one), until every start was tried in the contact
+//    episode and the fit is within noise; full fits every start to convergence at once;
 //  - a fit whose RMS residual exceeds max_rms_sigma, or that leaves the plausible domain
 //    (position off the pad, radius outside [min, max]), is a fallback: the caller uses the
 //    pressure-map boundary condition instead, and it is counted.
@@ -38,8 +40,11 @@ namespace sedbridge::bridge {
 enum class ModelSelection {
   kFull,       ///< every start whenever the warm start does not explain the scan (cold
                ///< single scans: tests, offline)
-  kAmortized,  ///< one start per scan, rotating, until all were tried in a contact episode
-               ///< or while the residual is above settle_rms_sigma: bounded cost per scan
+  kAmortized,  ///< per scan: the current model refined within warm_scan_evaluations and
+               ///< one candidate start (rotating) within candidate_scan_evaluations, each
+               ///< continued by the next scan; until all starts were tried in a contact
+               ///< episode, or while the residual is above settle_rms_sigma: bounded cost
+               ///< per scan (about warm + candidate budgets x one model evaluation)
 };
 
 struct ReconstructionOptions {
@@ -52,8 +57,20 @@ struct ReconstructionOptions {
   double max_radius_mm = 60;
   double max_offset_mm = 14;      ///< contact centre within this of the pad centre
   bool fit_shear = true;          ///< estimate the tangential force (three-axis sensors)
-  int max_evaluations = 400;      ///< per warm fit
-  int explore_evaluations = 150;  ///< per cold start of the model selection
+  int max_evaluations = 400;      ///< full: LM function evaluations per warm fit
+  int explore_evaluations = 150;  ///< full: LM function evaluations per cold start
+  /// Amortized: forward-model evaluations per scan for refining the current model and for
+  /// the candidate (a sphere/rod LM iteration costs about 5, a flat's 2). A fit that runs
+  /// out continues on the next scan from where it stopped.
+  /// 60 / 30 (about 12 and 6 LM iterations): the smallest budgets tried with which no
+  /// case of the rig's or the synthetic fidelity set leaves the targets it met with fits
+  /// run to convergence (24/12, 32/16, 40/20 each lost one, on rods whose radius the scan
+  /// does not determine; docs/bridge-fidelity.md §5).
+  int warm_scan_evaluations = 60;
+  int candidate_scan_evaluations = 30;
+  /// Amortized: forward-model evaluations over all scans before a candidate that neither
+  /// converged nor beat the current model is given up.
+  int candidate_evaluations = 150;
 };
 
 /// What one scan says about the contact.
@@ -91,6 +108,7 @@ class ContactReconstructor {
   /// Forgets the warm start.
   void Reset() {
     have_last_ = false;
+    have_candidate_ = false;
     explored_ = 0;
   }
 
@@ -100,7 +118,11 @@ class ContactReconstructor {
 
  private:
   struct Fit;
-  Fit FitShape(sensors::ContactShape shape, const sensors::ContactPrimitive& start, int max_evaluations = 0) const;
+  /// LM from `start`; max_evaluations: LM function evaluations (0: options' max_evaluations);
+  /// evaluation_budget: stop after the LM iteration that reaches this many forward-model
+  /// evaluations (0: none).
+  Fit FitShape(sensors::ContactShape shape, const sensors::ContactPrimitive& start, int max_evaluations = 0,
+               int evaluation_budget = 0) const;
   bool Plausible(const sensors::ContactPrimitive& p) const;
 
   sensors::SensorProfile profile_;
@@ -116,6 +138,11 @@ class ContactReconstructor {
   sensors::ContactPrimitive last_;
   int next_start_ = 0;   // amortized selection: next start to try
   int explored_ = 0;     // starts tried in this contact episode
+  // Amortized selection: the candidate being fitted over several scans (its iterate) and
+  // the evaluations it has spent.
+  bool have_candidate_ = false;
+  sensors::ContactPrimitive candidate_;
+  int candidate_spent_ = 0;
   ReconstructionCounters counters_;
 };
 

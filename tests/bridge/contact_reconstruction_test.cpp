@@ -236,7 +236,8 @@ namespace {
 // Objects the rig did not press: random spheres, rods and flats over the pad at random
 // forces, rendered by the calibrated forward model with 2-count noise, reconstructed from
 // the same object held for `scans` scans (1: a cold single scan with full model selection;
-// 8: the bridge's default amortized selection, one start per scan).
+// 40: the bridge's default amortized selection, one candidate start at a time within a
+// budget of evaluations per scan).
 void UnseenObjects(ModelSelection selection, int scans) {
   sensors::TactileForwardModel model(Uskin(), Uskin().forward_model);
   std::mt19937_64 rng(11);
@@ -281,7 +282,66 @@ void UnseenObjects(ModelSelection selection, int scans) {
 }
 
 TEST(ContactReconstruction, UnseenObjectsFromOneNoisyScan) { UnseenObjects(ModelSelection::kFull, 1); }
-TEST(ContactReconstruction, UnseenObjectsHeldForEightScans) { UnseenObjects(ModelSelection::kAmortized, 8); }
+TEST(ContactReconstruction, UnseenObjectsHeldForFortyScans) { UnseenObjects(ModelSelection::kAmortized, 40); }
+
+// Amortized selection spreads the model selection over scans: on the same held object it
+// must end where the full selection of one scan ends (same shape, same force and position),
+// within 40 scans (0.4 s at 100 Hz).
+TEST(ContactReconstruction, AmortizedSelectionReachesTheFullSelectionsModel) {
+  sensors::TactileForwardModel model(Uskin(), Uskin().forward_model);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> u(0, 1);
+  int same_shape = 0, cases = 0;
+  for (int i = 0; i < 24; ++i) {
+    ContactPrimitive c;
+    c.shape = i % 3 == 0 ? ContactShape::kSphere : i % 3 == 1 ? ContactShape::kCylinder : ContactShape::kFlat;
+    c.normal_force_N = 0.2 + 1.0 * u(rng);
+    c.radius_mm = c.shape == ContactShape::kSphere ? 2 + 10 * u(rng) : 0.6 + 2.4 * u(rng);
+    c.yaw_deg = -90 + 180 * u(rng);
+    c.x_mm = -4 + 8 * u(rng);
+    c.y_mm = c.shape == ContactShape::kCylinder ? 0 : -4 + 8 * u(rng);
+    Eigen::VectorXd reading;
+    model.Predict(c, &reading);
+    const std::vector<uint8_t> valid(16, 1);
+    ReconstructionOptions full_options;
+    full_options.selection = ModelSelection::kFull;
+    ContactReconstructor full(Uskin(), full_options), amortized(Uskin());
+    std::mt19937_64 noise(100 + i);
+    const Eigen::VectorXd scan = Noisy(reading, &noise);
+    const ContactEstimate f = full.Reconstruct(scan, valid);
+    ContactEstimate a;
+    for (int s = 0; s < 40; ++s) a = amortized.Reconstruct(scan, valid);
+    if (!f.ok) continue;
+    ++cases;
+    ASSERT_TRUE(a.ok) << i << ": " << a.problem;
+    if (a.primitive.shape != f.primitive.shape) continue;
+    ++same_shape;
+    EXPECT_NEAR(a.primitive.normal_force_N, f.primitive.normal_force_N, 0.02 * f.primitive.normal_force_N) << i;
+    EXPECT_LT(a.rms_sigma, f.rms_sigma + 0.05) << i;
+    if (c.shape == ContactShape::kSphere && a.primitive.shape == ContactShape::kSphere) {
+      EXPECT_LT(std::hypot(a.primitive.x_mm - f.primitive.x_mm, a.primitive.y_mm - f.primitive.y_mm), 0.1) << i;
+    }
+  }
+  EXPECT_GE(cases, 20);
+  EXPECT_GE(same_shape, cases * 9 / 10);
+}
+
+// The point of the amortized selection: no scan pays for a whole model selection. Through
+// rig presses (sphere, 1 mm rod, flat, stroke), from first touch to release, each scan's
+// forward-model evaluations stay within the two budgets plus the first-touch share and
+// one LM iteration's overrun (a sphere/rod iteration: 4 for the Jacobian + 1, plus
+// rejected trial steps).
+TEST(ContactReconstruction, AmortizedScanCostIsBounded) {
+  const ReconstructionOptions o;
+  const int bound = 2 * o.warm_scan_evaluations + o.candidate_scan_evaluations + 2 * 15;
+  for (int i : {3, 12, 15, 17, 19}) {
+    ContactReconstructor r(Uskin());
+    int most = 0;
+    for (const auto& s : Rig()[size_t(i)].scans) most = std::max(most, r.Reconstruct(s).evaluations);
+    EXPECT_LE(most, bound) << Rig()[size_t(i)].name;
+    EXPECT_GT(most, 0) << Rig()[size_t(i)].name;
+  }
+}
 
 }  // namespace
 }  // namespace sedbridge::bridge
