@@ -136,7 +136,8 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
     return Fallback(values, times);
   }
   StageTimer press_timer(times, Stage::kPress);
-  const auto press = leader_->PressToForce({ToRigidObject(p)}, p.normal_force_N, {}, Eigen::Vector2d(p.shear_x_N, p.shear_y_N));
+  const auto press = leader_->PressToForce({ToRigidObject(p)}, p.normal_force_N, ReconstructedPressOptions(),
+                                           Eigen::Vector2d(p.shear_x_N, p.shear_y_N));
   press_timer.Stop();
   press_time_.AddMs(times[Stage::kPress]);
   if (!PressAnswered(press, *leader_)) {

@@ -42,4 +42,10 @@ bool PressAnswered(const scene::PressToForceResult& press, const scene::Fingerti
          std::abs(press.force_N - press.target_force_N) <= tolerance * press.target_force_N;
 }
 
+scene::PressToForceOptions ReconstructedPressOptions() {
+  scene::PressToForceOptions options;
+  options.relative_tolerance = 1e-3;
+  return options;
+}
+
 }  // namespace sedbridge::bridge

@@ -130,7 +130,8 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
   // Reconstructed contact.
   if (row.recon_ok) {
     leader_->ResetWarmStart();
-    const auto r = leader_->PressToForce({ToRigidObject(row.recon_object)}, row.recon_object.normal_force_N, {},
+    const auto r = leader_->PressToForce({ToRigidObject(row.recon_object)}, row.recon_object.normal_force_N,
+                                         ReconstructedPressOptions(),
                                          Eigen::Vector2d(row.recon_object.shear_x_N, row.recon_object.shear_y_N));
     row.recon_press = PressAnswered(r, *leader_) ? "reached" : scene::ToString(r.status);
     maps->recon = leader_->sed_Pa();
