@@ -101,7 +101,7 @@ class TactileForwardModel {
   void BuildKernelTable();
   /// Per load, its cell's distance into the kernel table [doubles]: the entry for taxel k is
   /// table_[9 * taxel_base_[k] - offset]. Once per patch, not once per (taxel, cell): the
-  /// integer division of the cell index per pair was a large share of an evaluation.
+  /// integer division per (taxel, cell) pair was about a tenth of an evaluation.
   void TableOffsets(const std::vector<SurfaceLoad>& loads, std::vector<int>* offsets) const;
 
   std::vector<TaxelPosition> taxels_;
