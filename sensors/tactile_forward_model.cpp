@@ -169,6 +169,11 @@ void TactileForwardModel::TableOffsets(const std::vector<SurfaceLoad>& loads, st
   }
 }
 
+namespace {
+// Integral of sqrt(1 - u^2) from 0 to t, |t| <= 1.
+double HalfDiscArea(double t) { return 0.5 * (t * std::sqrt(std::max(0.0, 1 - t * t)) + std::asin(t)); }
+}  // namespace
+
 void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLoad>* loads) const {
   loads->clear();
   if (!(c.normal_force_N > 0) || !std::isfinite(c.normal_force_N)) return;
@@ -205,11 +210,16 @@ void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLo
       if (L <= 0) return;
       const double R = std::max(c.radius_mm, 1e-3);
       const double b = std::hypot(std::sqrt(4.0 * (F / L) * R / (kPi * E_N_mm2)), h);
+      // The Hertz profile averaged over [s - h/2, s + h/2] across the axis, not sampled at
+      // the cell centre: a strip only a few cells wide, point-sampled, gains or loses a
+      // cell with a sqrt-kink as b grows, which made the readings (and chi^2) rough in R
+      // at the noise level of a hold's mean (jumps of tens in chi^2 between R and 1.05 R).
+      const double t_half = 0.5 * h / b;
       auto weight = [&](double x, double y) {
-        const double s = -(x - c.x_mm) * dy + (y - c.y_mm) * dx;
-        const double r2 = s * s / (b * b);
-        if (r2 >= 1) return 0.0;
-        return std::sqrt(1 - r2) * Coverage1d(x, h, half) * Coverage1d(y, h, half);
+        const double t = (-(x - c.x_mm) * dy + (y - c.y_mm) * dx) / b;
+        const double lo = std::max(-1.0, t - t_half), hi = std::min(1.0, t + t_half);
+        if (hi <= lo) return 0.0;
+        return (HalfDiscArea(hi) - HalfDiscArea(lo)) * Coverage1d(x, h, half) * Coverage1d(y, h, half);
       };
       // Only the band |s| < b around the axis, row by row (or column by column for a rod
       // closer to the x axis), not the whole pad.

@@ -102,6 +102,11 @@ ContactReconstructor::ContactReconstructor(const sensors::SensorProfile& profile
                  : throw std::invalid_argument("sensor profile '" + profile.name +
                                                "' has no forward_model: contact reconstruction needs a calibrated "
                                                "sensor model (sedbridge fit-sensor)")) {
+  if (!(options_.min_radius_mm > 0) || !(options_.max_radius_mm > options_.min_radius_mm))
+    throw std::invalid_argument("contact reconstruction: need 0 < min_radius_mm < max_radius_mm");
+  // A hair inside the plausible range, so that a clamped radius is still plausible.
+  log_r_lo_ = std::log(options_.min_radius_mm) + 1e-9;
+  log_r_hi_ = std::log(options_.max_radius_mm) - 1e-9;
   const int n = profile.taxel_count;
   inv_sigma_.resize(3 * n);
   full_scale_N_.resize(3 * n);
@@ -222,12 +227,51 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
                   status == Eigen::LevenbergMarquardtSpace::XtolTooSmall ||
                   status == Eigen::LevenbergMarquardtSpace::GtolTooSmall;
   fit.primitive = FromUnknowns(shape, u, shear);
+  // A radius the scans barely determine (thin rods: a patch narrower than the load grid) can
+  // drift out of the plausible range; the answer is then the nearest plausible radius (the
+  // next scan's warm fit starts there), not a fallback.
+  if (shape != ContactShape::kFlat) {
+    const double r = std::clamp(fit.primitive.radius_mm, std::exp(log_r_lo_), std::exp(log_r_hi_));
+    if (r != fit.primitive.radius_mm) {
+      fit.primitive.radius_mm = r;
+      u = ToUnknowns(fit.primitive, shear);
+    }
+  }
   Eigen::VectorXd r;
   f(u, r);
   fit.chi2 = r.allFinite() ? r.squaredNorm() : std::numeric_limits<double>::infinity();
   fit.unknowns = UnknownCount(shape, shear);
   fit.evaluations = evaluations;
   return fit;
+}
+
+int ContactReconstructor::AverageHold(const Eigen::VectorXd& readings_N, const std::vector<uint8_t>& valid,
+                                      const std::vector<uint8_t>& saturated) {
+  bool stationary = options_.max_hold_scans > 1 && hold_scans_ > 0 && valid == hold_valid_ &&
+                    saturated == hold_saturated_ && hold_mean_N_.size() == readings_N.size();
+  if (stationary) {
+    double chi2 = 0;
+    int count = 0;
+    for (Eigen::Index c = 0; c < readings_N.size(); ++c)
+      if (weight_[c] > 0) {
+        const double d = (readings_N[c] - hold_mean_N_[c]) * inv_sigma_[c];
+        chi2 += d * d;
+        ++count;
+      }
+    // Pure noise: (scan - mean of N) has variance (1 + 1/N) sigma^2 per reading.
+    const double expected = 1.0 + 1.0 / hold_scans_;
+    stationary = count > 0 && chi2 / count <= expected * (1.0 + options_.hold_change_sigma * std::sqrt(2.0 / count));
+  }
+  if (!stationary) {
+    hold_mean_N_ = readings_N;
+    hold_valid_ = valid;
+    hold_saturated_ = saturated;
+    hold_scans_ = 1;
+    return 1;
+  }
+  hold_scans_ = std::min(hold_scans_ + 1, options_.max_hold_scans);
+  hold_mean_N_ += (readings_N - hold_mean_N_) / hold_scans_;
+  return hold_scans_;
 }
 
 const ContactEstimate& ContactReconstructor::Reconstruct(const sensors::Scan& scan) {
@@ -263,6 +307,15 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
       obs_.segment(3 * k, 3).setZero();
     }
     if ((valid[static_cast<size_t>(k)] && finite) || sat) ++usable;
+  }
+  {
+    std::vector<uint8_t> usable_taxel(static_cast<size_t>(n));
+    for (int k = 0; k < n; ++k) usable_taxel[static_cast<size_t>(k)] = weight_[3 * k + 2] > 0;
+    estimate_.averaged_scans = AverageHold(obs_, usable_taxel, saturated_);
+    if (estimate_.averaged_scans > 1) {
+      obs_ = hold_mean_N_;
+      weight_ *= std::sqrt(static_cast<double>(estimate_.averaged_scans));
+    }
   }
   if (usable < 4) {
     estimate_.problem = "fewer than 4 usable taxels";
@@ -303,7 +356,8 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
   }
   const double principal_yaw_deg = 0.5 * std::atan2(2 * sxy, sxx - syy) * 180 / kPi;
 
-  const double dof = std::max(1.0, static_cast<double>((weight_.array() > 0).count()));
+  // In single-scan noise units whatever the number of scans averaged.
+  const double dof = std::max(1.0, static_cast<double>((weight_.array() > 0).count())) * estimate_.averaged_scans;
   auto accept = [&](const Fit& fit, bool warm) {
     estimate_.primitive = fit.primitive;
     estimate_.rms_sigma = std::sqrt(fit.chi2 / dof);
@@ -396,7 +450,8 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
         have_candidate_ = false;
         ++explored_;
       }
-      if (std::isfinite(best.chi2)) break;  // the scan is explained: the rest waits for the next
+      // The scan is explained: the rest waits for the next.
+      if (std::isfinite(best.chi2) && best.chi2 <= options_.max_rms_sigma * options_.max_rms_sigma * dof) break;
     }
     // Still nothing: the flat, whose evaluations are precomputed unit responses (about a
     // microsecond each), so that a scan between two models is answered, not dropped.

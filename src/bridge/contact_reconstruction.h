@@ -71,6 +71,17 @@ struct ReconstructionOptions {
   /// Amortized: forward-model evaluations over all scans before a candidate that neither
   /// converged nor beat the current model is given up.
   int candidate_evaluations = 150;
+  /// Hold averaging: while the scans agree with their running mean within noise (a
+  /// stationary contact: a hold, a slow press), the fit reads the mean of the last
+  /// max_hold_scans scans with the noise of that mean. One scan barely determines a thin
+  /// rod's radius (its chi^2 moves by < 1 between R = 1 and 3 mm on the rig); the ~40 scans
+  /// of a hold do (by tens). Any change beyond noise starts the mean anew from that scan,
+  /// so a moving contact is fitted scan by scan as before. 1 = off.
+  int max_hold_scans = 50;
+  /// A scan is stationary when the chi^2 per reading of (scan - mean) in single-scan noise
+  /// units is below 1 + hold_change_sigma x sqrt(2 / #readings) (hold_change_sigma standard
+  /// deviations of that statistic for pure noise).
+  double hold_change_sigma = 3.0;
 };
 
 /// What one scan says about the contact.
@@ -78,7 +89,8 @@ struct ContactEstimate {
   bool contact = false;       ///< something presses (force >= min_force_N)
   bool ok = false;            ///< contact and a trustworthy fit (else: fall back)
   sensors::ContactPrimitive primitive;  ///< pad frame; normal_force_N = 0 when no contact
-  double rms_sigma = 0;       ///< RMS residual in noise units (about 1 = within noise)
+  double rms_sigma = 0;       ///< RMS residual in single-scan noise units (about 1 = within noise)
+  int averaged_scans = 1;     ///< scans in the hold mean that was fitted (1: this scan alone)
   int evaluations = 0;        ///< forward-model evaluations this scan
   bool warm_started = false;  ///< the last scan's estimate was refined, no model selection
   std::string problem;        ///< why not ok
@@ -110,6 +122,7 @@ class ContactReconstructor {
     have_last_ = false;
     have_candidate_ = false;
     explored_ = 0;
+    hold_scans_ = 0;
   }
 
   const ReconstructionCounters& counters() const { return counters_; }
@@ -132,6 +145,15 @@ class ContactReconstructor {
   Eigen::VectorXd full_scale_N_;    // per channel, saturation reading [N]
   // The scan being fitted.
   Eigen::VectorXd obs_, weight_;
+  double log_r_lo_ = 0, log_r_hi_ = 0;  // plausible log radius [log mm]
+  // Hold averaging: running mean of the scans since the last change, their count, and the
+  // validity/saturation pattern they share.
+  /// Folds the scan into the hold mean (or restarts it); returns the scans it holds.
+  int AverageHold(const Eigen::VectorXd& readings_N, const std::vector<uint8_t>& valid,
+                  const std::vector<uint8_t>& saturated);
+  Eigen::VectorXd hold_mean_N_;
+  std::vector<uint8_t> hold_valid_, hold_saturated_;
+  int hold_scans_ = 0;
   std::vector<uint8_t> saturated_;
   ContactEstimate estimate_;
   bool have_last_ = false;
