@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "bridge/bridge_config.h"
 #include "bridge/contact_object.h"
@@ -28,6 +29,9 @@ display::SedField Field(const Eigen::Matrix3Xd& pad_mm, const Eigen::VectorXd& s
   return f;
 }
 
+// A field's peak region: its vertices within this fraction of its maximum [-].
+constexpr double kPeakRegion = 0.95;
+
 double RelL2(const Eigen::VectorXd& a, const Eigen::VectorXd& ref) {
   const double den = ref.norm();
   return den > 0 ? (a - ref).norm() / den : (a.norm() > 0 ? 1.0 : 0.0);
@@ -41,6 +45,15 @@ MethodError Compare(const Eigen::Matrix3Xd& pad_mm, const Eigen::VectorXd& s, co
   e.peak_ratio = mt > 0 ? ms / mt : 0;
   e.rel_l2 = RelL2(s, truth);
   e.peak_offset_mm = (pad_mm.col(is).head<2>() - pad_mm.col(it).head<2>()).norm();
+  // Distance from a point to the nearest vertex of a field's peak region.
+  auto to_region = [&](const Eigen::VectorXd& field, double max, Eigen::Index from) {
+    double d = std::numeric_limits<double>::infinity();
+    for (Eigen::Index i = 0; i < field.size(); ++i)
+      if (field[i] >= kPeakRegion * max) d = std::min(d, (pad_mm.col(i).head<2>() - pad_mm.col(from).head<2>()).norm());
+    return d;
+  };
+  e.peak_region_offset_mm =
+      ms > 0 && mt > 0 ? std::max(to_region(s, ms, it), to_region(truth, mt, is)) : e.peak_offset_mm;
   const auto cs = mapping.Map(Field(pad_mm, s)).requested, ct = mapping.Map(Field(pad_mm, truth)).requested;
   e.command_rel_l2 = RelL2(Eigen::Map<const Eigen::VectorXd>(cs.data(), Eigen::Index(cs.size())),
                            Eigen::Map<const Eigen::VectorXd>(ct.data(), Eigen::Index(ct.size())));

@@ -43,6 +43,11 @@ struct MethodError {
   double peak_ratio = 0;       ///< max SED / max truth SED
   double rel_l2 = 0;           ///< |s - s_truth| / |s_truth| over the Merkel layer
   double peak_offset_mm = 0;   ///< pad-frame x-y distance between the peaks
+  /// The same for ridges: the larger of the distances from each field's peak to the other
+  /// field's peak region (vertices within 5 % of its maximum). 0 when each peak lies in the
+  /// other's region. A rod's SED is a ridge whose maximum moves along it by a vertex
+  /// spacing (about 1.5 mm) for a few percent of SED; this one does not.
+  double peak_region_offset_mm = 0;
   double command_rel_l2 = 0;   ///< same as rel_l2, on the display command
 };
 

@@ -33,3 +33,36 @@ TEST(FidelityBenchmark, RigPressesMeetTheTargetsWithReconstructedContact) {
 
 }  // namespace
 }  // namespace sedbridge::bridge
+
+namespace sedbridge::bridge {
+namespace {
+
+// Rods of 1 and 2.5 mm: peak SED and L2 meet the targets since hold averaging settles the
+// radius (contact_reconstruction.h). Their SED is a ridge along the rod, whose maximum moves
+// along it by a vertex spacing (about 1.5 mm) for a few percent of SED: measured to the
+// other field's peak region (within 5 % of its maximum) the 2.5 mm rods' peaks agree (their
+// argmax is 1.2 mm apart on press_14). The 1 mm rods do not: press_12's truth peak misses
+// the bridge's region by 0.2 % of SED, press_13's by 29 % (1.8 mm along the rod).
+
+TEST(FidelityBenchmark, RigRodsMeetTheTargetsWithReconstructedContact) {
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
+  const auto presses = sensors::LoadCalibrationPresses(
+      config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), profile);
+  FidelityBenchmark bench("B", profile, display::LoadNamedDisplayProfile("suction_4x4"), "");
+  for (int i : {12, 13, 14, 15}) {
+    FidelityMaps maps;
+    const FidelityRow r = bench.Run(FromCalibrationPress(presses[size_t(i)]), &maps);
+    SCOPED_TRACE(r.name);
+    EXPECT_TRUE(r.recon_ok);
+    EXPECT_GT(r.recon_error.peak_ratio, 0.8);
+    EXPECT_LT(r.recon_error.peak_ratio, 1.25);
+    EXPECT_LT(r.recon_error.rel_l2, 0.25);
+    EXPECT_LE(r.recon_error.peak_region_offset_mm, r.recon_error.peak_offset_mm);
+    if (presses[size_t(i)].object.radius_mm > 2) {
+      EXPECT_LE(r.recon_error.peak_region_offset_mm, 1.0);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace sedbridge::bridge
