@@ -19,6 +19,9 @@ constexpr double kPi = 3.14159265358979323846;
 // rig); only used for the first guess of the force.
 constexpr double kGuessNormalGain = 0.6;
 
+// Index of log R among a sphere's or rod's unknowns (ToUnknowns).
+constexpr int kLogRadius = 2;
+
 int UnknownCount(ContactShape s, bool shear) {
   const int base = s == ContactShape::kFlat ? 1 : 4;
   return base + (shear ? 2 : 0);
@@ -102,8 +105,9 @@ ContactReconstructor::ContactReconstructor(const sensors::SensorProfile& profile
                  : throw std::invalid_argument("sensor profile '" + profile.name +
                                                "' has no forward_model: contact reconstruction needs a calibrated "
                                                "sensor model (sedbridge fit-sensor)")) {
-  if (!(options_.min_radius_mm > 0) || !(options_.max_radius_mm > options_.min_radius_mm))
-    throw std::invalid_argument("contact reconstruction: need 0 < min_radius_mm < max_radius_mm");
+  if (!(options_.min_radius_mm > 0) || !(options_.max_radius_mm > options_.min_radius_mm) ||
+      (options_.radius_prior_log_sigma > 0 && !(options_.radius_prior_mm > 0)))
+    throw std::invalid_argument("contact reconstruction: need 0 < min_radius_mm < max_radius_mm and radius_prior_mm > 0");
   // A hair inside the plausible range, so that a clamped radius is still plausible.
   log_r_lo_ = std::log(options_.min_radius_mm) + 1e-9;
   log_r_hi_ = std::log(options_.max_radius_mm) - 1e-9;
@@ -142,11 +146,13 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
     ContactShape shape;
     bool shear;
     int* evaluations;
+    // Radius prior: one more residual, prior_weight (log R - prior_mean), when prior_weight > 0.
+    double prior_weight = 0, prior_mean = 0;
     // The model's parts at `at` (the last point evaluated): LM asks df where it just
     // evaluated the residuals.
     mutable Eigen::VectorXd at, normal, per_x, per_y, pred, r_step;
     int inputs() const { return UnknownCount(shape, shear); }
-    int values() const { return static_cast<int>(self->obs_.size()); }
+    int values() const { return static_cast<int>(self->obs_.size()) + (prior_weight > 0 ? 1 : 0); }
     void Parts(const Eigen::VectorXd& u) const {
       ++*evaluations;
       self->model_.PredictLinearInShear(FromUnknowns(shape, u, shear), &normal, &per_x, &per_y);
@@ -162,6 +168,10 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
           const int c = 3 * static_cast<int>(k) + 2;
           r[c] = std::max(0.0, self->full_scale_N_[c] - pred[c]) * self->inv_sigma_[c];
         }
+      if (prior_weight > 0) {
+        r.conservativeResize(r.size() + 1);
+        r[r.size() - 1] = prior_weight * (u[kLogRadius] - prior_mean);
+      }
     }
     int operator()(const Eigen::VectorXd& u, Eigen::VectorXd& r) const {
       Parts(u);
@@ -179,7 +189,8 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
         for (int t = 0; t < 2; ++t) {
           const Eigen::VectorXd& d = t == 0 ? per_x : per_y;
           auto col = J.col(geometric + t);
-          col = d.cwiseProduct(self->weight_);
+          col.head(d.size()) = d.cwiseProduct(self->weight_);
+          if (prior_weight > 0) col[d.size()] = 0;
           for (size_t k = 0; k < self->saturated_.size(); ++k)
             if (self->saturated_[k]) {
               const int c = 3 * static_cast<int>(k) + 2;
@@ -201,7 +212,11 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
     }
   };
   int evaluations = 0;
-  Functor f{{}, this, shape, shear, &evaluations, {}, {}, {}, {}, {}, {}};
+  Functor f{{}, this, shape, shear, &evaluations, 0, 0, {}, {}, {}, {}, {}, {}};
+  if (shape != ContactShape::kFlat && options_.radius_prior_log_sigma > 0) {
+    f.prior_weight = 1.0 / options_.radius_prior_log_sigma;
+    f.prior_mean = std::log(options_.radius_prior_mm);
+  }
   Eigen::LevenbergMarquardt<Functor> lm(f);
   lm.parameters.maxfev = max_evaluations > 0 ? max_evaluations : options_.max_evaluations;
   lm.parameters.xtol = 1e-6;
@@ -239,7 +254,9 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
   }
   Eigen::VectorXd r;
   f(u, r);
-  fit.chi2 = r.allFinite() ? r.squaredNorm() : std::numeric_limits<double>::infinity();
+  // The data's chi^2 (the prior's residual is not evidence for model selection or the RMS).
+  const auto data = r.head(static_cast<Eigen::Index>(obs_.size()));
+  fit.chi2 = data.allFinite() ? data.squaredNorm() : std::numeric_limits<double>::infinity();
   fit.unknowns = UnknownCount(shape, shear);
   fit.evaluations = evaluations;
   return fit;

@@ -82,6 +82,14 @@ struct ReconstructionOptions {
   /// units is below 1 + hold_change_sigma x sqrt(2 / #readings) (hold_change_sigma standard
   /// deviations of that statistic for pure noise).
   double hold_change_sigma = 3.0;
+  /// A weak prior on the radius of spheres and rods, log R ~ N(log radius_prior_mm,
+  /// radius_prior_log_sigma^2): one more residual, (log R - log radius_prior_mm) / sigma.
+  /// A scan of a light or thin contact hardly tells R, and the fit would wander to the ends
+  /// of the plausible range (a 2.5 mm rod read as 0.3 or 60 mm on the ramp, whose leader
+  /// presses then fail); a hold's mean outweighs it (chi^2 differences of tens to thousands
+  /// against at most a few units here). 0 = no prior.
+  double radius_prior_mm = 3.0;
+  double radius_prior_log_sigma = 1.0;
 };
 
 /// What one scan says about the contact.
