@@ -94,6 +94,7 @@ struct ContactReconstructor::Fit {
   int unknowns = 0;
   int evaluations = 0;
   bool converged = false;  // LM stopped by its own tests, not by a budget or an error
+  bool at_radius_bound = false;  // the radius ran out of the plausible range (clamped)
   double Penalized() const { return chi2 + 2.0 * unknowns; }
 };
 
@@ -228,9 +229,16 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
   // lm.minimize(u), stopped early when the budget is spent.
   Eigen::LevenbergMarquardtSpace::Status status = lm.minimizeInit(u);
   if (status != Eigen::LevenbergMarquardtSpace::ImproperInputParameters) {
+    // Also stopped (amortized) when an iteration gains less than min_chi2_gain: the rest
+    // is below the noise, and the next scan refines from here.
+    double chi2 = lm.fnorm * lm.fnorm;
+    bool gained = true;
     do {
       status = lm.minimizeOneStep(u);
-    } while (status == Eigen::LevenbergMarquardtSpace::Running &&
+      const double next = lm.fnorm * lm.fnorm;
+      gained = evaluation_budget <= 0 || !(chi2 - next < options_.min_chi2_gain);
+      chi2 = next;
+    } while (status == Eigen::LevenbergMarquardtSpace::Running && gained &&
              (evaluation_budget <= 0 || evaluations < evaluation_budget));
   }
   Fit fit;
@@ -248,6 +256,7 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
   if (shape != ContactShape::kFlat) {
     const double r = std::clamp(fit.primitive.radius_mm, std::exp(log_r_lo_), std::exp(log_r_hi_));
     if (r != fit.primitive.radius_mm) {
+      fit.at_radius_bound = true;
       fit.primitive.radius_mm = r;
       u = ToUnknowns(fit.primitive, shear);
     }
@@ -267,17 +276,24 @@ int ContactReconstructor::AverageHold(const Eigen::VectorXd& readings_N, const s
   bool stationary = options_.max_hold_scans > 1 && hold_scans_ > 0 && valid == hold_valid_ &&
                     saturated == hold_saturated_ && hold_mean_N_.size() == readings_N.size();
   if (stationary) {
-    double chi2 = 0;
+    double chi2 = 0, sum_z = 0, var_sum_z = 0;
     int count = 0;
     for (Eigen::Index c = 0; c < readings_N.size(); ++c)
       if (weight_[c] > 0) {
         const double d = (readings_N[c] - hold_mean_N_[c]) * inv_sigma_[c];
         chi2 += d * d;
         ++count;
+        if (c % 3 == 2) {
+          sum_z += readings_N[c] - hold_mean_N_[c];
+          var_sum_z += 1.0 / (inv_sigma_[c] * inv_sigma_[c]);
+        }
       }
-    // Pure noise: (scan - mean of N) has variance (1 + 1/N) sigma^2 per reading.
+    // Pure noise: (scan - mean of N) has variance (1 + 1/N) sigma^2 per reading. The sum of
+    // the normal readings is tested on its own: a press or release moves it coherently
+    // (a ramp's step per scan is under a sigma per taxel but several sigma in the sum).
     const double expected = 1.0 + 1.0 / hold_scans_;
-    stationary = count > 0 && chi2 / count <= expected * (1.0 + options_.hold_change_sigma * std::sqrt(2.0 / count));
+    stationary = count > 0 && chi2 / count <= expected * (1.0 + options_.hold_change_sigma * std::sqrt(2.0 / count)) &&
+                 sum_z * sum_z <= options_.hold_force_change_sigma * options_.hold_force_change_sigma * expected * var_sum_z;
   }
   if (!stationary) {
     hold_mean_N_ = readings_N;
@@ -460,8 +476,11 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
       budget -= fit.evaluations;
       candidate_ = fit.primitive;
       candidate_spent_ += fit.evaluations;
+      // A candidate whose radius runs out of the plausible range is the wrong shape (a rod
+      // or sphere growing without bound to explain a flat), and its huge patches are the
+      // most expensive evaluations: given up.
       bool done = fit.converged || candidate_spent_ >= options_.candidate_evaluations || !Plausible(fit.primitive) ||
-                  !std::isfinite(fit.chi2);
+                  !std::isfinite(fit.chi2) || fit.at_radius_bound;
       if (better(fit, best)) best = fit, warm_won = false, done = true;
       if (done) {
         have_candidate_ = false;

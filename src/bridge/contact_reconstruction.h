@@ -71,6 +71,11 @@ struct ReconstructionOptions {
   /// Amortized: forward-model evaluations over all scans before a candidate that neither
   /// converged nor beat the current model is given up.
   int candidate_evaluations = 150;
+  /// Amortized: a fit stops when one Levenberg-Marquardt iteration lowers chi^2 (in the
+  /// noise units of what it fits: a scan, or a hold's mean) by less than this; a rejected
+  /// step counts as no gain. At a hold the mean changes by one scan in N and the answer is
+  /// already there: one iteration (5 evaluations) instead of 30-45 to Eigen's ftol.
+  double min_chi2_gain = 0.01;
   /// Hold averaging: while the scans agree with their running mean within noise (a
   /// stationary contact: a hold, a slow press), the fit reads the mean of the last
   /// max_hold_scans scans with the noise of that mean. One scan barely determines a thin
@@ -82,6 +87,12 @@ struct ReconstructionOptions {
   /// units is below 1 + hold_change_sigma x sqrt(2 / #readings) (hold_change_sigma standard
   /// deviations of that statistic for pure noise).
   double hold_change_sigma = 3.0;
+  /// ... and the sum of its normal readings differs from the mean's by less than this many
+  /// standard deviations: a press or release moves every taxel's normal reading the same
+  /// way, by under one sigma per scan on a slow ramp but several in the sum. Higher than
+  /// hold_change_sigma: one noisy scan must not throw a hold's mean away (the benchmark's
+  /// peak scan, the scan of largest measured force, is such a scan).
+  double hold_force_change_sigma = 4.5;
   /// A weak prior on the radius of spheres and rods, log R ~ N(log radius_prior_mm,
   /// radius_prior_log_sigma^2): one more residual, (log R - log radius_prior_mm) / sigma.
   /// A scan of a light or thin contact hardly tells R, and the fit would wander to the ends
