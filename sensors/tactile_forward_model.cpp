@@ -277,7 +277,9 @@ void TactileForwardModel::Predict(const ContactPrimitive& c, Eigen::VectorXd* re
 }
 
 void TactileForwardModel::PredictLinearInShear(const ContactPrimitive& c, Eigen::VectorXd* normal_part,
-                                               Eigen::VectorXd* per_shear_x, Eigen::VectorXd* per_shear_y) const {
+                                               Eigen::VectorXd* per_shear_x, Eigen::VectorXd* per_shear_y,
+                                               int* patch_cells) const {
+  if (patch_cells) *patch_cells = 0;
   const int n = taxel_count();
   normal_part->setZero(3 * n);
   per_shear_x->setZero(3 * n);
@@ -293,6 +295,7 @@ void TactileForwardModel::PredictLinearInShear(const ContactPrimitive& c, Eigen:
   ContactPrimitive normal_only = c;
   normal_only.shear_x_N = normal_only.shear_y_N = 0;
   Patch(normal_only, &loads);
+  if (patch_cells) *patch_cells = static_cast<int>(loads.size());
   if (loads.empty()) return;
   // One pass: the 9 kernel values of every (taxel, cell) times the cell's share of the force.
   const double inv_F = 1.0 / c.normal_force_N;

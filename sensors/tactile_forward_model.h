@@ -84,8 +84,11 @@ class TactileForwardModel {
   ///   readings = normal_part + shear_x_N * per_shear_x + shear_y_N * per_shear_y  [N, N/N].
   /// Same cost as one Predict; contact.shear_x_N/shear_y_N are ignored. Contact
   /// reconstruction gets the two tangential Jacobian columns from it for free.
+  /// patch_cells (optional): cells of the pressure patch, which the cost is proportional to
+  /// (0 for the flat's precomputed responses).
   void PredictLinearInShear(const ContactPrimitive& contact, Eigen::VectorXd* normal_part,
-                            Eigen::VectorXd* per_shear_x, Eigen::VectorXd* per_shear_y) const;
+                            Eigen::VectorXd* per_shear_x, Eigen::VectorXd* per_shear_y,
+                            int* patch_cells = nullptr) const;
   /// The pressure patch on the load grid (cells sum to the normal force and the tangential
   /// force; empty if none).
   void Patch(const ContactPrimitive& contact, std::vector<SurfaceLoad>* loads) const;

@@ -95,6 +95,7 @@ struct ContactReconstructor::Fit {
   int evaluations = 0;
   bool converged = false;  // LM stopped by its own tests, not by a budget or an error
   bool at_radius_bound = false;  // the radius ran out of the plausible range (clamped)
+  int budget_used = 0;           // evaluations weighted by patch size
   double Penalized() const { return chi2 + 2.0 * unknowns; }
 };
 
@@ -147,6 +148,7 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
     ContactShape shape;
     bool shear;
     int* evaluations;
+    int* budget_used;  // evaluations weighted by patch size (cells_per_evaluation)
     // Radius prior: one more residual, prior_weight (log R - prior_mean), when prior_weight > 0.
     double prior_weight = 0, prior_mean = 0;
     // The model's parts at `at` (the last point evaluated): LM asks df where it just
@@ -156,7 +158,9 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
     int values() const { return static_cast<int>(self->obs_.size()) + (prior_weight > 0 ? 1 : 0); }
     void Parts(const Eigen::VectorXd& u) const {
       ++*evaluations;
-      self->model_.PredictLinearInShear(FromUnknowns(shape, u, shear), &normal, &per_x, &per_y);
+      int cells = 0;
+      self->model_.PredictLinearInShear(FromUnknowns(shape, u, shear), &normal, &per_x, &per_y, &cells);
+      *budget_used += std::max(1, cells / std::max(1, self->options_.cells_per_evaluation));
       at = u;
     }
     // Residuals from the parts at `at`, with the tangential force of u.
@@ -212,8 +216,8 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
       return 0;
     }
   };
-  int evaluations = 0;
-  Functor f{{}, this, shape, shear, &evaluations, 0, 0, {}, {}, {}, {}, {}, {}};
+  int evaluations = 0, budget_used = 0;
+  Functor f{{}, this, shape, shear, &evaluations, &budget_used, 0, 0, {}, {}, {}, {}, {}, {}};
   if (shape != ContactShape::kFlat && options_.radius_prior_log_sigma > 0) {
     f.prior_weight = 1.0 / options_.radius_prior_log_sigma;
     f.prior_mean = std::log(options_.radius_prior_mm);
@@ -239,7 +243,7 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
       gained = evaluation_budget <= 0 || !(chi2 - next < options_.min_chi2_gain);
       chi2 = next;
     } while (status == Eigen::LevenbergMarquardtSpace::Running && gained &&
-             (evaluation_budget <= 0 || evaluations < evaluation_budget));
+             (evaluation_budget <= 0 || budget_used < evaluation_budget));
   }
   Fit fit;
   fit.converged = status == Eigen::LevenbergMarquardtSpace::RelativeReductionTooSmall ||
@@ -268,6 +272,7 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
   fit.chi2 = data.allFinite() ? data.squaredNorm() : std::numeric_limits<double>::infinity();
   fit.unknowns = UnknownCount(shape, shear);
   fit.evaluations = evaluations;
+  fit.budget_used = budget_used;
   return fit;
 }
 
@@ -473,9 +478,9 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
       }
       const Fit fit = FitShape(candidate_.shape, candidate_, options_.explore_evaluations, budget);
       estimate_.evaluations += fit.evaluations;
-      budget -= fit.evaluations;
+      budget -= fit.budget_used;
       candidate_ = fit.primitive;
-      candidate_spent_ += fit.evaluations;
+      candidate_spent_ += fit.budget_used;
       // A candidate whose radius runs out of the plausible range is the wrong shape (a rod
       // or sphere growing without bound to explain a flat), and its huge patches are the
       // most expensive evaluations: given up.

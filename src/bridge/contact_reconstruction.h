@@ -68,6 +68,10 @@ struct ReconstructionOptions {
   /// does not determine; docs/bridge-fidelity.md §5).
   int warm_scan_evaluations = 60;
   int candidate_scan_evaluations = 30;
+  /// Amortized budgets count an evaluation as max(1, patch cells / this): an evaluation
+  /// costs in proportion to its patch, and a rod or sphere grown over the whole pad (a
+  /// candidate explaining a flat) costs 5-10 of a 5 mm sphere's (about 400 cells at 0.8 N).
+  int cells_per_evaluation = 400;
   /// Amortized: forward-model evaluations over all scans before a candidate that neither
   /// converged nor beat the current model is given up.
   int candidate_evaluations = 150;
