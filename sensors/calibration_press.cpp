@@ -161,8 +161,11 @@ std::vector<CalibrationPress> LoadCalibrationPresses(const std::string& cases_js
     const PressCaseKeys& c = file.cases[i];
     CheckRadius(c.object, config::MapReader(doc.root["cases"][i]["object"], doc.file));
     CalibrationPress p;
-    p.name = c.log;
-    p.log_path = dir + "/" + c.log;
+    // Relative to the cases file, or as given when absolute (a selection of presses kept
+    // elsewhere, e.g. a held-out set); the name is the file's own.
+    const bool absolute = !c.log.empty() && c.log[0] == '/';
+    p.name = absolute ? c.log.substr(c.log.rfind('/') + 1) : c.log;
+    p.log_path = absolute ? c.log : dir + "/" + c.log;
     p.object = PeakObject(c);
     DecodeLog(doc.file, profile, &p);
     presses.push_back(std::move(p));

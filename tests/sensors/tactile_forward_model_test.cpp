@@ -6,6 +6,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 
 #include "common/config_error.h"
@@ -118,6 +119,24 @@ TEST(CalibrationPress, BadCasesFileNamesTheLocation) {
   } catch (const std::exception& e) {
     EXPECT_NE(std::string(e.what()).find(":1:"), std::string::npos) << e.what();
   }
+}
+
+// A cases file may name logs kept elsewhere by absolute path (a held-out selection of the
+// rig's presses in a scratch folder): used as given, named by the file's own name.
+TEST(CalibrationPress, AbsoluteLogPathsAreUsedAsGiven) {
+  const std::string log =
+      std::filesystem::absolute(config::ResolveResource("config/sensors/rig_uskin_4x4/press_03.log")).lexically_normal().string();
+  const std::string path = ::testing::TempDir() + "/cases_abs_" + std::to_string(getpid()) + ".json";
+  {
+    std::ofstream f(path);
+    f << "{\"cases\": [{\"object\": {\"shape\": \"sphere\", \"position_mm\": [0, 0], \"radius_mm\": 5}, "
+         "\"force_N\": 0.8, \"log\": \"" << log << "\"}]}";
+  }
+  const auto presses = LoadCalibrationPresses(path, Uskin());
+  ASSERT_EQ(presses.size(), 1u);
+  EXPECT_EQ(presses[0].name, "press_03.log");
+  EXPECT_EQ(presses[0].log_path, log);
+  EXPECT_GT(presses[0].scans.size(), 100u);
 }
 
 // The error a cases file with `cases_json` gives ("" = none).
