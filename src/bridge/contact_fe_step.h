@@ -32,6 +32,7 @@ struct ContactStepCounters {
   int64_t steps = 0;
   int64_t no_contact = 0;
   int64_t pressed = 0;             ///< answered by the reconstructed contact
+  int64_t press_reused = 0;        ///< of those, answered by the last press (same contact)
   int64_t fit_fallbacks = 0;       ///< reconstruction not trusted -> pressure map
   int64_t press_fallbacks = 0;     ///< force not reachable on the leader -> pressure map
 };
@@ -61,6 +62,12 @@ class ContactFeStep final : public FeStep {
   /// (a fallback scan shows the fallback's own frame, or rest). False without full_field.
   bool Frame(FeFrame* frame) const override;
 
+  /// Whether a scan whose contact equals the last pressed one (within half the press's force
+  /// tolerance, 5 um, 0.2 % in radius, 0.05 deg) reuses that press instead of solving again
+  /// (the SED then differs from a fresh press by < 3e-3, L2). On by default; off solves
+  /// every scan (tests compare the two).
+  void set_reuse_press(bool reuse) { reuse_press_ = reuse; }
+
   /// The last scan's estimate in the leader's pad frame.
   const ContactEstimate& last_estimate() const { return estimate_; }
   const ContactStepCounters& counters() const { return counters_; }
@@ -87,6 +94,11 @@ class ContactFeStep final : public FeStep {
   ContactEstimate estimate_;
   ContactStepCounters counters_;
   enum class LastStep { kNone, kPressed, kFallback } last_ = LastStep::kNone;
+  /// True when `p` presses the same as the last pressed contact (see set_reuse_press).
+  bool SameAsLastPress(const sensors::ContactPrimitive& p) const;
+  bool reuse_press_ = true;
+  sensors::ContactPrimitive last_pressed_;  // pad frame
+  double last_force_N_ = 0, last_indentation_mm_ = 0;
   Eigen::VectorXd zero_sed_;
   MerkelSedResult result_;
   lcmt_contact_estimate message_{};

@@ -101,6 +101,41 @@ TEST(ContactFeStep, RigSphereFarSharperThanThePressureMap) {
   EXPECT_EQ(step.counters().fit_fallbacks, 0);
 }
 
+// At a hold the averaged estimate moves by far less than the press's tolerance, and the
+// step reuses its last press: same SED as solving every scan (within the press's 1e-3 force
+// tolerance), 12-23 % of the contact scans without a contact solve.
+TEST(ContactFeStep, HoldScansReuseTheLastPressWithTheSameAnswer) {
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
+  const auto presses = sensors::LoadCalibrationPresses(
+      config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), profile);
+  const BridgeConfig config = ContactConfig();
+  const PadRegistration registration(profile.taxels, config.registration);
+  auto make = [&] {
+    auto map = std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, "fast"), profile,
+                                                     registration, config.traction);
+    return std::make_unique<ContactFeStep>(config.model, profile, registration, std::move(map), "");
+  };
+  for (int i : {3, 14, 17}) {  // sphere 5 mm, rod 2.5 mm, flat
+    const auto& press = presses[size_t(i)];
+    auto reusing = make(), solving = make();
+    solving->set_reuse_press(false);
+    ScanConditioner conditioner(profile, registration, config.conditioning);
+    TaxelValues values;
+    for (size_t k = 0; k < press.scans.size(); ++k) {
+      ASSERT_TRUE(conditioner.Condition(press.scans[k], &values).usable);
+      const Eigen::VectorXd a = *reusing->Step(values).sed_Pa;
+      const Eigen::VectorXd b = *solving->Step(values).sed_Pa;
+      ASSERT_EQ(a.size(), b.size());
+      if (b.norm() > 0) {
+        EXPECT_LT((a - b).norm() / b.norm(), 3e-3) << press.name << " scan " << k;
+      }
+    }
+    EXPECT_EQ(solving->counters().press_reused, 0);
+    EXPECT_GT(reusing->counters().press_reused, 12) << press.name;  // measured 34, 17, 27 of ~148
+    EXPECT_EQ(reusing->counters().pressed, solving->counters().pressed) << press.name;
+  }
+}
+
 }  // namespace
 }  // namespace sedbridge::bridge
 
