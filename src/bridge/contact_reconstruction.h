@@ -10,6 +10,9 @@
 // nothing here and its setup cost per solve would.
 //
 // Per scan:
+//  - hold averaging: while the contact holds still (the scan agrees with the running mean
+//    within noise) the fit reads the mean of the scans since it last moved, with that
+//    mean's noise: a hold determines what one scan cannot (a thin rod's radius);
 //  - no contact: the normal readings sum below min_force_N x the model's gain -> force 0;
 //  - warm start: the last scan's shape and parameters, refined (contacts move
 //    continuously, so this is the common path);
@@ -22,7 +25,9 @@
 //  - a fit whose RMS residual exceeds max_rms_sigma, or that leaves the plausible domain
 //    (position off the pad, radius outside [min, max]), is a fallback: the caller uses the
 //    pressure-map boundary condition instead, and it is counted.
-// Residuals are in units of the single-scan noise of each axis; invalid taxels carry no
+// A weak prior on log R keeps light scans (ramp, release) from sending the radius to the
+// ends of the plausible range; a radius that still leaves it stops at the bound.
+// Residuals are in units of the noise of each axis (of the scan, or of the mean); invalid taxels carry no
 // weight, except saturated ones, which only say "at least full scale" (a one-sided residual:
 // hard contact there, not missing data).
 
@@ -59,9 +64,10 @@ struct ReconstructionOptions {
   bool fit_shear = true;          ///< estimate the tangential force (three-axis sensors)
   int max_evaluations = 400;      ///< full: LM function evaluations per warm fit
   int explore_evaluations = 150;  ///< full: LM function evaluations per cold start
-  /// Amortized: forward-model evaluations per scan for refining the current model and for
-  /// the candidate (a sphere/rod LM iteration costs about 5, a flat's 2). A fit that runs
-  /// out continues on the next scan from where it stopped.
+  /// Amortized: forward-model evaluations per scan (weighted by patch size, see
+  /// cells_per_evaluation) for refining the current model and for the candidate (a
+  /// sphere/rod LM iteration costs about 5, a flat's 2). A fit that runs out continues on
+  /// the next scan from where it stopped.
   /// 60 / 30 (about 12 and 6 LM iterations): the smallest budgets tried with which no
   /// case of the rig's or the synthetic fidelity set leaves the targets it met with fits
   /// run to convergence (24/12, 32/16, 40/20 each lost one, on rods whose radius the scan
