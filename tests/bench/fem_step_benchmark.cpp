@@ -161,6 +161,17 @@ void EffectCost(benchmark::State& state, const std::string& effect) {
   Report(state, ms);
 }
 
+// Thread columns: 1, 2, 4, 8 where the machine has that many cores (more would only
+// measure oversubscription), then 0 = the step's own choice (ThreadTeamChooser).
+template <typename B>
+B* ThreadArgs(B* b, bool with_auto = true) {
+  const int cores = omp_get_num_procs();
+  for (int t : {1, 2, 4, 8})
+    if (t <= 2 || t <= cores) b->Arg(t);
+  if (with_auto) b->Arg(0);
+  return b;
+}
+
 void Register() {
   for (const char* integrator : {"backward_euler", "quasi_static"})
     for (auto [el, solver] : std::vector<std::pair<const char*, const char*>>{
@@ -170,8 +181,9 @@ void Register() {
              {"nodal_pressure", "pcg_jacobi"}, {"nodal_pressure", "ldlt"}}) {
       if (std::string(integrator) == "quasi_static" && std::string(el) != "linear") continue;
       const std::string name = std::string("TractionStep/") + integrator + "/" + el + "/" + solver;
-      benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { TractionStep(st, el, solver, integrator); })
-          ->Arg(1)->Arg(2)->Arg(0)->Iterations((std::string(solver) == "ldlt" || std::string(solver) == "cholmod") &&
+      ThreadArgs(benchmark::RegisterBenchmark(name.c_str(),
+                                              [=](benchmark::State& st) { TractionStep(st, el, solver, integrator); }))
+          ->Iterations((std::string(solver) == "ldlt" || std::string(solver) == "cholmod") &&
                                             std::string(el) != "linear" ? 10 : 200)
           ->Unit(benchmark::kMillisecond)->UseRealTime();
     }
@@ -180,14 +192,14 @@ void Register() {
            {"corotational", "pcg_warp_ichol"}, {"linear", "pcg_warp"}, {"linear", "pcg_warp_ldlt"},
            {"linear", "pcg_warp_ichol"}, {"nodal_pressure", "pcg_warp"}, {"nodal_pressure", "pcg_jacobi"}}) {
     const std::string name = std::string("ContactPressStep/backward_euler/") + el + "/" + solver;
-    benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { ContactPressStep(st, el, solver); })
-        ->Arg(1)->Arg(2)->Arg(0)->Iterations(200)->Unit(benchmark::kMillisecond)->UseRealTime();
+    ThreadArgs(benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { ContactPressStep(st, el, solver); }))
+        ->Iterations(200)->Unit(benchmark::kMillisecond)->UseRealTime();
   }
   for (const char* effect : {"elastic_corotational", "nodal_pressure", "bone_coupling", "penalty_contact", "pseudo_friction",
                              "surface_traction", "merkel_sed"}) {
     const std::string name = std::string("EffectCost/") + effect;
-    benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { EffectCost(st, effect); })
-        ->Arg(1)->Arg(2)->Iterations(200)->Unit(benchmark::kMillisecond)->UseRealTime();
+    ThreadArgs(benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { EffectCost(st, effect); }), false)
+        ->Iterations(200)->Unit(benchmark::kMillisecond)->UseRealTime();
   }
 }
 
