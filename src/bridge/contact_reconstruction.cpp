@@ -110,6 +110,11 @@ ContactReconstructor::ContactReconstructor(const sensors::SensorProfile& profile
   if (!(options_.min_radius_mm > 0) || !(options_.max_radius_mm > options_.min_radius_mm) ||
       (options_.radius_prior_log_sigma > 0 && !(options_.radius_prior_mm > 0)))
     throw std::invalid_argument("contact reconstruction: need 0 < min_radius_mm < max_radius_mm and radius_prior_mm > 0");
+  if (options_.max_hold_scans < 1 || !(options_.hold_change_sigma > 0) || !(options_.hold_force_change_sigma > 0) ||
+      options_.cells_per_evaluation < 1 || !(options_.min_chi2_gain >= 0) || !(options_.noise_counts > 0))
+    throw std::invalid_argument(
+        "contact reconstruction: need max_hold_scans >= 1, hold_change_sigma and hold_force_change_sigma > 0, "
+        "cells_per_evaluation >= 1, min_chi2_gain >= 0, noise_counts > 0");
   // A hair inside the plausible range, so that a clamped radius is still plausible.
   log_r_lo_ = std::log(options_.min_radius_mm) + 1e-9;
   log_r_hi_ = std::log(options_.max_radius_mm) - 1e-9;

@@ -355,6 +355,26 @@ TEST(ContactReconstruction, NeedsACalibratedProfile) {
   EXPECT_THROW(ContactReconstructor{p}, std::invalid_argument);
 }
 
+TEST(ContactReconstruction, RejectsOptionsThatCannotWork) {
+  auto with = [](auto change) {
+    ReconstructionOptions o;
+    change(o);
+    return o;
+  };
+  EXPECT_NO_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.max_hold_scans = 1; })));
+  EXPECT_NO_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.radius_prior_log_sigma = 0; })));
+  EXPECT_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.max_hold_scans = 0; })),
+               std::invalid_argument);
+  EXPECT_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.hold_change_sigma = std::nan(""); })),
+               std::invalid_argument);
+  EXPECT_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.min_radius_mm = 0; })),
+               std::invalid_argument);
+  EXPECT_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.radius_prior_mm = -1; })),
+               std::invalid_argument);
+  EXPECT_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.cells_per_evaluation = 0; })),
+               std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace sedbridge::bridge
 
