@@ -9,6 +9,7 @@
 #include "app/command.h"
 #include "app/plot_runner.h"
 #include "common/resource_path.h"
+#include "scene/fingertip_compliance.h"
 #include "scene/press_experiment.h"
 
 namespace sedbridge::app {
@@ -39,7 +40,20 @@ int RunPress(int argc, char** argv) {
 
   scene::SceneDescription scene = scene::ReadSceneDescription(config::ResolveResource(args.Get("scene")));
   if (args.Has("model")) scene.model = args.Get("model");
-  if (args.Has("preset")) scene::ApplyPreset(args.Get("preset"), scene);
+  if (args.Has("preset")) {
+    scene::ApplyPreset(args.Get("preset"), scene);
+    // Say why a fast quasi-static press does not get the compliance method.
+    if (args.Get("preset") == "fast" && scene.contact && scene.solver != scene::SolverKind::kCompliance &&
+        scene.integrator.kind == fem::IntegratorKind::kQuasiStatic) {
+      scene::SceneDescription trial = scene;
+      trial.solver = scene::SolverKind::kCompliance;
+      try {
+        scene::ComplianceOptionsFromScene(trial);
+      } catch (const std::invalid_argument& e) {
+        std::fprintf(stderr, "note: preset fast: not the compliance method here (%s)\n", e.what());
+      }
+    }
+  }
   const std::string out = args.Get("out");
   std::filesystem::create_directories(out);
 
@@ -50,8 +64,14 @@ int RunPress(int argc, char** argv) {
               m.name.c_str(), m.num_soft_nodes(), m.soft.num_tets(), m.merkel_nodes.size(), m.attached_nodes.size());
   std::string effects;
   for (const auto& e : fingertip.BuiltEffects()) effects += (effects.empty() ? "" : ", ") + e;
-  std::printf("effects: %s; solver %s; %d steps\n", effects.c_str(), fingertip.simulation().solver().name().c_str(),
-              scene.steps);
+  // The compliance method answers the contact from its precompute: the simulation's own
+  // solver (it factorized K for that) never steps.
+  const std::string solver = fingertip.compliance()
+                                 ? "compliance (contact on the pad's precomputed compliance, " +
+                                       std::to_string(fingertip.compliance()->contact().candidate_nodes().size()) +
+                                       " candidate nodes)"
+                                 : fingertip.simulation().solver().name();
+  std::printf("effects: %s; solver %s; %d steps\n", effects.c_str(), solver.c_str(), scene.steps);
 
   scene::PressOptions options;
   options.target_force_N = args.GetDouble("target-force");

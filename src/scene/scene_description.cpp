@@ -13,6 +13,28 @@ using config::MapReader;
 // `node[key]` of a mapping node, or the mapping itself when the key is absent (for errors).
 YAML::Node At(const YAML::Node& map, const char* key) { return map[key] ? map[key] : map; }
 
+// The fast preset's solver. Without contact the matrix is constant: factorized once, one
+// back-substitution a step (CHOLMOD's is ~3x faster than the LDL^T's on B). A quasi-static
+// contact press that the compliance method can answer gets it: the contact solved on the
+// precomputed compliance of the pad, no FE solve a step (the paper's press 25x faster than
+// the linear FE, same answer: docs/performance.md). Other contact scenes get the PCG
+// preconditioned by the rest factor: contact changes the matrix every step, and
+// refactorizing (~11 ms on model B) costs more than the PCG.
+SolverKind FastPresetSolver(const SceneDescription& s) {
+  if (!s.contact) return SolverKind::kCholmod;
+  if (s.integrator.kind == fem::IntegratorKind::kQuasiStatic) {
+    SceneDescription trial = s;
+    trial.solver = SolverKind::kCompliance;
+    try {
+      ComplianceOptionsFromScene(trial);
+      return SolverKind::kCompliance;
+    } catch (const std::invalid_argument&) {
+      // something the method cannot do (full_sed, a tracked bone, ...): the FE step
+    }
+  }
+  return SolverKind::kPcgWarp;
+}
+
 SceneDescription Parse(const config::YamlDocument& doc) {
   MapReader r(doc.root, doc.file);
   // The preset gives defaults and every key given overrides them: read the preset name,
@@ -55,7 +77,7 @@ SceneDescription Parse(const config::YamlDocument& doc) {
     if (s.contact->objects_pad_frame.empty()) c.Fail(c.Node("objects"), "'objects' is empty");
   }
   // The preset was applied before `contact` was read; its solver choice depends on it.
-  if (s.preset == "fast" && s.contact && !solver_type_given) s.solver = SolverKind::kPcgWarp;
+  if (s.preset == "fast" && s.contact && !solver_type_given) s.solver = FastPresetSolver(s);
 
   if (s.friction) {
     if (!s.contact) r.Fail(r.Node("friction"), "'friction' needs a 'contact' section");
@@ -118,11 +140,7 @@ void ApplyPreset(const std::string& name, SceneDescription& s) {
   case Preset::kFast:
     s.nodal_pressure = false;
     s.elasticity = fem::ElasticFormulation::kLinear;
-    // Without contact the matrix is constant: factorized once, one back-substitution a
-    // step (CHOLMOD's is ~3x faster than the LDL^T's on B). Contact changes it every
-    // step; refactorizing (~11 ms on model B) still costs more than the PCG preconditioned
-    // by the rest factor, which is exact without contact and close with it.
-    s.solver = s.contact ? SolverKind::kPcgWarp : SolverKind::kCholmod;
+    s.solver = FastPresetSolver(s);
     s.integrator.newton_iterations = 1;
     break;
   case Preset::kBalanced:

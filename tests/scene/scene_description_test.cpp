@@ -78,6 +78,27 @@ TEST(SceneDescription, FastPresetFactorizesOnceWithoutContactAndPreconditionsWit
   EXPECT_EQ(cli.solver, SolverKind::kPcgWarp);
 }
 
+// Issue 12: `press --preset fast` on a quasi-static contact press with the bone fixed uses
+// the compliance method; where the method cannot answer (full_sed, a dynamic scene) the
+// fast preset keeps the FE step.
+TEST(SceneDescription, FastPresetUsesTheComplianceMethodForAQuasiStaticPress) {
+  const std::string press =
+      "model: B\ndynamics: {integrator: quasi_static, steps: 5}\nbone: {mode: fixed}\n"
+      "contact:\n  objects:\n    - {name: plane, shape: plane, rpy_deg: [180, 0, 0], position_mm: [0, 0, 0]}\n";
+  SceneDescription cli = ParseSceneDescription(press, "q.yaml");
+  ApplyPreset("fast", cli);
+  EXPECT_EQ(cli.solver, SolverKind::kCompliance);
+  EXPECT_EQ(ParseSceneDescription("preset: fast\n" + press, "f.yaml").solver, SolverKind::kCompliance);
+  SceneDescription full = ParseSceneDescription(press + "outputs: {full_sed: true}\n", "s.yaml");
+  ApplyPreset("fast", full);
+  EXPECT_EQ(full.solver, SolverKind::kPcgWarp);
+  SceneDescription dynamic = ParseSceneDescription(
+      "model: B\nbone: {mode: fixed}\ncontact:\n  objects:\n    - {name: plane, shape: plane, rpy_deg: [180, 0, 0]}\n",
+      "d.yaml");
+  ApplyPreset("fast", dynamic);
+  EXPECT_EQ(dynamic.solver, SolverKind::kPcgWarp);
+}
+
 
 TEST(SceneDescription, StepCountAndKeyframesAreBounded) {
   // Issue 13: 2e9 steps ran until killed; a .nan keyframe ran with d = nan and exited 0.
