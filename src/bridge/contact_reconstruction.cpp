@@ -507,6 +507,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
       if (better(flat, best)) best = flat;
     }
   }
+  counters_.evaluations += estimate_.evaluations;
   if (!std::isfinite(best.chi2)) {
     estimate_.problem = "no shape fitted";
     ++counters_.fallbacks;

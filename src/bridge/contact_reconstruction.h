@@ -68,12 +68,13 @@ struct ReconstructionOptions {
   /// cells_per_evaluation) for refining the current model and for the candidate (a
   /// sphere/rod LM iteration costs about 5, a flat's 2). A fit that runs out continues on
   /// the next scan from where it stopped.
-  /// 60 / 30 (about 12 and 6 LM iterations): the smallest budgets tried with which no
-  /// case of the rig's or the synthetic fidelity set leaves the targets it met with fits
-  /// run to convergence (24/12, 32/16, 40/20 each lost one, on rods whose radius the scan
-  /// does not determine; docs/bridge-fidelity.md §5).
-  int warm_scan_evaluations = 60;
-  int candidate_scan_evaluations = 30;
+  /// 30 / 15 (about 6 and 3 LM iterations): with hold averaging (which settles a rod's
+  /// radius over the hold), the smallest budgets tried that keep every fidelity case, rig
+  /// and synthetic, and add no fallback over the 21 rig replays (20 / 10 added two fit
+  /// fallbacks); 60 / 30 before hold averaging, where 24/12 to 40/20 each lost a rod
+  /// (docs/bridge-fidelity.md §5, §7).
+  int warm_scan_evaluations = 30;
+  int candidate_scan_evaluations = 15;
   /// Amortized budgets count an evaluation as max(1, patch cells / this): an evaluation
   /// costs in proportion to its patch, and a rod or sphere grown over the whole pad (a
   /// candidate explaining a flat) costs 5-10 of a 5 mm sphere's (about 400 cells at 0.8 N).
@@ -85,7 +86,12 @@ struct ReconstructionOptions {
   /// noise units of what it fits: a scan, or a hold's mean) by less than this; a rejected
   /// step counts as no gain. At a hold the mean changes by one scan in N and the answer is
   /// already there: one iteration (5 evaluations) instead of 30-45 to Eigen's ftol.
-  double min_chi2_gain = 0.01;
+  /// 0.3: a third of what moves a parameter by one standard deviation (delta chi^2 = 1), so
+  /// the iterations it skips move the answer by less than its noise, and the next scan goes
+  /// on from there. Against 0.01: a third fewer evaluations over the rig replays, the same
+  /// fidelity at the peak scans, the same force per scan to 0.05 % of peak (p95)
+  /// (docs/bridge-fidelity.md §7).
+  double min_chi2_gain = 0.3;
   /// Hold averaging: while the scans agree with their running mean within noise (a
   /// stationary contact: a hold, a slow press), the fit reads the mean of the last
   /// max_hold_scans scans with the noise of that mean. One scan barely determines a thin
@@ -133,6 +139,7 @@ struct ReconstructionCounters {
   int64_t warm_fits = 0;       ///< answered from the warm start alone
   int64_t fallbacks = 0;       ///< poor or diverged fits
   int64_t saturated_taxels = 0;
+  int64_t evaluations = 0;     ///< forward-model evaluations, all scans (the cost, deterministic)
 };
 
 class ContactReconstructor {

@@ -103,7 +103,7 @@ TEST(ContactFeStep, RigSphereFarSharperThanThePressureMap) {
 
 // At a hold the averaged estimate moves by far less than the press's tolerance, and the
 // step reuses its last press: same SED as solving every scan (within the press's 1e-3 force
-// tolerance), 12-23 % of the contact scans without a contact solve.
+// tolerance), 4-25 % of the contact scans without a contact solve.
 TEST(ContactFeStep, HoldScansReuseTheLastPressWithTheSameAnswer) {
   const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
   const auto presses = sensors::LoadCalibrationPresses(
@@ -131,7 +131,10 @@ TEST(ContactFeStep, HoldScansReuseTheLastPressWithTheSameAnswer) {
       }
     }
     EXPECT_EQ(solving->counters().press_reused, 0);
-    EXPECT_GT(reusing->counters().press_reused, 12) << press.name;  // measured 34, 17, 27 of ~148
+    // Measured 37, 6, 27 of ~148. The rod's few: with min_chi2_gain 0.3 its averaged radius
+    // creeps by one LM iteration a scan through the hold (17 reused at 0.01, for a third
+    // more forward-model evaluations over the rig replays).
+    EXPECT_GT(reusing->counters().press_reused, i == 14 ? 3 : 20) << press.name;
     EXPECT_EQ(reusing->counters().pressed, solving->counters().pressed) << press.name;
   }
 }
