@@ -89,7 +89,7 @@ struct ReconstructionOptions {
   /// 0.3: a third of what moves a parameter by one standard deviation (delta chi^2 = 1), so
   /// the iterations it skips move the answer by less than its noise, and the next scan goes
   /// on from there. Against 0.01: a third fewer evaluations over the rig replays, the same
-  /// fidelity at the peak scans, the same force per scan to 0.05 % of peak (p95)
+  /// fidelity at the peak scans, the same force per scan to 0.08 % of peak (p95)
   /// (docs/bridge-fidelity.md §7).
   double min_chi2_gain = 0.3;
   /// Hold averaging: while the scans agree with their running mean within noise (a
