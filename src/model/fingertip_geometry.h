@@ -6,6 +6,8 @@
 // The generator (tools/fingertip_generator) builds the mesh from these; the loader reads
 // them too so that a typo in a model YAML is an error even when only loading.
 
+#include <array>
+
 #include "common/name_value.h"
 
 namespace sedbridge::config {
@@ -97,6 +99,12 @@ struct MeshSizeParams {
   double skin_mm = 1.5;
   double core_mm = 1.5;
   double transition_mm = 2.0;
+  /// Optional local refinement where the pad is pressed (a mesh convergence study refines
+  /// only where the Merkel SED is read): within `pad_radius_mm` of `pad_center_mm` (model
+  /// frame) the skin size is `pad_skin_mm`, growing to core_mm as elsewhere. 0 = off.
+  double pad_skin_mm = 0.0;
+  double pad_radius_mm = 0.0;
+  std::array<double, 3> pad_center_mm{0.0, 0.0, 0.0};
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -104,6 +112,9 @@ struct MeshSizeParams {
     a->Visit(Field("skin_mm", &skin_mm).Required().Positive());
     a->Visit(Field("core_mm", &core_mm).Required().Positive());
     a->Visit(Field("transition_mm", &transition_mm).Required().NonNegative());
+    a->Visit(Field("pad_skin_mm", &pad_skin_mm).NonNegative());
+    a->Visit(Field("pad_radius_mm", &pad_radius_mm).NonNegative());
+    a->Visit(Field("pad_center_mm", &pad_center_mm));
   }
 };
 

@@ -196,7 +196,7 @@ TEST_P(CommittedModel, PadFrameOriginIsTheSkinNodeTheTiltedPlaneTouchesFirst) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Models, CommittedModel,
-                         ::testing::Values("A", "B", "C", "B_coarse", "B_fine", "B_x4", "A_fine"));
+                         ::testing::Values("A", "B", "C", "B_coarse", "B_fine", "B_x4", "A_fine", "A_pad"));
 
 TEST(ModelB, SizeMatchesThePaperWithin20Percent) {
   const FingertipModel& m = Model("B");
@@ -274,6 +274,28 @@ TEST(ModelAFine, FinerMeshOfTheSameModelA) {
   const Eigen::Vector3d z_pad = a.pad_frame.model_from_pad.linear().col(2);
   EXPECT_NEAR(z_pad.dot(f.pad_frame.model_from_pad.translation()), z_pad.dot(a.pad_frame.model_from_pad.translation()),
               0.05e-3);
+}
+
+TEST(ModelAPad, RefinedOnlyWhereThePadIsPressed) {
+  // The C3D10 reference's pad-refined bracket (docs/validation.md): A with a finer skin
+  // within pad_radius_mm of A's own pad frame origin.
+  const FingertipModel& a = Model("A");
+  const FingertipModel& p = Model("A_pad");
+  const auto& size = p.description.geometry.mesh_size;
+  const Eigen::Vector3d center_mm(size.pad_center_mm[0], size.pad_center_mm[1], size.pad_center_mm[2]);
+  EXPECT_LT((a.pad_frame.model_from_pad.translation() * 1e3 - center_mm).norm(), 0.01);
+  EXPECT_LT(size.pad_skin_mm, a.description.geometry.mesh_size.skin_mm);
+  auto merkel_near = [&](const FingertipModel& m) {
+    int n = 0;
+    for (int v : m.merkel_nodes) n += (m.soft.rest_positions_m.col(v) * 1e3 - center_mm).norm() < 5.0;
+    return n;
+  };
+  EXPECT_GT(merkel_near(p), 1.4 * merkel_near(a));
+  EXPECT_LT(p.soft.num_tets(), 1.3 * a.soft.num_tets());
+  for (std::size_t i = 0; i < a.soft.materials.size(); ++i) {
+    EXPECT_DOUBLE_EQ(p.soft.materials[i].youngs_modulus_Pa, a.soft.materials[i].youngs_modulus_Pa);
+  }
+  EXPECT_FALSE(p.stratum_corneum_triangles.empty());
 }
 
 }  // namespace

@@ -106,5 +106,59 @@ TEST(GeneratorRegeneration, YamlParametersDriveTheGeometry) {
 #endif
 }
 
+// mesh_size.pad_skin_mm refines the skin near the pad and leaves the rest as it was: the
+// Merkel layer near the pad frame origin gets denser, far from it it keeps its density.
+TEST(GeneratorRegeneration, PadRefinementRefinesOnlyNearThePad) {
+#ifndef SEDBRIDGE_MAKE_FINGERTIP_MODELS
+  GTEST_SKIP() << "make_fingertip_models is not built (Gmsh C++ API not found at configure time)";
+#else
+  const fs::path dir = fs::path(::testing::TempDir()) / ("pad_model_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const FingertipModel coarse = LoadFingertipModel("B_coarse");
+  const Eigen::Vector3d origin_mm = coarse.pad_frame.model_from_pad.translation() * 1e3;
+  std::string yaml = testing::ReadText(config::ResolveResource("config/models/B_coarse.yaml"));
+  auto replace = [&yaml](const std::string& from, const std::string& to) {
+    const auto at = yaml.find(from);
+    ASSERT_NE(at, std::string::npos) << from;
+    yaml.replace(at, from.size(), to);
+  };
+  replace("name: B_coarse", "name: pad");
+  replace("mesh: B_coarse.msh", "mesh: pad.msh");
+  replace("  transition_mm: 2.0", "  transition_mm: 2.0\n  pad_skin_mm: 0.9\n  pad_radius_mm: 4.0\n"
+          "  pad_center_mm: [" + std::to_string(origin_mm.x()) + ", " + std::to_string(origin_mm.y()) +
+          ", " + std::to_string(origin_mm.z()) + "]");
+  const fs::path yaml_path = dir / "pad.yaml";
+  std::ofstream(yaml_path) << yaml;
+  const std::string command = std::string("ASAN_OPTIONS=detect_leaks=0 \"") +
+                              SEDBRIDGE_MAKE_FINGERTIP_MODELS + "\" \"" + yaml_path.string() +
+                              "\" > \"" + (dir / "log").string() + "\" 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0) << testing::ReadText((dir / "log").string());
+  const FingertipModel refined = LoadFingertipModel(yaml_path.string());
+
+  auto merkel_within = [](const FingertipModel& m, const Eigen::Vector3d& c_mm, double lo_mm, double hi_mm) {
+    int n = 0;
+    for (int v : m.merkel_nodes) {
+      const double d = (m.soft.rest_positions_m.col(v) * 1e3 - c_mm).norm();
+      n += d >= lo_mm && d < hi_mm;
+    }
+    return n;
+  };
+  const int near_coarse = merkel_within(coarse, origin_mm, 0.0, 4.0);
+  const int near_refined = merkel_within(refined, origin_mm, 0.0, 4.0);
+  const int far_coarse = merkel_within(coarse, origin_mm, 10.0, 1e9);
+  const int far_refined = merkel_within(refined, origin_mm, 10.0, 1e9);
+  RecordProperty("merkel_near", std::to_string(near_coarse) + " -> " + std::to_string(near_refined));
+  RecordProperty("merkel_far", std::to_string(far_coarse) + " -> " + std::to_string(far_refined));
+  EXPECT_GT(near_refined, 2 * near_coarse);
+  EXPECT_NEAR(far_refined, far_coarse, 0.15 * far_coarse);
+  // The refinement changes the mesh, not the shape: the plane first touches at the same
+  // height along the pad normal (a coarse chord sits a little below the surface).
+  const Eigen::Vector3d z_pad = coarse.pad_frame.model_from_pad.linear().col(2);
+  EXPECT_NEAR(z_pad.dot(refined.pad_frame.model_from_pad.translation() * 1e3), z_pad.dot(origin_mm), 0.2);
+  fs::remove_all(dir);
+#endif
+}
+
 }  // namespace
 }  // namespace sedbridge::model

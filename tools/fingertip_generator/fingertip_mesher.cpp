@@ -188,7 +188,31 @@ MeshStats MeshFingertip(const FingertipGeometry& g, const std::string& model_nam
   gmsh::model::mesh::field::setNumber(threshold, "SizeMax", g.mesh_size.core_mm);
   gmsh::model::mesh::field::setNumber(threshold, "DistMin", epi + derm);
   gmsh::model::mesh::field::setNumber(threshold, "DistMax", epi + derm + g.mesh_size.transition_mm);
-  gmsh::model::mesh::field::setAsBackgroundMesh(threshold);
+  int background = threshold;
+  const double pad_skin_mm = g.mesh_size.pad_skin_mm, pad_radius_mm = g.mesh_size.pad_radius_mm;
+  if (pad_skin_mm > 0.0 && pad_radius_mm > 0.0) {
+    // Inside the ball: the skin threshold with the finer size; outside it a huge size that
+    // the Min below ignores. So only the skin near the pad is refined, not the deep core.
+    const int fine = gmsh::model::mesh::field::add("Threshold");
+    gmsh::model::mesh::field::setNumber(fine, "InField", distance);
+    gmsh::model::mesh::field::setNumber(fine, "SizeMin", pad_skin_mm);
+    gmsh::model::mesh::field::setNumber(fine, "SizeMax", g.mesh_size.core_mm);
+    gmsh::model::mesh::field::setNumber(fine, "DistMin", epi + derm);
+    gmsh::model::mesh::field::setNumber(fine, "DistMax", epi + derm + g.mesh_size.transition_mm);
+    const int ball = gmsh::model::mesh::field::add("Ball");
+    gmsh::model::mesh::field::setNumber(ball, "XCenter", g.mesh_size.pad_center_mm[0]);
+    gmsh::model::mesh::field::setNumber(ball, "YCenter", g.mesh_size.pad_center_mm[1]);
+    gmsh::model::mesh::field::setNumber(ball, "ZCenter", g.mesh_size.pad_center_mm[2]);
+    gmsh::model::mesh::field::setNumber(ball, "Radius", pad_radius_mm);
+    gmsh::model::mesh::field::setNumber(ball, "Thickness", g.mesh_size.transition_mm);
+    gmsh::model::mesh::field::setNumber(ball, "VIn", pad_skin_mm);
+    gmsh::model::mesh::field::setNumber(ball, "VOut", 1e3);
+    const int inside = gmsh::model::mesh::field::add("Max");
+    gmsh::model::mesh::field::setNumbers(inside, "FieldsList", {double(fine), double(ball)});
+    background = gmsh::model::mesh::field::add("Min");
+    gmsh::model::mesh::field::setNumbers(background, "FieldsList", {double(threshold), double(inside)});
+  }
+  gmsh::model::mesh::field::setAsBackgroundMesh(background);
   gmsh::option::setNumber("Mesh.MeshSizeMax", std::max(g.mesh_size.skin_mm, g.mesh_size.core_mm));
 
   gmsh::model::mesh::generate(3);
