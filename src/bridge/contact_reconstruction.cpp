@@ -144,10 +144,13 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
                                                          int max_evaluations, int evaluation_budget) const {
   const bool shear = options_.fit_shear;
   // Residuals and their Jacobian. The tangential force enters the forward model linearly,
-  // so its two columns are exact and free (PredictLinearInShear); the others are forward
-  // differences with NumericalDiff's step (1e-3 |u_j|, or 1e-3 at 0), from the parts
-  // already computed at u. A Jacobian costs one model evaluation per shape unknown
-  // (4 for spheres and rods, 1 for the flat) instead of one per unknown plus one.
+  // so its two columns are exact and free (PredictLinearInShear). The force column is free
+  // too: the patch depends on F and R only through its Hertz half-width (a^3 ~ F R for a
+  // sphere, b^2 ~ F R / L for a rod), and the normal part is F times a function of that
+  // width, so d pred / d log F = normal part + d pred / d log R (the flat: = normal part).
+  // The pose and radius columns are forward differences with NumericalDiff's step
+  // (1e-3 |u_j|, or 1e-3 at 0), from the parts already computed at u. A Jacobian costs one
+  // model evaluation per pose/radius unknown (3 for spheres and rods, 0 for the flat).
   struct Functor : common::DynamicSizeFunctor {
     const ContactReconstructor* self;
     ContactShape shape;
@@ -158,7 +161,7 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
     double prior_weight = 0, prior_mean = 0;
     // The model's parts at `at` (the last point evaluated): LM asks df where it just
     // evaluated the residuals.
-    mutable Eigen::VectorXd at, normal, per_x, per_y, pred, r_step;
+    mutable Eigen::VectorXd at, normal, per_x, per_y, pred, r_step, d_pred_log_r;
     int inputs() const { return UnknownCount(shape, shear); }
     int values() const { return static_cast<int>(self->obs_.size()) + (prior_weight > 0 ? 1 : 0); }
     void Parts(const Eigen::VectorXd& u) const {
@@ -208,8 +211,9 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
             }
         }
       }
-      const Eigen::VectorXd u0 = u;
-      for (int j = 0; j < geometric; ++j) {
+      const Eigen::VectorXd u0 = u, pred0 = pred, normal0 = normal;
+      const int log_force = geometric - 1;  // ToUnknowns: log F after the pose and radius
+      for (int j = 0; j < log_force; ++j) {
         double h = 1e-3 * std::abs(u0[j]);
         if (h == 0) h = 1e-3;
         Eigen::VectorXd uj = u0;
@@ -217,12 +221,25 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
         Parts(uj);
         Residuals(uj, r_step);
         J.col(j) = (r_step - r0) / h;
+        if (j == kLogRadius) d_pred_log_r = (pred - pred0) / h;
       }
+      // d pred / d log F, then as a residual column (weights; a saturated channel's slope
+      // where it binds; the radius prior does not depend on F).
+      if (shape == ContactShape::kFlat) d_pred_log_r.setZero(normal0.size());
+      const Eigen::VectorXd d_pred = normal0 + d_pred_log_r;
+      auto col = J.col(log_force);
+      col.head(d_pred.size()) = d_pred.cwiseProduct(self->weight_);
+      if (prior_weight > 0) col[d_pred.size()] = 0;
+      for (size_t k = 0; k < self->saturated_.size(); ++k)
+        if (self->saturated_[k]) {
+          const int c = 3 * static_cast<int>(k) + 2;
+          col[c] = self->full_scale_N_[c] - pred0[c] > 0 ? -d_pred[c] * self->inv_sigma_[c] : 0.0;
+        }
       return 0;
     }
   };
   int evaluations = 0, budget_used = 0;
-  Functor f{{}, this, shape, shear, &evaluations, &budget_used, 0, 0, {}, {}, {}, {}, {}, {}};
+  Functor f{{}, this, shape, shear, &evaluations, &budget_used, 0, 0, {}, {}, {}, {}, {}, {}, {}};
   if (shape != ContactShape::kFlat && options_.radius_prior_log_sigma > 0) {
     f.prior_weight = 1.0 / options_.radius_prior_log_sigma;
     f.prior_mean = std::log(options_.radius_prior_mm);

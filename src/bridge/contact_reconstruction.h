@@ -66,15 +66,15 @@ struct ReconstructionOptions {
   int explore_evaluations = 150;  ///< full: LM function evaluations per cold start
   /// Amortized: forward-model evaluations per scan (weighted by patch size, see
   /// cells_per_evaluation) for refining the current model and for the candidate (a
-  /// sphere/rod LM iteration costs about 5, a flat's 2). A fit that runs out continues on
-  /// the next scan from where it stopped.
-  /// 30 / 15 (about 6 and 3 LM iterations): with hold averaging (which settles a rod's
-  /// radius over the hold), the smallest budgets tried that keep every fidelity case, rig
-  /// and synthetic, and add no fallback over the 21 rig replays (20 / 10 added two fit
-  /// fallbacks); 60 / 30 before hold averaging, where 24/12 to 40/20 each lost a rod
-  /// (docs/bridge-fidelity.md §5, §7).
-  int warm_scan_evaluations = 30;
-  int candidate_scan_evaluations = 15;
+  /// sphere/rod LM iteration costs about 4 since the force column is free, a flat's 1). A
+  /// fit that runs out continues on the next scan from where it stopped.
+  /// 24 / 12 (about 6 and 3 LM iterations, as 30 / 15 were at 5 evaluations an iteration):
+  /// with hold averaging (which settles a rod's radius over the hold), the smallest budgets
+  /// tried that keep every fidelity case, rig and synthetic, and add no fallback over the
+  /// 21 rig replays (20 / 10 added a fit fallback); 60 / 30 before hold averaging, where
+  /// 24/12 to 40/20 (at 5 an iteration) each lost a rod (docs/bridge-fidelity.md §5, §7, §8).
+  int warm_scan_evaluations = 24;
+  int candidate_scan_evaluations = 12;
   /// Amortized budgets count an evaluation as max(1, patch cells / this): an evaluation
   /// costs in proportion to its patch, and a rod or sphere grown over the whole pad (a
   /// candidate explaining a flat) costs 5-10 of a 5 mm sphere's (about 400 cells at 0.8 N).
@@ -85,7 +85,7 @@ struct ReconstructionOptions {
   /// Amortized: a fit stops when one Levenberg-Marquardt iteration lowers chi^2 (in the
   /// noise units of what it fits: a scan, or a hold's mean) by less than this; a rejected
   /// step counts as no gain. At a hold the mean changes by one scan in N and the answer is
-  /// already there: one iteration (5 evaluations) instead of 30-45 to Eigen's ftol.
+  /// already there: one iteration (4 evaluations) instead of 30-45 to Eigen's ftol.
   /// 0.3: a third of what moves a parameter by one standard deviation (delta chi^2 = 1), so
   /// the iterations it skips move the answer by less than its noise, and the next scan goes
   /// on from there. Against 0.01: a third fewer evaluations over the rig replays, the same

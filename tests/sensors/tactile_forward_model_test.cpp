@@ -256,3 +256,42 @@ TEST(TactileForwardModel, RodReadingsAreSmoothInItsRadius) {
 
 }  // namespace
 }  // namespace sedbridge::sensors
+
+namespace sedbridge::sensors {
+namespace {
+
+// The reconstruction's force column is d pred / d log F = normal part + d pred / d log R:
+// the patch depends on F and R only through its Hertz half-width (a^3 ~ F R, b^2 ~ F R / L)
+// and the normal part is F times a function of it. Checked by central differences on both
+// sides, tangential force included (it spreads over the same patch).
+TEST(TactileForwardModel, ForceAndRadiusEnterThroughTheHertzWidthOnly) {
+  const SensorProfile p = Uskin();
+  TactileForwardModel m(p, p.forward_model);
+  ContactPrimitive sphere;
+  sphere.x_mm = 1.3, sphere.y_mm = -2.1, sphere.radius_mm = 6, sphere.normal_force_N = 0.9;
+  sphere.shear_x_N = 0.1, sphere.shear_y_N = -0.05;
+  ContactPrimitive rod = sphere;
+  rod.shape = ContactShape::kCylinder, rod.radius_mm = 1.5, rod.yaw_deg = 20;
+  const double h = 1e-4;
+  for (const ContactPrimitive& c : {sphere, rod}) {
+    auto at = [&](double log_f, double log_r) {
+      ContactPrimitive q = c;
+      q.normal_force_N = c.normal_force_N * std::exp(log_f);
+      q.radius_mm = c.radius_mm * std::exp(log_r);
+      q.shear_x_N = c.shear_x_N, q.shear_y_N = c.shear_y_N;  // T is its own unknown
+      Eigen::VectorXd out;
+      m.Predict(q, &out);
+      return out;
+    };
+    const Eigen::VectorXd d_log_f = (at(h, 0) - at(-h, 0)) / (2 * h);
+    const Eigen::VectorXd d_log_r = (at(0, h) - at(0, -h)) / (2 * h);
+    Eigen::VectorXd normal, per_x, per_y;
+    m.PredictLinearInShear(c, &normal, &per_x, &per_y);
+    // R matters (a rod's reading hardly, but 100x above the tolerance below).
+    EXPECT_GT(d_log_r.norm(), 1e-3 * normal.norm()) << ContactShapeName(c.shape);
+    EXPECT_LT((d_log_f - (normal + d_log_r)).norm(), 1e-5 * normal.norm()) << ContactShapeName(c.shape);
+  }
+}
+
+}  // namespace
+}  // namespace sedbridge::sensors
