@@ -111,10 +111,11 @@ ContactReconstructor::ContactReconstructor(const sensors::SensorProfile& profile
       (options_.radius_prior_log_sigma > 0 && !(options_.radius_prior_mm > 0)))
     throw std::invalid_argument("contact reconstruction: need 0 < min_radius_mm < max_radius_mm and radius_prior_mm > 0");
   if (options_.max_hold_scans < 1 || !(options_.hold_change_sigma > 0) || !(options_.hold_force_change_sigma > 0) ||
-      options_.cells_per_evaluation < 1 || !(options_.min_chi2_gain >= 0) || !(options_.noise_counts > 0))
+      options_.cells_per_evaluation < 1 || !(options_.min_chi2_gain >= 0) || !(options_.noise_counts > 0) ||
+      options_.scan_evaluations < 0)
     throw std::invalid_argument(
         "contact reconstruction: need max_hold_scans >= 1, hold_change_sigma and hold_force_change_sigma > 0, "
-        "cells_per_evaluation >= 1, min_chi2_gain >= 0, noise_counts > 0");
+        "cells_per_evaluation >= 1, min_chi2_gain >= 0, noise_counts > 0, scan_evaluations >= 0");
   // A hair inside the plausible range, so that a clamped radius is still plausible.
   log_r_lo_ = std::log(options_.min_radius_mm) + 1e-9;
   log_r_hi_ = std::log(options_.max_radius_mm) - 1e-9;
@@ -487,6 +488,10 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     // the candidates get the warm budget too, and the next start is tried while budget
     // is left and nothing explains the scan.
     int budget = options_.candidate_scan_evaluations + (warm_won ? 0 : options_.warm_scan_evaluations);
+    // A current model that explains the scan leaves the candidate only the rest of the
+    // per-scan total: exploring is then a check that can wait for a cheap (holding) scan.
+    if (warm_won && options_.scan_evaluations > 0 && std::sqrt(best.chi2 / dof) <= options_.max_rms_sigma)
+      budget = std::min(budget, options_.scan_evaluations - best.budget_used);
     for (int tried = 0; budget > 0 && tried < kStarts; ++tried) {
       if (!have_candidate_) {
         const Start& st = starts[next_start_];

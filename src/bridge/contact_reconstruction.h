@@ -75,6 +75,14 @@ struct ReconstructionOptions {
   /// 24/12 to 40/20 (at 5 an iteration) each lost a rod (docs/bridge-fidelity.md §5, §7, §8).
   int warm_scan_evaluations = 24;
   int candidate_scan_evaluations = 12;
+  /// Amortized: while the current model explains the scan (RMS within max_rms_sigma), the
+  /// warm fit and the candidate together spend at most this many per scan (the candidate
+  /// gets what the warm fit left, up to candidate_scan_evaluations): on a ramp, where the
+  /// warm fit uses its budget, exploring waits for the hold. A model that does not explain
+  /// the scan leaves the candidate its whole budget. 0 = no total. 24: the scans' p99
+  /// evaluations 36 -> 29 over the rig replays, no fallback and the same fidelity
+  /// (docs/bridge-fidelity.md §8).
+  int scan_evaluations = 24;
   /// Amortized budgets count an evaluation as max(1, patch cells / this): an evaluation
   /// costs in proportion to its patch, and a rod or sphere grown over the whole pad (a
   /// candidate explaining a flat) costs 5-10 of a 5 mm sphere's (about 400 cells at 0.8 N).
