@@ -169,6 +169,19 @@ class ReaderTest(unittest.TestCase):
         self.assertEqual(xs, sorted(xs))
         self.assertTrue(all(abs(x * 10 - round(x * 10)) < 1e-6 for x in xs))  # 0.1 mm grid
 
+    def test_one_sided_vertex_average(self):
+        m = model("B_coarse")
+        tissue = {t: g for t, g, _ in m.soft_tets}
+        esed = {t: (2.0 if g == "epidermis" else 5.0 if g == "dermis" else 7.0) for t, g, _ in m.soft_tets}
+        for side, value in (("epidermis", 2.0), ("dermis", 5.0)):
+            mm = read_results.MerkelMap(m, side)
+            vs = mm.vertex_sed(esed)
+            for v in mm.vertices:
+                self.assertTrue(all(tissue[e] == side for e in mm.adjacent[v]))
+                self.assertAlmostEqual(vs[v], value)
+        both = read_results.MerkelMap(m).vertex_sed(esed)
+        self.assertTrue(any(2.0 < both[v] < 5.0 for v in both))  # the two-sided mean mixes them
+
 
 if __name__ == "__main__":
     unittest.main(verbosity=1)

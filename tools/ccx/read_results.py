@@ -8,6 +8,7 @@ files `sedbridge press` writes:
   sed_path.csv            x_mm,sed_Pa,sed_normalized  (along x at y = 2 mm, pad-facing sheet)
 
 usage: read_results.py --model B --run DIR/ccx [--out DIR] [--target-force 1.0 | --at-depth-mm D]
+                       [--merkel-side both|epidermis|dermis]
 
 Definitions, all as src/scene (press_experiment.cpp, merkel_layer.cpp):
   force      = -RF_z summed over the plane's nodes (the plane is pushed along -z_pad);
@@ -15,7 +16,9 @@ Definitions, all as src/scene (press_experiment.cpp, merkel_layer.cpp):
                contact clearance CONTACT_GAP_MM) of one third of the rest area of their
                adjacent skin triangles;
   element SED= mean of ENER over the element's integration points [MPa -> Pa];
-  vertex SED = mean of the SED of ALL soft elements that contain the Merkel vertex;
+  vertex SED = mean of the SED of ALL soft elements that contain the Merkel vertex
+               (--merkel-side epidermis|dermis: only that side's elements, a one-sided
+               value at the interface, where the stiffness and the SED jump);
   path       = SED interpolated linearly (barycentric, rest pad-frame x, y) on the
                Merkel triangles facing the pad (normal . z_pad > 0), the sheet with the
                largest z where several overlap; x from -8 to 8 mm every 0.1 mm; normalized
@@ -88,15 +91,21 @@ def parse_dat(path, on_increment=None):
 class MerkelMap:
     """Merkel vertices, their adjacent elements, rest pad positions and pad-facing triangles."""
 
-    def __init__(self, model):
+    def __init__(self, model, side=None):
+        """side: None (every soft element at a vertex) or a tissue name ("epidermis",
+        "dermis"): only that side of the interface."""
         self.pad = model.pad_positions()
         self.vertices = model.merkel_nodes()
         vset = set(self.vertices)
         self.adjacent = {v: [] for v in self.vertices}
-        for etag, _, n in model.soft_tets:
+        for etag, tissue, n in model.soft_tets:
+            if side is not None and tissue != side:
+                continue
             for v in n:
                 if v in vset:
                     self.adjacent[v].append(etag)
+        if side is not None and not all(self.adjacent.values()):
+            raise ResultError(f"model {model.name}: some Merkel vertices have no {side} element")
         self.pad_triangles = []
         for a, b, c in model.merkel:
             pa, pb, pc = self.pad[a], self.pad[b], self.pad[c]
@@ -139,7 +148,7 @@ class MerkelMap:
         return out
 
 
-def read_run(model, run_dir, target_force_n=TARGET_FORCE_N, at_depth_mm=None):
+def read_run(model, run_dir, target_force_n=TARGET_FORCE_N, at_depth_mm=None, merkel_side=None):
     """Returns dict(steps=[(step, disp_mm, force_N, area_mm2)], selected, vertex_sed, path).
     The map is taken at the increment closest to target_force_n, or to at_depth_mm if given
     (equal indentation: for comparing runs whose forces differ, or a run still going)."""
@@ -155,7 +164,7 @@ def read_run(model, run_dir, target_force_n=TARGET_FORCE_N, at_depth_mm=None):
     n_inc = int(meta.get("increments", 50))
     pad = model.pad_positions()
     skin_area = fingertip.vertex_area_shares(model.skin, pad)
-    mm = MerkelMap(model)
+    mm = MerkelMap(model, merkel_side)
     steps, element_sed_by_step = [], []
 
     def on_inc(inc):
@@ -224,9 +233,13 @@ def main():
                     help="the SED map and path are taken at the increment closest to this force [N]")
     ap.add_argument("--at-depth-mm", type=float, default=None,
                     help="take the map at the increment closest to this indentation instead [mm]")
+    ap.add_argument("--merkel-side", choices=["both", "epidermis", "dermis"], default="both",
+                    help="Merkel vertex SED from the elements of both sides of the interface "
+                         "(as sedbridge) or of one side only")
     a = ap.parse_args()
     model = fingertip.load_model(a.model, REPO)
-    r = read_run(model, a.run, a.target_force, a.at_depth_mm)
+    r = read_run(model, a.run, a.target_force, a.at_depth_mm,
+                 None if a.merkel_side == "both" else a.merkel_side)
     write_csvs(r, a.out or a.run)
     s = r["steps"][r["selected"]]
     print(f"{len(r['steps'])} increments; selected step {s[0]} (d = {s[1]:.3f} mm, F = {s[2]:.4f} N); "
