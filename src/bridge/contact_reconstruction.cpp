@@ -162,7 +162,7 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
     double prior_weight = 0, prior_mean = 0;
     // The model's parts at `at` (the last point evaluated): LM asks df where it just
     // evaluated the residuals.
-    mutable Eigen::VectorXd at, normal, per_x, per_y, pred, r_step, d_pred_log_r;
+    mutable Eigen::VectorXd at, normal, per_x, per_y, pred, r_step;
     int inputs() const { return UnknownCount(shape, shear); }
     int values() const { return static_cast<int>(self->obs_.size()) + (prior_weight > 0 ? 1 : 0); }
     void Parts(const Eigen::VectorXd& u) const {
@@ -198,22 +198,25 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
       Eigen::VectorXd r0;
       if (at.size() != u.size() || at != u) Parts(u);
       Residuals(u, r0);
-      if (shear) {  // d pred / d T = per_x, per_y; a saturated channel's slope where it binds
-        const Eigen::VectorXd pred0 = pred;
-        for (int t = 0; t < 2; ++t) {
-          const Eigen::VectorXd& d = t == 0 ? per_x : per_y;
-          auto col = J.col(geometric + t);
-          col.head(d.size()) = d.cwiseProduct(self->weight_);
-          if (prior_weight > 0) col[d.size()] = 0;
-          for (size_t k = 0; k < self->saturated_.size(); ++k)
-            if (self->saturated_[k]) {
-              const int c = 3 * static_cast<int>(k) + 2;
-              col[c] = self->full_scale_N_[c] - pred0[c] > 0 ? -d[c] * self->inv_sigma_[c] : 0.0;
-            }
-        }
-      }
       const Eigen::VectorXd u0 = u, pred0 = pred, normal0 = normal;
+      // An analytic column from d pred / d u_j: weighted, a saturated channel's slope where
+      // it binds, and 0 in the radius prior's row (only log R, a difference column, moves it).
+      auto set_column = [&](int j, const Eigen::VectorXd& d_pred) {
+        auto col = J.col(j);
+        col.head(d_pred.size()) = d_pred.cwiseProduct(self->weight_);
+        if (prior_weight > 0) col[d_pred.size()] = 0;
+        for (size_t k = 0; k < self->saturated_.size(); ++k)
+          if (self->saturated_[k]) {
+            const int c = 3 * static_cast<int>(k) + 2;
+            col[c] = self->full_scale_N_[c] - pred0[c] > 0 ? -d_pred[c] * self->inv_sigma_[c] : 0.0;
+          }
+      };
+      if (shear) {  // d pred / d T = per_x, per_y
+        set_column(geometric, per_x);
+        set_column(geometric + 1, per_y);
+      }
       const int log_force = geometric - 1;  // ToUnknowns: log F after the pose and radius
+      Eigen::VectorXd d_pred_log_r = Eigen::VectorXd::Zero(normal0.size());  // the flat: none
       for (int j = 0; j < log_force; ++j) {
         double h = 1e-3 * std::abs(u0[j]);
         if (h == 0) h = 1e-3;
@@ -224,23 +227,12 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
         J.col(j) = (r_step - r0) / h;
         if (j == kLogRadius) d_pred_log_r = (pred - pred0) / h;
       }
-      // d pred / d log F, then as a residual column (weights; a saturated channel's slope
-      // where it binds; the radius prior does not depend on F).
-      if (shape == ContactShape::kFlat) d_pred_log_r.setZero(normal0.size());
-      const Eigen::VectorXd d_pred = normal0 + d_pred_log_r;
-      auto col = J.col(log_force);
-      col.head(d_pred.size()) = d_pred.cwiseProduct(self->weight_);
-      if (prior_weight > 0) col[d_pred.size()] = 0;
-      for (size_t k = 0; k < self->saturated_.size(); ++k)
-        if (self->saturated_[k]) {
-          const int c = 3 * static_cast<int>(k) + 2;
-          col[c] = self->full_scale_N_[c] - pred0[c] > 0 ? -d_pred[c] * self->inv_sigma_[c] : 0.0;
-        }
+      set_column(log_force, normal0 + d_pred_log_r);
       return 0;
     }
   };
   int evaluations = 0, budget_used = 0;
-  Functor f{{}, this, shape, shear, &evaluations, &budget_used, 0, 0, {}, {}, {}, {}, {}, {}, {}};
+  Functor f{{}, this, shape, shear, &evaluations, &budget_used, 0, 0, {}, {}, {}, {}, {}, {}};
   if (shape != ContactShape::kFlat && options_.radius_prior_log_sigma > 0) {
     f.prior_weight = 1.0 / options_.radius_prior_log_sigma;
     f.prior_mean = std::log(options_.radius_prior_mm);

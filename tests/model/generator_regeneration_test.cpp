@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <utility>
+#include <vector>
 #include <unistd.h>
 
 #include "common/resource_path.h"
@@ -27,6 +29,36 @@ std::map<int, int> ElementsPerType(const MshFile& m) {
   std::map<int, int> count;
   for (const auto& e : m.elements) ++count[e.type];
   return count;
+}
+
+// Generates a variant of B_coarse in a fresh `dir`: its YAML with `name` and every edit
+// (first occurrence of `from` replaced by `to`). Returns the variant's YAML path, or an
+// empty path after a test failure naming the missing text or showing the generator's log.
+fs::path GenerateBCoarseVariant(const fs::path& dir, const std::string& name,
+                                const std::vector<std::pair<std::string, std::string>>& edits) {
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::string yaml = testing::ReadText(config::ResolveResource("config/models/B_coarse.yaml"));
+  std::vector<std::pair<std::string, std::string>> all = {{"name: B_coarse", "name: " + name},
+                                                          {"mesh: B_coarse.msh", "mesh: " + name + ".msh"}};
+  all.insert(all.end(), edits.begin(), edits.end());
+  for (const auto& [from, to] : all) {
+    const auto at = yaml.find(from);
+    if (at == std::string::npos) {
+      ADD_FAILURE() << "B_coarse.yaml has no '" << from << "'";
+      return {};
+    }
+    yaml.replace(at, from.size(), to);
+  }
+  const fs::path yaml_path = dir / (name + ".yaml");
+  std::ofstream(yaml_path) << yaml;
+  const std::string command = std::string("ASAN_OPTIONS=detect_leaks=0 \"") + SEDBRIDGE_MAKE_FINGERTIP_MODELS +
+                              "\" \"" + yaml_path.string() + "\" > \"" + (dir / "log").string() + "\" 2>&1";
+  if (std::system(command.c_str()) != 0) {
+    ADD_FAILURE() << command << "\n" << testing::ReadText((dir / "log").string());
+    return {};
+  }
+  return yaml_path;
 }
 #endif
 
@@ -68,24 +100,9 @@ TEST(GeneratorRegeneration, YamlParametersDriveTheGeometry) {
   GTEST_SKIP() << "make_fingertip_models is not built (Gmsh C++ API not found at configure time)";
 #else
   const fs::path dir = fs::path(::testing::TempDir()) / ("param_model_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  std::string yaml = testing::ReadText(config::ResolveResource("config/models/B_coarse.yaml"));
-  auto replace = [&yaml](const std::string& from, const std::string& to) {
-    const auto at = yaml.find(from);
-    ASSERT_NE(at, std::string::npos) << from;
-    yaml.replace(at, from.size(), to);
-  };
-  replace("name: B_coarse", "name: wide");
-  replace("mesh: B_coarse.msh", "mesh: wide.msh");
-  replace("width_mm: 16.0", "width_mm: 18.0");
-  replace("epidermis_mm: 1.5", "epidermis_mm: 2.0");
-  const fs::path yaml_path = dir / "wide.yaml";
-  std::ofstream(yaml_path) << yaml;
-  const std::string command = std::string("ASAN_OPTIONS=detect_leaks=0 \"") +
-                              SEDBRIDGE_MAKE_FINGERTIP_MODELS + "\" \"" + yaml_path.string() +
-                              "\" > \"" + (dir / "log").string() + "\" 2>&1";
-  ASSERT_EQ(std::system(command.c_str()), 0) << testing::ReadText((dir / "log").string());
+  const fs::path yaml_path = GenerateBCoarseVariant(
+      dir, "wide", {{"width_mm: 16.0", "width_mm: 18.0"}, {"epidermis_mm: 1.5", "epidermis_mm: 2.0"}});
+  ASSERT_FALSE(yaml_path.empty());
 
   const FingertipModel m = LoadFingertipModel(yaml_path.string());
   EXPECT_EQ(m.name, "wide");
@@ -113,27 +130,14 @@ TEST(GeneratorRegeneration, PadRefinementRefinesOnlyNearThePad) {
   GTEST_SKIP() << "make_fingertip_models is not built (Gmsh C++ API not found at configure time)";
 #else
   const fs::path dir = fs::path(::testing::TempDir()) / ("pad_model_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
   const FingertipModel coarse = LoadFingertipModel("B_coarse");
   const Eigen::Vector3d origin_mm = coarse.pad_frame.model_from_pad.translation() * 1e3;
-  std::string yaml = testing::ReadText(config::ResolveResource("config/models/B_coarse.yaml"));
-  auto replace = [&yaml](const std::string& from, const std::string& to) {
-    const auto at = yaml.find(from);
-    ASSERT_NE(at, std::string::npos) << from;
-    yaml.replace(at, from.size(), to);
-  };
-  replace("name: B_coarse", "name: pad");
-  replace("mesh: B_coarse.msh", "mesh: pad.msh");
-  replace("  transition_mm: 2.0", "  transition_mm: 2.0\n  pad_skin_mm: 0.9\n  pad_radius_mm: 4.0\n"
-          "  pad_center_mm: [" + std::to_string(origin_mm.x()) + ", " + std::to_string(origin_mm.y()) +
-          ", " + std::to_string(origin_mm.z()) + "]");
-  const fs::path yaml_path = dir / "pad.yaml";
-  std::ofstream(yaml_path) << yaml;
-  const std::string command = std::string("ASAN_OPTIONS=detect_leaks=0 \"") +
-                              SEDBRIDGE_MAKE_FINGERTIP_MODELS + "\" \"" + yaml_path.string() +
-                              "\" > \"" + (dir / "log").string() + "\" 2>&1";
-  ASSERT_EQ(std::system(command.c_str()), 0) << testing::ReadText((dir / "log").string());
+  const fs::path yaml_path = GenerateBCoarseVariant(
+      dir, "pad",
+      {{"  transition_mm: 2.0", "  transition_mm: 2.0\n  pad_skin_mm: 0.9\n  pad_radius_mm: 4.0\n  pad_center_mm: [" +
+                                    std::to_string(origin_mm.x()) + ", " + std::to_string(origin_mm.y()) + ", " +
+                                    std::to_string(origin_mm.z()) + "]"}});
+  ASSERT_FALSE(yaml_path.empty());
   const FingertipModel refined = LoadFingertipModel(yaml_path.string());
 
   auto merkel_within = [](const FingertipModel& m, const Eigen::Vector3d& c_mm, double lo_mm, double hi_mm) {

@@ -19,6 +19,19 @@ namespace {
 
 SensorProfile Uskin() { return LoadNamedSensorProfile("uskin_4x4"); }
 
+// Off-centre contacts with a tangential force, for the split-prediction checks.
+ContactPrimitive DraggedSphere() {
+  ContactPrimitive c;
+  c.x_mm = 1.3, c.y_mm = -2.1, c.radius_mm = 6, c.normal_force_N = 0.9;
+  c.shear_x_N = 0.1, c.shear_y_N = -0.05;
+  return c;
+}
+ContactPrimitive DraggedRod(double radius_mm) {
+  ContactPrimitive c = DraggedSphere();
+  c.shape = ContactShape::kCylinder, c.radius_mm = radius_mm, c.yaw_deg = 20;
+  return c;
+}
+
 TEST(TactileForwardModel, ShippedProfileHasACalibratedModel) {
   const SensorProfile p = Uskin();
   ASSERT_TRUE(p.has_forward_model);
@@ -198,11 +211,8 @@ namespace {
 TEST(TactileForwardModel, PredictLinearInShearRecombinesToPredict) {
   const SensorProfile p = Uskin();
   TactileForwardModel m(p, p.forward_model);
-  ContactPrimitive sphere;
-  sphere.x_mm = 1.3, sphere.y_mm = -2.1, sphere.radius_mm = 6, sphere.normal_force_N = 0.9;
-  sphere.shear_x_N = 0.1, sphere.shear_y_N = -0.05;
-  ContactPrimitive rod = sphere, flat = sphere;
-  rod.shape = ContactShape::kCylinder, rod.radius_mm = 1.0, rod.yaw_deg = 20;
+  const ContactPrimitive sphere = DraggedSphere(), rod = DraggedRod(1.0);
+  ContactPrimitive flat = sphere;
   flat.shape = ContactShape::kFlat;
   for (const ContactPrimitive& c : {sphere, rod, flat}) {
     Eigen::VectorXd expected, normal, per_x, per_y;
@@ -267,13 +277,8 @@ namespace {
 TEST(TactileForwardModel, ForceAndRadiusEnterThroughTheHertzWidthOnly) {
   const SensorProfile p = Uskin();
   TactileForwardModel m(p, p.forward_model);
-  ContactPrimitive sphere;
-  sphere.x_mm = 1.3, sphere.y_mm = -2.1, sphere.radius_mm = 6, sphere.normal_force_N = 0.9;
-  sphere.shear_x_N = 0.1, sphere.shear_y_N = -0.05;
-  ContactPrimitive rod = sphere;
-  rod.shape = ContactShape::kCylinder, rod.radius_mm = 1.5, rod.yaw_deg = 20;
   const double h = 1e-4;
-  for (const ContactPrimitive& c : {sphere, rod}) {
+  for (const ContactPrimitive& c : {DraggedSphere(), DraggedRod(1.5)}) {
     auto at = [&](double log_f, double log_r) {
       ContactPrimitive q = c;
       q.normal_force_N = c.normal_force_N * std::exp(log_f);

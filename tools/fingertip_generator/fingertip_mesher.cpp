@@ -182,23 +182,23 @@ MeshStats MeshFingertip(const FingertipGeometry& g, const std::string& model_nam
   gmsh::model::mesh::field::setNumbers(distance, "FacesList",
                                        std::vector<double>(skin_surfaces.begin(), skin_surfaces.end()));
   gmsh::model::mesh::field::setNumber(distance, "NumPointsPerCurve", 100);
-  const int threshold = gmsh::model::mesh::field::add("Threshold");
-  gmsh::model::mesh::field::setNumber(threshold, "InField", distance);
-  gmsh::model::mesh::field::setNumber(threshold, "SizeMin", g.mesh_size.skin_mm);
-  gmsh::model::mesh::field::setNumber(threshold, "SizeMax", g.mesh_size.core_mm);
-  gmsh::model::mesh::field::setNumber(threshold, "DistMin", epi + derm);
-  gmsh::model::mesh::field::setNumber(threshold, "DistMax", epi + derm + g.mesh_size.transition_mm);
+  // One such threshold per skin size (the pad refinement adds a finer one).
+  auto skin_threshold = [&](double min_mm) {
+    const int field = gmsh::model::mesh::field::add("Threshold");
+    gmsh::model::mesh::field::setNumber(field, "InField", distance);
+    gmsh::model::mesh::field::setNumber(field, "SizeMin", min_mm);
+    gmsh::model::mesh::field::setNumber(field, "SizeMax", g.mesh_size.core_mm);
+    gmsh::model::mesh::field::setNumber(field, "DistMin", epi + derm);
+    gmsh::model::mesh::field::setNumber(field, "DistMax", epi + derm + g.mesh_size.transition_mm);
+    return field;
+  };
+  const int threshold = skin_threshold(g.mesh_size.skin_mm);
   int background = threshold;
   const double pad_skin_mm = g.mesh_size.pad_skin_mm, pad_radius_mm = g.mesh_size.pad_radius_mm;
   if (pad_skin_mm > 0.0 && pad_radius_mm > 0.0) {
     // Inside the ball: the skin threshold with the finer size; outside it a huge size that
     // the Min below ignores. So only the skin near the pad is refined, not the deep core.
-    const int fine = gmsh::model::mesh::field::add("Threshold");
-    gmsh::model::mesh::field::setNumber(fine, "InField", distance);
-    gmsh::model::mesh::field::setNumber(fine, "SizeMin", pad_skin_mm);
-    gmsh::model::mesh::field::setNumber(fine, "SizeMax", g.mesh_size.core_mm);
-    gmsh::model::mesh::field::setNumber(fine, "DistMin", epi + derm);
-    gmsh::model::mesh::field::setNumber(fine, "DistMax", epi + derm + g.mesh_size.transition_mm);
+    const int fine = skin_threshold(pad_skin_mm);
     const int ball = gmsh::model::mesh::field::add("Ball");
     gmsh::model::mesh::field::setNumber(ball, "XCenter", g.mesh_size.pad_center_mm[0]);
     gmsh::model::mesh::field::setNumber(ball, "YCenter", g.mesh_size.pad_center_mm[1]);
