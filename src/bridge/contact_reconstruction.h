@@ -79,10 +79,11 @@ struct ReconstructionOptions {
   /// warm fit and the candidate together spend at most this many per scan (the candidate
   /// gets what the warm fit left, up to candidate_scan_evaluations): on a ramp, where the
   /// warm fit uses its budget, exploring waits for the hold. A model that does not explain
-  /// the scan leaves the candidate its whole budget. 0 = no total. 24: the scans' p99
-  /// evaluations 36 -> 29 over the rig replays, no fallback and the same fidelity
-  /// (docs/bridge-fidelity.md §8).
-  int scan_evaluations = 24;
+  /// the scan leaves the candidate its whole budget. 0 = no total (the default). 24: the
+  /// scans' p99 evaluations 36 -> 29 over the rig replays, no fallback, no time gain that a
+  /// log's p99 shows, but the synthetic box corner's peak ratio 0.87 -> 0.68
+  /// (docs/bridge-fidelity.md §8): off until it measures better.
+  int scan_evaluations = 0;
   /// Amortized budgets count an evaluation as max(1, patch cells / this): an evaluation
   /// costs in proportion to its patch, and a rod or sphere grown over the whole pad (a
   /// candidate explaining a flat) costs 5-10 of a 5 mm sphere's (about 400 cells at 0.8 N).

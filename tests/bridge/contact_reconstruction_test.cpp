@@ -511,6 +511,7 @@ TEST(ContactReconstruction, ExplainedScansShareOneScanTotal) {
     return most;
   };
   ReconstructionOptions o;
+  o.scan_evaluations = 24;
   const int with_total = most_when_explained(o);
   EXPECT_LE(with_total, o.scan_evaluations + 2 * 6);
   o.scan_evaluations = 0;
