@@ -64,6 +64,11 @@ class ForceTerm {
   /// loads): if every term says so, the integrator assembles and factorizes once.
   virtual bool JacobianIsConstant() const { return false; }
 
+  /// False for terms whose stiffness comes and goes with the state (contact springs): the
+  /// rest matrix a warped preconditioner factorizes leaves them out, whenever it is taken
+  /// (fem/newton_system.h); the stiff-node update adds them back where they act.
+  virtual bool InRestMatrix() const { return true; }
+
   /// Called once after each accepted step (not per Newton iteration): stateful terms
   /// (friction anchors) update here.
   virtual void EndStep(const SystemState& state) {}

@@ -48,9 +48,11 @@ std::unique_ptr<LinearSolver> MakeDirectSolver(DirectSolverKind kind) {
   return std::make_unique<DirectLdltSolver>();
 }
 
-PcgSolver::PcgSolver(PcgSettings settings, const NodeRotationSource* rotations)
+PcgSolver::PcgSolver(PcgSettings settings, const NodeRotationSource* rotations, const StiffNodeSource* stiff_nodes)
     : settings_(settings),
       rotation_source_(rotations),
+      stiff_source_(stiff_nodes),
+      stiff_update_(settings.stiff_node_budget_MB * 1e6),
       rest_factor_(MakeDirectSolver(settings.direct)), fallback_(MakeDirectSolver(settings.direct)) {}
 
 std::string PcgSolver::name() const {
@@ -73,11 +75,19 @@ void PcgSolver::SetReferenceMatrix(const SystemMatrix& A0) {
     // A zero right-hand side probes the factor's state without solving anything.
     Eigen::VectorXd probe;
     has_rest_factor_ = rest_factor_->Solve(A0, Eigen::VectorXd::Zero(a.rows()), probe).converged;
+    if (has_rest_factor_) stiff_update_.SetRestMatrix(A0);
   }
 }
 
 void PcgSolver::Prepare(const SystemMatrix& A) {
   if (warped() && rotation_source_) rotation_source_->ComputeNodeRotations(rotations_);
+  if (settings_.preconditioner == PreconditionerKind::kWarpedRestFactor && has_rest_factor_ && stiff_source_ &&
+      settings_.stiff_node_update) {
+    stiff_nodes_.clear();
+    stiff_source_->AppendStiffNodes(stiff_nodes_);
+    stiff_update_.Prepare(A, stiff_nodes_, rotations_,
+                          [&](const Eigen::VectorXd& b, Eigen::VectorXd& x) { rest_factor_->Solve(A, b, x); });
+  }
   if (settings_.preconditioner == PreconditionerKind::kBlockJacobi || !has_rest_factor_) {  // also the fallback
     block_inverse_.resize(size_t(A.num_nodes()));
     for (int i = 0; i < A.num_nodes(); ++i) {
@@ -89,6 +99,7 @@ void PcgSolver::Prepare(const SystemMatrix& A) {
 }
 
 void PcgSolver::ApplyPreconditioner(const SystemMatrix& A, const Eigen::VectorXd& r, Eigen::VectorXd& z) {
+
   const int n = int(r.size() / 3);
   if (settings_.preconditioner != PreconditionerKind::kBlockJacobi && has_rest_factor_) {
     const bool incomplete = settings_.preconditioner == PreconditionerKind::kWarpedRestIncompleteCholesky;
@@ -102,9 +113,11 @@ void PcgSolver::ApplyPreconditioner(const SystemMatrix& A, const Eigen::VectorXd
       tmp_.resize(r.size());
       for (int i = 0; i < n; ++i) tmp_.segment<3>(3 * i) = rotations_[size_t(i)].transpose() * r.segment<3>(3 * i);
       z = solve(tmp_);
+      if (!incomplete) stiff_update_.Apply(z);
       for (int i = 0; i < n; ++i) z.segment<3>(3 * i) = rotations_[size_t(i)] * z.segment<3>(3 * i).eval();
     } else {
       z = solve(r);
+      if (!incomplete) stiff_update_.Apply(z);
     }
     return;
   }
@@ -184,7 +197,8 @@ const config::EnumNames<LinearSolverKind>& NamesOf(LinearSolverKind) {
 std::vector<std::string> LinearSolverNames() { return config::AllNames<LinearSolverKind>(); }
 
 std::unique_ptr<LinearSolver> MakeLinearSolver(const std::string& name, const PcgSettings& pcg,
-                                               const NodeRotationSource* rotations) {
+                                               const NodeRotationSource* rotations,
+                                               const StiffNodeSource* stiff_nodes) {
   PcgSettings s = pcg;
   switch (config::ParseEnum<LinearSolverKind>(name, "linear solver")) {
     case LinearSolverKind::kLdlt: return std::make_unique<DirectLdltSolver>();
@@ -200,7 +214,7 @@ std::unique_ptr<LinearSolver> MakeLinearSolver(const std::string& name, const Pc
       break;
     case LinearSolverKind::kPcgWarpIchol: s.preconditioner = PreconditionerKind::kWarpedRestIncompleteCholesky; break;
   }
-  return std::make_unique<PcgSolver>(s, rotations);
+  return std::make_unique<PcgSolver>(s, rotations, stiff_nodes);
 }
 
 }  // namespace sedbridge::fem

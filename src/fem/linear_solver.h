@@ -17,6 +17,8 @@
 #include "common/enum_names.h"
 #include "common/no_copy_no_move.h"
 #include "fem/node_rotation_source.h"
+#include "fem/stiff_node_source.h"
+#include "fem/stiff_node_update.h"
 #include "fem/system_matrix.h"
 
 namespace sedbridge::fem {
@@ -75,6 +77,11 @@ struct PcgSettings {
   /// Factorization for the warped rest factor and the fallback. CHOLMOD, the faster one on
   /// the shipped models (measured: docs/performance.md, "Supernodal Cholesky").
   DirectSolverKind direct = DirectSolverKind::kCholmod;
+  /// Warped rest factor only: add the stiff nodes' extra diagonal blocks (contact springs)
+  /// to the preconditioner by a low-rank update (fem/stiff_node_update.h).
+  bool stiff_node_update = true;
+  /// Memory for that update's cached columns of the rest factor's inverse [MB].
+  double stiff_node_budget_MB = 64.0;
 };
 
 class PcgSolver final : public LinearSolver {
@@ -83,7 +90,10 @@ class PcgSolver final : public LinearSolver {
   /// @param settings  tolerance, preconditioner, fallback
   /// @param rotations where the warped preconditioners take the per-node rotations from,
   ///                  read at each Prepare (kept by pointer; null = the rest factor unrotated)
-  explicit PcgSolver(PcgSettings settings, const NodeRotationSource* rotations = nullptr);
+  /// @param stiff_nodes which nodes' extra stiffness the warped rest factor is updated with
+  ///                  at each Prepare (kept by pointer; null = none)
+  explicit PcgSolver(PcgSettings settings, const NodeRotationSource* rotations = nullptr,
+                     const StiffNodeSource* stiff_nodes = nullptr);
   std::string name() const override;
   /// Block Jacobi: inverts the diagonal blocks. Warped: takes the node rotations.
   void Prepare(const SystemMatrix& A) override;
@@ -91,6 +101,8 @@ class PcgSolver final : public LinearSolver {
   void SetReferenceMatrix(const SystemMatrix& A0) override;
   bool wants_reference_matrix() const override { return warped(); }
   int fallbacks() const { return fallbacks_; }
+  /// Rank of the stiff-node update at the last Prepare (0 = none).
+  int stiff_node_rank() const { return stiff_update_.rank(); }
 
  private:
   void ApplyPreconditioner(const SystemMatrix& A, const Eigen::VectorXd& r, Eigen::VectorXd& z);
@@ -98,6 +110,9 @@ class PcgSolver final : public LinearSolver {
 
   PcgSettings settings_;
   const NodeRotationSource* rotation_source_ = nullptr;
+  const StiffNodeSource* stiff_source_ = nullptr;
+  StiffNodeUpdate stiff_update_;
+  std::vector<int> stiff_nodes_;
   std::vector<Eigen::Matrix3d> block_inverse_;
   std::unique_ptr<LinearSolver> rest_factor_;  // direct solver holding the rest matrix's factor
   Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> rest_incomplete_;
@@ -119,8 +134,10 @@ std::vector<std::string> LinearSolverNames();
 /// Builds a solver by name (NamesOf(LinearSolverKind)); pcg_jacobi and pcg_warp_ichol fall
 /// back to pcg.direct. Throws std::invalid_argument for an unknown name, listing the names.
 /// `rotations`: the warped PCGs' rotation source (normally the elastic term; kept by
-/// pointer, null = none).
+/// pointer, null = none). `stiff_nodes`: the warped PCGs' stiff-node source (normally the
+/// penalty contact term; null = none).
 std::unique_ptr<LinearSolver> MakeLinearSolver(const std::string& name, const PcgSettings& pcg,
-                                               const NodeRotationSource* rotations = nullptr);
+                                               const NodeRotationSource* rotations = nullptr,
+                                               const StiffNodeSource* stiff_nodes = nullptr);
 
 }  // namespace sedbridge::fem

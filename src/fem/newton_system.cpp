@@ -29,12 +29,31 @@ void NewtonSystem::Assemble(const SystemState& s, double ks, double kd, bool wit
     sink.stiffness_times_velocity = &k_times_v_;
   }
   if (with_matrix) matrix_.SetZero();
-  for (const auto& term : terms_) term->AddForce(s, force_, with_matrix ? &sink : nullptr);
+  const bool split = with_matrix && !matrix_ready_ && solver_->wants_reference_matrix();
+  // Terms in order, except that for the reference matrix those not in it come last (in
+  // their own order) so that their values can be told apart.
+  for (const auto& term : terms_)
+    if (!split || term->InRestMatrix()) term->AddForce(s, force_, with_matrix ? &sink : nullptr);
+  if (!split) return;
+  const double* values = matrix_.values();
+  not_in_rest_values_.assign(values, values + matrix_.num_values());
+  for (const auto& term : terms_)
+    if (!term->InRestMatrix()) term->AddForce(s, force_, &sink);
+  for (size_t k = 0; k < not_in_rest_values_.size(); ++k) not_in_rest_values_[k] = values[k] - not_in_rest_values_[k];
 }
 
 void NewtonSystem::PrepareSolver(StageTimes& times) {
   const StageTimer timer(times, Stage::kSolve);
-  if (!matrix_ready_ && solver_->wants_reference_matrix()) solver_->SetReferenceMatrix(matrix_);
+  if (!matrix_ready_ && solver_->wants_reference_matrix()) {
+    double* values = matrix_.values();
+    const bool split = not_in_rest_values_.size() == size_t(matrix_.num_values());
+    if (split)
+      for (size_t k = 0; k < not_in_rest_values_.size(); ++k) values[k] -= not_in_rest_values_[k];
+    solver_->SetReferenceMatrix(matrix_);
+    if (split)
+      for (size_t k = 0; k < not_in_rest_values_.size(); ++k) values[k] += not_in_rest_values_[k];
+    not_in_rest_values_.clear();
+  }
   solver_->Prepare(matrix_);
   matrix_ready_ = true;
 }

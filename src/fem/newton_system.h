@@ -33,8 +33,9 @@ class NewtonSystem {
   void Assemble(const SystemState& state, double stiffness_scale, double damping_scale, bool with_matrix,
                 bool k_times_v = false, StageTimes* times = nullptr);
   /// After the matrix was assembled: hands the first one to the solver as its reference
-  /// (rest) matrix if it wants one, then prepares (factorizes) the solver. Its wall time
-  /// goes to times[kSolve].
+  /// (rest) matrix if it wants one, without the terms that are not InRestMatrix() (contact
+  /// springs present at that moment would stay in the rest factor for good), then prepares
+  /// (factorizes) the solver. Its wall time goes to times[kSolve].
   void PrepareSolver(StageTimes& times);
   /// Solves matrix() delta = rhs (delta holds the initial guess) and sums the solve into
   /// `report` as one Newton iteration (its wall time into report.stage_ms[kSolve]).
@@ -64,6 +65,9 @@ class NewtonSystem {
   Eigen::VectorXd force_, k_times_v_;
   bool constant_matrix_ = true;
   bool matrix_ready_ = false;
+  // First assembly for a solver that wants a rest matrix: the values the terms that are
+  // not InRestMatrix() added, subtracted while the reference is taken.
+  std::vector<double> not_in_rest_values_;
 };
 
 }  // namespace sedbridge::fem

@@ -62,4 +62,8 @@ Eigen::Vector3d PenaltyContactForce::TotalSpringForce() const {
 
 double PenaltyContactForce::TotalSpringForceMagnitude() const { return TotalSpringForce().norm(); }
 
+void PenaltyContactForce::AppendStiffNodes(std::vector<int>& nodes) const {
+  for (const auto& c : active_) nodes.push_back(c.node);
+}
+
 }  // namespace sedbridge::fem

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "fem/force_term.h"
+#include "fem/stiff_node_source.h"
 #include "common/geometry/rigid_object.h"
 
 namespace sedbridge::fem {
@@ -26,7 +27,7 @@ struct ActiveContact {
   double normal_force_N = 0;      ///< spring + damper, clamped >= 0
 };
 
-class PenaltyContactForce final : public ForceTerm {
+class PenaltyContactForce final : public ForceTerm, public StiffNodeSource {
  public:
   /// @param candidate_nodes nodes that may touch (the skin); objects are in the model frame.
   PenaltyContactForce(std::vector<int> candidate_nodes, std::vector<geometry::RigidObject> objects,
@@ -36,8 +37,11 @@ class PenaltyContactForce final : public ForceTerm {
   void BindMatrix(const SystemMatrix& matrix) override;
   void AddForce(const SystemState& state, Eigen::VectorXd& force_N, JacobianSink* sink) override;
   double PotentialEnergy(const SystemState& state) const override;
+  bool InRestMatrix() const override { return false; }
 
   const std::vector<ActiveContact>& active_contacts() const { return active_; }
+  /// The active contacts' nodes: their springs are the stiff part of a step's matrix.
+  void AppendStiffNodes(std::vector<int>& nodes) const override;
   /// Sum of spring forces k*depth*n over active contacts, force ON the objects is the
   /// negative. Model frame [N].
   Eigen::Vector3d TotalSpringForce() const;

@@ -22,6 +22,7 @@ class PseudoFrictionForce final : public ForceTerm {
   void BindMatrix(const SystemMatrix& matrix) override { matrix_ = &matrix; }
   void AddForce(const SystemState& state, Eigen::VectorXd& force_N, JacobianSink* sink) override;
   void EndStep(const SystemState& state) override;
+  bool InRestMatrix() const override { return false; }  // springs only at nodes in contact
 
   size_t num_anchors() const { return anchors_.size(); }
 

@@ -165,6 +165,7 @@ struct SceneDescription {
       so->Visit(Field("tolerance", &pcg.relative_tolerance).Positive());
       so->Visit(Field("max_iterations", &pcg.max_iterations).AtLeast(1));
       so->Visit(Field("fallback_to_direct", &pcg.fallback_to_direct));
+      so->Visit(Field("contact_update", &pcg.stiff_node_update));  // warped PCG: contact springs in the preconditioner
     });
     a->Visit(Field("bone", &bone));        // absent: the soft tissue floats
     a->Visit(Field("contact", &contact));  // absent: no contact term

@@ -50,6 +50,13 @@ void Report(benchmark::State& state, std::vector<double> ms) {
   state.counters["threads"] = omp_get_max_threads();
 }
 
+// Where the step's time went (mean per step): assembly, solve, SED; PCG iterations per step.
+void ReportStages(benchmark::State& state, double linear_iterations, const StageTimes& stage_sum_ms, size_t steps) {
+  state.counters["linear_iterations"] = linear_iterations / double(steps);
+  for (Stage stage : {Stage::kAssembly, Stage::kSolve, Stage::kSed})
+    state.counters[std::string(ToString(stage)) + "_ms"] = stage_sum_ms[stage] / double(steps);
+}
+
 void ReportTeam(benchmark::State& state, const fem::Simulation& sim) {
   if (state.range(0) == 0) state.counters["threads"] = sim.thread_team().chosen();
 }
@@ -92,20 +99,24 @@ void TractionStep(benchmark::State& state, const std::string& elasticity, const 
     linear_iterations += r.linear_iterations;
     stage_sum_ms.Add(r.stage_ms);
   }
-  state.counters["linear_iterations"] = linear_iterations / double(ms.size());
-  // Where the step's time went (mean per step): assembly, solve, SED.
-  for (Stage stage : {Stage::kAssembly, Stage::kSolve, Stage::kSed})
-    state.counters[std::string(ToString(stage)) + "_ms"] = stage_sum_ms[stage] / double(ms.size());
+  ReportStages(state, linear_iterations, stage_sum_ms, ms.size());
   Report(state, ms);
   ReportTeam(state, s.simulation());
 }
 
 // The paper's press, dynamic: backward Euler at 1 ms with penalty contact, the plane
 // pushed 2 mm in 1 s; timed while in contact.
-void ContactPressStep(benchmark::State& state, const std::string& elasticity, const std::string& solver) {
+// A solver name ending in "/rest_only" turns the contact update of the warped PCG off
+// (solver.contact_update: false): the rest factor alone, as before that update.
+void ContactPressStep(benchmark::State& state, const std::string& elasticity, const std::string& solver_case) {
   SetThreads(state);
+  const std::string suffix = "/rest_only";
+  const bool rest_only = solver_case.size() > suffix.size() &&
+                         solver_case.compare(solver_case.size() - suffix.size(), suffix.size(), suffix) == 0;
+  const std::string solver = rest_only ? solver_case.substr(0, solver_case.size() - suffix.size()) : solver_case;
   const std::string yaml = "model: " + ModelName() + "\nelasticity: " + elasticity + "\nsolver: {type: " + solver +
-                           ", tolerance: 1.0e-6, max_iterations: 200}\n"
+                           ", tolerance: 1.0e-6, max_iterations: 200" + (rest_only ? ", contact_update: false" : "") +
+                           "}\n"
                            "dynamics: {integrator: backward_euler, dt_s: 0.001, newton_iterations: 1}\n"
                            "bone: {mode: fixed}\ncontact:\n  objects:\n    - {shape: plane, rpy_deg: [180, 0, 0], "
                            "position_mm: [0, 0, -0.5], motion: {keyframes: [{t_s: 0, offset_mm: [0, 0, 0]}, "
@@ -113,12 +124,17 @@ void ContactPressStep(benchmark::State& state, const std::string& elasticity, co
   scene::FingertipScene s(scene::ParseSceneDescription(yaml, "bench"), SharedModel());
   std::vector<double> ms;
   for (int warm = 0; warm < 3; ++warm) s.Step();
+  double linear_iterations = 0;
+  StageTimes stage_sum_ms;
   for (auto _ : state) {
     const auto t0 = std::chrono::steady_clock::now();
-    s.Step();
+    const fem::StepReport r = s.Step();
     ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    linear_iterations += r.linear_iterations;
+    stage_sum_ms.Add(r.stage_ms);
   }
   state.counters["contacts"] = double(s.contact()->active_contacts().size());
+  ReportStages(state, linear_iterations, stage_sum_ms, ms.size());
   Report(state, ms);
   ReportTeam(state, s.simulation());
 }
@@ -188,8 +204,9 @@ void Register() {
           ->Unit(benchmark::kMillisecond)->UseRealTime();
     }
   for (auto [el, solver] : std::vector<std::pair<const char*, const char*>>{
-           {"linear", "ldlt"}, {"linear", "cholmod"}, {"corotational", "pcg_warp"}, {"corotational", "pcg_warp_ldlt"},
-           {"corotational", "pcg_warp_ichol"}, {"linear", "pcg_warp"}, {"linear", "pcg_warp_ldlt"},
+           {"linear", "ldlt"}, {"linear", "cholmod"}, {"corotational", "pcg_warp"}, {"corotational", "pcg_warp/rest_only"},
+           {"corotational", "pcg_warp_ldlt"}, {"corotational", "pcg_warp_ichol"}, {"linear", "pcg_warp"},
+           {"linear", "pcg_warp/rest_only"}, {"linear", "pcg_warp_ldlt"},
            {"linear", "pcg_warp_ichol"}, {"nodal_pressure", "pcg_warp"}, {"nodal_pressure", "pcg_jacobi"}}) {
     const std::string name = std::string("ContactPressStep/backward_euler/") + el + "/" + solver;
     ThreadArgs(benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { ContactPressStep(st, el, solver); }))
