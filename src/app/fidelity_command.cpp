@@ -55,12 +55,24 @@ int RunFidelity(int argc, char** argv) {
          "recon_yaw_deg,recon_force_N,recon_shear_x_N,recon_shear_y_N,recon_rms_sigma,truth_max_sed_Pa,map_max_sed_Pa,"
          "recon_max_sed_Pa,map_peak_ratio,map_rel_l2,map_peak_offset_mm,map_command_rel_l2,recon_peak_ratio,"
          "recon_rel_l2,recon_peak_offset_mm,recon_command_rel_l2,recon_median_us,recon_max_us,truth_press,recon_press,"
-         "map_peak_region_offset_mm,recon_peak_region_offset_mm\n";
+         "map_peak_region_offset_mm,recon_peak_region_offset_mm,truth_valid,map_within_targets,recon_within_targets\n";
   std::printf("%-16s %-8s %6s | %-8s %6s %5s %6s | map: %5s %5s %5s | recon: %5s %5s %5s\n", "case", "object", "F_N",
               "recon", "R_mm", "dxy", "F_N", "peak", "L2", "off", "peak", "L2", "off");
+  // Scored cases within all three targets, per method (by argmax, by peak region).
+  int scored = 0, map_hits = 0, recon_hits = 0, recon_region_hits = 0;
+  std::vector<std::string> no_truth;
   for (const auto& press : presses) {
     FidelityMaps maps;
     const FidelityRow r = bench.Run(press, &maps);
+    const bool map_within = WithinTargets(r.map_error), recon_within = WithinTargets(r.recon_error);
+    if (r.truth_valid) {
+      ++scored;
+      map_hits += map_within;
+      recon_hits += recon_within;
+      recon_region_hits += WithinTargets(r.recon_error, {}, true);
+    } else {
+      no_truth.push_back(r.name + " (" + r.truth_press + ")");
+    }
     const auto& t = r.truth_object;
     const auto& e = r.recon_object;
     std::printf("%-16s %-8s %6.3f | %-8s %6.2f %5.2f %6.3f | map: %5.2f %5.2f %5.2f | recon: %5.2f %5.2f %5.2f%s\n",
@@ -68,11 +80,11 @@ int RunFidelity(int argc, char** argv) {
                 sensors::ContactShapeName(e.shape), e.radius_mm, std::hypot(e.x_mm - t.x_mm, e.y_mm - t.y_mm),
                 e.normal_force_N, r.map_error.peak_ratio, r.map_error.rel_l2, r.map_error.peak_offset_mm,
                 r.recon_error.peak_ratio, r.recon_error.rel_l2, r.recon_error.peak_offset_mm,
-                r.recon_ok ? "" : "  (fallback)");
+                !r.truth_valid ? "  (no valid truth: not scored)" : r.recon_ok ? "" : "  (fallback)");
     std::fflush(stdout);
     char line[2048];
     std::snprintf(line, sizeof line,
-                  "%s,\"%s\",%s,%g,%g,%g,%g,%g,%d,%s,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%s,%s,%g,%g\n",
+                  "%s,\"%s\",%s,%g,%g,%g,%g,%g,%d,%s,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%s,%s,%g,%g,%d,%d,%d\n",
                   r.name.c_str(), r.label.c_str(), r.truth_is_primitive ? sensors::ContactShapeName(t.shape) : "other", t.x_mm, t.y_mm, t.radius_mm, t.yaw_deg,
                   t.normal_force_N, r.recon_ok ? 1 : 0, sensors::ContactShapeName(e.shape), e.x_mm, e.y_mm,
                   e.radius_mm, e.yaw_deg, e.normal_force_N, e.shear_x_N, e.shear_y_N, r.recon_rms_sigma,
@@ -80,7 +92,8 @@ int RunFidelity(int argc, char** argv) {
                   r.map_error.rel_l2, r.map_error.peak_offset_mm, r.map_error.command_rel_l2,
                   r.recon_error.peak_ratio, r.recon_error.rel_l2, r.recon_error.peak_offset_mm,
                   r.recon_error.command_rel_l2, r.recon_median_us, r.recon_max_us, r.truth_press.c_str(),
-                  r.recon_press.c_str(), r.map_error.peak_region_offset_mm, r.recon_error.peak_region_offset_mm);
+                  r.recon_press.c_str(), r.map_error.peak_region_offset_mm, r.recon_error.peak_region_offset_mm,
+                  r.truth_valid ? 1 : 0, map_within ? 1 : 0, recon_within ? 1 : 0);
     csv << line;
     std::ofstream m(out + "/maps/" + r.name + ".csv");
     m << "x_mm,y_mm,z_mm,truth_sed_Pa,map_sed_Pa,recon_sed_Pa\n";
@@ -89,6 +102,16 @@ int RunFidelity(int argc, char** argv) {
         << maps.truth[i] << ',' << maps.map[i] << ',' << maps.recon[i] << '\n';
   }
   csv.close();
+  const FidelityTargets t;
+  std::printf("within all three targets (peak ratio %.2f-%.2f, rel. L2 <= %.2f, peak offset <= %.1f mm), of %d scored "
+              "cases: reconstructed contact %d (%d by peak region), pressure map %d\n",
+              t.min_peak_ratio, t.max_peak_ratio, t.max_rel_l2, t.max_peak_offset_mm, scored, recon_hits,
+              recon_region_hits, map_hits);
+  if (!no_truth.empty()) {
+    std::printf("not scored, %zu: the object does not reach the measured force on the leader's pad:", no_truth.size());
+    for (const auto& n : no_truth) std::printf("\n  %s", n.c_str());
+    std::printf("\n");
+  }
   std::printf("wrote %s/fidelity.csv and %s/maps/\n", out.c_str(), out.c_str());
   if (!args.GetFlag("no-plots")) RunPlotScript("plot_fidelity.py", {out});
   return 0;

@@ -62,6 +62,12 @@ MethodError Compare(const Eigen::Matrix3Xd& pad_mm, const Eigen::VectorXd& s, co
 
 }  // namespace
 
+bool WithinTargets(const MethodError& e, const FidelityTargets& t, bool by_peak_region) {
+  const double offset_mm = by_peak_region ? e.peak_region_offset_mm : e.peak_offset_mm;
+  return e.peak_ratio >= t.min_peak_ratio && e.peak_ratio <= t.max_peak_ratio && e.rel_l2 <= t.max_rel_l2 &&
+         offset_mm <= t.max_peak_offset_mm;
+}
+
 FidelityBenchmark::FidelityBenchmark(const std::string& model_name, const sensors::SensorProfile& profile,
                                      const display::DisplayProfile& display, const std::string& cache_dir)
     : profile_(profile) {
@@ -129,7 +135,8 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
   {
     const auto r = leader_->PressToForce(press.ObjectsAt(peak), row.truth_object.normal_force_N, {},
                                          Eigen::Vector2d(row.truth_object.shear_x_N, row.truth_object.shear_y_N));
-    row.truth_press = PressAnswered(r, *leader_) ? "reached" : scene::ToString(r.status);
+    row.truth_valid = PressAnswered(r, *leader_);
+    row.truth_press = row.truth_valid ? "reached" : scene::ToString(r.status);
     if (!r.reached) row.truth_press += " (" + std::to_string(r.force_N) + " N at " + std::to_string(r.indentation_mm) + " mm)";
     maps->truth = leader_->sed_Pa();
   }

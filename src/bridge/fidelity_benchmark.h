@@ -51,6 +51,18 @@ struct MethodError {
   double command_rel_l2 = 0;   ///< same as rel_l2, on the display command
 };
 
+/// Issue 11's targets at the peak scan.
+struct FidelityTargets {
+  double min_peak_ratio = 0.8, max_peak_ratio = 1.25;
+  double max_rel_l2 = 0.25;
+  double max_peak_offset_mm = 1.0;
+};
+
+/// True when peak ratio, relative L2 and peak offset are all within `targets`. With
+/// `by_peak_region`, the offset is MethodError::peak_region_offset_mm (ridges), else the
+/// argmax distance.
+bool WithinTargets(const MethodError& e, const FidelityTargets& targets = {}, bool by_peak_region = false);
+
 struct FidelityRow {
   std::string name;
   std::string label;                   ///< the true object in words
@@ -61,6 +73,10 @@ struct FidelityRow {
   double recon_rms_sigma = 0;
   double truth_max_sed_Pa = 0, map_max_sed_Pa = 0, recon_max_sed_Pa = 0;
   std::string truth_press, recon_press;  ///< PressToForce status
+  /// False when the truth press did not reach the measured force (the object cannot load
+  /// the leader's pad that much, e.g. at its edge): the case has no truth to score against,
+  /// and the benchmark lists it apart instead of counting it as a hit or a miss.
+  bool truth_valid = false;
   MethodError map_error, recon_error;
   double recon_median_us = 0, recon_max_us = 0;  ///< reconstruction time per scan
   int scans = 0, fallbacks = 0;

@@ -66,3 +66,47 @@ TEST(FidelityBenchmark, RigRodsMeetTheTargetsWithReconstructedContact) {
 
 }  // namespace
 }  // namespace sedbridge::bridge
+
+namespace sedbridge::bridge {
+namespace {
+
+// press_11 (a 3.5 mm sphere at the pad's corner, 0.3 N): on the leader's pad the sphere cannot
+// reach the measured force (patch_edge), so the case has no truth to score against; the
+// benchmark says so instead of counting a hit or a miss. press_01 has one and meets the targets.
+TEST(FidelityBenchmark, CaseWithoutAValidTruthIsFlaggedNotScored) {
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
+  const auto presses = sensors::LoadCalibrationPresses(
+      config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), profile);
+  FidelityBenchmark bench("B", profile, display::LoadNamedDisplayProfile("suction_4x4"), "");
+  FidelityMaps maps;
+  const FidelityRow edge = bench.Run(FromCalibrationPress(presses[11]), &maps);
+  EXPECT_FALSE(edge.truth_valid);
+  EXPECT_EQ(edge.truth_press.rfind("patch_edge", 0), 0u) << edge.truth_press;
+  const FidelityRow centre = bench.Run(FromCalibrationPress(presses[1]), &maps);
+  EXPECT_TRUE(centre.truth_valid);
+  EXPECT_EQ(centre.truth_press, "reached");
+  EXPECT_TRUE(WithinTargets(centre.recon_error));
+  EXPECT_FALSE(WithinTargets(centre.map_error));
+}
+
+TEST(FidelityBenchmark, WithinTargetsChecksAllThreeAtTheirBounds) {
+  MethodError e;
+  e.peak_ratio = 0.8;
+  e.rel_l2 = 0.25;
+  e.peak_offset_mm = 1.0;
+  e.peak_region_offset_mm = 2.0;
+  EXPECT_TRUE(WithinTargets(e));
+  EXPECT_FALSE(WithinTargets(e, {}, true));  // by peak region: 2 mm
+  MethodError high = e;
+  high.peak_ratio = 1.26;
+  EXPECT_FALSE(WithinTargets(high));
+  MethodError l2 = e;
+  l2.rel_l2 = 0.26;
+  EXPECT_FALSE(WithinTargets(l2));
+  MethodError far = e;
+  far.peak_offset_mm = 1.01;
+  EXPECT_FALSE(WithinTargets(far));
+}
+
+}  // namespace
+}  // namespace sedbridge::bridge
