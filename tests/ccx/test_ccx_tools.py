@@ -11,6 +11,7 @@ REPO = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), 
 sys.path.insert(0, os.path.join(REPO, "tools", "ccx"))
 import export_deck  # noqa: E402
 import fingertip  # noqa: E402
+import compare_paths  # noqa: E402
 import read_results  # noqa: E402
 
 _MODELS = {}
@@ -181,6 +182,66 @@ class ReaderTest(unittest.TestCase):
                 self.assertAlmostEqual(vs[v], value)
         both = read_results.MerkelMap(m).vertex_sed(esed)
         self.assertTrue(any(2.0 < both[v] < 5.0 for v in both))  # the two-sided mean mixes them
+
+
+class ComparePathsTest(unittest.TestCase):
+    """compare_paths.py's normalizations and smoothing scale."""
+
+    @staticmethod
+    def path(f, peak_of_map=None):
+        xs = [round(-6.0 + 0.1 * k, 6) for k in range(121)]
+        ys = [f(x) for x in xs]
+        top = peak_of_map if peak_of_map else max(ys)
+        return {"x_mm": xs, "sed_Pa": ys, "sed_normalized": [y / top for y in ys]}
+
+    def test_smoothing_keeps_a_constant_and_a_line(self):
+        p = self.path(lambda x: 3.0)
+        self.assertTrue(all(abs(y - 3.0) < 1e-12 for y in compare_paths.smoothed(p["x_mm"], p["sed_Pa"], 1.0)))
+        line = self.path(lambda x: 2.0 + 0.5 * x)
+        sm = compare_paths.smoothed(line["x_mm"], line["sed_Pa"], 0.5)
+        mid = [i for i, x in enumerate(line["x_mm"]) if abs(x) < 3.0]  # away from the ends
+        for i in mid:
+            self.assertAlmostEqual(sm[i], line["sed_Pa"][i], 6)
+        self.assertEqual(compare_paths.smoothed(line["x_mm"], line["sed_Pa"], 0.0), line["sed_Pa"])
+
+    def test_path_normalization_ignores_the_map_maximum(self):
+        # The same path shape under two map maxima 8 % apart: a map-normalized comparison sees
+        # the offset, a path-normalized one does not.
+        shape = lambda x: math.exp(-x * x / 4.0)  # noqa: E731
+        a, b = self.path(shape, 1.0), self.path(shape, 1.08)
+        mean_map = compare_paths.path_errors(compare_paths.prepared(a), compare_paths.prepared(b))[0]
+        mean_path = compare_paths.path_errors(compare_paths.prepared(a, "path"), compare_paths.prepared(b, "path"))[0]
+        self.assertGreater(mean_map, 0.02)
+        self.assertLess(mean_path, 1e-12)
+        self.assertAlmostEqual(max(compare_paths.prepared(a, "path", 0.5)["sed_normalized"]), 1.0)
+        with self.assertRaises(ValueError):
+            compare_paths.prepared(a, "peak")
+
+    def test_smoothing_removes_a_ripple_finer_than_its_scale(self):
+        shape = lambda x: math.exp(-x * x / 8.0)  # noqa: E731
+        a = self.path(shape)
+        b = self.path(lambda x: shape(x) * (1.0 + 0.1 * math.cos(2 * math.pi * x / 0.4)))  # 0.4 mm ripple
+        raw = compare_paths.path_errors(compare_paths.prepared(a, "path"), compare_paths.prepared(b, "path"))[0]
+        at_1mm = compare_paths.path_errors(compare_paths.prepared(a, "path", 1.0),
+                                           compare_paths.prepared(b, "path", 1.0))[0]
+        self.assertGreater(raw, 0.02)
+        self.assertLess(at_1mm, 0.1 * raw)
+
+    def test_plot_path_scale_writes_a_png_from_the_committed_table(self):
+        import subprocess
+        exe = fingertip.plot_python()
+        if subprocess.call([exe, "-c", "import matplotlib"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL):
+            self.skipTest("no matplotlib")
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "scale.png")
+            subprocess.check_call([exe, os.path.join(REPO, "tools", "ccx", "plot_path_scale.py"),
+                                   os.path.join(REPO, "docs", "validation", "path_scale", "path_scale.csv"), out],
+                                  stdout=subprocess.DEVNULL)
+            self.assertGreater(os.path.getsize(out), 10000)
+            bad = subprocess.call([exe, os.path.join(REPO, "tools", "ccx", "plot_path_scale.py"),
+                                   os.path.join(REPO, "docs", "validation", "path_scale", "path_scale.csv"), out,
+                                   "--reference", "Z"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+            self.assertNotEqual(bad, 0)
 
 
 if __name__ == "__main__":

@@ -2,7 +2,7 @@
 """Table III of the paper: errors of normalized SED path plots against a reference run.
 
 usage: compare_paths.py REF_DIR RUN_DIR [RUN_DIR ...] [--labels REF,RUN1,...]
-                        [--csv OUT.csv] [--plot OUTDIR]
+                        [--csv OUT.csv] [--plot OUTDIR] [--normalize map|path] [--smooth-mm S]
 
 Each DIR holds sed_path.csv (x_mm, sed_Pa, sed_normalized) as written by `sedbridge press`
 or tools/ccx/run_reference.py. Both paths are put on a common grid: the reference's x
@@ -10,9 +10,18 @@ samples inside the x range the two paths share, the run linearly interpolated th
 a markdown table with the mean and max absolute error of sed_normalized, the grid size and
 range, and (extra) the relative error of the map maximum SED and of the force at the last
 step. With --plot, runs tools/plot_press.py on all dirs (Figs 6, 7, 10-12 overlaid).
+
+--normalize map (default) is the paper's Table III: SED divided by the maximum of each
+Merkel map (sed_normalized as written). --normalize path divides each path by its own
+maximum instead: a comparison of shape along the path that does not hinge on the single
+vertex holding the map maximum (docs/validation.md, "At what scale does the reference
+converge"). --smooth-mm S first averages each path with a Gaussian of standard deviation S
+along x (its own samples, resampled at 0.05 mm; near the ends the weights are renormalized
+over the samples that exist), i.e. compares at a spatial scale of about S.
 """
 import argparse
 import csv
+import math
 import os
 import subprocess
 import sys
@@ -47,6 +56,33 @@ def interp(xs, ys, x):
     return ys[lo] + t * (ys[hi] - ys[lo])
 
 
+def smoothed(xs, ys, sigma_mm, step_mm=0.05):
+    """ys averaged along x with a Gaussian of standard deviation sigma_mm (0: unchanged),
+    evaluated at xs; each path only uses its own samples (weights renormalized near the ends)."""
+    if sigma_mm <= 0:
+        return list(ys)
+    n = int(round((xs[-1] - xs[0]) / step_mm))
+    fine_x = [xs[0] + k * (xs[-1] - xs[0]) / max(n, 1) for k in range(n + 1)]
+    fine_y = [interp(xs, ys, x) for x in fine_x]
+    out = []
+    for x0 in xs:
+        w = [math.exp(-0.5 * ((x - x0) / sigma_mm) ** 2) for x in fine_x]
+        out.append(sum(wi * yi for wi, yi in zip(w, fine_y)) / sum(w))
+    return out
+
+
+def prepared(path, normalize="map", smooth_mm=0.0):
+    """The path's x and the values compared: sed_normalized (map) or sed_Pa over its own
+    maximum (path), after smoothing."""
+    if normalize not in ("map", "path"):
+        raise ValueError(f"normalize: 'map' or 'path', not {normalize!r}")
+    if normalize == "map":
+        return {"x_mm": path["x_mm"], "sed_normalized": smoothed(path["x_mm"], path["sed_normalized"], smooth_mm)}
+    ys = smoothed(path["x_mm"], path["sed_Pa"], smooth_mm)
+    top = max(ys)
+    return {"x_mm": path["x_mm"], "sed_normalized": [y / top if top > 0 else 0.0 for y in ys]}
+
+
 def path_errors(ref, run):
     """Mean and max |run - ref| of sed_normalized on the reference's x inside the shared range."""
     lo = max(ref["x_mm"][0], run["x_mm"][0])
@@ -76,6 +112,10 @@ def main():
     ap.add_argument("--plot", default=None, help="write overlaid plots into this dir")
     ap.add_argument("--target-force", type=float, default=1.0,
                     help="only for the 'map at' column: the step closest to this force [N]")
+    ap.add_argument("--normalize", choices=("map", "path"), default="map",
+                    help="divide by each map's maximum (the paper's, default) or by each path's own maximum")
+    ap.add_argument("--smooth-mm", type=float, default=0.0,
+                    help="Gaussian standard deviation along x before comparing [mm] (default 0: none)")
     a = ap.parse_args()
     if len(a.dirs) < 2:
         ap.error("need a reference and at least one run")
@@ -83,18 +123,22 @@ def main():
     if len(labels) != len(a.dirs):
         ap.error("--labels needs one label per dir")
     ref_dir = a.dirs[0]
-    ref = read_cols(os.path.join(ref_dir, "sed_path.csv"))
+    if a.smooth_mm < 0:
+        ap.error("--smooth-mm must be >= 0")
+    ref = prepared(read_cols(os.path.join(ref_dir, "sed_path.csv")), a.normalize, a.smooth_mm)
     ref_fd = read_cols(os.path.join(ref_dir, "force_displacement.csv"))
     ref_max = max_sed(ref_dir)
     rows = []
-    print(f"Errors of the normalized SED path (y = 2 mm) against {labels[0]}\n")
+    how = "each map's maximum" if a.normalize == "map" else "each path's own maximum"
+    scale = f", Gaussian-smoothed along x (sigma {a.smooth_mm:g} mm)" if a.smooth_mm > 0 else ""
+    print(f"Errors of the normalized SED path (y = 2 mm; divided by {how}{scale}) against {labels[0]}\n")
     print("| run | mean abs. err. | max abs. err. | grid (x range) | map at (d / F) | max SED [Pa] (vs ref) "
           "| F at last step [N] (vs ref) |")
     print("|---|---|---|---|---|---|---|")
     print(f"| {labels[0]} (reference) | - | - | {len(ref['x_mm'])} pts | {selected(ref_fd, a.target_force)} "
           f"| {ref_max:.1f} | {ref_fd['force_N'][-1]:.3f} |")
     for d, label in zip(a.dirs[1:], labels[1:]):
-        run = read_cols(os.path.join(d, "sed_path.csv"))
+        run = prepared(read_cols(os.path.join(d, "sed_path.csv")), a.normalize, a.smooth_mm)
         fd = read_cols(os.path.join(d, "force_displacement.csv"))
         mean, mx, n, lo, hi = path_errors(ref, run)
         m = max_sed(d)
