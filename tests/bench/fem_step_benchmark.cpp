@@ -2,7 +2,10 @@
 // breakdown. Run (Release build):
 //   build/tests/bench/fem_step_benchmark                      # model B, all cases
 //   SEDBRIDGE_BENCH_MODEL=B_coarse build/tests/bench/fem_step_benchmark --benchmark_filter=Traction
-// Counters: median_ms / p99_ms per step, steps_per_s (from the median), threads.
+// Counters: median_ms / p99_ms per step, steps_per_s (from the median), threads; for the
+// traction step and the contact press also assembly_ms / solve_ms / sed_ms (mean per step)
+// and linear_iterations (PCG iterations per step). ContactPressStep/.../pcg_warp/rest_only
+// turns the warped PCG's contact update off (solver.contact_update: false).
 // The argument is the OpenMP team: 1, 2, or 0 = chosen by the step itself
 // (fem/thread_team.h; `threads` then reports the team it kept at the end, 0 = still measuring).
 
