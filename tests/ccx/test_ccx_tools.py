@@ -243,6 +243,19 @@ class ComparePathsTest(unittest.TestCase):
                                    "--reference", "Z"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
             self.assertNotEqual(bad, 0)
 
+    def test_path_scale_study_compares_every_definition_scale_and_normalization(self):
+        import path_scale_study
+        with tempfile.TemporaryDirectory() as d:
+            out = os.path.join(d, "t.csv")
+            sys.argv = ["path_scale_study.py", "--out", out]
+            self.assertEqual(path_scale_study.main(), 0)
+            import csv
+            rows = list(csv.DictReader(open(out)))
+        # both sides: A, A_coarse, B, C; one side: A_coarse, B, C; x 2 normalizations x 3 scales
+        self.assertEqual(len(rows), (4 + 3 + 3) * 2 * 3)
+        self.assertEqual({r["merkel_side"] for r in rows}, {"both", "epidermis", "dermis"})
+        self.assertTrue(all(float(r["mean_abs_err"]) <= float(r["max_abs_err"]) for r in rows))
+
 
 if __name__ == "__main__":
     unittest.main(verbosity=1)
