@@ -20,8 +20,10 @@ double ElementSed(const TetElement& e, const Eigen::Matrix3d& F, const Eigen::Ma
 }
 
 VertexSedEvaluator::VertexSedEvaluator(const ElasticTetForce& elastic, std::vector<int> vertices,
-                                       const NodalPressureTetForce* nodal)
+                                       const NodalPressureTetForce* nodal, const std::vector<char>* averaged)
     : elastic_(elastic), vertices_(std::move(vertices)), nodal_(nodal) {
+  if (averaged && averaged->size() != size_t(elastic.mesh().num_tets()))
+    throw std::invalid_argument("VertexSedEvaluator: the averaged-element mask needs one entry per tet");
   // Without the nodal term a deviatoric-only element would report SED without its bulk part.
   if (elastic.deviatoric_only() && !nodal)
     throw std::invalid_argument("VertexSedEvaluator: a deviatoric-only elastic term needs its nodal pressure term");
@@ -38,7 +40,10 @@ VertexSedEvaluator::VertexSedEvaluator(const ElasticTetForce& elastic, std::vect
   }
   for (int v : vertices_) {
     std::vector<int> ids;
-    for (int t : node_elements[size_t(v)]) ids.push_back(local[t]);
+    for (int t : node_elements[size_t(v)])
+      if (!averaged || (*averaged)[size_t(t)]) ids.push_back(local[t]);
+    if (ids.empty())
+      for (int t : node_elements[size_t(v)]) ids.push_back(local[t]);
     vertex_local_.push_back(std::move(ids));
   }
   warm_.assign(elements_.size(), Eigen::Quaterniond::Identity());

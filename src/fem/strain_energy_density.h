@@ -27,9 +27,13 @@ class VertexSedEvaluator {
   ///                  element's four patch strains (= pbar thetabar / 2, pbar = kappa thetabar)
   ///                  (elements outside the vertices' own feed theta with the elastic
   ///                  term's rotations of its last assembly: second-order accurate)
-  /// Throws std::invalid_argument for a deviatoric-only `elastic` without `nodal`.
+  /// @param averaged  per mesh tet, nonzero = its SED enters the vertex averages (a one-sided
+  ///                  value); null = every element around a vertex. A vertex none of whose
+  ///                  elements is included averages all of them.
+  /// Throws std::invalid_argument for a deviatoric-only `elastic` without `nodal`, or an
+  /// `averaged` mask whose size is not the mesh's tet count.
   VertexSedEvaluator(const ElasticTetForce& elastic, std::vector<int> vertices,
-                     const NodalPressureTetForce* nodal = nullptr);
+                     const NodalPressureTetForce* nodal = nullptr, const std::vector<char>* averaged = nullptr);
 
   /// Vertex SED [Pa] for positions x (3 * #nodes), in the order of vertices().
   void Evaluate(const Eigen::VectorXd& x_m, Eigen::VectorXd& vertex_sed_Pa);

@@ -69,7 +69,8 @@ void FingertipScene::Build() {
   // terms others read); its linear solver is never factorized.
   simulation_ = std::make_unique<fem::Simulation>(m.soft, std::move(terms), d.integrator,
                                                   fem::MakeLinearSolver(compliance ? "ldlt" : ToString(d.solver), d.pcg, &elastic_ref, contact_));
-  if (d.outputs.merkel_sed) merkel_ = std::make_unique<MerkelLayer>(m, *simulation_->elastic(), nodal_pressure_);
+  if (d.outputs.merkel_sed)
+    merkel_ = std::make_unique<MerkelLayer>(m, *simulation_->elastic(), nodal_pressure_, d.outputs.merkel_side);
   if (compliance) compliance_ = std::make_unique<FingertipCompliance>(m, ComplianceOptionsFromScene(d));
   skin_area_m2_ = fem::VertexAreas(m.skin_triangles, m.soft.rest_positions_m);
 }

@@ -3,6 +3,8 @@
 #include <Eigen/Dense>
 #include <algorithm>
 #include <limits>
+#include <stdexcept>
+#include <string>
 #include <unordered_map>
 
 #include "fem/mesh_topology.h"
@@ -22,9 +24,22 @@ constexpr double kSampleCountSlack = 1e-9;
 
 }  // namespace
 
+// Per soft tet: 1 where its material is the named side (empty for both sides).
+std::vector<char> SideMask(const model::FingertipModel& model, MerkelSide side) {
+  if (side == MerkelSide::kBoth) return {};
+  const std::string name = config::NameOf(side);
+  std::vector<char> mask(model.soft.tets.size(), 0);
+  bool found = false;
+  for (size_t t = 0; t < mask.size(); ++t)
+    if (model.soft.materials[size_t(model.soft.tet_material[t])].name == name) mask[t] = found = true;
+  if (!found) throw std::invalid_argument("merkel_side: model '" + model.name + "' has no '" + name + "' material");
+  return mask;
+}
+
 MerkelLayer::MerkelLayer(const model::FingertipModel& model, const fem::ElasticTetForce& elastic,
-                         const fem::NodalPressureTetForce* nodal)
-    : evaluator_(elastic, model.merkel_nodes, nodal) {
+                         const fem::NodalPressureTetForce* nodal, MerkelSide side)
+    : side_mask_(SideMask(model, side)),
+      evaluator_(elastic, model.merkel_nodes, nodal, side_mask_.empty() ? nullptr : &side_mask_) {
   const auto& x = model.soft.rest_positions_m;
   const size_t n = model.merkel_nodes.size();
   rest_pad_mm_.resize(3, Eigen::Index(n));

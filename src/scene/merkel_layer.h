@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "fem/strain_energy_density.h"
+#include "scene/merkel_side.h"
 #include "model/fingertip_model.h"
 
 namespace sedbridge::scene {
@@ -20,8 +21,11 @@ class MerkelLayer {
  public:
   /// Both arguments must outlive the layer.
   /// `nodal`: the scene's nodal pressure term, if any (SED with the smoothed pressure).
+  /// `side`: the elements a vertex averages (merkel_side.h): both sides of the interface, or
+  /// only those of the model's material named "epidermis" / "dermis". Throws
+  /// std::invalid_argument when the model has no material of that name.
   MerkelLayer(const model::FingertipModel& model, const fem::ElasticTetForce& elastic,
-              const fem::NodalPressureTetForce* nodal = nullptr);
+              const fem::NodalPressureTetForce* nodal = nullptr, MerkelSide side = MerkelSide::kBoth);
 
   /// Evaluates vertex SED [Pa] at positions x (3 * #soft nodes); returns sed_Pa().
   const Eigen::VectorXd& Evaluate(const Eigen::VectorXd& x_m);
@@ -41,6 +45,7 @@ class MerkelLayer {
                                      double x_max_mm, double step_mm) const;
 
  private:
+  std::vector<char> side_mask_;  // before evaluator_, which reads it
   fem::VertexSedEvaluator evaluator_;
   Eigen::VectorXd sed_Pa_;
   Eigen::Matrix3Xd rest_pad_mm_;

@@ -16,6 +16,7 @@
 #include "fem/penalty_contact_force.h"
 #include "fem/simulation.h"
 #include "common/geometry/rigid_object.h"
+#include "scene/merkel_side.h"
 
 namespace sedbridge::scene {
 
@@ -87,10 +88,13 @@ struct OutputSection {
   bool merkel_sed = true;   ///< SED on the Merkel layer every step
   bool full_sed = false;    ///< SED on every node (VTU); costs a full element pass
   int vtu_every = 0;        ///< write a VTU frame every N steps (0 = none)
+  /// Merkel vertex value: averaged over both sides of the interface, or one (merkel_side.h).
+  MerkelSide merkel_side = MerkelSide::kBoth;
 
   template <typename Archive>
   void Serialize(Archive* a) {
     a->Visit(config::Field("merkel_sed", &merkel_sed));
+    a->Visit(config::Field("merkel_side", &merkel_side));
     a->Visit(config::Field("full_sed", &full_sed));
     a->Visit(config::Field("vtu_every", &vtu_every).NonNegative());
   }

@@ -67,3 +67,55 @@ TEST_F(MerkelLayerTest, PathOffTheSheetIsEmpty) {
 
 }  // namespace
 }  // namespace sedbridge::scene
+
+namespace sedbridge::scene {
+namespace {
+
+// One-sided Merkel values (outputs.merkel_side): under a shear of the whole body every
+// element has the same strain, so each side's SED is its material's; the dermis side reads
+// the dermis value exactly, the epidermis side the epidermis value, and the two-sided mean
+// lies between them at every vertex.
+TEST(MerkelSide, EachSideReadsItsOwnMaterialAndBothLiesBetween) {
+  const model::FingertipModel model = model::LoadFingertipModel("B_coarse");
+  auto scene_with = [&](const std::string& side) {
+    return std::make_unique<FingertipScene>(
+        ParseSceneDescription("model: B_coarse\nelasticity: linear\nbone: {}\noutputs: {merkel_side: " + side + "}\n",
+                              "side.yaml"),
+        model);
+  };
+  const auto both = scene_with("both"), epidermis = scene_with("epidermis"), dermis = scene_with("dermis");
+  Eigen::VectorXd x(3 * model.num_soft_nodes());
+  for (int i = 0; i < model.num_soft_nodes(); ++i) {
+    const Eigen::Vector3d p = model.soft.rest_positions_m.col(i);
+    x.segment<3>(3 * i) = p + Eigen::Vector3d(0.01 * p.z(), 0, 0);  // simple shear, gamma = 0.01
+  }
+  const Eigen::VectorXd s_both = both->merkel()->Evaluate(x);
+  const Eigen::VectorXd s_epi = epidermis->merkel()->Evaluate(x);
+  const Eigen::VectorXd s_der = dermis->merkel()->Evaluate(x);
+  auto mu_of = [&](const std::string& name) {
+    for (const auto& m : model.soft.materials)
+      if (m.name == name) return m.lame_mu_Pa();
+    return 0.0;
+  };
+  // Simple shear gamma: eps_xz = gamma / 2, SED = mu gamma^2 / 2 (linear elasticity).
+  const double sed_epi = mu_of("epidermis") * 0.01 * 0.01 / 2, sed_der = mu_of("dermis") * 0.01 * 0.01 / 2;
+  ASSERT_GT(sed_epi, 0.0);
+  ASSERT_GT(std::abs(sed_epi - sed_der), 0.1 * sed_der);  // the layers differ in stiffness
+  int mixed = 0;
+  for (Eigen::Index v = 0; v < s_both.size(); ++v) {
+    EXPECT_NEAR(s_epi[v], sed_epi, 1e-9 * sed_epi) << v;
+    EXPECT_NEAR(s_der[v], sed_der, 1e-9 * sed_der) << v;
+    EXPECT_GE(s_both[v], std::min(sed_epi, sed_der) * (1 - 1e-9));
+    EXPECT_LE(s_both[v], std::max(sed_epi, sed_der) * (1 + 1e-9));
+    mixed += std::abs(s_both[v] - sed_epi) > 1e-6 * sed_epi && std::abs(s_both[v] - sed_der) > 1e-6 * sed_der;
+  }
+  EXPECT_GT(mixed, 0);  // the two-sided mean mixes them
+}
+
+TEST(MerkelSide, AnUnknownSideIsAnErrorAtItsKey) {
+  EXPECT_THROW(ParseSceneDescription("model: B_coarse\noutputs: {merkel_side: dermal}\n", "side.yaml"),
+               std::exception);
+}
+
+}  // namespace
+}  // namespace sedbridge::scene
