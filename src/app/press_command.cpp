@@ -104,7 +104,11 @@ int RunPress(int argc, char** argv) {
   if (!args.GetFlag("no-plots")) {
     if (RunPlotScript("plot_press.py", {out, "--out", out})) std::printf("plots: %s/*.png\n", out.c_str());
   }
-  std::printf("results: %s (open %s/frames.pvd in ParaView)\n", out.c_str(), out.c_str());
+  // frames.pvd exists only when the scene writes VTU frames (outputs.vtu_every > 0).
+  if (fingertip.description().outputs.vtu_every > 0)
+    std::printf("results: %s (open %s/frames.pvd in ParaView)\n", out.c_str(), out.c_str());
+  else
+    std::printf("results: %s\n", out.c_str());
   return 0;
 }
 

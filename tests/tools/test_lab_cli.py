@@ -172,6 +172,33 @@ class ParaViewFrames(unittest.TestCase):
         self.assertGreater(max(data_array(texts[1], "merkel_sed_Pa")), 0)
 
 
+
+class PressPointsAtWhatItWrote(unittest.TestCase):
+    """`press` names frames.pvd only when the scene wrote VTU frames (outputs.vtu_every > 0)."""
+
+    def press(self, vtu_every):
+        scene = os.path.join(ARGS.work, f"press_vtu{vtu_every}.yaml")
+        with open(scene, "w") as f:
+            f.write("model: B_coarse\nelasticity: linear\ndynamics: {integrator: quasi_static, steps: 2}\n"
+                    "bone: {mode: fixed}\ncontact:\n  objects:\n    - {shape: plane, rpy_deg: [180, 0, 0], "
+                    "position_mm: [0, 0, 0], motion: {keyframes: [{t_s: 0, offset_mm: [0, 0, 0]}, "
+                    "{t_s: 1, offset_mm: [0, 0, -0.5]}]}}\n"
+                    f"outputs: {{merkel_sed: true, vtu_every: {vtu_every}}}\n")
+        out = os.path.join(ARGS.work, f"press_vtu{vtu_every}")
+        status, text = sedbridge("press", "--scene", scene, "--out", out, "--no-plots", "--quiet")
+        self.assertEqual(status, 0, text)
+        return out, text
+
+    def test_no_frames_no_pvd_hint(self):
+        out, text = self.press(0)
+        self.assertNotIn("frames.pvd", text)
+        self.assertFalse(os.path.exists(os.path.join(out, "frames.pvd")))
+
+    def test_frames_and_the_hint(self):
+        out, text = self.press(1)
+        self.assertIn("frames.pvd in ParaView", text)
+        self.assertTrue(os.path.exists(os.path.join(out, "frames.pvd")))
+
 if __name__ == "__main__":
     p = argparse.ArgumentParser()
     p.add_argument("--sedbridge", required=True)
