@@ -114,8 +114,8 @@ void StiffNodeUpdate::Apply(Eigen::VectorXd& y) const {
   if (k == 0) return;
   t_.resize(k);
   for (Eigen::Index a = 0; a < k; ++a) t_[a] = pairs_[size_t(a)].direction.dot(y.segment<3>(3 * pairs_[size_t(a)].node));
-  const Eigen::VectorXd s = s_factor_.solve(t_);
-  y.noalias() -= z_ * s;
+  s_ = s_factor_.solve(t_);
+  y.noalias() -= z_ * s_;
 }
 
 }  // namespace sedbridge::fem

@@ -69,7 +69,7 @@ class StiffNodeUpdate {
   std::vector<Pair> pairs_;
   Eigen::MatrixXd z_;  // A0^-1 U
   Eigen::LLT<Eigen::MatrixXd> s_factor_;
-  mutable Eigen::VectorXd t_;
+  mutable Eigen::VectorXd t_, s_;  // Apply's workspace (once per PCG iteration)
 };
 
 }  // namespace sedbridge::fem

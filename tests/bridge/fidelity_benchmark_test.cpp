@@ -4,17 +4,28 @@
 
 #include <gtest/gtest.h>
 
+#include <memory>
+#include <vector>
+
 #include "common/resource_path.h"
 #include "display/display_profile.h"
 
 namespace sedbridge::bridge {
 namespace {
 
+// The uskin_4x4 rig presses and a benchmark on model B with the suction display.
+struct RigBench {
+  sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
+  std::vector<sensors::CalibrationPress> presses =
+      sensors::LoadCalibrationPresses(config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), profile);
+  std::unique_ptr<FidelityBenchmark> bench = std::make_unique<FidelityBenchmark>(
+      "B", profile, display::LoadNamedDisplayProfile("suction_4x4"), "");
+};
+
 TEST(FidelityBenchmark, RigPressesMeetTheTargetsWithReconstructedContact) {
-  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
-  const auto presses = sensors::LoadCalibrationPresses(
-      config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), profile);
-  FidelityBenchmark bench("B", profile, display::LoadNamedDisplayProfile("suction_4x4"), "");
+  const RigBench rig;
+  const auto& presses = rig.presses;
+  FidelityBenchmark& bench = *rig.bench;
   // Spheres of 2.5, 5, 8 and 15 mm, a flat, and a stroke.
   for (int i : {1, 3, 6, 9, 17, 19}) {
     FidelityMaps maps;
@@ -45,10 +56,9 @@ namespace {
 // the bridge's region by 0.2 % of SED, press_13's by 29 % (1.8 mm along the rod).
 
 TEST(FidelityBenchmark, RigRodsMeetTheTargetsWithReconstructedContact) {
-  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
-  const auto presses = sensors::LoadCalibrationPresses(
-      config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), profile);
-  FidelityBenchmark bench("B", profile, display::LoadNamedDisplayProfile("suction_4x4"), "");
+  const RigBench rig;
+  const auto& presses = rig.presses;
+  FidelityBenchmark& bench = *rig.bench;
   for (int i : {12, 13, 14, 15}) {
     FidelityMaps maps;
     const FidelityRow r = bench.Run(FromCalibrationPress(presses[size_t(i)]), &maps);
@@ -74,10 +84,9 @@ namespace {
 // reach the measured force (patch_edge), so the case has no truth to score against; the
 // benchmark says so instead of counting a hit or a miss. press_01 has one and meets the targets.
 TEST(FidelityBenchmark, CaseWithoutAValidTruthIsFlaggedNotScored) {
-  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
-  const auto presses = sensors::LoadCalibrationPresses(
-      config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), profile);
-  FidelityBenchmark bench("B", profile, display::LoadNamedDisplayProfile("suction_4x4"), "");
+  const RigBench rig;
+  const auto& presses = rig.presses;
+  FidelityBenchmark& bench = *rig.bench;
   FidelityMaps maps;
   const FidelityRow edge = bench.Run(FromCalibrationPress(presses[11]), &maps);
   EXPECT_FALSE(edge.truth_valid);

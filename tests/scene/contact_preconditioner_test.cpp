@@ -18,6 +18,11 @@ const model::FingertipModel& Model() {
   return m;
 }
 
+Eigen::VectorXd RestPositions() {
+  const Eigen::Matrix3Xd& x = Model().soft.rest_positions_m;
+  return Eigen::Map<const Eigen::VectorXd>(x.data(), x.size());
+}
+
 struct Press {
   Eigen::VectorXd x;
   int max_iterations_per_step = 0;
@@ -57,9 +62,7 @@ TEST(ContactPreconditioner, LinearPressTakesOnePcgIterationAStep) {
   const Press rest_only = RunPress("linear", "pcg_warp", false);
   EXPECT_EQ(updated.max_iterations_per_step, 1);
   EXPECT_GT(rest_only.max_iterations_per_step, 3);
-  const model::FingertipModel& m = Model();
-  Eigen::VectorXd rest(3 * m.num_soft_nodes());
-  for (int i = 0; i < m.num_soft_nodes(); ++i) rest.segment<3>(3 * i) = m.soft.rest_positions_m.col(i);
+  const Eigen::VectorXd rest = RestPositions();
   const Eigen::VectorXd u = direct.x - rest;
   ASSERT_GT(u.norm(), 0.0);
   EXPECT_LT((updated.x - direct.x).norm(), 1e-8 * u.norm());
@@ -81,9 +84,7 @@ TEST(ContactPreconditioner, CorotationalPressNeedsFewerIterations) {
               rest_only.iterations);
   EXPECT_LT(4 * updated.iterations, 3 * rest_only.iterations);  // measured 154 vs 232
   EXPECT_LT(4 * plane_updated.iterations, 3 * plane_rest_only.iterations);  // measured 130 vs 275
-  const model::FingertipModel& m = Model();
-  Eigen::VectorXd rest(3 * m.num_soft_nodes());
-  for (int i = 0; i < m.num_soft_nodes(); ++i) rest.segment<3>(3 * i) = m.soft.rest_positions_m.col(i);
+  const Eigen::VectorXd rest = RestPositions();
   const double u = (direct.x - rest).norm();
   EXPECT_LT((updated.x - direct.x).norm(), 1e-5 * u);
   EXPECT_LT((rest_only.x - direct.x).norm(), 1e-5 * u);
