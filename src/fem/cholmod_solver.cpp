@@ -1,5 +1,7 @@
 #include "fem/cholmod_solver.h"
 
+#include "fem/supernodal_triangular_solve.h"
+
 #include <omp.h>
 
 #include <Eigen/CholmodSupport>
@@ -87,6 +89,9 @@ struct CholmodSolver::Impl {
   cholmod_dense* x = nullptr;
   cholmod_dense* y = nullptr;
   cholmod_dense* e = nullptr;
+  // The subtree-parallel triangular solves, scheduled for `scheduled_threads` threads.
+  SupernodalTriangularSolve subtrees;
+  int scheduled_threads = 0;
 
   ~Impl() {
     // Before llt's destructor ends the cholmod_common these were allocated with.
@@ -157,6 +162,30 @@ LinearSolveReport CholmodSolver::Solve(const SystemMatrix&, const Eigen::VectorX
     x.setZero(b.size());
     return report;
   }
+  const cholmod_factor* L = impl_->llt.factor();
+  const int threads = omp_get_max_threads();
+  // Inside a parallel region (a caller solving columns on its threads) the team is not ours.
+  const bool subtrees = solve_path_ == CholmodSolvePath::kSubtrees ||
+                        (solve_path_ == CholmodSolvePath::kAuto && threads > 1 && !omp_in_parallel());
+  if (subtrees && L->is_super && L->is_ll && L->xtype == CHOLMOD_REAL && L->itype == CHOLMOD_INT) {
+    SupernodalFactorView f;
+    f.n = int(L->n);
+    f.nsuper = int(L->nsuper);
+    f.super = static_cast<const int*>(L->super);
+    f.pi = static_cast<const int*>(L->pi);
+    f.px = static_cast<const int*>(L->px);
+    f.s = static_cast<const int*>(L->s);
+    f.x = static_cast<const double*>(L->x);
+    f.perm = static_cast<const int*>(L->Perm);
+    if (impl_->scheduled_threads != threads) {
+      impl_->subtrees.Analyze(f, threads);
+      impl_->scheduled_threads = threads;
+    }
+    x.resize(b.size());
+    impl_->subtrees.Solve(f, b.data(), x.data());
+    report.converged = x.allFinite();
+    return report;
+  }
   cholmod_common& c = impl_->llt.cholmod();
   cholmod_dense rhs;
   std::memset(&rhs, 0, sizeof(rhs));
@@ -174,6 +203,10 @@ LinearSolveReport CholmodSolver::Solve(const SystemMatrix&, const Eigen::VectorX
   x = Eigen::Map<const Eigen::VectorXd>(static_cast<const double*>(impl_->x->x), b.size());
   report.converged = x.allFinite();
   return report;
+}
+
+double CholmodSolver::solve_serial_fraction() const {
+  return impl_->scheduled_threads > 0 ? impl_->subtrees.serial_fraction() : 1.0;
 }
 
 double CholmodSolver::factor_nonzeros() const {

@@ -1,7 +1,9 @@
 #pragma once
 // Supernodal sparse Cholesky L L^T (CHOLMOD from SuiteSparse, through Eigen's
 // CholmodSupport) with a fill-reducing ordering, behind the LinearSolver interface.
-// Supernodes are dense column blocks factorized by BLAS (OpenBLAS). BLAS threads: 1 by
+// Supernodes are dense column blocks factorized by BLAS (OpenBLAS); with more than one
+// OpenMP thread the two triangular solves run on elimination-tree subtrees in parallel
+// (SupernodalTriangularSolve; CHOLMOD's own solve is serial). BLAS threads: 1 by
 // default (the first CholmodSolver sets it: OpenBLAS's spinning workers cost far more than
 // they bring on these models, docs/performance.md), OPENBLAS_NUM_THREADS when set, or
 // SetBlasThreads below.
@@ -22,6 +24,13 @@ enum class CholmodOrdering {
   kMetis,  ///< METIS nested dissection
 };
 
+/// How Solve runs the two triangular solves.
+enum class CholmodSolvePath {
+  kAuto,      ///< kSubtrees when omp_get_max_threads() > 1 outside a parallel region, else kCholmod
+  kCholmod,   ///< CHOLMOD's own solve (serial supernode sweep, BLAS kernels)
+  kSubtrees,  ///< SupernodalTriangularSolve: elimination-tree subtrees on the OpenMP team
+};
+
 class CholmodSolver final : public LinearSolver {
  public:
   // Impl holds CHOLMOD's factor and workspace.
@@ -36,6 +45,12 @@ class CholmodSolver final : public LinearSolver {
   /// Solves with the last factor; A is not read. converged = false (x untouched) when the
   /// last Prepare found A not positive definite. Not thread-safe: reuses workspace.
   LinearSolveReport Solve(const SystemMatrix& A, const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
+
+  /// Which triangular solve Solve uses (default kAuto).
+  void set_solve_path(CholmodSolvePath path) { solve_path_ = path; }
+  /// Share of the solve's work that the subtree schedule leaves serial (the top
+  /// separators), for the thread count of the last subtree solve; 1 before one.
+  double solve_serial_fraction() const;
 
   /// True when the last Prepare produced a usable factor.
   bool factor_ok() const { return ok_; }
@@ -52,6 +67,7 @@ class CholmodSolver final : public LinearSolver {
   struct Impl;
   std::unique_ptr<Impl> impl_;
   bool ok_ = false;
+  CholmodSolvePath solve_path_ = CholmodSolvePath::kAuto;
 };
 
 /// Sets the BLAS thread count CHOLMOD's supernode kernels use (OpenBLAS, process-wide;

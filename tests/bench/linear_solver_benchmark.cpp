@@ -2,6 +2,7 @@
 // analysis, numeric factorization and one solve, Eigen's simplicial LDL^T (DirectLdltSolver)
 // against CHOLMOD's supernodal L L^T (CholmodSolver) with each ordering. Run (Release):
 //   build/tests/bench/linear_solver_benchmark --threads 1 B_coarse B B_fine B_x4 A
+// (SEDBRIDGE_BENCH_ONLY_DEFAULT=1: LDL^T and the default CHOLMOD ordering's two solve paths only.)
 // Prints one markdown table row per model and solver. --threads sets both the OpenMP and
 // the BLAS (OpenBLAS) thread counts, --blas-threads the BLAS alone (after --threads).
 // Times are medians over repetitions (wall clock).
@@ -134,8 +135,19 @@ int main(int argc, char** argv) {
       fem::DirectLdltSolver ldlt;
       Measure(name, A, "Eigen SimplicialLDLT", ldlt, ldlt_nnz, ldlt_nnz, [] { return std::string("amd"); });
     }
-    for (auto [ordering, label] : {std::pair{fem::CholmodOrdering::kBest, "CHOLMOD supernodal (best of AMD, METIS)"},
-                                   std::pair{fem::CholmodOrdering::kAmd, "CHOLMOD supernodal"},
+    // The default ordering with each triangular-solve path (kAuto picks the subtrees
+    // when there is more than one OpenMP thread).
+    for (auto [path, label] : {std::pair{fem::CholmodSolvePath::kCholmod, "CHOLMOD (best of AMD, METIS), CHOLMOD's solve"},
+                               std::pair{fem::CholmodSolvePath::kSubtrees, "CHOLMOD (best of AMD, METIS), subtree solve"}}) {
+      fem::CholmodSolver cholmod(fem::CholmodOrdering::kBest);
+      cholmod.set_solve_path(path);
+      Measure(name, A, label, cholmod, 0, 0, [&] { return cholmod.ordering_used(); });
+      if (path == fem::CholmodSolvePath::kSubtrees)
+        std::printf("|   (subtree solve: %.1f %% of L's entries on the serial top) |||||||||||\n",
+                    100.0 * cholmod.solve_serial_fraction());
+    }
+    if (std::getenv("SEDBRIDGE_BENCH_ONLY_DEFAULT")) continue;
+    for (auto [ordering, label] : {std::pair{fem::CholmodOrdering::kAmd, "CHOLMOD supernodal"},
                                    std::pair{fem::CholmodOrdering::kMetis, "CHOLMOD supernodal"}}) {
       fem::CholmodSolver cholmod(ordering);
       Measure(name, A, label, cholmod, 0, 0, [&] { return cholmod.ordering_used(); });

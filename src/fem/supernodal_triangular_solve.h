@@ -1,0 +1,70 @@
+#pragma once
+// The two triangular solves of a supernodal Cholesky factor (L L^T = P A P^T, as CHOLMOD
+// stores it) on several cores. CHOLMOD's own solve walks the supernodes one after another:
+// on these models a step's preconditioner solves were the serial part that kept a second
+// core from helping (docs/performance.md). Supernodes in disjoint subtrees of the
+// elimination tree do not depend on each other, so each thread takes whole subtrees (a
+// nested-dissection ordering makes two big ones at the top) and the few supernodes above
+// them (the top separators) run on one thread:
+//   forward  L z = P b: subtrees in parallel (their updates to the top rows go to
+//            per-thread buffers, summed after), then the top in order;
+//   backward L^T w = z: the top in reverse order, then the subtrees in parallel;
+//   x = P^T w.
+// Same arithmetic as the serial sweep up to the order of the sums into the top rows.
+// Dense blocks through Eigen (vectorized; no BLAS threads involved).
+
+#include <cstddef>
+#include <vector>
+
+namespace sedbridge::fem {
+
+/// A supernodal L (CHOLMOD's cholmod_factor with is_super, is_ll, int indices, real
+/// double): supernode j holds columns super[j] .. super[j+1]-1, row indices
+/// s[pi[j] .. pi[j+1]) (its own columns first), values as a column-major block of
+/// (pi[j+1]-pi[j]) rows at x + px[j]; perm[k] = the row of A that is L's row k.
+struct SupernodalFactorView {
+  int n = 0;
+  int nsuper = 0;
+  const int* super = nullptr;
+  const int* pi = nullptr;
+  const int* px = nullptr;
+  const int* s = nullptr;
+  const double* x = nullptr;
+  const int* perm = nullptr;  ///< null = identity
+};
+
+class SupernodalTriangularSolve {
+ public:
+  /// Builds the subtree schedule for up to max_threads threads from the factor's pattern
+  /// (values are not read; call again only when the pattern changes).
+  void Analyze(const SupernodalFactorView& factor, int max_threads);
+  /// x = A^-1 b with the factor's current values, on omp_get_max_threads() threads (at
+  /// most the analysed count; 1 = a plain serial sweep). b and x must not alias.
+  void Solve(const SupernodalFactorView& factor, const double* b, double* x);
+
+  bool analyzed() const { return analyzed_; }
+  /// Share of the triangular-solve work (stored entries of L) done serially at the top
+  /// of the tree when the analysed thread count is used [0, 1].
+  double serial_fraction() const { return serial_fraction_; }
+  /// Threads the schedule spreads the subtrees over (<= max_threads of Analyze).
+  int scheduled_threads() const { return int(thread_nodes_.size()); }
+
+ private:
+  // One supernode of L z = y (updates below it go to y, or to top_buffer for top rows when
+  // given) and of L^T w = z; scratch holds the off-diagonal rows.
+  void ForwardNode(const SupernodalFactorView& f, int j, double* y, double* top_buffer, double* scratch) const;
+  void BackwardNode(const SupernodalFactorView& f, int j, double* w, double* scratch) const;
+
+  bool analyzed_ = false;
+  int n_ = 0;
+  double serial_fraction_ = 1.0;
+  std::vector<int> top_nodes_;                  // ascending
+  std::vector<std::vector<int>> thread_nodes_;  // per thread, ascending
+  std::vector<int> top_slot_;                   // per column: index into a top buffer, -1 = not top
+  std::vector<int> top_columns_;                // columns of the top supernodes
+  std::vector<std::vector<double>> top_buffers_;
+  std::vector<double> y_;
+  std::vector<std::vector<double>> scratch_;  // per thread: a supernode's off-diagonal product
+};
+
+}  // namespace sedbridge::fem
