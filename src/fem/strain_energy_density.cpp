@@ -8,8 +8,10 @@
 
 namespace sedbridge::fem {
 
-// A Merkel layer has a few thousand elements (~0.3 ms): not worth a parallel region.
-constexpr size_t kParallelMinElements = 20000;
+// The Merkel layer's elements with their rotations take 2.7 ms a step on B_fine (one
+// thread, 2026-11-25): a parallel region pays from about a thousand elements (1.5 ms on 2
+// threads, docs/performance.md "Triangular solves on two cores").
+constexpr size_t kParallelMinElements = 1000;
 
 double ElementSed(const TetElement& e, const Eigen::Matrix3d& F, const Eigen::Matrix3d& R) {
   const Eigen::Matrix3d G = R.transpose() * F;

@@ -4,9 +4,10 @@
 
 namespace sedbridge::fem {
 
-// Below this a product takes ~0.1 ms: a parallel region costs more than it saves, and
-// far more when the machine is loaded (each barrier may wait a scheduler time slice).
-constexpr long kParallelMinNonZeros = 2'000'000;
+// Below this a product takes ~0.2 ms: a parallel region costs more than it saves, and far
+// more when the machine is loaded (each barrier may wait a scheduler time slice; the step's
+// ThreadTeamChooser then keeps one thread). B_fine's and B_x4's step matrices are above it.
+constexpr long kParallelMinNonZeros = 200'000;
 
 void SystemMatrix::Build(int n, const std::vector<std::pair<int, int>>& pairs) {
   num_nodes_ = n;
