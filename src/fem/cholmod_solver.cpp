@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <mutex>
+#include <vector>
 
 // OpenBLAS's thread controls, weak: with another BLAS behind libblas.so.3 they are null.
 extern "C" void openblas_set_num_threads(int) __attribute__((weak));
@@ -92,6 +93,7 @@ struct CholmodSolver::Impl {
   // The subtree-parallel triangular solves, scheduled for `scheduled_threads` threads.
   SupernodalTriangularSolve subtrees;
   int scheduled_threads = 0;
+  std::vector<float> single_values;  // L's values rounded to float (set_single_precision)
 
   ~Impl() {
     // Before llt's destructor ends the cholmod_common these were allocated with.
@@ -150,6 +152,12 @@ void CholmodSolver::Prepare(const SystemMatrix& A) {
   impl_->llt.FactorizeView(view);
   omp_set_dynamic(dynamic);
   ok_ = impl_->llt.info() == Eigen::Success;
+  impl_->single_values.clear();
+  const cholmod_factor* L = impl_->llt.factor();
+  if (ok_ && single_precision_ && L->is_super && L->xtype == CHOLMOD_REAL) {
+    const double* x = static_cast<const double*>(L->x);
+    impl_->single_values.assign(x, x + L->xsize);
+  }
 }
 
 LinearSolveReport CholmodSolver::Solve(const SystemMatrix&, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
@@ -165,7 +173,8 @@ LinearSolveReport CholmodSolver::Solve(const SystemMatrix&, const Eigen::VectorX
   const cholmod_factor* L = impl_->llt.factor();
   const int threads = omp_get_max_threads();
   // Inside a parallel region (a caller solving columns on its threads) the team is not ours.
-  const bool subtrees = solve_path_ == CholmodSolvePath::kSubtrees ||
+  const bool single = !impl_->single_values.empty();
+  const bool subtrees = single || solve_path_ == CholmodSolvePath::kSubtrees ||
                         (solve_path_ == CholmodSolvePath::kAuto && threads > 1 && !omp_in_parallel());
   if (subtrees && L->is_super && L->is_ll && L->xtype == CHOLMOD_REAL && L->itype == CHOLMOD_INT) {
     SupernodalFactorView f;
@@ -182,7 +191,10 @@ LinearSolveReport CholmodSolver::Solve(const SystemMatrix&, const Eigen::VectorX
       impl_->scheduled_threads = threads;
     }
     x.resize(b.size());
-    impl_->subtrees.Solve(f, b.data(), x.data());
+    if (single)
+      impl_->subtrees.SolveSingle(f, impl_->single_values.data(), b.data(), x.data());
+    else
+      impl_->subtrees.Solve(f, b.data(), x.data());
     report.converged = x.allFinite();
     return report;
   }

@@ -46,6 +46,10 @@ class CholmodSolver final : public LinearSolver {
   /// last Prepare found A not positive definite. Not thread-safe: reuses workspace.
   LinearSolveReport Solve(const SystemMatrix& A, const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
 
+  /// Solve in single precision (SupernodalTriangularSolve::SolveSingle with a float copy
+  /// of L made at each Prepare): ~7 significant digits, for a preconditioner's solves.
+  /// Takes effect at the next Prepare. Default false.
+  void set_single_precision(bool single) { single_precision_ = single; }
   /// Which triangular solve Solve uses (default kAuto).
   void set_solve_path(CholmodSolvePath path) { solve_path_ = path; }
   /// Share of the solve's work that the subtree schedule leaves serial (the top
@@ -68,6 +72,7 @@ class CholmodSolver final : public LinearSolver {
   std::unique_ptr<Impl> impl_;
   bool ok_ = false;
   CholmodSolvePath solve_path_ = CholmodSolvePath::kAuto;
+  bool single_precision_ = false;
 };
 
 /// Sets the BLAS thread count CHOLMOD's supernode kernels use (OpenBLAS, process-wide;

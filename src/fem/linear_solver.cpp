@@ -53,7 +53,10 @@ PcgSolver::PcgSolver(PcgSettings settings, const NodeRotationSource* rotations, 
       rotation_source_(rotations),
       stiff_source_(stiff_nodes),
       stiff_update_(settings.stiff_node_budget_MB * 1e6),
-      rest_factor_(MakeDirectSolver(settings.direct)), fallback_(MakeDirectSolver(settings.direct)) {}
+      rest_factor_(MakeDirectSolver(settings.direct)), fallback_(MakeDirectSolver(settings.direct)) {
+  if (auto* cholmod = dynamic_cast<CholmodSolver*>(rest_factor_.get()))
+    cholmod->set_single_precision(settings_.single_precision_factor);
+}
 
 std::string PcgSolver::name() const {
   switch (settings_.preconditioner) {

@@ -82,6 +82,11 @@ struct PcgSettings {
   bool stiff_node_update = true;
   /// Memory for that update's cached columns of the rest factor's inverse [MB].
   double stiff_node_budget_MB = 64.0;
+  /// Warped rest factor by CHOLMOD: its solves in single precision (a float copy of L;
+  /// CholmodSolver::set_single_precision): the solve is memory-bound, and a preconditioner
+  /// needs no more digits (same PCG iterations on the contact press, docs/performance.md).
+  /// The PCG's own vectors, and the fallback, stay double.
+  bool single_precision_factor = true;
 };
 
 class PcgSolver final : public LinearSolver {

@@ -11,7 +11,54 @@
 namespace sedbridge::fem {
 namespace {
 
-using ConstBlock = Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>>;
+template <typename Scalar>
+using ConstBlock = Eigen::Map<const Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>, 0, Eigen::OuterStride<>>;
+template <typename Scalar>
+using VectorMap = Eigen::Map<Eigen::Matrix<Scalar, Eigen::Dynamic, 1>>;
+
+// One supernode of L z = y: updates below it go to y, or to top_buffer for the top rows
+// when given (top_slot: column -> buffer index, -1 = not top); scratch holds the
+// off-diagonal rows.
+template <typename Scalar>
+void ForwardNode(const SupernodalFactorView& f, const Scalar* values, const std::vector<int>& top_slot, int j,
+                 Scalar* y, Scalar* top_buffer, Scalar* scratch) {
+  const int k1 = f.super[j], nscol = f.super[j + 1] - k1;
+  const int p0 = f.pi[j], nsrow = f.pi[j + 1] - p0, m = nsrow - nscol;
+  const ConstBlock<Scalar> L(values + f.px[j], nsrow, nscol, Eigen::OuterStride<>(nsrow));
+  VectorMap<Scalar> z(y + k1, nscol);
+  L.topRows(nscol).template triangularView<Eigen::Lower>().solveInPlace(z);
+  if (m == 0) return;
+  VectorMap<Scalar> t(scratch, m);
+  t.noalias() = L.bottomRows(m) * z;
+  const int* rows = f.s + p0 + nscol;
+  if (!top_buffer) {
+    for (int i = 0; i < m; ++i) y[rows[i]] -= t[i];
+    return;
+  }
+  for (int i = 0; i < m; ++i) {
+    const int slot = top_slot[size_t(rows[i])];
+    if (slot < 0)
+      y[rows[i]] -= t[i];
+    else
+      top_buffer[slot] += t[i];
+  }
+}
+
+// One supernode of L^T w = z.
+template <typename Scalar>
+void BackwardNode(const SupernodalFactorView& f, const Scalar* values, int j, Scalar* w, Scalar* scratch) {
+  const int k1 = f.super[j], nscol = f.super[j + 1] - k1;
+  const int p0 = f.pi[j], nsrow = f.pi[j + 1] - p0, m = nsrow - nscol;
+  const ConstBlock<Scalar> L(values + f.px[j], nsrow, nscol, Eigen::OuterStride<>(nsrow));
+  VectorMap<Scalar> z(w + k1, nscol);
+  if (m > 0) {
+    VectorMap<Scalar> t(scratch, m);
+    const int* rows = f.s + p0 + nscol;
+    for (int i = 0; i < m; ++i) t[i] = w[rows[i]];
+    z.noalias() -= L.bottomRows(m).transpose() * t;
+  }
+  L.topRows(nscol).template triangularView<Eigen::Lower>().transpose().solveInPlace(z);
+}
 
 // Longest-processing-time assignment of subtrees to threads: each subtree, heaviest first,
 // to the least loaded thread. Returns the largest load; owner[k] = thread of roots[k].
@@ -67,8 +114,10 @@ void SupernodalTriangularSolve::Analyze(const SupernodalFactorView& f, int max_t
     if (parent[size_t(j)] >= 0 && parent[size_t(j)] <= j) topological = false;
   }
   const double total = std::accumulate(work.begin(), work.end(), 0.0);
-  scratch_.assign(size_t(std::max(1, max_threads)), std::vector<double>(largest_offdiagonal));
-  y_.assign(size_t(f.n), 0.0);
+  largest_offdiagonal_ = largest_offdiagonal;
+  max_threads_ = std::max(1, max_threads);
+  double_ = {};
+  single_ = {};
   std::vector<int> all(static_cast<size_t>(ns));
   std::iota(all.begin(), all.end(), 0);
   if (max_threads <= 1 || !topological || ns < 2) {
@@ -141,88 +190,70 @@ void SupernodalTriangularSolve::Analyze(const SupernodalFactorView& f, int max_t
       }
     }
   serial_fraction_ = total > 0 ? serial / total : 0.0;
-  top_buffers_.assign(thread_nodes_.size(), std::vector<double>(top_columns_.size()));
   analyzed_ = true;
 }
 
-void SupernodalTriangularSolve::ForwardNode(const SupernodalFactorView& f, int j, double* y, double* top_buffer,
-                                            double* scratch) const {
-  const int k1 = f.super[j], nscol = f.super[j + 1] - k1;
-  const int p0 = f.pi[j], nsrow = f.pi[j + 1] - p0, m = nsrow - nscol;
-  const ConstBlock L(f.x + f.px[j], nsrow, nscol, Eigen::OuterStride<>(nsrow));
-  Eigen::Map<Eigen::VectorXd> z(y + k1, nscol);
-  L.topRows(nscol).triangularView<Eigen::Lower>().solveInPlace(z);
-  if (m == 0) return;
-  Eigen::Map<Eigen::VectorXd> t(scratch, m);
-  t.noalias() = L.bottomRows(m) * z;
-  const int* rows = f.s + p0 + nscol;
-  if (!top_buffer) {
-    for (int i = 0; i < m; ++i) y[rows[i]] -= t[i];
-    return;
-  }
-  for (int i = 0; i < m; ++i) {
-    const int slot = top_slot_[size_t(rows[i])];
-    if (slot < 0)
-      y[rows[i]] -= t[i];
-    else
-      top_buffer[slot] += t[i];
-  }
-}
-
-void SupernodalTriangularSolve::BackwardNode(const SupernodalFactorView& f, int j, double* w,
-                                             double* scratch) const {
-  const int k1 = f.super[j], nscol = f.super[j + 1] - k1;
-  const int p0 = f.pi[j], nsrow = f.pi[j + 1] - p0, m = nsrow - nscol;
-  const ConstBlock L(f.x + f.px[j], nsrow, nscol, Eigen::OuterStride<>(nsrow));
-  Eigen::Map<Eigen::VectorXd> z(w + k1, nscol);
-  if (m > 0) {
-    Eigen::Map<Eigen::VectorXd> t(scratch, m);
-    const int* rows = f.s + p0 + nscol;
-    for (int i = 0; i < m; ++i) t[i] = w[rows[i]];
-    z.noalias() -= L.bottomRows(m).transpose() * t;
-  }
-  L.topRows(nscol).triangularView<Eigen::Lower>().transpose().solveInPlace(z);
+template <typename Scalar>
+void SupernodalTriangularSolve::Allocate(Workspace<Scalar>& ws) const {
+  if (ws.y.size() == size_t(n_)) return;
+  ws.y.assign(size_t(n_), Scalar(0));
+  ws.scratch.assign(size_t(max_threads_), std::vector<Scalar>(largest_offdiagonal_));
+  ws.top_buffers.assign(thread_nodes_.size(), std::vector<Scalar>(top_columns_.size()));
 }
 
 void SupernodalTriangularSolve::Solve(const SupernodalFactorView& f, const double* b, double* x) {
-  double* y = y_.data();
-  for (int k = 0; k < n_; ++k) y[k] = b[f.perm ? f.perm[k] : k];
+  SolveWith(f, f.x, double_, b, x);
+}
+
+void SupernodalTriangularSolve::SolveSingle(const SupernodalFactorView& f, const float* values_single,
+                                            const double* b, double* x) {
+  SolveWith(f, values_single, single_, b, x);
+}
+
+template <typename Scalar>
+void SupernodalTriangularSolve::SolveWith(const SupernodalFactorView& f, const Scalar* values, Workspace<Scalar>& ws,
+                                          const double* b, double* x) {
+  Allocate(ws);
+  Scalar* y = ws.y.data();
+  for (int k = 0; k < n_; ++k) y[k] = Scalar(b[f.perm ? f.perm[k] : k]);
   const int lists = int(thread_nodes_.size());
-  const int threads = std::min({omp_get_max_threads(), lists, int(scratch_.size())});
+  const int threads = std::min({omp_get_max_threads(), lists, max_threads_});
   if (threads <= 1) {
     // Serial: every supernode in column order (a topological order), then back.
-    double* scratch = scratch_[0].data();
+    Scalar* scratch = ws.scratch[0].data();
     for (const auto& list : thread_nodes_)
-      for (int j : list) ForwardNode(f, j, y, nullptr, scratch);
-    for (int j : top_nodes_) ForwardNode(f, j, y, nullptr, scratch);
-    for (auto it = top_nodes_.rbegin(); it != top_nodes_.rend(); ++it) BackwardNode(f, *it, y, scratch);
+      for (int j : list) ForwardNode(f, values, top_slot_, j, y, static_cast<Scalar*>(nullptr), scratch);
+    for (int j : top_nodes_) ForwardNode(f, values, top_slot_, j, y, static_cast<Scalar*>(nullptr), scratch);
+    for (auto it = top_nodes_.rbegin(); it != top_nodes_.rend(); ++it) BackwardNode(f, values, *it, y, scratch);
     for (auto l = thread_nodes_.rbegin(); l != thread_nodes_.rend(); ++l)
-      for (auto it = l->rbegin(); it != l->rend(); ++it) BackwardNode(f, *it, y, scratch);
+      for (auto it = l->rbegin(); it != l->rend(); ++it) BackwardNode(f, values, *it, y, scratch);
   } else {
 #pragma omp parallel num_threads(threads)
     {
       const int tid = omp_get_thread_num(), team = omp_get_num_threads();
       for (int l = tid; l < lists; l += team) {
-        auto& buffer = top_buffers_[size_t(l)];
-        std::fill(buffer.begin(), buffer.end(), 0.0);
-        for (int j : thread_nodes_[size_t(l)]) ForwardNode(f, j, y, buffer.data(), scratch_[size_t(tid)].data());
+        auto& buffer = ws.top_buffers[size_t(l)];
+        std::fill(buffer.begin(), buffer.end(), Scalar(0));
+        for (int j : thread_nodes_[size_t(l)])
+          ForwardNode(f, values, top_slot_, j, y, buffer.data(), ws.scratch[size_t(tid)].data());
       }
     }
-    for (const auto& buffer : top_buffers_)
+    for (const auto& buffer : ws.top_buffers)
       for (size_t k = 0; k < top_columns_.size(); ++k) y[top_columns_[k]] -= buffer[k];
-    double* scratch = scratch_[0].data();
-    for (int j : top_nodes_) ForwardNode(f, j, y, nullptr, scratch);
-    for (auto it = top_nodes_.rbegin(); it != top_nodes_.rend(); ++it) BackwardNode(f, *it, y, scratch);
+    Scalar* scratch = ws.scratch[0].data();
+    for (int j : top_nodes_) ForwardNode(f, values, top_slot_, j, y, static_cast<Scalar*>(nullptr), scratch);
+    for (auto it = top_nodes_.rbegin(); it != top_nodes_.rend(); ++it) BackwardNode(f, values, *it, y, scratch);
 #pragma omp parallel num_threads(threads)
     {
       const int tid = omp_get_thread_num(), team = omp_get_num_threads();
       for (int l = tid; l < lists; l += team) {
         const auto& list = thread_nodes_[size_t(l)];
-        for (auto it = list.rbegin(); it != list.rend(); ++it) BackwardNode(f, *it, y, scratch_[size_t(tid)].data());
+        for (auto it = list.rbegin(); it != list.rend(); ++it)
+          BackwardNode(f, values, *it, y, ws.scratch[size_t(tid)].data());
       }
     }
   }
-  for (int k = 0; k < n_; ++k) x[f.perm ? f.perm[k] : k] = y[k];
+  for (int k = 0; k < n_; ++k) x[f.perm ? f.perm[k] : k] = double(y[k]);
 }
 
 }  // namespace sedbridge::fem

@@ -14,6 +14,7 @@
 // Dense blocks through Eigen (vectorized; no BLAS threads involved).
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 namespace sedbridge::fem {
@@ -41,6 +42,10 @@ class SupernodalTriangularSolve {
   /// x = A^-1 b with the factor's current values, on omp_get_max_threads() threads (at
   /// most the analysed count; 1 = a plain serial sweep). b and x must not alias.
   void Solve(const SupernodalFactorView& factor, const double* b, double* x);
+  /// The same in single precision with `values_single`, L's values (factor.x) rounded to
+  /// float: half the memory traffic of the double solve, which is memory-bound; about 7
+  /// significant digits, for preconditioners (b and x stay double).
+  void SolveSingle(const SupernodalFactorView& factor, const float* values_single, const double* b, double* x);
 
   bool analyzed() const { return analyzed_; }
   /// Share of the triangular-solve work (stored entries of L) done serially at the top
@@ -50,10 +55,18 @@ class SupernodalTriangularSolve {
   int scheduled_threads() const { return int(thread_nodes_.size()); }
 
  private:
-  // One supernode of L z = y (updates below it go to y, or to top_buffer for top rows when
-  // given) and of L^T w = z; scratch holds the off-diagonal rows.
-  void ForwardNode(const SupernodalFactorView& f, int j, double* y, double* top_buffer, double* scratch) const;
-  void BackwardNode(const SupernodalFactorView& f, int j, double* w, double* scratch) const;
+  // Per value type: the permuted right-hand side, per-thread off-diagonal products and
+  // per-list buffers for the top rows.
+  template <typename Scalar>
+  struct Workspace {
+    std::vector<Scalar> y;
+    std::vector<std::vector<Scalar>> scratch, top_buffers;
+  };
+  template <typename Scalar>
+  void SolveWith(const SupernodalFactorView& f, const Scalar* values, Workspace<Scalar>& ws, const double* b,
+                 double* x);
+  template <typename Scalar>
+  void Allocate(Workspace<Scalar>& ws) const;
 
   bool analyzed_ = false;
   int n_ = 0;
@@ -62,9 +75,10 @@ class SupernodalTriangularSolve {
   std::vector<std::vector<int>> thread_nodes_;  // per thread, ascending
   std::vector<int> top_slot_;                   // per column: index into a top buffer, -1 = not top
   std::vector<int> top_columns_;                // columns of the top supernodes
-  std::vector<std::vector<double>> top_buffers_;
-  std::vector<double> y_;
-  std::vector<std::vector<double>> scratch_;  // per thread: a supernode's off-diagonal product
+  size_t largest_offdiagonal_ = 0;
+  int max_threads_ = 1;
+  Workspace<double> double_;
+  Workspace<float> single_;
 };
 
 }  // namespace sedbridge::fem

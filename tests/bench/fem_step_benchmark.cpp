@@ -110,15 +110,20 @@ void TractionStep(benchmark::State& state, const std::string& elasticity, const 
 // The paper's press, dynamic: backward Euler at 1 ms with penalty contact, the plane
 // pushed 2 mm in 1 s; timed while in contact.
 // A solver name ending in "/rest_only" turns the contact update of the warped PCG off
-// (solver.contact_update: false): the rest factor alone, as before that update.
+// (solver.contact_update: false): the rest factor alone, as before that update; one
+// ending in "/double" keeps the warped rest factor's solves in double precision
+// (solver.single_precision_factor: false), as before session 11.
 void ContactPressStep(benchmark::State& state, const std::string& elasticity, const std::string& solver_case) {
   SetThreads(state);
-  const std::string suffix = "/rest_only";
-  const bool rest_only = solver_case.size() > suffix.size() &&
-                         solver_case.compare(solver_case.size() - suffix.size(), suffix.size(), suffix) == 0;
-  const std::string solver = rest_only ? solver_case.substr(0, solver_case.size() - suffix.size()) : solver_case;
+  auto ends_with = [&](const std::string& suffix) {
+    return solver_case.size() > suffix.size() &&
+           solver_case.compare(solver_case.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  const bool rest_only = ends_with("/rest_only"), double_factor = ends_with("/double");
+  const std::string solver = solver_case.substr(0, solver_case.find('/'));
   const std::string yaml = "model: " + ModelName() + "\nelasticity: " + elasticity + "\nsolver: {type: " + solver +
                            ", tolerance: 1.0e-6, max_iterations: 200" + (rest_only ? ", contact_update: false" : "") +
+                           (double_factor ? ", single_precision_factor: false" : "") +
                            "}\n"
                            "dynamics: {integrator: backward_euler, dt_s: 0.001, newton_iterations: 1}\n"
                            "bone: {mode: fixed}\ncontact:\n  objects:\n    - {shape: plane, rpy_deg: [180, 0, 0], "
@@ -208,8 +213,9 @@ void Register() {
     }
   for (auto [el, solver] : std::vector<std::pair<const char*, const char*>>{
            {"linear", "ldlt"}, {"linear", "cholmod"}, {"corotational", "pcg_warp"}, {"corotational", "pcg_warp/rest_only"},
+           {"corotational", "pcg_warp/double"},
            {"corotational", "pcg_warp_ldlt"}, {"corotational", "pcg_warp_ichol"}, {"linear", "pcg_warp"},
-           {"linear", "pcg_warp/rest_only"}, {"linear", "pcg_warp_ldlt"},
+           {"linear", "pcg_warp/rest_only"}, {"linear", "pcg_warp/double"}, {"linear", "pcg_warp_ldlt"},
            {"linear", "pcg_warp_ichol"}, {"nodal_pressure", "pcg_warp"}, {"nodal_pressure", "pcg_jacobi"}}) {
     const std::string name = std::string("ContactPressStep/backward_euler/") + el + "/" + solver;
     ThreadArgs(benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { ContactPressStep(st, el, solver); }))

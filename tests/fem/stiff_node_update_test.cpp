@@ -108,11 +108,14 @@ Eigen::VectorXd DirectSolve(const SystemMatrix& A) {
   return x;
 }
 
+// Exactness is checked in double precision: a float copy of the factor (the default) is
+// exact to ~1e-7 only, so it needs a second iteration at this tolerance.
 PcgSettings Tight() {
   PcgSettings s;
   s.relative_tolerance = 1e-10;
   s.max_iterations = 500;
   s.fallback_to_direct = false;
+  s.single_precision_factor = false;
   return s;
 }
 

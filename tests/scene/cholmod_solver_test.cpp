@@ -128,5 +128,29 @@ TEST(CholmodOnFingertip, SubtreeParallelSolveEqualsCholmodsOwn) {
   EXPECT_EQ((x - reference).norm(), 0.0);
 }
 
+// The single-precision copy of the factor: the double answer to float accuracy (and not
+// to round-off: it really is a float solve), on one and two threads.
+TEST(CholmodOnFingertip, SinglePrecisionSolveIsCloseToTheDoubleOne) {
+  fem::SystemMatrix A;
+  BuildModelMatrix(/*with_mass=*/true, A);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(A.csr().rows(), -1.0, 2.0);
+  fem::CholmodSolver dbl, single;
+  single.set_single_precision(true);
+  dbl.Prepare(A);
+  single.Prepare(A);
+  Eigen::VectorXd reference;
+  ASSERT_TRUE(dbl.Solve(A, b, reference).converged);
+  const int caller = omp_get_max_threads();
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    Eigen::VectorXd x;
+    ASSERT_TRUE(single.Solve(A, b, x).converged);
+    const double error = (x - reference).norm() / reference.norm();
+    EXPECT_LT(error, 1e-4) << threads << " threads";
+    EXPECT_GT(error, 1e-12) << threads << " threads";
+  }
+  omp_set_num_threads(caller);
+}
+
 }  // namespace
 }  // namespace sedbridge::scene

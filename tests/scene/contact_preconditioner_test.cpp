@@ -35,11 +35,13 @@ const char* kSphere = "{shape: sphere, radius_mm: 6, position_mm: [1, 0, 5.5], m
 const char* kPlane = "{shape: plane, rpy_deg: [180, 0, 0], position_mm: [0, 0, -0.5], motion: {keyframes: [{t_s: 0, "
                      "offset_mm: [0, 0, 0]}, {t_s: 1.0, offset_mm: [0, 0, -1.5]}]}}";
 
+// single = false: the rest factor's solves in double (exactness checks; see
+// solver.single_precision_factor).
 Press RunPress(const std::string& elasticity, const std::string& solver, bool contact_update,
-               const std::string& tolerance = "1.0e-10", const char* object = kSphere) {
+               const std::string& tolerance = "1.0e-10", const char* object = kSphere, bool single = false) {
   const std::string yaml = "model: B_coarse\nelasticity: " + elasticity + "\nsolver: {type: " + solver +
                            ", tolerance: " + tolerance + ", max_iterations: 500, fallback_to_direct: false, contact_update: " +
-                           (contact_update ? "true" : "false") +
+                           (contact_update ? "true" : "false") + ", single_precision_factor: " + (single ? "true" : "false") +
                            "}\ndynamics: {integrator: backward_euler, dt_s: 0.001, newton_iterations: 1}\n"
                            "bone: {mode: fixed}\ncontact:\n  objects:\n    - " + object + "\n";
   FingertipScene s(ParseSceneDescription(yaml, "test"), Model());
@@ -88,6 +90,23 @@ TEST(ContactPreconditioner, CorotationalPressNeedsFewerIterations) {
   const double u = (direct.x - rest).norm();
   EXPECT_LT((updated.x - direct.x).norm(), 1e-5 * u);
   EXPECT_LT((rest_only.x - direct.x).norm(), 1e-5 * u);
+}
+
+// The default single-precision copy of the rest factor: the same PCG iterations within a
+// few (it is exact to ~1e-7, not to round-off) and the same trajectory to the tolerance.
+TEST(ContactPreconditioner, SinglePrecisionFactorKeepsIterationsAndAnswer) {
+  for (const char* object : {kSphere, kPlane}) {
+    const Press dbl = RunPress("corotational", "pcg_warp", true, "1.0e-6", object, false);
+    const Press single = RunPress("corotational", "pcg_warp", true, "1.0e-6", object, true);
+    std::printf("PCG iterations in 20 steps: %d single, %d double\n", single.iterations, dbl.iterations);
+    EXPECT_LE(single.iterations, dbl.iterations + 5);
+    const double u = (dbl.x - RestPositions()).norm();
+    ASSERT_GT(u, 0.0);
+    EXPECT_LT((single.x - dbl.x).norm(), 1e-5 * u);
+  }
+  // The linear press, whose double factor is exact (one iteration): two at most.
+  const Press linear = RunPress("linear", "pcg_warp", true, "1.0e-6", kSphere, true);
+  EXPECT_LE(linear.max_iterations_per_step, 2);
 }
 
 }  // namespace
