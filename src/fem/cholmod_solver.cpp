@@ -54,6 +54,21 @@ cholmod_sparse SymmetricView(const SystemMatrix::Csr& m) {
   return a;
 }
 
+// The factor as SupernodalTriangularSolve reads it; false when CHOLMOD holds it in another
+// form (simplicial, LDL^T, complex or long indices), which CHOLMOD's own solve then answers.
+bool SupernodalView(const cholmod_factor* L, SupernodalFactorView* f) {
+  if (!L->is_super || !L->is_ll || L->xtype != CHOLMOD_REAL || L->itype != CHOLMOD_INT) return false;
+  f->n = int(L->n);
+  f->nsuper = int(L->nsuper);
+  f->super = static_cast<const int*>(L->super);
+  f->pi = static_cast<const int*>(L->pi);
+  f->px = static_cast<const int*>(L->px);
+  f->s = static_cast<const int*>(L->s);
+  f->x = static_cast<const double*>(L->x);
+  f->perm = static_cast<const int*>(L->Perm);
+  return true;
+}
+
 const char* OrderingName(int ordering) {
   switch (ordering) {
     case CHOLMOD_NATURAL: return "natural";
@@ -153,11 +168,9 @@ void CholmodSolver::Prepare(const SystemMatrix& A) {
   omp_set_dynamic(dynamic);
   ok_ = impl_->llt.info() == Eigen::Success;
   impl_->single_values.clear();
-  const cholmod_factor* L = impl_->llt.factor();
-  if (ok_ && single_precision_ && L->is_super && L->xtype == CHOLMOD_REAL) {
-    const double* x = static_cast<const double*>(L->x);
-    impl_->single_values.assign(x, x + L->xsize);
-  }
+  SupernodalFactorView f;
+  if (ok_ && single_precision_ && SupernodalView(impl_->llt.factor(), &f))
+    impl_->single_values.assign(f.x, f.x + impl_->llt.factor()->xsize);
 }
 
 LinearSolveReport CholmodSolver::Solve(const SystemMatrix&, const Eigen::VectorXd& b, Eigen::VectorXd& x) {
@@ -170,22 +183,13 @@ LinearSolveReport CholmodSolver::Solve(const SystemMatrix&, const Eigen::VectorX
     x.setZero(b.size());
     return report;
   }
-  const cholmod_factor* L = impl_->llt.factor();
   const int threads = omp_get_max_threads();
   // Inside a parallel region (a caller solving columns on its threads) the team is not ours.
   const bool single = !impl_->single_values.empty();
   const bool subtrees = single || solve_path_ == CholmodSolvePath::kSubtrees ||
                         (solve_path_ == CholmodSolvePath::kAuto && threads > 1 && !omp_in_parallel());
-  if (subtrees && L->is_super && L->is_ll && L->xtype == CHOLMOD_REAL && L->itype == CHOLMOD_INT) {
-    SupernodalFactorView f;
-    f.n = int(L->n);
-    f.nsuper = int(L->nsuper);
-    f.super = static_cast<const int*>(L->super);
-    f.pi = static_cast<const int*>(L->pi);
-    f.px = static_cast<const int*>(L->px);
-    f.s = static_cast<const int*>(L->s);
-    f.x = static_cast<const double*>(L->x);
-    f.perm = static_cast<const int*>(L->Perm);
+  SupernodalFactorView f;
+  if (subtrees && SupernodalView(impl_->llt.factor(), &f)) {
     if (impl_->scheduled_threads != threads) {
       impl_->subtrees.Analyze(f, threads);
       impl_->scheduled_threads = threads;

@@ -88,7 +88,6 @@ double AssignSubtrees(const std::vector<int>& roots, const std::vector<double>& 
 }  // namespace
 
 void SupernodalTriangularSolve::Analyze(const SupernodalFactorView& f, int max_threads) {
-  analyzed_ = false;
   n_ = f.n;
   top_nodes_.clear();
   thread_nodes_.clear();
@@ -104,7 +103,7 @@ void SupernodalTriangularSolve::Analyze(const SupernodalFactorView& f, int max_t
   }
   // Supernodal elimination tree: the parent holds the first row below the diagonal block.
   std::vector<int> parent(static_cast<size_t>(ns), -1);
-  std::vector<double> work(static_cast<size_t>(ns)), subtree(static_cast<size_t>(ns));
+  std::vector<double> work(static_cast<size_t>(ns));
   bool topological = true;
   for (int j = 0; j < ns; ++j) {
     const int nscol = f.super[j + 1] - f.super[j];
@@ -123,10 +122,9 @@ void SupernodalTriangularSolve::Analyze(const SupernodalFactorView& f, int max_t
   if (max_threads <= 1 || !topological || ns < 2) {
     thread_nodes_.push_back(all);  // one serial sweep in column order
     serial_fraction_ = 1.0;
-    analyzed_ = true;
     return;
   }
-  subtree = work;
+  std::vector<double> subtree = work;  // becomes each supernode's subtree total below
   std::vector<std::vector<int>> children(static_cast<size_t>(ns));
   std::vector<int> roots;
   for (int j = 0; j < ns; ++j) {
@@ -190,7 +188,6 @@ void SupernodalTriangularSolve::Analyze(const SupernodalFactorView& f, int max_t
       }
     }
   serial_fraction_ = total > 0 ? serial / total : 0.0;
-  analyzed_ = true;
 }
 
 template <typename Scalar>

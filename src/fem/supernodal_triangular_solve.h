@@ -47,12 +47,9 @@ class SupernodalTriangularSolve {
   /// significant digits, for preconditioners (b and x stay double).
   void SolveSingle(const SupernodalFactorView& factor, const float* values_single, const double* b, double* x);
 
-  bool analyzed() const { return analyzed_; }
   /// Share of the triangular-solve work (stored entries of L) done serially at the top
   /// of the tree when the analysed thread count is used [0, 1].
   double serial_fraction() const { return serial_fraction_; }
-  /// Threads the schedule spreads the subtrees over (<= max_threads of Analyze).
-  int scheduled_threads() const { return int(thread_nodes_.size()); }
 
  private:
   // Per value type: the permuted right-hand side, per-thread off-diagonal products and
@@ -68,7 +65,6 @@ class SupernodalTriangularSolve {
   template <typename Scalar>
   void Allocate(Workspace<Scalar>& ws) const;
 
-  bool analyzed_ = false;
   int n_ = 0;
   double serial_fraction_ = 1.0;
   std::vector<int> top_nodes_;                  // ascending
