@@ -98,8 +98,10 @@ bool ContactFeStep::SameAsLastPress(const sensors::ContactPrimitive& p) const {
   // fresh press (test HoldScansReuseTheLastPressWithTheSameAnswer), about the press's own
   // 1e-3 force tolerance times the SED's sensitivity to force.
   const double force_tol_N = 0.5 * ReconstructedPressOptions().relative_tolerance * q.normal_force_N;
+  // The tangential load the leader was pressed with, not the raw estimate.
+  const Eigen::Vector2d dt = LeaderTangentialLoad_N(p) - LeaderTangentialLoad_N(q);
   if (p.shape != q.shape || !(std::abs(p.normal_force_N - q.normal_force_N) <= force_tol_N) ||
-      !(std::abs(p.shear_x_N - q.shear_x_N) <= force_tol_N) || !(std::abs(p.shear_y_N - q.shear_y_N) <= force_tol_N))
+      !(std::abs(dt.x()) <= force_tol_N) || !(std::abs(dt.y()) <= force_tol_N))
     return false;
   if (p.shape == sensors::ContactShape::kFlat) return true;
   return std::abs(p.x_mm - q.x_mm) <= 5e-3 && std::abs(p.y_mm - q.y_mm) <= 5e-3 &&
@@ -170,7 +172,7 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
   }
   StageTimer press_timer(times, Stage::kPress);
   const auto press = leader_->PressToForce({ToRigidObject(p)}, p.normal_force_N, ReconstructedPressOptions(),
-                                           Eigen::Vector2d(p.shear_x_N, p.shear_y_N));
+                                           LeaderTangentialLoad_N(p));
   press_timer.Stop();
   press_time_.AddMs(times[Stage::kPress]);
   if (!PressAnswered(press, *leader_)) {

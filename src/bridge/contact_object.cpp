@@ -1,5 +1,6 @@
 #include "bridge/contact_object.h"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 
@@ -40,6 +41,14 @@ bool PressAnswered(const scene::PressToForceResult& press, const scene::Fingerti
   if (press.reached) return true;
   return press.status == scene::PressStatus::kNotConverged && leader.contact().last().converged &&
          std::abs(press.force_N - press.target_force_N) <= tolerance * press.target_force_N;
+}
+
+Eigen::Vector2d LeaderTangentialLoad_N(const sensors::ContactPrimitive& p) {
+  const Eigen::Vector2d shear(p.shear_x_N, p.shear_y_N);
+  const double floor_N = kShearFloor * p.normal_force_N;
+  if (!(floor_N > 0) || !shear.allFinite()) return shear;  // no force: nothing is pressed anyway
+  const double weight = std::clamp(shear.norm() / floor_N - 1.0, 0.0, 1.0);
+  return weight * shear;
 }
 
 scene::PressToForceOptions ReconstructedPressOptions() {

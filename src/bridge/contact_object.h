@@ -20,6 +20,18 @@ geometry::RigidObject ToRigidObject(const sensors::ContactPrimitive& primitive);
 /// nothing; the SED then differs from the 1e-6 answer by about 1e-3 relative.
 scene::PressToForceOptions ReconstructedPressOptions();
 
+/// The tangential load [N, pad frame] the leader is pressed with for a reconstructed contact:
+/// the estimated shear, faded out where it is within the sensor's normal-to-shear crosstalk.
+/// Weight 0 while |shear| <= kShearFloor * normal force, 1 from twice that, linear between
+/// (continuous in the estimate). The rig's purely normal presses leave 0.0-0.5 % of the
+/// normal force in the estimated shear, its stroking presses 25-30 %; and a leader press of
+/// a thin rod is not continuous in a tangential load that small (press_13: 0.1 % of the
+/// normal force takes 6 contact nodes to 10 and moves the SED peak by 1.8 mm,
+/// docs/bridge-fidelity.md), so the crosstalk must not reach the leader.
+Eigen::Vector2d LeaderTangentialLoad_N(const sensors::ContactPrimitive& primitive);
+/// Fraction of the normal force below which estimated shear is crosstalk (see above).
+inline constexpr double kShearFloor = 0.01;
+
 /// Whether a leader press answered: it reached the force, or its root find flagged a trial
 /// solve that did not converge while the last solve converged within `tolerance` (relative)
 /// of the target — the state left behind is then the answer.

@@ -151,8 +151,7 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
   if (row.recon_ok) {
     leader_->ResetWarmStart();
     const auto r = leader_->PressToForce({ToRigidObject(row.recon_object)}, row.recon_object.normal_force_N,
-                                         ReconstructedPressOptions(),
-                                         Eigen::Vector2d(row.recon_object.shear_x_N, row.recon_object.shear_y_N));
+                                         ReconstructedPressOptions(), LeaderTangentialLoad_N(row.recon_object));
     row.recon_press = PressAnswered(r, *leader_) ? "reached" : scene::ToString(r.status);
     maps->recon = leader_->sed_Pa();
   } else {

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "model/fingertip_model.h"
 
 namespace sedbridge::bridge {
@@ -33,6 +35,36 @@ TEST(ContactObject, ReconstructedPressMatchesTheTightPressWithFewerSolves) {
     tight_solves += t.iterations;
   }
   EXPECT_LT(relaxed_solves, tight_solves) << "relaxed " << relaxed_solves << ", tight " << tight_solves;
+}
+
+// Shear within the sensor's normal-to-shear crosstalk (under 1 % of the normal force) does
+// not reach the leader; from 2 % it goes through whole; between, it fades in linearly, so
+// the load stays continuous in the estimate.
+TEST(ContactObject, ShearWithinCrosstalkDoesNotReachTheLeader) {
+  sensors::ContactPrimitive p;
+  p.normal_force_N = 0.6;
+  const Eigen::Vector2d direction = Eigen::Vector2d(3, -4).normalized();
+  auto load_at = [&](double fraction) {
+    p.shear_x_N = fraction * p.normal_force_N * direction.x();
+    p.shear_y_N = fraction * p.normal_force_N * direction.y();
+    return LeaderTangentialLoad_N(p);
+  };
+  EXPECT_EQ(load_at(0.001), Eigen::Vector2d::Zero());  // press_13's estimate
+  EXPECT_EQ(load_at(0.005), Eigen::Vector2d::Zero());  // the rig's largest crosstalk
+  EXPECT_EQ(load_at(kShearFloor), Eigen::Vector2d::Zero());
+  const Eigen::Vector2d half = load_at(1.5 * kShearFloor);
+  EXPECT_NEAR(half.norm(), 0.5 * 1.5 * kShearFloor * p.normal_force_N, 1e-12);
+  EXPECT_NEAR(half.normalized().dot(direction), 1.0, 1e-12);
+  const Eigen::Vector2d stroke = load_at(0.3);  // a stroking press: whole
+  EXPECT_DOUBLE_EQ(stroke.x(), p.shear_x_N);
+  EXPECT_DOUBLE_EQ(stroke.y(), p.shear_y_N);
+  EXPECT_NEAR(load_at(2 * kShearFloor).norm(), 2 * kShearFloor * p.normal_force_N, 1e-12);
+  // Continuous: no step across the fade's ends.
+  for (const double edge : {kShearFloor, 2 * kShearFloor})
+    EXPECT_NEAR(load_at(edge * (1 + 1e-9)).norm(), load_at(edge * (1 - 1e-9)).norm(), 1e-9);
+  // A non-finite estimate is passed on as it is, for the press to reject.
+  p.shear_x_N = std::nan("");
+  EXPECT_FALSE(LeaderTangentialLoad_N(p).allFinite());
 }
 
 }  // namespace

@@ -52,8 +52,11 @@ namespace {
 // radius (contact_reconstruction.h). Their SED is a ridge along the rod, whose maximum moves
 // along it by a vertex spacing (about 1.5 mm) for a few percent of SED: measured to the
 // other field's peak region (within 5 % of its maximum) the 2.5 mm rods' peaks agree (their
-// argmax is 1.2 mm apart on press_14). The 1 mm rods do not: press_12's truth peak misses
-// the bridge's region by 0.2 % of SED, press_13's by 29 % (1.8 mm along the rod).
+// argmax is 1.2 mm apart on press_14). Of the 1 mm rods, press_13 (across the pad on its
+// mid-plane) meets all three since the estimate's crosstalk shear no longer reaches the
+// leader (LeaderTangentialLoad_N: 0.1 % of the normal force took its contact from 6 nodes
+// to 10 and the peak 1.8 mm along the rod); press_12's truth peak misses the bridge's
+// region by 0.2 % of SED (its radius reads 1.66 mm).
 
 TEST(FidelityBenchmark, RigRodsMeetTheTargetsWithReconstructedContact) {
   const RigBench rig;
@@ -70,6 +73,9 @@ TEST(FidelityBenchmark, RigRodsMeetTheTargetsWithReconstructedContact) {
     EXPECT_LE(r.recon_error.peak_region_offset_mm, r.recon_error.peak_offset_mm);
     if (presses[size_t(i)].object.radius_mm > 2) {
       EXPECT_LE(r.recon_error.peak_region_offset_mm, 1.0);
+    }
+    if (i == 13) {
+      EXPECT_TRUE(WithinTargets(r.recon_error));
     }
   }
 }
