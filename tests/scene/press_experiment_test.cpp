@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <unistd.h>
@@ -46,6 +47,37 @@ TEST(PressExperiment, CoarsePressWritesTheOutputContract) {
   EXPECT_EQ(header, "x_mm,sed_Pa,sed_normalized");
 }
 
+// The shipped paper's press solves Newton's linear systems by PCG with the warped rest
+// factor: the same equilibria as refactorizing every iteration, in the same Newton
+// iterations (the outputs of the press on B are byte-identical, docs/performance.md).
+TEST(PressExperiment, PcgWarpReachesTheDirectSolversEquilibria) {
+  SceneDescription d = ReadSceneDescription(config::ResolveResource("config/scenes/paper_press.yaml"));
+  EXPECT_EQ(d.solver, SolverKind::kPcgWarp);
+  d.model = "B_coarse";
+  d.steps = 10;
+  d.dt_s = 0.1;
+  d.outputs.vtu_every = 0;
+  auto run = [&](SolverKind solver) {
+    SceneDescription e = d;
+    e.solver = solver;
+    FingertipScene scene(e);
+    return RunPress(scene, PressOptions{});
+  };
+  const PressResult pcg = run(SolverKind::kPcgWarp), direct = run(SolverKind::kCholmod);
+  ASSERT_EQ(pcg.steps.size(), direct.steps.size());
+  int pcg_newton = 0, direct_newton = 0;
+  for (size_t i = 0; i < pcg.steps.size(); ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_TRUE(pcg.steps[i].report.converged);
+    EXPECT_EQ(pcg.steps[i].report.solver_fallbacks, 0);
+    EXPECT_NEAR(pcg.steps[i].force_N, direct.steps[i].force_N, 1e-6 * direct.steps[i].force_N + 1e-12);
+    EXPECT_LE((pcg.merkel_sed[i] - direct.merkel_sed[i]).norm(), 1e-5 * direct.merkel_sed[i].norm() + 1e-9);
+    pcg_newton += pcg.steps[i].report.newton_iterations;
+    direct_newton += direct.steps[i].report.newton_iterations;
+  }
+  EXPECT_LE(std::abs(pcg_newton - direct_newton), 2) << pcg_newton << " vs " << direct_newton;
+  EXPECT_GT(pcg.steps.back().report.linear_iterations, 0);  // it did iterate
+}
 
 TEST(PressExperiment, NoFiniteForceIsAClearErrorNotACrash) {
   // Issue 13: contact.stiffness_N_m: 1e300 gave non-finite forces at every step, no step was
