@@ -79,6 +79,32 @@ TEST(PressExperiment, PcgWarpReachesTheDirectSolversEquilibria) {
   EXPECT_GT(pcg.steps.back().report.linear_iterations, 0);  // it did iterate
 }
 
+// The accurate preset solves its Newton iterations by warped PCG to 1e-6: a backward Euler
+// press (3 Newton iterations a step) gives refactorizing CHOLMOD's answer.
+TEST(PressExperiment, AccuratePresetGivesTheRefactorizingAnswer) {
+  SceneDescription d = ReadSceneDescription(config::ResolveResource("config/scenes/paper_press.yaml"));
+  d.model = "B_coarse";
+  d.steps = 10;
+  d.dt_s = 0.01;
+  d.integrator.kind = fem::IntegratorKind::kBackwardEuler;
+  d.outputs.vtu_every = 0;
+  ApplyPreset("accurate", d);
+  EXPECT_EQ(d.solver, SolverKind::kPcgWarp);
+  EXPECT_EQ(d.integrator.newton_iterations, 3);
+  SceneDescription refactorizing = d;
+  refactorizing.solver = SolverKind::kCholmod;
+  FingertipScene a(d), b(refactorizing);
+  const PressResult pcg = RunPress(a, PressOptions{}), direct = RunPress(b, PressOptions{});
+  ASSERT_EQ(pcg.steps.size(), direct.steps.size());
+  for (size_t i = 0; i < pcg.steps.size(); ++i) {
+    SCOPED_TRACE(i);
+    EXPECT_EQ(pcg.steps[i].report.solver_fallbacks, 0);
+    EXPECT_NEAR(pcg.steps[i].force_N, direct.steps[i].force_N, 1e-5 * direct.steps[i].force_N + 1e-9);
+    EXPECT_LE((pcg.merkel_sed[i] - direct.merkel_sed[i]).norm(), 1e-5 * direct.merkel_sed[i].norm() + 1e-9);
+  }
+  EXPECT_GT(direct.steps.back().force_N, 0.05);  // it pressed
+}
+
 TEST(PressExperiment, NoFiniteForceIsAClearErrorNotACrash) {
   // Issue 13: contact.stiffness_N_m: 1e300 gave non-finite forces at every step, no step was
   // selected and index -1 was read (SIGSEGV).
