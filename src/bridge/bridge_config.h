@@ -51,6 +51,7 @@ struct BridgeConfig {
   std::string preset = "fast";  ///< fast | balanced | accurate
   FeStepKind fe_step = FeStepKind::kScene;  ///< fe.step: scene | reduced | contact
   std::string compliance_cache_dir = "out/cache";  ///< fe.compliance_cache: precompute cache of fe.step contact
+  bool face_contact = true;  ///< fe.face_contact: the leader press of fe.step contact touches skin faces too
 
   // registration:
   PadRegistrationParams registration;
@@ -86,6 +87,7 @@ struct BridgeConfig {
       f->Visit(Field("preset", &preset).OneOf(scene::PresetNames()));
       f->Visit(Field("step", &fe_step));
       f->Visit(Field("compliance_cache", &compliance_cache_dir));
+      f->Visit(Field("face_contact", &face_contact));
     });
     a->Section("registration", [&](auto* g) {
       g->Visit(Field("offset_mm", &registration.offset_mm));

@@ -13,14 +13,11 @@ namespace sedbridge::bridge {
 
 ContactFeStep::ContactFeStep(const std::string& model_name, const sensors::SensorProfile& profile,
                              const PadRegistration& registration, std::unique_ptr<FeStep> fallback,
-                             const std::string& cache_dir, ReconstructionOptions options, bool full_field)
+                             scene::FingertipComplianceOptions leader, ReconstructionOptions options)
     : fallback_(std::move(fallback)), registration_(registration) {
   reconstructor_ = std::make_unique<ContactReconstructor>(profile, options);
   model_ = std::make_unique<model::FingertipModel>(model::LoadFingertipModel(model_name));
-  scene::FingertipComplianceOptions leader_options;
-  leader_options.contact.cache_dir = cache_dir;
-  leader_options.contact.full_field = full_field;
-  leader_ = std::make_unique<scene::FingertipCompliance>(*model_, leader_options);
+  leader_ = std::make_unique<scene::FingertipCompliance>(*model_, std::move(leader));
   zero_sed_ = Eigen::VectorXd::Zero(leader_->merkel_rest_pad_mm().cols());
 }
 

@@ -14,6 +14,7 @@
 #include <memory>
 #include <string>
 
+#include "bridge/contact_object.h"
 #include "bridge/contact_reconstruction.h"
 #include "bridge/fe_step.h"
 #include "bridge/latency_stats.h"
@@ -43,12 +44,13 @@ class ContactFeStep final : public FeStep {
   /// @param profile     three-axis sensor profile with a forward_model
   /// @param registration  sensor pad -> leader pad frame
   /// @param fallback    pressure-map step for scans the reconstruction cannot explain
-  /// @param cache_dir   compliance precompute cache ("" = none)
-  /// @param full_field  keep what frame_positions_m() needs for the whole mesh (VTU frames;
-  ///                    24 MB on B, and the precompute runs instead of the cache)
+  /// @param leader      the leader press's options: LeaderComplianceOptions(cache dir, face
+  ///                    contact); contact.full_field keeps what frame_positions_m() needs
+  ///                    for the whole mesh (VTU frames; 24 MB on B, and the precompute runs
+  ///                    instead of the cache)
   ContactFeStep(const std::string& model_name, const sensors::SensorProfile& profile,
                 const PadRegistration& registration, std::unique_ptr<FeStep> fallback,
-                const std::string& cache_dir, ReconstructionOptions options = {}, bool full_field = false);
+                scene::FingertipComplianceOptions leader, ReconstructionOptions options = {});
   ~ContactFeStep() override;
 
   /// Needs values.scan (set by ScanConditioner); without it the fallback answers.
@@ -58,7 +60,7 @@ class ContactFeStep final : public FeStep {
   std::string Describe() const override;
   std::string CountersLine() const override;
   const lcmt_contact_estimate* contact_message() const override { return &message_; }
-  /// With full_field: the leader's mesh under the pressed object and the step's Merkel SED
+  /// With leader.contact.full_field: the leader's mesh under the pressed object and the step's Merkel SED
   /// (a fallback scan shows the fallback's own frame, or rest). False without full_field.
   bool Frame(FeFrame* frame) const override;
 

@@ -51,6 +51,13 @@ Eigen::Vector2d LeaderTangentialLoad_N(const sensors::ContactPrimitive& p) {
   return weight * shear;
 }
 
+scene::FingertipComplianceOptions LeaderComplianceOptions(const std::string& cache_dir, bool face_contact) {
+  scene::FingertipComplianceOptions options;
+  options.contact.cache_dir = cache_dir;
+  options.face_samples = face_contact;
+  return options;
+}
+
 scene::PressToForceOptions ReconstructedPressOptions() {
   scene::PressToForceOptions options;
   options.relative_tolerance = 1e-3;

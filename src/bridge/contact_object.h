@@ -20,6 +20,14 @@ geometry::RigidObject ToRigidObject(const sensors::ContactPrimitive& primitive);
 /// nothing; the SED then differs from the 1e-6 answer by about 1e-3 relative.
 scene::PressToForceOptions ReconstructedPressOptions();
 
+/// The leader's fingertip for reconstructed contacts (bridge and fidelity benchmark), its
+/// precompute cached in `cache_dir` ("" = none). face_contact (bridge key fe.face_contact,
+/// default true): contact points on the skin faces too
+/// (scene::FingertipComplianceOptions::face_samples), so that a rod thinner than the
+/// skin-node spacing is caught and a thin rod's press is not balanced on one row of nodes;
+/// it costs about twice the leader press's time (docs/bridge-fidelity.md §11).
+scene::FingertipComplianceOptions LeaderComplianceOptions(const std::string& cache_dir, bool face_contact = true);
+
 /// The tangential load [N, pad frame] the leader is pressed with for a reconstructed contact:
 /// the estimated shear, faded out where it is within the sensor's normal-to-shear crosstalk.
 /// Weight 0 while |shear| <= kShearFloor * normal force, 1 from twice that, linear between

@@ -72,11 +72,9 @@ FidelityBenchmark::FidelityBenchmark(const std::string& model_name, const sensor
                                      const display::DisplayProfile& display, const std::string& cache_dir)
     : profile_(profile) {
   model_ = std::make_unique<model::FingertipModel>(model::LoadFingertipModel(model_name));
-  scene::FingertipComplianceOptions options;
-  options.contact.cache_dir = cache_dir;
-  leader_ = std::make_unique<scene::FingertipCompliance>(*model_, options);
-  // The pressure-map bridge exactly as the default config runs it.
+  // The pressure-map bridge, and the leader press, exactly as the default config runs them.
   const BridgeConfig config = LoadBridgeConfig(DefaultBridgeConfigPath());
+  leader_ = std::make_unique<scene::FingertipCompliance>(*model_, LeaderComplianceOptions(cache_dir, config.face_contact));
   const PadRegistration registration(profile.taxels);
   map_step_ = std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(model_name, "fast"), profile, registration,
                                                     config.traction);

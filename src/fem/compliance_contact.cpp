@@ -81,6 +81,18 @@ ComplianceContact::ComplianceContact(const TetMesh& mesh, std::vector<std::uniqu
     if (unique.size() != candidates_.size() || (!unique.empty() && (*unique.begin() < 0 || *unique.rbegin() >= n)))
       throw std::invalid_argument("compliance contact: candidate nodes must be unique mesh nodes");
   }
+  for (const ContactSample& sample : options_.face_samples) {
+    double sum = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double w = sample.weight[size_t(a)];
+      if (sample.candidate[size_t(a)] < 0 || sample.candidate[size_t(a)] >= int(candidates_.size()) ||
+          !(w >= 0) || !std::isfinite(w))
+        throw std::invalid_argument("compliance contact: a face sample needs candidate indices and weights >= 0");
+      sum += w;
+    }
+    if (!(std::abs(sum - 1.0) <= 1e-9))
+      throw std::invalid_argument("compliance contact: a face sample's weights must sum to 1");
+  }
   sed_ = std::make_unique<VertexSedEvaluator>(*elastic, std::move(sed_vertices));
   {
     std::set<int> nodes;
@@ -141,13 +153,52 @@ ComplianceContact::ComplianceContact(const TetMesh& mesh, std::vector<std::uniqu
   const int c = int(candidates_.size());
   rest_c_.resize(3, c);
   for (int j = 0; j < c; ++j) rest_c_.col(j) = mesh.rest_positions_m.col(candidates_[size_t(j)]);
-  f_c_ = u_c_ = u_t_ = Eigen::VectorXd::Zero(3 * c);
+  sample_node_ = candidates_;
+  if (!options_.face_samples.empty()) AddFaceSamples();
+  f_c_ = u_c_ = u_t_ = Eigen::VectorXd::Zero(3 * num_samples());
   u_s_ = Eigen::VectorXd::Zero(Eigen::Index(3 * sed_nodes_.size()));
   ResetWarmStart();
   precompute_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
 ComplianceContact::~ComplianceContact() = default;
+
+void ComplianceContact::AddFaceSamples() {
+  const int c = int(candidates_.size()), e = int(options_.face_samples.size()), S = c + e;
+  // B: S x c interpolation (the nodes' rows the identity); with it W <- B W B^T,
+  // G <- G B^T, F <- F B^T, applied column block by column block.
+  auto right = [&](const Eigen::MatrixXd& M) {  // M B^T
+    Eigen::MatrixXd out(M.rows(), 3 * S);
+    out.leftCols(3 * c) = M;
+    for (int k = 0; k < e; ++k) {
+      const ContactSample& sample = options_.face_samples[size_t(k)];
+      auto block = out.middleCols<3>(3 * (c + k));
+      block.setZero();
+      for (int a = 0; a < 3; ++a) block += sample.weight[size_t(a)] * M.middleCols<3>(3 * sample.candidate[size_t(a)]);
+    }
+    return out;
+  };
+  const Eigen::MatrixXd WB = right(W_);  // 3c x 3S
+  W_.resize(3 * S, 3 * S);
+  W_.topRows(3 * c) = WB;
+  for (int k = 0; k < e; ++k) {
+    const ContactSample& sample = options_.face_samples[size_t(k)];
+    auto rows = W_.middleRows<3>(3 * (c + k));
+    rows.setZero();
+    for (int a = 0; a < 3; ++a) rows += sample.weight[size_t(a)] * WB.middleRows<3>(3 * sample.candidate[size_t(a)]);
+  }
+  W_ = 0.5 * (W_ + W_.transpose()).eval();
+  G_ = right(G_);
+  if (F_.size() > 0) F_ = right(F_);
+  rest_c_.conservativeResize(3, S);
+  sample_node_.resize(size_t(S));
+  for (int k = 0; k < e; ++k) {
+    const ContactSample& sample = options_.face_samples[size_t(k)];
+    rest_c_.col(c + k).setZero();
+    for (int a = 0; a < 3; ++a) rest_c_.col(c + k) += sample.weight[size_t(a)] * rest_c_.col(sample.candidate[size_t(a)]);
+    sample_node_[size_t(c + k)] = candidates_[size_t(sample.candidate[0])];
+  }
+}
 
 const std::vector<int>& ComplianceContact::sed_vertices() const { return sed_->vertices(); }
 
@@ -305,7 +356,7 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
     result_.error = "non-finite tangential force or time";
     return result_;
   }
-  const int c = int(candidates_.size());
+  const int c = num_samples();
   const int no = int(objects.size());
   if (no != num_objects_) {  // a different scene: no warm start, no anchors
     num_objects_ = no;
@@ -492,7 +543,7 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
     const int i = p / no;
     const double spring = exact ? lambda_N_[p] : -k * phi_m_[p];
     result_.contacts.push_back(
-        {candidates_[size_t(i)], p % no, normal_.col(p), std::max(0.0, -phi_m_[p]), spring, spring});
+        {sample_node_[size_t(i)], p % no, normal_.col(p), std::max(0.0, -phi_m_[p]), spring, spring, i});
     result_.spring_force_N += spring * normal_.col(p);
   }
   if (total > 0) result_.tangential_force_N = tangential_force_N;
@@ -507,7 +558,7 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
 
 void ComplianceContact::ComputeSed() {
   if (!result_.ok || sed_current_) return;
-  const int c = int(candidates_.size());
+  const int c = int(candidates_.size());  // the node samples come first
   // SED from the displacements of the nodes it reads (G f: most of a step with few
   // contacts, so a root find over many steps asks for it only at its answer).
   u_s_.setZero();
@@ -546,7 +597,7 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau) {
   // when two contacts act on one node along dependent normals.
   const double inverse_k = options_.exact_contact ? (W_.size() ? kExactContactRegularization * W_.diagonal().maxCoeff() : 0.0) : 1.0 / k;
   const Eigen::Index pairs = lambda_N_.size();
-  const int c = int(candidates_.size());
+  const int c = num_samples();
 
   // Forces held fixed in this QP: the tangential load (shares of the current normal
   // forces). u_t_ = W held.

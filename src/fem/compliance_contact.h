@@ -33,6 +33,14 @@
 
 namespace sedbridge::fem {
 
+/// A contact point on a skin face: position and displacement are the weighted sums of its
+/// nodes' (indices into the candidate nodes, weights >= 0 summing to 1); its force goes to
+/// them with the same weights.
+struct ContactSample {
+  std::array<int, 3> candidate{};
+  std::array<double, 3> weight{};
+};
+
 struct ComplianceContactOptions {
   double stiffness_N_m = 1e4;      ///< k_contact per node (paper: 1e4 N/m)
   /// Exact (rigid, non-penetrating) contact instead of the penalty law: gaps >= 0, forces
@@ -57,6 +65,13 @@ struct ComplianceContactOptions {
   std::string cache_dir;
   /// OpenMP threads for the precompute's back-substitutions; 0 = OpenMP's default.
   int precompute_threads = 0;
+  /// Face contact: these points on skin faces take part in the contact as the candidate
+  /// nodes do (the penalty law at their own positions), so that an object narrower than
+  /// the node spacing is caught by the faces between nodes (docs/bridge-fidelity.md §11).
+  /// W, G (and F) are then over nodes and samples: B W B^T etc. with B the interpolation,
+  /// built after the precompute (the cache holds the nodes' blocks). Empty: node contact,
+  /// the paper's and the full FE's.
+  std::vector<ContactSample> face_samples;
 };
 
 /// One contact step's answer. Contacts are (node, object) pairs, as PenaltyContactForce.
@@ -109,6 +124,8 @@ class ComplianceContact {
   void EndStep();
   size_t num_anchors() const;
 
+  /// Contact points: the candidate nodes, then options.face_samples.
+  int num_samples() const { return int(rest_c_.cols()); }
   /// Displacement of each candidate after the last step [m], 3 x #candidates.
   Eigen::Map<const Eigen::Matrix3Xd> candidate_displacements_m() const;
   /// Positions of all nodes where the last step defines them (candidates and SED nodes;
@@ -122,7 +139,7 @@ class ComplianceContact {
   const std::vector<int>& sed_vertices() const;
   /// Nodes whose displacement the SED needs (those of the elements around sed_vertices).
   const std::vector<int>& sed_nodes() const { return sed_nodes_; }
-  /// W [m/N] and G [m/N] (see the file comment).
+  /// W [m/N] and G [m/N] (see the file comment), over num_samples() contact points.
   const Eigen::MatrixXd& compliance_m_N() const { return W_; }
   const Eigen::MatrixXd& sed_node_map_m_N() const { return G_; }
 
@@ -138,6 +155,8 @@ class ComplianceContact {
  private:
   void Precompute(const SystemMatrix& K);
   bool LoadCache(std::uint64_t key);
+  /// W, G, F from the candidate nodes to nodes + face samples; sample positions.
+  void AddFaceSamples();
   void SaveCache(std::uint64_t key) const;
   /// u_c = W f_c over the candidates whose force is non-zero.
   void CandidateDisplacements();
@@ -148,6 +167,7 @@ class ComplianceContact {
   const TetMesh& mesh_;
   std::vector<std::unique_ptr<ForceTerm>> terms_;
   std::vector<int> candidates_;
+  std::vector<int> sample_node_;  // per contact sample: its node (a face sample's first vertex)
   std::vector<int> sed_nodes_;
   ComplianceContactOptions options_;
   std::unique_ptr<VertexSedEvaluator> sed_;

@@ -25,6 +25,9 @@ struct ActiveContact {
   double depth_m = 0;             ///< penetration (> 0)
   double spring_force_N = 0;      ///< k * depth
   double normal_force_N = 0;      ///< spring + damper, clamped >= 0
+  /// Compliance method (fem/compliance_contact.h): which contact sample touched (a
+  /// candidate node, or a point on a skin face, whose `node` is then its first vertex).
+  int sample = -1;
 };
 
 class PenaltyContactForce final : public ForceTerm, public StiffNodeSource {

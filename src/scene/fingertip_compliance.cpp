@@ -94,6 +94,25 @@ FingertipCompliance::FingertipCompliance(const model::FingertipModel& m, Fingert
         if (candidate_index_[size_t(t[size_t(b)])] < 0) on_edge_[size_t(i)] = 1;
     }
 
+  sample_on_edge_ = on_edge_;
+  if (options_.face_samples) {
+    std::vector<fem::ContactSample>& samples = options_.contact.face_samples;
+    samples.clear();
+    for (const auto& t : m.skin_triangles) {
+      fem::ContactSample sample;
+      char edge = 0;
+      for (int a = 0; a < 3; ++a) {
+        sample.candidate[size_t(a)] = candidate_index_[size_t(t[size_t(a)])];
+        sample.weight[size_t(a)] = 1.0 / 3.0;
+        if (sample.candidate[size_t(a)] >= 0) edge = char(edge | on_edge_[size_t(sample.candidate[size_t(a)])]);
+      }
+      if (*std::min_element(sample.candidate.begin(), sample.candidate.end()) < 0) continue;
+      samples.push_back(sample);
+      sample_on_edge_.push_back(edge);
+    }
+    options_.contact.stiffness_N_m *= double(candidates.size()) / double(candidates.size() + samples.size());
+  }
+
   // The model's own support, as FingertipScene builds it.
   std::vector<std::unique_ptr<fem::ForceTerm>> terms;
   terms.push_back(std::make_unique<fem::ElasticTetForce>(m.soft, fem::ElasticFormulation::kLinear));
@@ -151,7 +170,7 @@ bool FingertipCompliance::AnyInside(const std::vector<geometry::RigidObject>& ob
 
 bool FingertipCompliance::TouchesOutsidePatch(const std::vector<geometry::RigidObject>& objects_model) const {
   for (const auto& c : contact_->last().contacts)
-    if (on_edge_[size_t(candidate_index_[size_t(c.node)])]) return true;
+    if (sample_on_edge_[size_t(c.sample)]) return true;
   // Skin outside the patch moves little where the contact is: inside an object at rest
   // means it would be in contact in the full model.
   return AnyInside(objects_model, outside_skin_);

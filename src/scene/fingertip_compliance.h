@@ -41,6 +41,12 @@ struct FingertipComplianceOptions {
   fem::SpringDamperParams bone;
   /// k_contact [N/m], iteration control, cache folder (fem::ComplianceContactOptions).
   fem::ComplianceContactOptions contact;
+  /// Face contact: the centroid of every skin triangle of the candidate patch is a contact
+  /// point too (fem::ContactSample), so that objects narrower than the skin-node spacing
+  /// (about 1.5 mm on B: thin rods, edges) are caught between nodes. k_contact is then
+  /// shared: each point gets k * #nodes / #points, so a flat press keeps the patch's total
+  /// stiffness. false: node contact (the paper's; what the full FE solve does).
+  bool face_samples = false;
 };
 
 /// Options for a scene that asks for the compliance method; throws std::invalid_argument
@@ -132,6 +138,7 @@ class FingertipCompliance {
   std::unique_ptr<fem::ComplianceContact> contact_;
   Eigen::Matrix3Xd merkel_rest_pad_mm_;
   std::vector<char> on_edge_;           // per candidate
+  std::vector<char> sample_on_edge_;    // per contact sample (a face's: any vertex on the edge)
   std::vector<int> candidate_index_;    // per soft node: index into candidates, or -1
   std::vector<int> outside_skin_;       // skin nodes that are not candidates
   double last_indentation_mm_ = -1, last_target_N_ = 0;

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include "bridge/contact_object.h"
 #include "bridge/latency_stats.h"
 #include "bridge/pipeline_status.h"
 #include "common/config_error.h"
@@ -18,6 +19,7 @@ TEST(BridgeConfig, ShippedDefaultLoadsWithEveryKey) {
   EXPECT_EQ(c.model, "B");
   EXPECT_EQ(c.preset, "fast");
   EXPECT_EQ(c.fe_step, FeStepKind::kContact);
+  EXPECT_TRUE(c.face_contact);
   EXPECT_EQ(c.display_profile, "suction_4x4");
   EXPECT_DOUBLE_EQ(c.status_Hz, 10);
   EXPECT_DOUBLE_EQ(c.conditioning.noise_floor_Pa, 150);
@@ -28,6 +30,11 @@ TEST(BridgeConfig, EmptyFileGivesDefaults) {
   const BridgeConfig c = ParseBridgeConfig("", "empty.yaml");
   EXPECT_EQ(c.model, "B");
   EXPECT_DOUBLE_EQ(c.registration.scale, 1.0);
+  EXPECT_TRUE(c.face_contact);
+  EXPECT_FALSE(ParseBridgeConfig("fe: {face_contact: false}\n", "nodes.yaml").face_contact);
+  // The leader press's options follow the key.
+  EXPECT_TRUE(LeaderComplianceOptions("").face_samples);
+  EXPECT_FALSE(LeaderComplianceOptions("", false).face_samples);
 }
 
 TEST(BridgeConfig, ReadsRegistrationAndTraction) {

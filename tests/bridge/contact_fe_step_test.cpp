@@ -77,7 +77,7 @@ TEST(ContactFeStep, RigSphereFarSharperThanThePressureMap) {
   auto map = std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, "fast"), profile,
                                                    registration, config.traction);
   ReducedLinearFeStep map_only(BridgeSceneDescription(config.model, "fast"), profile, registration, config.traction);
-  ContactFeStep step(config.model, profile, registration, std::move(map), "");
+  ContactFeStep step(config.model, profile, registration, std::move(map), LeaderComplianceOptions(""));
   ScanConditioner conditioner(profile, registration, config.conditioning);
   TaxelValues values;
   double contact_max = 0, map_max = 0;
@@ -113,7 +113,8 @@ TEST(ContactFeStep, HoldScansReuseTheLastPressWithTheSameAnswer) {
   auto make = [&] {
     auto map = std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, "fast"), profile,
                                                      registration, config.traction);
-    return std::make_unique<ContactFeStep>(config.model, profile, registration, std::move(map), "");
+    return std::make_unique<ContactFeStep>(config.model, profile, registration, std::move(map),
+                                           LeaderComplianceOptions(""));
   };
   for (int i : {3, 14, 17}) {  // sphere 5 mm, rod 2.5 mm, flat
     const auto& press = presses[size_t(i)];

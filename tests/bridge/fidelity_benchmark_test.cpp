@@ -48,36 +48,31 @@ TEST(FidelityBenchmark, RigPressesMeetTheTargetsWithReconstructedContact) {
 namespace sedbridge::bridge {
 namespace {
 
-// Rods of 1 and 2.5 mm: peak SED and L2 meet the targets since hold averaging settles the
-// radius (contact_reconstruction.h). Their SED is a ridge along the rod, whose maximum moves
-// along it by a vertex spacing (about 1.5 mm) for a few percent of SED: measured to the
-// other field's peak region (within 5 % of its maximum) the 2.5 mm rods' peaks agree (their
-// argmax is 1.2 mm apart on press_14). Of the 1 mm rods, press_13 (across the pad on its
-// mid-plane) meets all three since the estimate's crosstalk shear no longer reaches the
-// leader (LeaderTangentialLoad_N: 0.1 % of the normal force took its contact from 6 nodes
-// to 10 and the peak 1.8 mm along the rod); press_12's truth peak misses the bridge's
-// region by 0.2 % of SED (its radius reads 1.66 mm).
-
+// Rods of 0.6, 1 and 2.5 mm, pressed on the leader with face contact (LeaderComplianceOptions):
+// peak SED and L2 meet the targets on all five, and the peak offset on all but two, whose
+// SED is a ridge along the rod: its maximum moves along it by a vertex spacing (about
+// 1.5 mm) for a few percent of SED, so measured to the other field's peak region (within
+// 5 % of its maximum) they agree too. The 0.6 mm rod (press_16) has a truth only with face
+// contact: with node contact it passed between the skin nodes (patch_edge).
 TEST(FidelityBenchmark, RigRodsMeetTheTargetsWithReconstructedContact) {
   const RigBench rig;
   const auto& presses = rig.presses;
   FidelityBenchmark& bench = *rig.bench;
-  for (int i : {12, 13, 14, 15}) {
+  int within = 0;
+  for (int i : {12, 13, 14, 15, 16}) {
     FidelityMaps maps;
     const FidelityRow r = bench.Run(FromCalibrationPress(presses[size_t(i)]), &maps);
     SCOPED_TRACE(r.name);
+    EXPECT_TRUE(r.truth_valid) << r.truth_press;
     EXPECT_TRUE(r.recon_ok);
     EXPECT_GT(r.recon_error.peak_ratio, 0.8);
     EXPECT_LT(r.recon_error.peak_ratio, 1.25);
     EXPECT_LT(r.recon_error.rel_l2, 0.25);
     EXPECT_LE(r.recon_error.peak_region_offset_mm, r.recon_error.peak_offset_mm);
-    if (presses[size_t(i)].object.radius_mm > 2) {
-      EXPECT_LE(r.recon_error.peak_region_offset_mm, 1.0);
-    }
-    if (i == 13) {
-      EXPECT_TRUE(WithinTargets(r.recon_error));
-    }
+    EXPECT_LE(r.recon_error.peak_region_offset_mm, 1.0);
+    within += WithinTargets(r.recon_error) ? 1 : 0;
   }
+  EXPECT_GE(within, 3);
 }
 
 }  // namespace

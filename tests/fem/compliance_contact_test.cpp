@@ -118,6 +118,45 @@ TEST(ComplianceContact, TwoObjectsEqualFullFePenaltySolve) {
   ExpectSameAsFullFe({SphereAbove(0.002, 0.0003, 0.25 * kSide), SphereAbove(0.002, 0.0002, 0.75 * kSide)});
 }
 
+// Face samples: contact points between candidate nodes, their compliance the interpolation
+// of the nodes' (B W B^T), their force spread to the nodes by the same weights.
+TEST(ComplianceContact, FaceSamplesAreInterpolatedContactPoints) {
+  const TetMesh mesh = Block();
+  const ComplianceContact nodes = MakeCompliance(mesh);
+  const int c = int(nodes.candidate_nodes().size());
+  ComplianceContactOptions o;
+  o.face_samples = {{{0, 1, 2}, {0.5, 0.25, 0.25}}, {{3, 4, 5}, {0.2, 0.3, 0.5}}, {{1, 7, 9}, {1.0 / 3, 1.0 / 3, 1.0 / 3}}};
+  ComplianceContact faces = MakeCompliance(mesh, o);
+  ASSERT_EQ(faces.num_samples(), c + 3);
+  const Eigen::MatrixXd& Wn = nodes.compliance_m_N();
+  const Eigen::MatrixXd& Wf = faces.compliance_m_N();
+  Eigen::MatrixXd B = Eigen::MatrixXd::Zero(3 * (c + 3), 3 * c);
+  B.topRows(3 * c).setIdentity();
+  for (int k = 0; k < 3; ++k)
+    for (int a = 0; a < 3; ++a)
+      B.block<3, 3>(3 * (c + k), 3 * o.face_samples[size_t(k)].candidate[size_t(a)]) +=
+          o.face_samples[size_t(k)].weight[size_t(a)] * Eigen::Matrix3d::Identity();
+  EXPECT_LT((Wf - B * Wn * B.transpose()).norm(), 1e-12 * Wn.norm());
+  EXPECT_LT((Wf - Wf.transpose()).norm(), 1e-14 * Wf.norm());
+  EXPECT_LT((faces.sed_node_map_m_N() - nodes.sed_node_map_m_N() * B.transpose()).norm(),
+            1e-12 * nodes.sed_node_map_m_N().norm());
+  // A press still answers, with its contacts named by sample.
+  const ComplianceStepResult& r = faces.Step({SphereAbove(0.004, 0.0004)});
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_TRUE(r.converged);
+  for (const auto& contact : r.contacts) {
+    EXPECT_GE(contact.sample, 0);
+    EXPECT_LT(contact.sample, faces.num_samples());
+  }
+  // Bad samples are refused.
+  for (const ContactSample& bad : {ContactSample{{0, 1, c}, {0.2, 0.3, 0.5}}, ContactSample{{0, 1, 2}, {0.5, 0.5, 0.5}},
+                                   ContactSample{{0, 1, 2}, {1.5, -0.25, -0.25}}}) {
+    ComplianceContactOptions b;
+    b.face_samples = {bad};
+    EXPECT_THROW(MakeCompliance(mesh, b), std::invalid_argument);
+  }
+}
+
 TEST(ComplianceContact, NoContactGivesZeroAndRejectsNonFiniteInput) {
   const TetMesh mesh = Block();
   ComplianceContact cc = MakeCompliance(mesh);

@@ -188,6 +188,63 @@ TEST(FingertipCompliance, ThinRodDoesNotTunnelThroughTheSkin) {
   }
 }
 
+// Face contact (FingertipComplianceOptions::face_samples) on model B, whose skin nodes are
+// about 1.5 mm apart.
+geometry::RigidObject PadRod(double radius_mm, double yaw_deg, double x_mm, double y_mm) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(yaw_deg * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(x_mm * 1e-3, y_mm * 1e-3, radius_mm * 1e-3);
+  return {"rod", std::make_shared<geometry::CylinderSdf>(radius_mm * 1e-3, 10e-3), geometry::Trajectory(pose)};
+}
+
+const model::FingertipModel& ModelB() {
+  static const model::FingertipModel b = model::LoadFingertipModel("B");
+  return b;
+}
+
+// A 0.6 mm rod passes between the skin nodes (rig press_16: 0.03 N at 4.2 mm, then the
+// patch edge); the faces between them catch it.
+TEST(FingertipCompliance, FaceContactCatchesARodThinnerThanTheNodeSpacing) {
+  FingertipComplianceOptions face;
+  face.face_samples = true;
+  FingertipCompliance nodes(ModelB()), faces(ModelB(), face);
+  EXPECT_GT(faces.contact().num_samples(), nodes.contact().num_samples());
+  const geometry::RigidObject rod = PadRod(0.6, 60, -1.5, 0);
+  const PressToForceResult by_nodes = nodes.PressToForce({rod}, 0.3);
+  const PressToForceResult by_faces = faces.PressToForce({rod}, 0.3);
+  EXPECT_FALSE(by_nodes.reached) << ToString(by_nodes.status);
+  ASSERT_TRUE(by_faces.reached) << ToString(by_faces.status) << " " << by_faces.message;
+  EXPECT_LT(by_faces.indentation_mm, 2.0);
+  EXPECT_TRUE(faces.sed_Pa().allFinite());
+}
+
+// A 1.36 mm rod across the pad on the finger's mid-plane (rig press_13's reconstruction):
+// with node contact a tangential load of 0.1 % of the normal force tips its single row of
+// contact nodes to another equilibrium (Merkel SED L2 0.19 apart); with face contact the
+// answer is continuous in that load. A flat press is the same either way (the shared
+// stiffness keeps its total).
+TEST(FingertipCompliance, FaceContactKeepsAThinRodPressContinuousInATinyShear) {
+  FingertipComplianceOptions face;
+  face.face_samples = true;
+  FingertipCompliance faces(ModelB(), face);
+  const geometry::RigidObject rod = PadRod(1.36, 90, 0, 0);
+  auto sed_at = [&](FingertipCompliance& cc, double shear_fraction) {
+    cc.ResetWarmStart();
+    const PressToForceResult r = cc.PressToForce({rod}, 0.6, {}, Eigen::Vector2d(shear_fraction * 0.6, 0));
+    EXPECT_TRUE(r.reached) << ToString(r.status) << " " << r.message;
+    return Eigen::VectorXd(cc.sed_Pa());
+  };
+  const Eigen::VectorXd still = sed_at(faces, 0), nudged = sed_at(faces, 1e-3);
+  EXPECT_LT((nudged - still).norm(), 0.02 * still.norm());
+
+  FingertipCompliance nodes(ModelB());
+  geometry::RigidObject flat{"flat", std::make_shared<geometry::PlaneSdf>(),
+                             geometry::Trajectory(Eigen::Isometry3d(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX())))};
+  ASSERT_TRUE(nodes.PressToForce({flat}, 1.0).reached);
+  ASSERT_TRUE(faces.PressToForce({flat}, 1.0).reached);
+  EXPECT_LT((faces.sed_Pa() - nodes.sed_Pa()).norm(), 0.05 * nodes.sed_Pa().norm());
+}
+
 TEST(FingertipCompliance, ExactContactReachesTheForceAtLessIndentationThanPenalty) {
   const std::vector<geometry::RigidObject> sphere{Sphere(5, {0, 1, 5})};
   FingertipCompliance penalty(Model());
