@@ -26,9 +26,11 @@ ContactFeStep::~ContactFeStep() = default;
 const Eigen::Matrix3Xd& ContactFeStep::merkel_rest_pad_mm() const { return leader_->merkel_rest_pad_mm(); }
 
 std::string ContactFeStep::Describe() const {
-  return "contact reconstruction -> compliance press on " + model_id() + " (" +
-         std::to_string(leader_->contact().candidate_nodes().size()) + " candidate nodes), fallback: " +
-         fallback_->Describe();
+  const int nodes = int(leader_->contact().candidate_nodes().size());
+  const int faces = leader_->contact().num_samples() - nodes;
+  return "contact reconstruction -> compliance press on " + model_id() + " (" + std::to_string(nodes) +
+         " candidate nodes" + (faces > 0 ? " + " + std::to_string(faces) + " face points" : std::string()) +
+         "), fallback: " + fallback_->Describe();
 }
 
 bool ContactFeStep::Frame(FeFrame* frame) const {
