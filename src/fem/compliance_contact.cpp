@@ -165,8 +165,8 @@ ComplianceContact::~ComplianceContact() = default;
 
 void ComplianceContact::AddFaceSamples() {
   const int c = int(candidates_.size()), e = int(options_.face_samples.size()), S = c + e;
-  // B: S x c interpolation (the nodes' rows the identity); with it W <- B W B^T,
-  // G <- G B^T, F <- F B^T, applied column block by column block.
+  // B: S x c interpolation (the nodes' rows the identity); W over the samples is B W B^T
+  // (the QP reads its 3x3 blocks; products go through the nodes, AddWTimes).
   auto right = [&](const Eigen::MatrixXd& M) {  // M B^T
     Eigen::MatrixXd out(M.rows(), 3 * S);
     out.leftCols(3 * c) = M;
@@ -179,17 +179,19 @@ void ComplianceContact::AddFaceSamples() {
     return out;
   };
   const Eigen::MatrixXd WB = right(W_);  // 3c x 3S
-  W_.resize(3 * S, 3 * S);
-  W_.topRows(3 * c) = WB;
+  Eigen::MatrixXd BWB(3 * S, 3 * S);
+  BWB.topRows(3 * c) = WB;
   for (int k = 0; k < e; ++k) {
     const ContactSample& sample = options_.face_samples[size_t(k)];
-    auto rows = W_.middleRows<3>(3 * (c + k));
+    auto rows = BWB.middleRows<3>(3 * (c + k));
     rows.setZero();
     for (int a = 0; a < 3; ++a) rows += sample.weight[size_t(a)] * WB.middleRows<3>(3 * sample.candidate[size_t(a)]);
   }
+  W_nodes_ = std::move(W_);
+  W_ = std::move(BWB);
   W_ = 0.5 * (W_ + W_.transpose()).eval();
-  G_ = right(G_);
-  if (F_.size() > 0) F_ = right(F_);
+  node_force_ = node_u_ = Eigen::VectorXd::Zero(3 * c);
+  node_forced_.assign(size_t(c), 0);
   rest_c_.conservativeResize(3, S);
   sample_node_.resize(size_t(S));
   for (int k = 0; k < e; ++k) {
@@ -201,6 +203,60 @@ void ComplianceContact::AddFaceSamples() {
 }
 
 const std::vector<int>& ComplianceContact::sed_vertices() const { return sed_->vertices(); }
+
+void ComplianceContact::AddSampleForce(int j, const Eigen::Vector3d& f) {
+  const int c = int(candidates_.size());
+  auto add = [&](int node, const Eigen::Vector3d& g) {
+    if (!node_forced_[size_t(node)]) {
+      node_forced_[size_t(node)] = 1;
+      forced_nodes_.push_back(node);
+    }
+    node_force_.segment<3>(3 * node) += g;
+  };
+  if (j < c) {
+    add(j, f);
+    return;
+  }
+  const ContactSample& sample = options_.face_samples[size_t(j - c)];
+  for (int a = 0; a < 3; ++a) add(sample.candidate[size_t(a)], sample.weight[size_t(a)] * f);
+}
+
+void ComplianceContact::ApplyNodeForces(const Eigen::MatrixXd& A, Eigen::VectorXd& y) {
+  for (int node : forced_nodes_) {
+    AddColumns3(A, node, node_force_.segment<3>(3 * node), y);
+    node_force_.segment<3>(3 * node).setZero();
+    node_forced_[size_t(node)] = 0;
+  }
+  forced_nodes_.clear();
+}
+
+void ComplianceContact::AddToSamples(const Eigen::VectorXd& u_nodes, Eigen::VectorXd& u_samples) const {
+  const int c = int(candidates_.size());
+  u_samples.head(3 * c) += u_nodes;
+  for (size_t k = 0; k < options_.face_samples.size(); ++k) {
+    const ContactSample& sample = options_.face_samples[k];
+    auto u = u_samples.segment<3>(3 * (c + Eigen::Index(k)));
+    for (int a = 0; a < 3; ++a) u += sample.weight[size_t(a)] * u_nodes.segment<3>(3 * sample.candidate[size_t(a)]);
+  }
+}
+
+template <typename Samples, typename Force>
+void ComplianceContact::AddWTimes(const Samples& samples, const Force& force, Eigen::VectorXd& u_samples) {
+  if (options_.face_samples.empty()) {
+    for (int j : samples) {
+      const Eigen::Vector3d f = force(j);
+      if (!f.isZero(0.0)) AddColumns3(W_, j, f, u_samples);
+    }
+    return;
+  }
+  for (int j : samples) {
+    const Eigen::Vector3d f = force(j);
+    if (!f.isZero(0.0)) AddSampleForce(j, f);
+  }
+  node_u_.setZero();
+  ApplyNodeForces(W_nodes_, node_u_);
+  AddToSamples(node_u_, u_samples);
+}
 
 Eigen::Map<const Eigen::Matrix3Xd> ComplianceContact::candidate_displacements_m() const {
   return {u_c_.data(), 3, Eigen::Index(candidates_.size())};
@@ -333,13 +389,24 @@ void ComplianceContact::ResetWarmStart() {
 Eigen::VectorXd ComplianceContact::full_positions_m() const {
   if (F_.size() == 0) return {};
   Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(mesh_.rest_positions_m.data(), mesh_.rest_positions_m.size());
-  for (int j : loaded_) AddColumns3(F_, j, f_c_.segment<3>(3 * j), x);
+  const int c = int(candidates_.size());
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(3 * c);  // B^T f: F_ is over the nodes
+  for (int j : loaded_) {
+    if (j < c) {
+      g.segment<3>(3 * j) += f_c_.segment<3>(3 * j);
+      continue;
+    }
+    const ContactSample& sample = options_.face_samples[size_t(j - c)];
+    for (int a = 0; a < 3; ++a) g.segment<3>(3 * sample.candidate[size_t(a)]) += sample.weight[size_t(a)] * f_c_.segment<3>(3 * j);
+  }
+  for (int j = 0; j < c; ++j)
+    if (!g.segment<3>(3 * j).isZero(0.0)) AddColumns3(F_, j, g.segment<3>(3 * j), x);
   return x;
 }
 
 void ComplianceContact::CandidateDisplacements() {
   u_c_.setZero();
-  for (int j : loaded_) AddColumns3(W_, j, f_c_.segment<3>(3 * j), u_c_);
+  AddWTimes(loaded_, [&](int j) { return Eigen::Vector3d(f_c_.segment<3>(3 * j)); }, u_c_);
 }
 
 const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::RigidObject>& objects, double t_s,
@@ -562,7 +629,12 @@ void ComplianceContact::ComputeSed() {
   // SED from the displacements of the nodes it reads (G f: most of a step with few
   // contacts, so a root find over many steps asks for it only at its answer).
   u_s_.setZero();
-  for (int j : loaded_) AddColumns3(G_, j, f_c_.segment<3>(3 * j), u_s_);
+  if (options_.face_samples.empty()) {
+    for (int j : loaded_) AddColumns3(G_, j, f_c_.segment<3>(3 * j), u_s_);
+  } else {  // G_ is over the nodes
+    for (int j : loaded_) AddSampleForce(j, f_c_.segment<3>(3 * j));
+    ApplyNodeForces(G_, u_s_);
+  }
   for (size_t a = 0; a < sed_nodes_.size(); ++a) {
     const int v = sed_nodes_[a];
     x_.segment<3>(3 * v) = mesh_.rest_positions_m.col(v) + u_s_.segment<3>(3 * Eigen::Index(a));
@@ -605,8 +677,9 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau) {
   for (Eigen::Index p = 0; p < pairs; ++p)
     if (lambda_N_[p] > 0) held_.segment<3>(3 * (int(p) / no)) += lambda_N_[p] * tau;
   u_t_.setZero(3 * c);
-  for (int j = 0; j < c; ++j)
-    if (!held_.segment<3>(3 * j).isZero(0.0)) AddColumns3(W_, j, held_.segment<3>(3 * j), u_t_);
+  all_samples_.resize(size_t(c));
+  for (int j = 0; j < c; ++j) all_samples_[size_t(j)] = j;
+  AddWTimes(all_samples_, [&](int j) { return Eigen::Vector3d(held_.segment<3>(3 * j)); }, u_t_);
 
   // Rows: force lambda_r along dir_r at node_r with "gap" g_r (linearized about the
   // current positions) and compliance c_r: lambda_r = -g_r(new) / c_r. Normal rows are
@@ -650,8 +723,16 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau) {
   // Predicted displacements for row forces l: u_t + sum_r l_r W dir_r.
   auto predicted_displacements = [&](const std::vector<int>& set, const Eigen::VectorXd& l) {
     u_new_ = u_t_;
+    if (options_.face_samples.empty()) {
+      for (int r : set)
+        if (l[r] != 0) AddColumns3(W_, row_node_[size_t(r)], l[r] * row_dir_.col(r), u_new_);
+      return;
+    }
     for (int r : set)
-      if (l[r] != 0) AddColumns3(W_, row_node_[size_t(r)], l[r] * row_dir_.col(r), u_new_);
+      if (l[r] != 0) AddSampleForce(row_node_[size_t(r)], l[r] * row_dir_.col(r));
+    node_u_.setZero();
+    ApplyNodeForces(W_nodes_, node_u_);
+    AddToSamples(node_u_, u_new_);
   };
   passive_.clear();
   for (int r = 0; r < rows; ++r)

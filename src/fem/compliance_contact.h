@@ -68,9 +68,9 @@ struct ComplianceContactOptions {
   /// Face contact: these points on skin faces take part in the contact as the candidate
   /// nodes do (the penalty law at their own positions), so that an object narrower than
   /// the node spacing is caught by the faces between nodes (docs/bridge-fidelity.md §11).
-  /// W, G (and F) are then over nodes and samples: B W B^T etc. with B the interpolation,
-  /// built after the precompute (the cache holds the nodes' blocks). Empty: node contact,
-  /// the paper's and the full FE's.
+  /// W is then over nodes and samples, B W B^T with B the interpolation, built after the
+  /// precompute (the cache holds the nodes' blocks); the products go through the nodes.
+  /// Empty: node contact, the paper's and the full FE's.
   std::vector<ContactSample> face_samples;
 };
 
@@ -139,7 +139,8 @@ class ComplianceContact {
   const std::vector<int>& sed_vertices() const;
   /// Nodes whose displacement the SED needs (those of the elements around sed_vertices).
   const std::vector<int>& sed_nodes() const { return sed_nodes_; }
-  /// W [m/N] and G [m/N] (see the file comment), over num_samples() contact points.
+  /// W [m/N] over the num_samples() contact points and G [m/N] over the candidate nodes
+  /// (see the file comment; a face sample's force reaches G through its nodes).
   const Eigen::MatrixXd& compliance_m_N() const { return W_; }
   const Eigen::MatrixXd& sed_node_map_m_N() const { return G_; }
 
@@ -155,8 +156,20 @@ class ComplianceContact {
  private:
   void Precompute(const SystemMatrix& K);
   bool LoadCache(std::uint64_t key);
-  /// W, G, F from the candidate nodes to nodes + face samples; sample positions.
+  /// W over nodes + face samples (the QP's blocks), sample positions.
   void AddFaceSamples();
+  // With face samples the products with W, G and F run over the nodes: a force on a sample
+  // goes to its nodes (B^T f), the node columns take it there, and displacements at the
+  // samples are B u (207-row columns on B instead of 570).
+  void AddSampleForce(int sample, const Eigen::Vector3d& f);  // into node_force_
+  /// y += A node_force_ over the nodes with a force (A: W_nodes_, G_ or F_), which are then
+  /// cleared.
+  void ApplyNodeForces(const Eigen::MatrixXd& A, Eigen::VectorXd& y);
+  /// u_samples += B u_nodes.
+  void AddToSamples(const Eigen::VectorXd& u_nodes, Eigen::VectorXd& u_samples) const;
+  /// u_samples (+)= W f for forces f given per sample by `force(j)` over `samples`.
+  template <typename Samples, typename Force>
+  void AddWTimes(const Samples& samples, const Force& force, Eigen::VectorXd& u_samples);
   void SaveCache(std::uint64_t key) const;
   /// u_c = W f_c over the candidates whose force is non-zero.
   void CandidateDisplacements();
@@ -179,6 +192,12 @@ class ComplianceContact {
   std::vector<SedElement> sed_elements_;  // in the order of sed_->elements()
   Eigen::VectorXd element_sed_;
   Eigen::MatrixXd W_, G_, F_;  // F_: K^-1 H^T for every dof (full_field only)
+  // Face samples: W over the nodes only; G_ and F_ stay over the nodes.
+  Eigen::MatrixXd W_nodes_;
+  Eigen::VectorXd node_force_, node_u_;
+  std::vector<int> forced_nodes_;
+  std::vector<char> node_forced_;
+  std::vector<int> all_samples_;  // 0 .. #samples - 1
   double precompute_s_ = 0;
   bool loaded_from_cache_ = false;
   std::string cache_file_, cache_rejected_;

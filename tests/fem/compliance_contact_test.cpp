@@ -138,16 +138,23 @@ TEST(ComplianceContact, FaceSamplesAreInterpolatedContactPoints) {
           o.face_samples[size_t(k)].weight[size_t(a)] * Eigen::Matrix3d::Identity();
   EXPECT_LT((Wf - B * Wn * B.transpose()).norm(), 1e-12 * Wn.norm());
   EXPECT_LT((Wf - Wf.transpose()).norm(), 1e-14 * Wf.norm());
-  EXPECT_LT((faces.sed_node_map_m_N() - nodes.sed_node_map_m_N() * B.transpose()).norm(),
-            1e-12 * nodes.sed_node_map_m_N().norm());
-  // A press still answers, with its contacts named by sample.
+  EXPECT_EQ(faces.sed_node_map_m_N(), nodes.sed_node_map_m_N());  // G stays over the nodes
+  // A press answers, with its contacts named by sample, and its displacements are those
+  // of its forces through the node-space products: u = B W_nodes B^T f (the same as the
+  // sample-space W f).
   const ComplianceStepResult& r = faces.Step({SphereAbove(0.004, 0.0004)});
   ASSERT_TRUE(r.ok) << r.error;
   EXPECT_TRUE(r.converged);
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(3 * faces.num_samples());
   for (const auto& contact : r.contacts) {
     EXPECT_GE(contact.sample, 0);
     EXPECT_LT(contact.sample, faces.num_samples());
+    f.segment<3>(3 * contact.sample) += contact.spring_force_N * contact.normal;
   }
+  const Eigen::VectorXd u_nodes = (Wf * f).head(3 * c);
+  Eigen::VectorXd u_cc(3 * c);
+  for (int j = 0; j < c; ++j) u_cc.segment<3>(3 * j) = faces.candidate_displacements_m().col(j);
+  EXPECT_LT((u_cc - u_nodes).norm(), 1e-6 * u_nodes.norm());
   // Bad samples are refused.
   for (const ContactSample& bad : {ContactSample{{0, 1, c}, {0.2, 0.3, 0.5}}, ContactSample{{0, 1, 2}, {0.5, 0.5, 0.5}},
                                    ContactSample{{0, 1, 2}, {1.5, -0.25, -0.25}}}) {
