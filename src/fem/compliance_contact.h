@@ -207,6 +207,10 @@ class ComplianceContact {
   Eigen::VectorXd lambda_N_;          // normal force magnitude per pair (warm start)
   Eigen::Matrix3Xd normal_;           // unit normal per pair (direction of its force)
   Eigen::VectorXd phi_m_;             // signed distance per pair at the current positions
+  // ... where and what it was at the pair's last evaluation in this step (skipping far points)
+  Eigen::VectorXd phi_evaluated_;
+  Eigen::Matrix3Xd x_evaluated_;
+  std::vector<char> skippable_;       // per object: a 1-Lipschitz SDF
   Eigen::VectorXd f_c_, u_c_, u_t_;   // candidate forces, displacements, tangential part
   std::vector<int> active_, loaded_;  // pairs penetrating now; candidates with a force
   Eigen::MatrixXd J_;

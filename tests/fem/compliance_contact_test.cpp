@@ -164,6 +164,35 @@ TEST(ComplianceContact, FaceSamplesAreInterpolatedContactPoints) {
   }
 }
 
+// Far points are not evaluated again within a step when the object's SDF is 1-Lipschitz;
+// the answer is the one of evaluating every point every iteration (the same sphere behind
+// an SDF that does not promise it).
+TEST(ComplianceContact, SkippingFarPointsGivesTheSameAnswer) {
+  struct Unpromised final : geometry::SignedDistanceField {
+    geometry::SphereSdf sphere{0.004};
+    geometry::SdfSample Evaluate(const Eigen::Vector3d& p) const override { return sphere.Evaluate(p); }
+    std::string Describe() const override { return "sphere, not promised Lipschitz"; }
+  };
+  const TetMesh mesh = Block();
+  ComplianceContactOptions o;
+  o.face_samples = {{{0, 1, 2}, {0.5, 0.25, 0.25}}, {{3, 4, 5}, {0.2, 0.3, 0.5}}};
+  ComplianceContact skipping = MakeCompliance(mesh, o), evaluating = MakeCompliance(mesh, o);
+  geometry::RigidObject promised = SphereAbove(0.004, 0.0004), unpromised = promised;
+  unpromised.shape = std::make_shared<Unpromised>();
+  ASSERT_TRUE(promised.shape->lipschitz());
+  ASSERT_FALSE(unpromised.shape->lipschitz());
+  for (double depth_mm : {0.1, 0.4, 0.6}) {
+    promised.trajectory = unpromised.trajectory = SphereAbove(0.004, depth_mm * 1e-3).trajectory;
+    const ComplianceStepResult a = skipping.Step({promised});
+    const ComplianceStepResult b = evaluating.Step({unpromised});
+    ASSERT_TRUE(a.ok && b.ok);
+    EXPECT_TRUE(a.converged && b.converged);
+    EXPECT_EQ(a.contacts.size(), b.contacts.size()) << depth_mm;
+    EXPECT_LT((a.spring_force_N - b.spring_force_N).norm(), 1e-6 * b.spring_force_N.norm()) << depth_mm;
+    EXPECT_LT(RelativeError(a.sed_Pa, b.sed_Pa), 1e-6) << depth_mm;
+  }
+}
+
 TEST(ComplianceContact, NoContactGivesZeroAndRejectsNonFiniteInput) {
   const TetMesh mesh = Block();
   ComplianceContact cc = MakeCompliance(mesh);

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <initializer_list>
 #include <random>
 
 namespace sedbridge::geometry {
@@ -25,6 +27,24 @@ TEST(SignedDistanceField, SphereDistanceAndNormal) {
   EXPECT_NEAR(s.Evaluate({0, 0, 0.001}).distance_m, -0.004, 1e-15);
   EXPECT_TRUE(s.Evaluate({0, 0, 0}).normal.allFinite());
   ExpectNormalIsGradient(s, {0.001, 0.002, 0.006}, 1e-6);
+}
+
+// The shapes that say so are 1-Lipschitz (contact solves skip far points on that promise).
+TEST(SignedDistanceField, LipschitzShapesKeepTheirPromise) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> u(-0.012, 0.012);
+  const SphereSdf sphere(0.005);
+  const CylinderSdf rod(0.001, 0.004), infinite(0.0006, 0.0);
+  const PlaneSdf plane;
+  for (const SignedDistanceField* f : std::initializer_list<const SignedDistanceField*>{&sphere, &rod, &infinite, &plane}) {
+    EXPECT_TRUE(f->lipschitz()) << f->Describe();
+    for (int k = 0; k < 20000; ++k) {
+      const Eigen::Vector3d p(u(rng), u(rng), u(rng)), q = p + 0.1 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+      EXPECT_LE(std::abs(f->Evaluate(p).distance_m - f->Evaluate(q).distance_m), (p - q).norm() * (1 + 1e-12) + 1e-18)
+          << f->Describe() << " at " << p.transpose();
+    }
+  }
+  EXPECT_FALSE(BoxSdf(Eigen::Vector3d(0.001, 0.002, 0.003), 0.0).lipschitz());  // not promised
 }
 
 TEST(SignedDistanceField, PlaneIsHalfSpace) {

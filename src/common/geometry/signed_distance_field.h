@@ -21,6 +21,9 @@ class SignedDistanceField {
   /// Distance and outward normal at `p_m` (object frame, metres).
   virtual SdfSample Evaluate(const Eigen::Vector3d& p_m) const = 0;
   virtual std::string Describe() const = 0;
+  /// True when the distance is 1-Lipschitz, |d(p) - d(q)| <= |p - q|: a contact solve may
+  /// then skip points it knows to be far from the surface (plane, sphere, cylinder).
+  virtual bool lipschitz() const { return false; }
 };
 
 /// Half-space z < 0 of the object frame (surface z = 0, normal +z).
@@ -28,6 +31,7 @@ class PlaneSdf final : public SignedDistanceField {
  public:
   SdfSample Evaluate(const Eigen::Vector3d& p_m) const override;
   std::string Describe() const override { return "plane"; }
+  bool lipschitz() const override { return true; }
 };
 
 class SphereSdf final : public SignedDistanceField {
@@ -35,6 +39,7 @@ class SphereSdf final : public SignedDistanceField {
   explicit SphereSdf(double radius_m);
   SdfSample Evaluate(const Eigen::Vector3d& p_m) const override;
   std::string Describe() const override;
+  bool lipschitz() const override { return true; }
 
  private:
   double radius_m_;
@@ -47,6 +52,7 @@ class CylinderSdf final : public SignedDistanceField {
   CylinderSdf(double radius_m, double half_length_m);
   SdfSample Evaluate(const Eigen::Vector3d& p_m) const override;
   std::string Describe() const override;
+  bool lipschitz() const override { return true; }
 
  private:
   double radius_m_, half_length_m_;
