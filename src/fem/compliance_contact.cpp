@@ -157,6 +157,8 @@ ComplianceContact::ComplianceContact(const TetMesh& mesh, std::vector<std::uniqu
   rest_c_.resize(3, c);
   for (int j = 0; j < c; ++j) rest_c_.col(j) = mesh.rest_positions_m.col(candidates_[size_t(j)]);
   sample_node_ = candidates_;
+  node_force_ = node_u_ = Eigen::VectorXd::Zero(3 * c);
+  node_forced_.assign(size_t(c), 0);
   if (!options_.face_samples.empty()) AddFaceSamples();
   f_c_ = u_c_ = u_t_ = Eigen::VectorXd::Zero(3 * num_samples());
   u_s_ = Eigen::VectorXd::Zero(Eigen::Index(3 * sed_nodes_.size()));
@@ -193,8 +195,6 @@ void ComplianceContact::AddFaceSamples() {
   W_nodes_ = std::move(W_);
   W_ = std::move(BWB);
   W_ = 0.5 * (W_ + W_.transpose()).eval();
-  node_force_ = node_u_ = Eigen::VectorXd::Zero(3 * c);
-  node_forced_.assign(size_t(c), 0);
   rest_c_.conservativeResize(3, S);
   sample_node_.resize(size_t(S));
   for (int k = 0; k < e; ++k) {
@@ -207,7 +207,7 @@ void ComplianceContact::AddFaceSamples() {
 
 const std::vector<int>& ComplianceContact::sed_vertices() const { return sed_->vertices(); }
 
-void ComplianceContact::AddSampleForce(int j, const Eigen::Vector3d& f) {
+void ComplianceContact::AddSampleForce(int j, const Eigen::Vector3d& f) const {
   const int c = int(candidates_.size());
   auto add = [&](int node, const Eigen::Vector3d& g) {
     if (!node_forced_[size_t(node)]) {
@@ -224,7 +224,7 @@ void ComplianceContact::AddSampleForce(int j, const Eigen::Vector3d& f) {
   for (int a = 0; a < 3; ++a) add(sample.candidate[size_t(a)], sample.weight[size_t(a)] * f);
 }
 
-void ComplianceContact::ApplyNodeForces(const Eigen::MatrixXd& A, Eigen::VectorXd& y) {
+void ComplianceContact::ApplyNodeForces(const Eigen::MatrixXd& A, Eigen::VectorXd& y) const {
   for (int node : forced_nodes_) {
     AddColumns3(A, node, node_force_.segment<3>(3 * node), y);
     node_force_.segment<3>(3 * node).setZero();
@@ -243,18 +243,19 @@ void ComplianceContact::AddToSamples(const Eigen::VectorXd& u_nodes, Eigen::Vect
   }
 }
 
-template <typename Samples, typename Force>
-void ComplianceContact::AddWTimes(const Samples& samples, const Force& force, Eigen::VectorXd& u_samples) {
+template <typename Items, typename SampleOf, typename Force>
+void ComplianceContact::AddWTimes(const Items& items, const SampleOf& sample_of, const Force& force,
+                                  Eigen::VectorXd& u_samples) {
   if (options_.face_samples.empty()) {
-    for (int j : samples) {
-      const Eigen::Vector3d f = force(j);
-      if (!f.isZero(0.0)) AddColumns3(W_, j, f, u_samples);
+    for (int item : items) {
+      const Eigen::Vector3d f = force(item);
+      if (!f.isZero(0.0)) AddColumns3(W_, sample_of(item), f, u_samples);
     }
     return;
   }
-  for (int j : samples) {
-    const Eigen::Vector3d f = force(j);
-    if (!f.isZero(0.0)) AddSampleForce(j, f);
+  for (int item : items) {
+    const Eigen::Vector3d f = force(item);
+    if (!f.isZero(0.0)) AddSampleForce(sample_of(item), f);
   }
   node_u_.setZero();
   ApplyNodeForces(W_nodes_, node_u_);
@@ -392,24 +393,14 @@ void ComplianceContact::ResetWarmStart() {
 Eigen::VectorXd ComplianceContact::full_positions_m() const {
   if (F_.size() == 0) return {};
   Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(mesh_.rest_positions_m.data(), mesh_.rest_positions_m.size());
-  const int c = int(candidates_.size());
-  Eigen::VectorXd g = Eigen::VectorXd::Zero(3 * c);  // B^T f: F_ is over the nodes
-  for (int j : loaded_) {
-    if (j < c) {
-      g.segment<3>(3 * j) += f_c_.segment<3>(3 * j);
-      continue;
-    }
-    const ContactSample& sample = options_.face_samples[size_t(j - c)];
-    for (int a = 0; a < 3; ++a) g.segment<3>(3 * sample.candidate[size_t(a)]) += sample.weight[size_t(a)] * f_c_.segment<3>(3 * j);
-  }
-  for (int j = 0; j < c; ++j)
-    if (!g.segment<3>(3 * j).isZero(0.0)) AddColumns3(F_, j, g.segment<3>(3 * j), x);
+  for (int j : loaded_) AddSampleForce(j, f_c_.segment<3>(3 * j));  // F_ is over the nodes
+  ApplyNodeForces(F_, x);
   return x;
 }
 
 void ComplianceContact::CandidateDisplacements() {
   u_c_.setZero();
-  AddWTimes(loaded_, [&](int j) { return Eigen::Vector3d(f_c_.segment<3>(3 * j)); }, u_c_);
+  AddWTimes(loaded_, [](int j) { return j; }, [&](int j) { return Eigen::Vector3d(f_c_.segment<3>(3 * j)); }, u_c_);
 }
 
 const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::RigidObject>& objects, double t_s,
@@ -699,7 +690,7 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau) {
   u_t_.setZero(3 * c);
   all_samples_.resize(size_t(c));
   for (int j = 0; j < c; ++j) all_samples_[size_t(j)] = j;
-  AddWTimes(all_samples_, [&](int j) { return Eigen::Vector3d(held_.segment<3>(3 * j)); }, u_t_);
+  AddWTimes(all_samples_, [](int j) { return j; }, [&](int j) { return Eigen::Vector3d(held_.segment<3>(3 * j)); }, u_t_);
 
   // Rows: force lambda_r along dir_r at node_r with "gap" g_r (linearized about the
   // current positions) and compliance c_r: lambda_r = -g_r(new) / c_r. Normal rows are
@@ -743,16 +734,8 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau) {
   // Predicted displacements for row forces l: u_t + sum_r l_r W dir_r.
   auto predicted_displacements = [&](const std::vector<int>& set, const Eigen::VectorXd& l) {
     u_new_ = u_t_;
-    if (options_.face_samples.empty()) {
-      for (int r : set)
-        if (l[r] != 0) AddColumns3(W_, row_node_[size_t(r)], l[r] * row_dir_.col(r), u_new_);
-      return;
-    }
-    for (int r : set)
-      if (l[r] != 0) AddSampleForce(row_node_[size_t(r)], l[r] * row_dir_.col(r));
-    node_u_.setZero();
-    ApplyNodeForces(W_nodes_, node_u_);
-    AddToSamples(node_u_, u_new_);
+    AddWTimes(set, [&](int r) { return row_node_[size_t(r)]; },
+              [&](int r) { return Eigen::Vector3d(l[r] * row_dir_.col(r)); }, u_new_);
   };
   passive_.clear();
   for (int r = 0; r < rows; ++r)

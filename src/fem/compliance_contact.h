@@ -161,15 +161,15 @@ class ComplianceContact {
   // With face samples the products with W, G and F run over the nodes: a force on a sample
   // goes to its nodes (B^T f), the node columns take it there, and displacements at the
   // samples are B u (207-row columns on B instead of 570).
-  void AddSampleForce(int sample, const Eigen::Vector3d& f);  // into node_force_
+  void AddSampleForce(int sample, const Eigen::Vector3d& f) const;  // into node_force_
   /// y += A node_force_ over the nodes with a force (A: W_nodes_, G_ or F_), which are then
   /// cleared.
-  void ApplyNodeForces(const Eigen::MatrixXd& A, Eigen::VectorXd& y);
+  void ApplyNodeForces(const Eigen::MatrixXd& A, Eigen::VectorXd& y) const;
   /// u_samples += B u_nodes.
   void AddToSamples(const Eigen::VectorXd& u_nodes, Eigen::VectorXd& u_samples) const;
-  /// u_samples (+)= W f for forces f given per sample by `force(j)` over `samples`.
-  template <typename Samples, typename Force>
-  void AddWTimes(const Samples& samples, const Force& force, Eigen::VectorXd& u_samples);
+  /// u_samples += W f, the forces force(item) at samples sample_of(item) over `items`.
+  template <typename Items, typename SampleOf, typename Force>
+  void AddWTimes(const Items& items, const SampleOf& sample_of, const Force& force, Eigen::VectorXd& u_samples);
   void SaveCache(std::uint64_t key) const;
   /// u_c = W f_c over the candidates whose force is non-zero.
   void CandidateDisplacements();
@@ -194,9 +194,11 @@ class ComplianceContact {
   Eigen::MatrixXd W_, G_, F_;  // F_: K^-1 H^T for every dof (full_field only)
   // Face samples: W over the nodes only; G_ and F_ stay over the nodes.
   Eigen::MatrixXd W_nodes_;
-  Eigen::VectorXd node_force_, node_u_;
-  std::vector<int> forced_nodes_;
-  std::vector<char> node_forced_;
+  // Scratch of the products through the nodes (B^T f); mutable: full_positions_m() is const.
+  mutable Eigen::VectorXd node_force_;
+  mutable std::vector<int> forced_nodes_;
+  mutable std::vector<char> node_forced_;
+  Eigen::VectorXd node_u_;
   std::vector<int> all_samples_;  // 0 .. #samples - 1
   double precompute_s_ = 0;
   bool loaded_from_cache_ = false;
