@@ -33,6 +33,7 @@ int RunFidelity(int argc, char** argv) {
       .Option("out", "DIR", "output folder", "out/fidelity")
       .Option("cache-dir", "DIR", "compliance precompute cache", "out/cache")
       .Flag("synthetic", "run the synthetic set instead (simulated sensor, kernel pad model: shapes the rig did not press)")
+      .Flag("node-contact", "press on the leader's skin nodes only (bridge fe.face_contact: false), not its faces too")
       .Flag("no-plots", "skip the PNG plots");
   if (!args.Parse(argc, argv)) return 0;
   const std::string out = args.Get("out");
@@ -49,7 +50,7 @@ int RunFidelity(int argc, char** argv) {
   std::printf("fidelity: %zu presses, model %s, building the leader's compliance ...\n", presses.size(),
               args.Get("model").c_str());
   FidelityBenchmark bench(args.Get("model"), profile, display::LoadNamedDisplayProfile(args.Get("display")),
-                          args.Get("cache-dir"));
+                          args.Get("cache-dir"), !args.GetFlag("node-contact"));
   std::ofstream csv(out + "/fidelity.csv");
   csv << "case,label,shape,x_mm,y_mm,radius_mm,yaw_deg,force_N,recon_ok,recon_shape,recon_x_mm,recon_y_mm,recon_radius_mm,"
          "recon_yaw_deg,recon_force_N,recon_shear_x_N,recon_shear_y_N,recon_rms_sigma,truth_max_sed_Pa,map_max_sed_Pa,"

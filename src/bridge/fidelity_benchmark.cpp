@@ -69,12 +69,13 @@ bool WithinTargets(const MethodError& e, const FidelityTargets& t, bool by_peak_
 }
 
 FidelityBenchmark::FidelityBenchmark(const std::string& model_name, const sensors::SensorProfile& profile,
-                                     const display::DisplayProfile& display, const std::string& cache_dir)
+                                     const display::DisplayProfile& display, const std::string& cache_dir,
+                                     bool face_contact)
     : profile_(profile) {
   model_ = std::make_unique<model::FingertipModel>(model::LoadFingertipModel(model_name));
-  // The pressure-map bridge, and the leader press, exactly as the default config runs them.
+  leader_ = std::make_unique<scene::FingertipCompliance>(*model_, LeaderComplianceOptions(cache_dir, face_contact));
+  // The pressure-map bridge exactly as the default config runs it.
   const BridgeConfig config = LoadBridgeConfig(DefaultBridgeConfigPath());
-  leader_ = std::make_unique<scene::FingertipCompliance>(*model_, LeaderComplianceOptions(cache_dir, config.face_contact));
   const PadRegistration registration(profile.taxels);
   map_step_ = std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(model_name, "fast"), profile, registration,
                                                     config.traction);

@@ -94,8 +94,10 @@ class FidelityBenchmark {
   /// @param profile        follower sensor profile (with forward_model)
   /// @param display        display profile for the command metric, loaded by the caller
   /// @param cache_dir      compliance precompute cache ("" = none)
+  /// @param face_contact   leader presses (truth and reconstructed) with face contact, as
+  ///                       the bridge's default (fe.face_contact); false: skin nodes only
   FidelityBenchmark(const std::string& model_name, const sensors::SensorProfile& profile,
-                    const display::DisplayProfile& display, const std::string& cache_dir);
+                    const display::DisplayProfile& display, const std::string& cache_dir, bool face_contact = true);
   ~FidelityBenchmark();
 
   FidelityRow Run(const FidelityCase& c, FidelityMaps* maps);
