@@ -183,18 +183,10 @@ void ComplianceContact::AddFaceSamples() {
     }
     return out;
   };
-  const Eigen::MatrixXd WB = right(W_);  // 3c x 3S
-  Eigen::MatrixXd BWB(3 * S, 3 * S);
-  BWB.topRows(3 * c) = WB;
-  for (int k = 0; k < e; ++k) {
-    const ContactSample& sample = options_.face_samples[size_t(k)];
-    auto rows = BWB.middleRows<3>(3 * (c + k));
-    rows.setZero();
-    for (int a = 0; a < 3; ++a) rows += sample.weight[size_t(a)] * WB.middleRows<3>(3 * sample.candidate[size_t(a)]);
-  }
+  // W is symmetric, so (W B^T)^T = B W and B W B^T = right(right(W)^T).
+  Eigen::MatrixXd BWB = right(right(W_).transpose());
   W_nodes_ = std::move(W_);
-  W_ = std::move(BWB);
-  W_ = 0.5 * (W_ + W_.transpose()).eval();
+  W_ = 0.5 * (BWB + BWB.transpose());
   rest_c_.conservativeResize(3, S);
   sample_node_.resize(size_t(S));
   for (int k = 0; k < e; ++k) {
@@ -687,10 +679,10 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau) {
   held_.setZero(3 * c);
   for (Eigen::Index p = 0; p < pairs; ++p)
     if (lambda_N_[p] > 0) held_.segment<3>(3 * (int(p) / no)) += lambda_N_[p] * tau;
+  // Only samples with a normal force hold a share, and loaded_ lists them (this iteration's
+  // forces, in order).
   u_t_.setZero(3 * c);
-  all_samples_.resize(size_t(c));
-  for (int j = 0; j < c; ++j) all_samples_[size_t(j)] = j;
-  AddWTimes(all_samples_, [](int j) { return j; }, [&](int j) { return Eigen::Vector3d(held_.segment<3>(3 * j)); }, u_t_);
+  AddWTimes(loaded_, [](int j) { return j; }, [&](int j) { return Eigen::Vector3d(held_.segment<3>(3 * j)); }, u_t_);
 
   // Rows: force lambda_r along dir_r at node_r with "gap" g_r (linearized about the
   // current positions) and compliance c_r: lambda_r = -g_r(new) / c_r. Normal rows are

@@ -199,7 +199,6 @@ class ComplianceContact {
   mutable std::vector<int> forced_nodes_;
   mutable std::vector<char> node_forced_;
   Eigen::VectorXd node_u_;
-  std::vector<int> all_samples_;  // 0 .. #samples - 1
   double precompute_s_ = 0;
   bool loaded_from_cache_ = false;
   std::string cache_file_, cache_rejected_;

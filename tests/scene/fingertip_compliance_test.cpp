@@ -159,14 +159,26 @@ TEST(FingertipCompliance, DeferredSedEqualsTheSolvesOwn) {
   EXPECT_LT((contact.positions_m() - positions).norm(), 1e-15);
 }
 
+// Model B, whose skin nodes are about 1.5 mm apart, and a rod lying on its pad.
+geometry::RigidObject PadRod(double radius_mm, double yaw_deg, double x_mm, double y_mm) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(yaw_deg * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(x_mm * 1e-3, y_mm * 1e-3, radius_mm * 1e-3);
+  return {"rod", std::make_shared<geometry::CylinderSdf>(radius_mm * 1e-3, 10e-3), geometry::Trajectory(pose)};
+}
+
+const model::FingertipModel& ModelB() {
+  static const model::FingertipModel b = model::LoadFingertipModel("B");
+  return b;
+}
+
 // A thin rod pushed deeper than its radius in one solve lets skin nodes tunnel through it
 // (the SDF is evaluated at the displaced nodes) and its force falls to zero; the press
 // marches in steps below max_step_mm instead, and starts again from no contact when a
 // state left by another object makes the force fall with depth. Model B: B_coarse's skin
 // nodes are further apart than a thin rod is wide, so a rod can pass between them.
 TEST(FingertipCompliance, ThinRodDoesNotTunnelThroughTheSkin) {
-  static const model::FingertipModel b = model::LoadFingertipModel("B");
-  FingertipCompliance cc(b);
+  FingertipCompliance cc(ModelB());
   auto rod = [](double radius_mm, double yaw_deg) {
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     pose.linear() = Eigen::AngleAxisd(yaw_deg * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
@@ -186,20 +198,6 @@ TEST(FingertipCompliance, ThinRodDoesNotTunnelThroughTheSkin) {
       EXPECT_NE(r.status, PressStatus::kNoContact);
     }
   }
-}
-
-// Face contact (FingertipComplianceOptions::face_samples) on model B, whose skin nodes are
-// about 1.5 mm apart.
-geometry::RigidObject PadRod(double radius_mm, double yaw_deg, double x_mm, double y_mm) {
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = Eigen::AngleAxisd(yaw_deg * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  pose.translation() = Eigen::Vector3d(x_mm * 1e-3, y_mm * 1e-3, radius_mm * 1e-3);
-  return {"rod", std::make_shared<geometry::CylinderSdf>(radius_mm * 1e-3, 10e-3), geometry::Trajectory(pose)};
-}
-
-const model::FingertipModel& ModelB() {
-  static const model::FingertipModel b = model::LoadFingertipModel("B");
-  return b;
 }
 
 // A 0.6 mm rod passes between the skin nodes (rig press_16: 0.03 N at 4.2 mm, then the
