@@ -16,17 +16,30 @@ namespace {
 // Bracket width of the force-controlled press below which it has collapsed [mm]: far below
 // any change of depth that changes the force, so the target force cannot be matched.
 constexpr double kCollapsedBracket_mm = 1e-12;
-// The press brackets the target force by Hertz-like steps (F ~ d^1.5) aimed this factor
-// past it [-]: close enough that the root find starts from a tight bracket (scan after
-// scan the force changes by about 1 %), far enough that the step brackets it.
+// The press brackets the target force by power-law steps (F ~ d^m) aimed this factor past
+// it [-] while it knows no local exponent: close enough that the root find starts from a
+// tight bracket (scan after scan the force changes by about 1 %), far enough that the step
+// brackets it.
 constexpr double kBracketOvershoot = 1.02;
 // Smallest bracketing step [mm]: below any indentation change a scan asks for.
 constexpr double kMinBracketStep_mm = 1e-4;
+// Bounds on a measured force-indentation exponent m of F ~ d^m (a penalty-contact flat is
+// near 1, a sphere growing its patch over a curved pad steeper than Hertz's 1.5).
+constexpr double kMinExponent = 0.8, kMaxExponent = 4.0;
 
-// Indentation at which a Hertz-like contact (F ~ d^1.5) at (d_mm, force_N) reaches
-// target_N [mm].
-double HertzDepth_mm(double d_mm, double force_N, double target_N) {
-  return d_mm * std::pow(target_N / force_N, 2.0 / 3.0);
+// Indentation at which a contact with F ~ d^m through (d_mm, force_N) reaches target_N [mm].
+double PowerLawDepth_mm(double d_mm, double force_N, double target_N, double exponent) {
+  return d_mm * std::pow(target_N / force_N, 1.0 / exponent);
+}
+
+// The exponent of the power law through two (indentation, force) points; `fallback` if
+// they do not define one (a force or depth <= 0, the same depth, a falling force).
+double LocalExponent(double d0_mm, double f0_N, double d1_mm, double f1_N, double fallback) {
+  if (!(d0_mm > 0 && d1_mm > 0 && f0_N > 0 && f1_N > 0)) return fallback;
+  const double dl = std::log(d1_mm / d0_mm);
+  if (!(std::abs(dl) > 1e-9)) return fallback;
+  const double m = std::log(f1_N / f0_N) / dl;
+  return std::isfinite(m) && m > 0 ? std::clamp(m, kMinExponent, kMaxExponent) : fallback;
 }
 
 }  // namespace
@@ -214,6 +227,8 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
     if (!s.converged) solve_unconverged = true;
     return s.ok ? normal_force_N() : 0.0;
   };
+  // The last two evaluations (depth, force) of this call: their power law aims the next.
+  double d_prev = -1, f_prev = 0, d_last = -1, f_last = 0;
   const char* kEdge = "contact reaches the edge of the candidate patch (object near the pad's edge)";
   auto finish = [&](PressStatus status, double d_mm, double f_N, const std::string& why) {
     // The contact state must be the answer's: re-solve where the answer is if the last
@@ -236,14 +251,28 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
       r.message = why;
     }
     r.reached = r.status == PressStatus::kReached;
-    if (r.reached) last_indentation_mm_ = d_mm, last_target_N_ = target_N;
+    if (r.reached) {
+      last_indentation_mm_ = d_mm, last_target_N_ = target_N;
+      const double m = LocalExponent(d_prev, f_prev, d_last, f_last, 0.0);
+      if (m > 0) last_exponent_ = m, exponent_measured_ = true;
+    }
     return r;
   };
   const double tol = opt.relative_tolerance * target_N;
   auto evaluate = [&](double d_mm) {
     const double f = force_at(d_mm);
     r.indentation_mm = d_mm;
+    d_prev = d_last, f_prev = f_last, d_last = d_mm, f_last = f;
     return f;
+  };
+  // Exponent and aim of the next step: measured from this call's last two evaluations, else
+  // the last answer's; aimed at the target itself once an exponent is measured (a good aim
+  // lands within the tolerance, saving the solve a bracket would cost), else past it.
+  auto exponent = [&] { return LocalExponent(d_prev, f_prev, d_last, f_last, last_exponent_); };
+  auto aim = [&] {
+    return LocalExponent(d_prev, f_prev, d_last, f_last, 0.0) > 0 || exponent_measured_
+               ? 1.0 + 0.25 * opt.relative_tolerance
+               : kBracketOvershoot;
   };
 
   // At indentation 0 the force is zero unless a candidate is inside an object at rest
@@ -267,10 +296,10 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
   const double f_zero = f_lo;
   if (state < 0) contact_->ResetWarmStart();
   double d = std::clamp(state > 0 ? state : 0.0, 0.0, opt.max_indentation_mm);
-  // The state is the last answer (scan after scan): start where Hertz scaling from it puts
-  // the new target, at most max_step_mm away (thin objects: see there).
+  // The state is the last answer (scan after scan): start where its power law puts the new
+  // target, at most max_step_mm away (thin objects: see there).
   if (state > 0 && state == last_indentation_mm_ && last_target_N_ > 0)
-    d = std::clamp(HertzDepth_mm(state, last_target_N_, target_N), std::max(0.0, state - opt.max_step_mm),
+    d = std::clamp(PowerLawDepth_mm(state, last_target_N_, target_N, last_exponent_), std::max(0.0, state - opt.max_step_mm),
                    std::min(opt.max_indentation_mm, state + opt.max_step_mm));
   double f = f_zero;
   bool restarted = d <= 0;
@@ -301,13 +330,14 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
       }
       if (r.iterations >= opt.max_iterations)
         return finish(PressStatus::kNotConverged, lo, f_lo, "bracketing ran out of iterations");
-      // The Hertz estimate (F ~ d^1.5) a little past the target, capped at max_step_mm.
+      // The power-law estimate (F ~ d^m) at or a little past the target, capped at max_step_mm.
       double step = step_max;
       if (f_lo > 0 && lo > 0)
-        step = std::clamp(HertzDepth_mm(lo, f_lo, kBracketOvershoot * target_N) - lo, kMinBracketStep_mm, step_max);
+        step = std::clamp(PowerLawDepth_mm(lo, f_lo, aim() * target_N, exponent()) - lo, kMinBracketStep_mm, step_max);
       hi = std::min(opt.max_indentation_mm, lo + step);
       f_hi = evaluate(hi);
       if (solve_failed) return finish(PressStatus::kInvalidInput, hi, f_hi, contact_->last().error);
+      if (std::abs(f_hi - target_N) <= tol) return finish(PressStatus::kReached, hi, f_hi, "");
       if (f_hi < f_lo && !restarted) {  // deeper and weaker: tunnelled (see above)
         restart();
         lo = 0, f_lo = f_zero;
@@ -322,11 +352,13 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
         return finish(PressStatus::kAboveTarget, 0.0, f_hi, "objects press harder than the target at indentation 0");
       if (r.iterations >= opt.max_iterations)
         return finish(PressStatus::kNotConverged, hi, f_hi, "bracketing ran out of iterations");
-      // The Hertz estimate a little short of the target, at most max_step_mm back.
-      const double step = std::clamp(hi - HertzDepth_mm(hi, f_hi, target_N / kBracketOvershoot), kMinBracketStep_mm, step_max);
+      // The power-law estimate at or a little short of the target, at most max_step_mm back.
+      const double step =
+          std::clamp(hi - PowerLawDepth_mm(hi, f_hi, target_N / aim(), exponent()), kMinBracketStep_mm, step_max);
       lo = std::max(0.0, hi - step);
       f_lo = evaluate(lo);
       if (solve_failed) return finish(PressStatus::kInvalidInput, lo, f_lo, contact_->last().error);
+      if (std::abs(f_lo - target_N) <= tol) return finish(PressStatus::kReached, lo, f_lo, "");
       if (f_lo <= target_N) break;
       hi = lo, f_hi = f_lo;
     }

@@ -142,6 +142,9 @@ class FingertipCompliance {
   std::vector<int> candidate_index_;    // per soft node: index into candidates, or -1
   std::vector<int> outside_skin_;       // skin nodes that are not candidates
   double last_indentation_mm_ = -1, last_target_N_ = 0;
+  // Local exponent m of F ~ d^m at the last answer (Hertz's 1.5 until one is measured).
+  double last_exponent_ = 1.5;
+  bool exponent_measured_ = false;
   // Indentation of the contact state left by the last PressToForce solve; -1 = unknown
   // (a Step() with other objects, or never pressed).
   double state_indentation_mm_ = -1;

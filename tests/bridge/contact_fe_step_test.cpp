@@ -127,8 +127,10 @@ TEST(ContactFeStep, HoldScansReuseTheLastPressWithTheSameAnswer) {
       const Eigen::VectorXd a = *reusing->Step(values).sed_Pa;
       const Eigen::VectorXd b = *solving->Step(values).sed_Pa;
       ASSERT_EQ(a.size(), b.size());
+      // Each press is within 1e-3 of its own force and a reused one within 0.5e-3 of the
+      // new force: up to 2.5e-3 apart in force, about 1.3 times that in SED.
       if (b.norm() > 0) {
-        EXPECT_LT((a - b).norm() / b.norm(), 3e-3) << press.name << " scan " << k;
+        EXPECT_LT((a - b).norm() / b.norm(), 4e-3) << press.name << " scan " << k;
       }
     }
     EXPECT_EQ(solving->counters().press_reused, 0);
