@@ -170,6 +170,22 @@ void TactileForwardModel::TableOffsets(const std::vector<SurfaceLoad>& loads, st
 }
 
 namespace {
+// r[q] = sum_c w[c] row[q - offset[c]], q < 9: most of a forward-model evaluation. Raw
+// pointers only (no Eigen), so that the x86-64-v3 (AVX2, FMA) clone is safe to mix with the
+// rest of the build; the loader picks the clone the CPU runs.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+__attribute__((target_clones("arch=x86-64-v3", "default")))
+#endif
+void SumKernelRows(const double* row, const int* offset, const double* w, int m, double* r) {
+  double s[9] = {};
+  for (int c = 0; c < m; ++c) {
+    const double* t = row - offset[c];
+    const double P = w[c];
+    for (int q = 0; q < 9; ++q) s[q] += P * t[q];
+  }
+  for (int q = 0; q < 9; ++q) r[q] = s[q];
+}
+
 // Integral of sqrt(1 - u^2) from 0 to t, |t| <= 1.
 double HalfDiscArea(double t) { return 0.5 * (t * std::sqrt(std::max(0.0, 1 - t * t)) + std::asin(t)); }
 }  // namespace
@@ -303,16 +319,14 @@ void TactileForwardModel::PredictLinearInShear(const ContactPrimitive& c, Eigen:
   double* bx = per_shear_x->data();
   double* by = per_shear_y->data();
   thread_local std::vector<int> offsets;
+  thread_local std::vector<double> weights;
   TableOffsets(loads, &offsets);
   const int m = static_cast<int>(loads.size());
+  weights.resize(loads.size());
+  for (int c_i = 0; c_i < m; ++c_i) weights[static_cast<size_t>(c_i)] = loads[static_cast<size_t>(c_i)].normal_N;
   for (int k = 0; k < n; ++k) {
-    double r[9] = {};
-    const double* row = &table_[9 * static_cast<size_t>(taxel_base_[k])];
-    for (int c_i = 0; c_i < m; ++c_i) {
-      const double* t = row - offsets[static_cast<size_t>(c_i)];
-      const double P = loads[static_cast<size_t>(c_i)].normal_N;
-      for (int q = 0; q < 9; ++q) r[q] += P * t[q];
-    }
+    double r[9];
+    SumKernelRows(&table_[9 * static_cast<size_t>(taxel_base_[k])], offsets.data(), weights.data(), m, r);
     for (int q = 0; q < 3; ++q) {
       a[3 * k + q] = r[q];
       bx[3 * k + q] = r[3 + q] * inv_F;
