@@ -85,9 +85,13 @@ def main():
         c = read(contact_path)[0]
         x, y, w = float(c["x_mm"]), float(c["y_mm"]), float(c["contact_half_width_mm"])
         style = dict(color="red", lw=1.5, ls="--" if c["fallback"] == "1" else "-")
-        if c["shape"] == "sphere":
+        if c["shape"] in ("sphere", "two_spheres"):
             ax.add_patch(matplotlib.patches.Circle((x, y), w, fill=False, **style))
             ax.plot([x], [y], "r+", ms=10)
+            if c["shape"] == "two_spheres":
+                x2, y2 = float(c["x2_mm"]), float(c["y2_mm"])
+                ax.add_patch(matplotlib.patches.Circle((x2, y2), float(c["contact2_half_width_mm"]), fill=False, **style))
+                ax.plot([x2], [y2], "r+", ms=10)
         elif c["shape"] == "cylinder":
             yaw = math.radians(float(c["yaw_deg"]))
             dx, dy = math.cos(yaw), math.sin(yaw)

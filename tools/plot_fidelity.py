@@ -106,9 +106,16 @@ def write_table(rows, out):
         for r in rows:
             obj = r["label"]
             rec = r["recon_shape"]
-            if r["recon_shape"] != "flat":
-                rec += " R%.2f" % float(r["recon_radius_mm"])
-            rec += " (%.2f, %.2f) %.3f N" % (float(r["recon_x_mm"]), float(r["recon_y_mm"]), float(r["recon_force_N"]))
+            if r["recon_shape"] == "two_spheres":  # recon_force_N is the pair's total
+                rec += " R%.2f (%.2f, %.2f) and R%.2f (%.2f, %.2f), %.3f N" % (
+                    float(r["recon_radius_mm"]), float(r["recon_x_mm"]), float(r["recon_y_mm"]),
+                    float(r["recon2_radius_mm"]), float(r["recon2_x_mm"]), float(r["recon2_y_mm"]),
+                    float(r["recon_force_N"]))
+            else:
+                if r["recon_shape"] != "flat":
+                    rec += " R%.2f" % float(r["recon_radius_mm"])
+                rec += " (%.2f, %.2f) %.3f N" % (float(r["recon_x_mm"]), float(r["recon_y_mm"]),
+                                                 float(r["recon_force_N"]))
             if r["recon_ok"] != "1":
                 rec += " **fallback**"
             f.write("| %s | %s | %.2f | %s | %.0f | %.2f / %.2f / %.1f | %.2f / %.2f / %.1f | %.1f | %.2f | %s |\n" % (

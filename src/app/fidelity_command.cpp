@@ -56,7 +56,8 @@ int RunFidelity(int argc, char** argv) {
          "recon_yaw_deg,recon_force_N,recon_shear_x_N,recon_shear_y_N,recon_rms_sigma,truth_max_sed_Pa,map_max_sed_Pa,"
          "recon_max_sed_Pa,map_peak_ratio,map_rel_l2,map_peak_offset_mm,map_command_rel_l2,recon_peak_ratio,"
          "recon_rel_l2,recon_peak_offset_mm,recon_command_rel_l2,recon_median_us,recon_max_us,truth_press,recon_press,"
-         "map_peak_region_offset_mm,recon_peak_region_offset_mm,truth_valid,map_within_targets,recon_within_targets\n";
+         "map_peak_region_offset_mm,recon_peak_region_offset_mm,truth_valid,map_within_targets,recon_within_targets,"
+         "recon2_x_mm,recon2_y_mm,recon2_radius_mm,recon2_force_N\n";
   std::printf("%-16s %-8s %6s | %-8s %6s %5s %6s | map: %5s %5s %5s | recon: %5s %5s %5s\n", "case", "object", "F_N",
               "recon", "R_mm", "dxy", "F_N", "peak", "L2", "off", "peak", "L2", "off");
   // Scored cases within all three targets, per method (by argmax, by peak region).
@@ -76,25 +77,29 @@ int RunFidelity(int argc, char** argv) {
     }
     const auto& t = r.truth_object;
     const auto& e = r.recon_object;
+    const auto& e2 = r.recon_second;
+    const char* recon_shape = r.recon_two_contacts ? "two_spheres" : sensors::ContactShapeName(e.shape);
+    const double recon_force_N = e.normal_force_N + (r.recon_two_contacts ? e2.normal_force_N : 0.0);
     std::printf("%-16s %-8s %6.3f | %-8s %6.2f %5.2f %6.3f | map: %5.2f %5.2f %5.2f | recon: %5.2f %5.2f %5.2f%s\n",
                 r.name.c_str(), r.truth_is_primitive ? sensors::ContactShapeName(t.shape) : "other", t.normal_force_N,
-                sensors::ContactShapeName(e.shape), e.radius_mm, std::hypot(e.x_mm - t.x_mm, e.y_mm - t.y_mm),
-                e.normal_force_N, r.map_error.peak_ratio, r.map_error.rel_l2, r.map_error.peak_offset_mm,
+                recon_shape, e.radius_mm, std::hypot(e.x_mm - t.x_mm, e.y_mm - t.y_mm),
+                recon_force_N, r.map_error.peak_ratio, r.map_error.rel_l2, r.map_error.peak_offset_mm,
                 r.recon_error.peak_ratio, r.recon_error.rel_l2, r.recon_error.peak_offset_mm,
                 !r.truth_valid ? "  (no valid truth: not scored)" : r.recon_ok ? "" : "  (fallback)");
     std::fflush(stdout);
     char line[2048];
     std::snprintf(line, sizeof line,
-                  "%s,\"%s\",%s,%g,%g,%g,%g,%g,%d,%s,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%s,%s,%g,%g,%d,%d,%d\n",
+                  "%s,\"%s\",%s,%g,%g,%g,%g,%g,%d,%s,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%s,%s,%g,%g,%d,%d,%d,%g,%g,%g,%g\n",
                   r.name.c_str(), r.label.c_str(), r.truth_is_primitive ? sensors::ContactShapeName(t.shape) : "other", t.x_mm, t.y_mm, t.radius_mm, t.yaw_deg,
-                  t.normal_force_N, r.recon_ok ? 1 : 0, sensors::ContactShapeName(e.shape), e.x_mm, e.y_mm,
-                  e.radius_mm, e.yaw_deg, e.normal_force_N, e.shear_x_N, e.shear_y_N, r.recon_rms_sigma,
+                  t.normal_force_N, r.recon_ok ? 1 : 0, recon_shape, e.x_mm, e.y_mm,
+                  e.radius_mm, e.yaw_deg, recon_force_N, e.shear_x_N, e.shear_y_N, r.recon_rms_sigma,
                   r.truth_max_sed_Pa, r.map_max_sed_Pa, r.recon_max_sed_Pa, r.map_error.peak_ratio,
                   r.map_error.rel_l2, r.map_error.peak_offset_mm, r.map_error.command_rel_l2,
                   r.recon_error.peak_ratio, r.recon_error.rel_l2, r.recon_error.peak_offset_mm,
                   r.recon_error.command_rel_l2, r.recon_median_us, r.recon_max_us, r.truth_press.c_str(),
                   r.recon_press.c_str(), r.map_error.peak_region_offset_mm, r.recon_error.peak_region_offset_mm,
-                  r.truth_valid ? 1 : 0, map_within ? 1 : 0, recon_within ? 1 : 0);
+                  r.truth_valid ? 1 : 0, map_within ? 1 : 0, recon_within ? 1 : 0, e2.x_mm, e2.y_mm, e2.radius_mm,
+                  e2.normal_force_N);
     csv << line;
     std::ofstream m(out + "/maps/" + r.name + ".csv");
     m << "x_mm,y_mm,z_mm,truth_sed_Pa,map_sed_Pa,recon_sed_Pa\n";

@@ -52,6 +52,7 @@ struct BridgeConfig {
   FeStepKind fe_step = FeStepKind::kScene;  ///< fe.step: scene | reduced | contact
   std::string compliance_cache_dir = "out/cache";  ///< fe.compliance_cache: precompute cache of fe.step contact
   bool face_contact = true;  ///< fe.face_contact: the leader press of fe.step contact touches skin faces too
+  bool two_contacts = true;  ///< fe.two_contacts: fe.step contact may read a scan as two spheres at once
 
   // registration:
   PadRegistrationParams registration;
@@ -88,6 +89,7 @@ struct BridgeConfig {
       f->Visit(Field("step", &fe_step));
       f->Visit(Field("compliance_cache", &compliance_cache_dir));
       f->Visit(Field("face_contact", &face_contact));
+      f->Visit(Field("two_contacts", &two_contacts));
     });
     a->Section("registration", [&](auto* g) {
       g->Visit(Field("offset_mm", &registration.offset_mm));

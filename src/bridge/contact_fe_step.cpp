@@ -70,8 +70,11 @@ void ContactFeStep::FillMessage(const TaxelValues& values, bool fallback, double
   message_ = lcmt_contact_estimate{};
   message_.utime = values.scan_utime;
   message_.source_scan_utime = values.scan_utime;
-  message_.shape = !estimate_.contact ? 0 : p.shape == sensors::ContactShape::kSphere ? 1
-                                          : p.shape == sensors::ContactShape::kCylinder ? 2 : 3;
+  message_.shape = !estimate_.contact                       ? 0
+                   : estimate_.two_contacts                   ? 4
+                   : p.shape == sensors::ContactShape::kSphere   ? 1
+                   : p.shape == sensors::ContactShape::kCylinder ? 2
+                                                                 : 3;
   message_.x_mm = static_cast<float>(p.x_mm);
   message_.y_mm = static_cast<float>(p.y_mm);
   message_.radius_mm = static_cast<float>(p.radius_mm);
@@ -79,6 +82,13 @@ void ContactFeStep::FillMessage(const TaxelValues& values, bool fallback, double
   message_.normal_force_N = static_cast<float>(p.normal_force_N);
   message_.shear_x_N = static_cast<float>(p.shear_x_N);
   message_.shear_y_N = static_cast<float>(p.shear_y_N);
+  if (estimate_.two_contacts) {
+    const sensors::ContactPrimitive& q = estimate_.second;
+    message_.x2_mm = static_cast<float>(q.x_mm);
+    message_.y2_mm = static_cast<float>(q.y_mm);
+    message_.radius2_mm = static_cast<float>(q.radius_mm);
+    message_.normal_force2_N = static_cast<float>(q.normal_force_N);
+  }
   message_.residual_rms_sigma = static_cast<float>(estimate_.rms_sigma);
   message_.fallback = fallback ? 1 : 0;
   message_.indentation_mm = static_cast<float>(indentation_mm);
@@ -90,22 +100,30 @@ const MerkelSedResult& ContactFeStep::Fallback(const TaxelValues& values, const 
   return result_;
 }
 
-bool ContactFeStep::SameAsLastPress(const sensors::ContactPrimitive& p) const {
-  const sensors::ContactPrimitive& q = last_pressed_;
+bool ContactFeStep::SameAsLastPress(const ContactEstimate& e) const {
+  const ContactEstimate& last = last_pressed_;
+  if (e.two_contacts != last.two_contacts) return false;
+  const sensors::ContactPrimitive& p = e.primitive;
+  const sensors::ContactPrimitive& q = last.primitive;
   // Half the press's own force tolerance (the last answer is within the tolerance of its
   // target), 5 um, 0.2 % in radius, 0.05 deg: the reused SED stays within 3e-3 (L2) of a
   // fresh press (test HoldScansReuseTheLastPressWithTheSameAnswer), about the press's own
   // 1e-3 force tolerance times the SED's sensitivity to force.
-  const double force_tol_N = 0.5 * ReconstructedPressOptions().relative_tolerance * q.normal_force_N;
+  const double force_tol_N = 0.5 * ReconstructedPressOptions().relative_tolerance * last.normal_force_N();
   // The tangential load the leader was pressed with, not the raw estimate.
-  const Eigen::Vector2d dt = LeaderTangentialLoad_N(p) - LeaderTangentialLoad_N(q);
-  if (p.shape != q.shape || !(std::abs(p.normal_force_N - q.normal_force_N) <= force_tol_N) ||
+  const Eigen::Vector2d dt = LeaderTangentialLoad_N(e) - LeaderTangentialLoad_N(last);
+  if (p.shape != q.shape || !(std::abs(e.normal_force_N() - last.normal_force_N()) <= force_tol_N) ||
       !(std::abs(dt.x()) <= force_tol_N) || !(std::abs(dt.y()) <= force_tol_N))
     return false;
-  if (p.shape == sensors::ContactShape::kFlat) return true;
-  return std::abs(p.x_mm - q.x_mm) <= 5e-3 && std::abs(p.y_mm - q.y_mm) <= 5e-3 &&
-         std::abs(std::log(p.radius_mm / q.radius_mm)) <= 2e-3 &&
-         std::abs(std::remainder(p.yaw_deg - q.yaw_deg, 180.0)) <= 0.05;
+  auto same_pose = [](const sensors::ContactPrimitive& a, const sensors::ContactPrimitive& b) {
+    if (a.shape == sensors::ContactShape::kFlat) return true;
+    return std::abs(a.x_mm - b.x_mm) <= 5e-3 && std::abs(a.y_mm - b.y_mm) <= 5e-3 &&
+           std::abs(std::log(a.radius_mm / b.radius_mm)) <= 2e-3 &&
+           std::abs(std::remainder(a.yaw_deg - b.yaw_deg, 180.0)) <= 0.05;
+  };
+  // A pair shares its force between the spheres by where they sit (the leader's mechanics):
+  // the same pose of both and the same total press the same.
+  return same_pose(p, q) && (!e.two_contacts || same_pose(e.second, last.second));
 }
 
 const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
@@ -128,16 +146,18 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
   recon_timer.Stop();
   recon_time_.AddMs(times[Stage::kReconstruction]);
   // Into the leader's pad frame.
-  sensors::ContactPrimitive& p = estimate_.primitive;
-  const double scale = registration_.params().scale;
-  const Eigen::Vector2d xy = registration_.ToPad(Eigen::Vector2d(p.x_mm, p.y_mm));
-  const Eigen::Vector2d shear = registration_.RotateToPad(Eigen::Vector2d(p.shear_x_N, p.shear_y_N));
-  p.x_mm = xy.x();
-  p.y_mm = xy.y();
-  p.radius_mm *= scale;
-  p.yaw_deg += registration_.params().rotation_deg;
-  p.shear_x_N = shear.x();
-  p.shear_y_N = shear.y();
+  auto to_pad = [&](sensors::ContactPrimitive& p) {
+    const Eigen::Vector2d xy = registration_.ToPad(Eigen::Vector2d(p.x_mm, p.y_mm));
+    const Eigen::Vector2d shear = registration_.RotateToPad(Eigen::Vector2d(p.shear_x_N, p.shear_y_N));
+    p.x_mm = xy.x();
+    p.y_mm = xy.y();
+    p.radius_mm *= registration_.params().scale;
+    p.yaw_deg += registration_.params().rotation_deg;
+    p.shear_x_N = shear.x();
+    p.shear_y_N = shear.y();
+  };
+  to_pad(estimate_.primitive);
+  if (estimate_.two_contacts) to_pad(estimate_.second);
 
   if (estimate_.ok && !estimate_.contact) {
     ++counters_.no_contact;
@@ -156,7 +176,7 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
     last_ = LastStep::kFallback;
     return Fallback(values, times);
   }
-  if (reuse_press_ && last_ == LastStep::kPressed && SameAsLastPress(p)) {
+  if (reuse_press_ && last_ == LastStep::kPressed && SameAsLastPress(estimate_)) {
     FillMessage(values, false, last_indentation_mm_);
     ++counters_.pressed;
     ++counters_.press_reused;
@@ -170,8 +190,8 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
     return result_;
   }
   StageTimer press_timer(times, Stage::kPress);
-  const auto press = leader_->PressToForce({ToRigidObject(p)}, p.normal_force_N, ReconstructedPressOptions(),
-                                           LeaderTangentialLoad_N(p));
+  const auto press = leader_->PressToForce(ToRigidObjects(estimate_), estimate_.normal_force_N(),
+                                           ReconstructedPressOptions(), LeaderTangentialLoad_N(estimate_));
   press_timer.Stop();
   press_time_.AddMs(times[Stage::kPress]);
   if (!PressAnswered(press, *leader_)) {
@@ -185,7 +205,7 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
   FillMessage(values, false, press.indentation_mm);
   ++counters_.pressed;
   last_ = LastStep::kPressed;
-  last_pressed_ = p;
+  last_pressed_ = estimate_;
   last_force_N_ = press.force_N;
   last_indentation_mm_ = press.indentation_mm;
   result_ = MerkelSedResult{};

@@ -96,10 +96,10 @@ class ContactFeStep final : public FeStep {
   ContactEstimate estimate_;
   ContactStepCounters counters_;
   enum class LastStep { kNone, kPressed, kFallback } last_ = LastStep::kNone;
-  /// True when `p` presses the same as the last pressed contact (see set_reuse_press).
-  bool SameAsLastPress(const sensors::ContactPrimitive& p) const;
+  /// True when `e` presses the same as the last pressed contact (see set_reuse_press).
+  bool SameAsLastPress(const ContactEstimate& e) const;
   bool reuse_press_ = true;
-  sensors::ContactPrimitive last_pressed_;  // pad frame
+  ContactEstimate last_pressed_;  // pad frame
   double last_force_N_ = 0, last_indentation_mm_ = 0;
   Eigen::VectorXd zero_sed_;
   MerkelSedResult result_;

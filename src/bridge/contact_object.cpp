@@ -36,6 +36,12 @@ geometry::RigidObject ToRigidObject(const sensors::ContactPrimitive& p) {
   return o;
 }
 
+std::vector<geometry::RigidObject> ToRigidObjects(const ContactEstimate& estimate) {
+  std::vector<geometry::RigidObject> objects = {ToRigidObject(estimate.primitive)};
+  if (estimate.two_contacts) objects.push_back(ToRigidObject(estimate.second));
+  return objects;
+}
+
 bool PressAnswered(const scene::PressToForceResult& press, const scene::FingertipCompliance& leader,
                    double tolerance) {
   if (press.reached) return true;
@@ -49,6 +55,12 @@ Eigen::Vector2d LeaderTangentialLoad_N(const sensors::ContactPrimitive& p) {
   if (!(floor_N > 0) || !shear.allFinite()) return shear;  // no force: nothing is pressed anyway
   const double weight = std::clamp(shear.norm() / floor_N - 1.0, 0.0, 1.0);
   return weight * shear;
+}
+
+Eigen::Vector2d LeaderTangentialLoad_N(const ContactEstimate& estimate) {
+  sensors::ContactPrimitive whole = estimate.primitive;
+  whole.normal_force_N = estimate.normal_force_N();
+  return LeaderTangentialLoad_N(whole);
 }
 
 scene::FingertipComplianceOptions LeaderComplianceOptions(const std::string& cache_dir, bool face_contact) {

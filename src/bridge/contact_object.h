@@ -3,6 +3,9 @@
 // model: the same shape, posed in the leader's pad frame at first touch (lowest point on
 // the pad plane z = 0), ready for scene::FingertipCompliance::PressToForce.
 
+#include <vector>
+
+#include "bridge/contact_reconstruction.h"
 #include "common/geometry/rigid_object.h"
 #include "scene/fingertip_compliance.h"
 #include "sensors/tactile_forward_model.h"
@@ -12,6 +15,10 @@ namespace sedbridge::bridge {
 /// Sphere: SphereSdf centred R above (x, y); cylinder: an infinite rod along (cos yaw,
 /// sin yaw, 0) resting on the pad plane; flat: the half-space above z = 0.
 geometry::RigidObject ToRigidObject(const sensors::ContactPrimitive& primitive);
+/// The objects of an estimate: its primitive, and a pair's second sphere. Both rest on the
+/// pad plane at first touch and are pressed together, as one rigid pair, to the total force
+/// (the leader's mechanics share it out).
+std::vector<geometry::RigidObject> ToRigidObjects(const ContactEstimate& estimate);
 
 /// Options of the leader press of a reconstructed contact (bridge and fidelity benchmark):
 /// the force is matched to 1e-3 relative, not PressToForce's default 1e-6. The target is
@@ -37,6 +44,8 @@ scene::FingertipComplianceOptions LeaderComplianceOptions(const std::string& cac
 /// normal force takes 6 contact nodes to 10 and moves the SED peak by 1.8 mm,
 /// docs/bridge-fidelity.md), so the crosstalk must not reach the leader.
 Eigen::Vector2d LeaderTangentialLoad_N(const sensors::ContactPrimitive& primitive);
+/// Same for an estimate: its tangential force against its whole normal force (a pair's both).
+Eigen::Vector2d LeaderTangentialLoad_N(const ContactEstimate& estimate);
 /// Fraction of the normal force below which estimated shear is crosstalk (see above).
 inline constexpr double kShearFloor = 0.01;
 

@@ -19,43 +19,39 @@ constexpr double kPi = 3.14159265358979323846;
 // rig); only used for the first guess of the force.
 constexpr double kGuessNormalGain = 0.6;
 
-// Index of log R among a sphere's or rod's unknowns (ToUnknowns).
+// Index of log R among a sphere's or rod's unknowns (ToUnknowns); a pair's second sphere
+// has its unknowns kSphereUnknowns further on.
 constexpr int kLogRadius = 2;
+constexpr int kSphereUnknowns = 4;
 
-int UnknownCount(ContactShape s, bool shear) {
-  const int base = s == ContactShape::kFlat ? 1 : 4;
+int UnknownCount(ContactShape s, bool pair, bool shear) {
+  const int base = pair ? 2 * kSphereUnknowns : s == ContactShape::kFlat ? 1 : 4;
   return base + (shear ? 2 : 0);
 }
 
-// Unknowns <-> primitive. Sphere: x, y, log R, log F; cylinder: offset of the axis from
-// the pad centre along its normal, yaw, log R, log F; flat: log F; then T_x, T_y [N].
-Eigen::VectorXd ToUnknowns(const ContactPrimitive& p, bool shear) {
-  Eigen::VectorXd u(UnknownCount(p.shape, shear));
-  int i = 0;
+// The shape's own unknowns (no shear) appended at u[*i]. Sphere: x, y, log R, log F;
+// cylinder: offset of the axis from the pad centre along its normal, yaw, log R, log F;
+// flat: log F.
+void AppendShapeUnknowns(const ContactPrimitive& p, Eigen::VectorXd* u, int* i) {
   switch (p.shape) {
     case ContactShape::kSphere:
-      u[i++] = p.x_mm;
-      u[i++] = p.y_mm;
-      u[i++] = std::log(p.radius_mm);
+      (*u)[(*i)++] = p.x_mm;
+      (*u)[(*i)++] = p.y_mm;
+      (*u)[(*i)++] = std::log(p.radius_mm);
       break;
     case ContactShape::kCylinder: {
       const double yaw = p.yaw_deg * kPi / 180;
-      u[i++] = -p.x_mm * std::sin(yaw) + p.y_mm * std::cos(yaw);
-      u[i++] = yaw;
-      u[i++] = std::log(p.radius_mm);
+      (*u)[(*i)++] = -p.x_mm * std::sin(yaw) + p.y_mm * std::cos(yaw);
+      (*u)[(*i)++] = yaw;
+      (*u)[(*i)++] = std::log(p.radius_mm);
       break;
     }
     case ContactShape::kFlat: break;
   }
-  u[i++] = std::log(std::max(p.normal_force_N, 1e-6));
-  if (shear) {
-    u[i++] = p.shear_x_N;
-    u[i++] = p.shear_y_N;
-  }
-  return u;
+  (*u)[(*i)++] = std::log(std::max(p.normal_force_N, 1e-6));
 }
 
-ContactPrimitive FromUnknowns(ContactShape shape, const Eigen::VectorXd& u, bool shear) {
+ContactPrimitive ShapeFromUnknowns(ContactShape shape, const double* u) {
   ContactPrimitive p;
   p.shape = shape;
   int i = 0;
@@ -79,17 +75,40 @@ ContactPrimitive FromUnknowns(ContactShape shape, const Eigen::VectorXd& u, bool
     case ContactShape::kFlat: p.radius_mm = 0; break;
   }
   p.normal_force_N = std::exp(std::clamp(u[i++], -20.0, 5.0));
-  if (shear) {
-    p.shear_x_N = u[i++];
-    p.shear_y_N = u[i++];
-  }
   return p;
+}
+
+using Hypothesis = ContactReconstructor::Hypothesis;
+
+// Unknowns <-> hypothesis: the shape's unknowns (a pair: both spheres'), then T_x, T_y [N].
+Eigen::VectorXd ToUnknowns(const Hypothesis& h, bool shear) {
+  Eigen::VectorXd u(UnknownCount(h.first.shape, h.pair, shear));
+  int i = 0;
+  AppendShapeUnknowns(h.first, &u, &i);
+  if (h.pair) AppendShapeUnknowns(h.second, &u, &i);
+  if (shear) {
+    u[i++] = h.first.shear_x_N;
+    u[i++] = h.first.shear_y_N;
+  }
+  return u;
+}
+
+Hypothesis FromUnknowns(ContactShape shape, bool pair, const Eigen::VectorXd& u, bool shear) {
+  Hypothesis h;
+  h.pair = pair;
+  h.first = ShapeFromUnknowns(pair ? ContactShape::kSphere : shape, u.data());
+  if (pair) h.second = ShapeFromUnknowns(ContactShape::kSphere, u.data() + kSphereUnknowns);
+  if (shear) {
+    h.first.shear_x_N = u[u.size() - 2];
+    h.first.shear_y_N = u[u.size() - 1];
+  }
+  return h;
 }
 
 }  // namespace
 
 struct ContactReconstructor::Fit {
-  ContactPrimitive primitive;
+  Hypothesis model;
   double chi2 = std::numeric_limits<double>::infinity();
   int unknowns = 0;
   int evaluations = 0;
@@ -141,9 +160,20 @@ bool ContactReconstructor::Plausible(const ContactPrimitive& p) const {
   return std::hypot(p.x_mm, p.y_mm) <= options_.max_offset_mm;
 }
 
-ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, const ContactPrimitive& start,
-                                                         int max_evaluations, int evaluation_budget) const {
+bool ContactReconstructor::Plausible(const Hypothesis& h) const {
+  if (!Plausible(h.first)) return false;
+  if (!h.pair) return true;
+  if (!Plausible(h.second)) return false;
+  const double total = h.first.normal_force_N + h.second.normal_force_N;
+  return std::hypot(h.first.x_mm - h.second.x_mm, h.first.y_mm - h.second.y_mm) >= options_.min_pair_separation_mm &&
+         std::min(h.first.normal_force_N, h.second.normal_force_N) >= options_.min_pair_force_share * total;
+}
+
+ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start, int max_evaluations,
+                                                         int evaluation_budget) const {
   const bool shear = options_.fit_shear;
+  const bool pair = start.pair;
+  const ContactShape shape = pair ? ContactShape::kSphere : start.first.shape;
   // Residuals and their Jacobian. The tangential force enters the forward model linearly,
   // so its two columns are exact and free (PredictLinearInShear). The force column is free
   // too: the patch depends on F and R only through its Hertz half-width (a^3 ~ F R for a
@@ -152,24 +182,57 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
   // The pose and radius columns are forward differences with NumericalDiff's step
   // (1e-3 |u_j|, or 1e-3 at 0), from the parts already computed at u. A Jacobian costs one
   // model evaluation per pose/radius unknown (3 for spheres and rods, 0 for the flat).
+  // A pair is two spheres whose readings add (the sensor's response is linear in the surface
+  // load, and two separate patches are that load's sum); the tangential force spreads over
+  // both patches in proportion to the pressure. Its columns are forward differences too,
+  // each re-evaluating the one sphere it moves: 8 sphere evaluations a Jacobian.
+  struct Part {
+    Eigen::VectorXd normal, per_x, per_y;
+    double force_N = 0;
+  };
   struct Functor : common::DynamicSizeFunctor {
     const ContactReconstructor* self;
     ContactShape shape;
+    bool pair;
     bool shear;
     int* evaluations;
     int* budget_used;  // evaluations weighted by patch size (cells_per_evaluation)
-    // Radius prior: one more residual, prior_weight (log R - prior_mean), when prior_weight > 0.
+    // Radius prior: one more residual per radius, prior_weight (log R - prior_mean), when
+    // prior_weight > 0.
     double prior_weight = 0, prior_mean = 0;
     // The model's parts at `at` (the last point evaluated): LM asks df where it just
-    // evaluated the residuals.
+    // evaluated the residuals. A pair keeps each sphere's.
     mutable Eigen::VectorXd at, normal, per_x, per_y, pred, r_step;
-    int inputs() const { return UnknownCount(shape, shear); }
-    int values() const { return static_cast<int>(self->obs_.size()) + (prior_weight > 0 ? 1 : 0); }
-    void Parts(const Eigen::VectorXd& u) const {
+    mutable Part parts[2];
+    int inputs() const { return UnknownCount(shape, pair, shear); }
+    int prior_rows() const { return prior_weight > 0 ? (pair ? 2 : 1) : 0; }
+    int values() const { return static_cast<int>(self->obs_.size()) + prior_rows(); }
+    void EvaluateSphere(int s, const Eigen::VectorXd& u) const {
       ++*evaluations;
       int cells = 0;
-      self->model_.PredictLinearInShear(FromUnknowns(shape, u, shear), &normal, &per_x, &per_y, &cells);
+      Part& p = parts[s];
+      const ContactPrimitive c = ShapeFromUnknowns(ContactShape::kSphere, u.data() + s * kSphereUnknowns);
+      self->model_.PredictLinearInShear(c, &p.normal, &p.per_x, &p.per_y, &cells);
+      p.force_N = c.normal_force_N;
       *budget_used += std::max(1, cells / std::max(1, self->options_.cells_per_evaluation));
+    }
+    void CombineParts() const {
+      const double w = parts[0].force_N / (parts[0].force_N + parts[1].force_N);
+      normal = parts[0].normal + parts[1].normal;
+      per_x = w * parts[0].per_x + (1 - w) * parts[1].per_x;
+      per_y = w * parts[0].per_y + (1 - w) * parts[1].per_y;
+    }
+    void Parts(const Eigen::VectorXd& u) const {
+      if (pair) {
+        EvaluateSphere(0, u);
+        EvaluateSphere(1, u);
+        CombineParts();
+      } else {
+        ++*evaluations;
+        int cells = 0;
+        self->model_.PredictLinearInShear(ShapeFromUnknowns(shape, u.data()), &normal, &per_x, &per_y, &cells);
+        *budget_used += std::max(1, cells / std::max(1, self->options_.cells_per_evaluation));
+      }
       at = u;
     }
     // Residuals from the parts at `at`, with the tangential force of u.
@@ -182,9 +245,11 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
           const int c = 3 * static_cast<int>(k) + 2;
           r[c] = std::max(0.0, self->full_scale_N_[c] - pred[c]) * self->inv_sigma_[c];
         }
-      if (prior_weight > 0) {
-        r.conservativeResize(r.size() + 1);
-        r[r.size() - 1] = prior_weight * (u[kLogRadius] - prior_mean);
+      if (prior_rows() > 0) {
+        const Eigen::Index n = r.size();
+        r.conservativeResize(n + prior_rows());
+        r[n] = prior_weight * (u[kLogRadius] - prior_mean);
+        if (pair) r[n + 1] = prior_weight * (u[kSphereUnknowns + kLogRadius] - prior_mean);
       }
     }
     int operator()(const Eigen::VectorXd& u, Eigen::VectorXd& r) const {
@@ -198,41 +263,61 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
       Eigen::VectorXd r0;
       if (at.size() != u.size() || at != u) Parts(u);
       Residuals(u, r0);
-      const Eigen::VectorXd u0 = u, pred0 = pred, normal0 = normal;
+      const Eigen::VectorXd u0 = u, pred0 = pred, normal0 = normal, per_x0 = per_x, per_y0 = per_y;
       // An analytic column from d pred / d u_j: weighted, a saturated channel's slope where
-      // it binds, and 0 in the radius prior's row (only log R, a difference column, moves it).
+      // it binds, and 0 in the radius prior's rows (only log R, a difference column, moves them).
       auto set_column = [&](int j, const Eigen::VectorXd& d_pred) {
         auto col = J.col(j);
         col.head(d_pred.size()) = d_pred.cwiseProduct(self->weight_);
-        if (prior_weight > 0) col[d_pred.size()] = 0;
+        col.tail(prior_rows()).setZero();
         for (size_t k = 0; k < self->saturated_.size(); ++k)
           if (self->saturated_[k]) {
             const int c = 3 * static_cast<int>(k) + 2;
             col[c] = self->full_scale_N_[c] - pred0[c] > 0 ? -d_pred[c] * self->inv_sigma_[c] : 0.0;
           }
       };
-      if (shear) {  // d pred / d T = per_x, per_y
-        set_column(geometric, per_x);
-        set_column(geometric + 1, per_y);
-      }
-      const int log_force = geometric - 1;  // ToUnknowns: log F after the pose and radius
-      Eigen::VectorXd d_pred_log_r = Eigen::VectorXd::Zero(normal0.size());  // the flat: none
-      for (int j = 0; j < log_force; ++j) {
+      auto step = [&](int j) {
         double h = 1e-3 * std::abs(u0[j]);
-        if (h == 0) h = 1e-3;
-        Eigen::VectorXd uj = u0;
-        uj[j] += h;
-        Parts(uj);
-        Residuals(uj, r_step);
-        J.col(j) = (r_step - r0) / h;
-        if (j == kLogRadius) d_pred_log_r = (pred - pred0) / h;
+        return h == 0 ? 1e-3 : h;
+      };
+      if (pair) {
+        const Part saved[2] = {parts[0], parts[1]};
+        for (int j = 0; j < geometric; ++j) {
+          const int s = j / kSphereUnknowns;
+          const double h = step(j);
+          Eigen::VectorXd uj = u0;
+          uj[j] += h;
+          EvaluateSphere(s, uj);
+          CombineParts();
+          Residuals(uj, r_step);
+          J.col(j) = (r_step - r0) / h;
+          parts[s] = saved[s];
+        }
+        CombineParts();
+        at = u0;
+      } else {
+        const int log_force = geometric - 1;  // ToUnknowns: log F after the pose and radius
+        Eigen::VectorXd d_pred_log_r = Eigen::VectorXd::Zero(normal0.size());  // the flat: none
+        for (int j = 0; j < log_force; ++j) {
+          const double h = step(j);
+          Eigen::VectorXd uj = u0;
+          uj[j] += h;
+          Parts(uj);
+          Residuals(uj, r_step);
+          J.col(j) = (r_step - r0) / h;
+          if (j == kLogRadius) d_pred_log_r = (pred - pred0) / h;
+        }
+        set_column(log_force, normal0 + d_pred_log_r);
       }
-      set_column(log_force, normal0 + d_pred_log_r);
+      if (shear) {  // d pred / d T = per_x, per_y
+        set_column(geometric, per_x0);
+        set_column(geometric + 1, per_y0);
+      }
       return 0;
     }
   };
   int evaluations = 0, budget_used = 0;
-  Functor f{{}, this, shape, shear, &evaluations, &budget_used, 0, 0, {}, {}, {}, {}, {}, {}};
+  Functor f{{}, this, shape, pair, shear, &evaluations, &budget_used, 0, 0, {}, {}, {}, {}, {}, {}, {}};
   if (shape != ContactShape::kFlat && options_.radius_prior_log_sigma > 0) {
     f.prior_weight = 1.0 / options_.radius_prior_log_sigma;
     f.prior_mean = std::log(options_.radius_prior_mm);
@@ -241,9 +326,9 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
   lm.parameters.maxfev = max_evaluations > 0 ? max_evaluations : options_.max_evaluations;
   lm.parameters.xtol = 1e-6;
   lm.parameters.ftol = 1e-8;
-  ContactPrimitive s = start;
-  s.shape = shape;
-  if (shape == ContactShape::kFlat) s.x_mm = s.y_mm = 0;
+  Hypothesis s = start;
+  s.first.shape = shape;
+  if (shape == ContactShape::kFlat) s.first.x_mm = s.first.y_mm = 0;
   Eigen::VectorXd u = ToUnknowns(s, shear);
   // lm.minimize(u), stopped early when the budget is spent.
   Eigen::LevenbergMarquardtSpace::Status status = lm.minimizeInit(u);
@@ -268,24 +353,27 @@ ContactReconstructor::Fit ContactReconstructor::FitShape(ContactShape shape, con
                   status == Eigen::LevenbergMarquardtSpace::FtolTooSmall ||
                   status == Eigen::LevenbergMarquardtSpace::XtolTooSmall ||
                   status == Eigen::LevenbergMarquardtSpace::GtolTooSmall;
-  fit.primitive = FromUnknowns(shape, u, shear);
+  fit.model = FromUnknowns(shape, pair, u, shear);
   // A radius the scans barely determine (thin rods: a patch narrower than the load grid) can
   // drift out of the plausible range; the answer is then the nearest plausible radius (the
   // next scan's warm fit starts there), not a fallback.
   if (shape != ContactShape::kFlat) {
-    const double r = std::clamp(fit.primitive.radius_mm, std::exp(log_r_lo_), std::exp(log_r_hi_));
-    if (r != fit.primitive.radius_mm) {
-      fit.at_radius_bound = true;
-      fit.primitive.radius_mm = r;
-      u = ToUnknowns(fit.primitive, shear);
+    for (ContactPrimitive* p : {&fit.model.first, &fit.model.second}) {
+      if (p == &fit.model.second && !pair) break;
+      const double r = std::clamp(p->radius_mm, std::exp(log_r_lo_), std::exp(log_r_hi_));
+      if (r != p->radius_mm) {
+        fit.at_radius_bound = true;
+        p->radius_mm = r;
+      }
     }
+    if (fit.at_radius_bound) u = ToUnknowns(fit.model, shear);
   }
   Eigen::VectorXd r;
   f(u, r);
   // The data's chi^2 (the prior's residual is not evidence for model selection or the RMS).
   const auto data = r.head(static_cast<Eigen::Index>(obs_.size()));
   fit.chi2 = data.allFinite() ? data.squaredNorm() : std::numeric_limits<double>::infinity();
-  fit.unknowns = UnknownCount(shape, shear);
+  fit.unknowns = UnknownCount(shape, pair, shear);
   fit.evaluations = evaluations;
   fit.budget_used = budget_used;
   return fit;
@@ -393,6 +481,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     have_last_ = false;
     have_candidate_ = false;
     explored_ = 0;
+    pair_tried_ = false;
     return estimate_;
   }
   estimate_.contact = true;
@@ -408,23 +497,30 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     sxy += z * dx * dy;
   }
   const double principal_yaw_deg = 0.5 * std::atan2(2 * sxy, sxx - syy) * 180 / kPi;
+  // Spread of the normal readings along the principal direction [mm^2].
+  const double principal_var_mm2 =
+      (0.5 * (sxx + syy) + std::sqrt(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy)) / sum_z;
 
   // In single-scan noise units whatever the number of scans averaged.
   const double dof = std::max(1.0, static_cast<double>((weight_.array() > 0).count())) * estimate_.averaged_scans;
   auto accept = [&](const Fit& fit, bool warm) {
-    estimate_.primitive = fit.primitive;
+    estimate_.primitive = fit.model.first;
+    estimate_.two_contacts = fit.model.pair;
+    if (fit.model.pair) estimate_.second = fit.model.second;
     estimate_.rms_sigma = std::sqrt(fit.chi2 / dof);
     estimate_.warm_started = warm;
-    estimate_.ok = std::isfinite(fit.chi2) && estimate_.rms_sigma <= options_.max_rms_sigma && Plausible(fit.primitive);
+    const bool plausible = Plausible(fit.model);
+    estimate_.ok = std::isfinite(fit.chi2) && estimate_.rms_sigma <= options_.max_rms_sigma && plausible;
     if (!estimate_.ok) {
-      estimate_.problem = !Plausible(fit.primitive) ? "fit left the plausible domain" : "residual above max_rms_sigma";
+      estimate_.problem = !plausible ? "fit left the plausible domain" : "residual above max_rms_sigma";
       ++counters_.fallbacks;
       // Amortized selection keeps a plausible best guess to refine while it explores.
-      have_last_ = options_.selection == ModelSelection::kAmortized && Plausible(fit.primitive);
-      if (have_last_) last_ = fit.primitive;
+      have_last_ = options_.selection == ModelSelection::kAmortized && plausible;
+      if (have_last_) last_ = fit.model;
     } else {
-      last_ = fit.primitive;
+      last_ = fit.model;
       have_last_ = true;
+      if (fit.model.pair) ++counters_.two_contacts;
     }
   };
 
@@ -436,40 +532,64 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
   struct Start {
     ContactShape shape;
     double radius_mm, yaw_deg;
+    bool pair;
   };
-  const Start starts[] = {{ContactShape::kSphere, 3.0, 0},
-                          {ContactShape::kCylinder, 1.0, principal_yaw_deg},
-                          {ContactShape::kFlat, 0, 0},
-                          {ContactShape::kSphere, 10.0, 0},
-                          {ContactShape::kCylinder, 3.0, principal_yaw_deg},
-                          {ContactShape::kCylinder, 1.5, principal_yaw_deg + 90}};
-  constexpr int kStarts = sizeof(starts) / sizeof(starts[0]);
+  // The pair last (fit_pairs), kPairStart.
+  const Start starts[] = {{ContactShape::kSphere, 3.0, 0, false},
+                          {ContactShape::kCylinder, 1.0, principal_yaw_deg, false},
+                          {ContactShape::kFlat, 0, 0, false},
+                          {ContactShape::kSphere, 10.0, 0, false},
+                          {ContactShape::kCylinder, 3.0, principal_yaw_deg, false},
+                          {ContactShape::kCylinder, 1.5, principal_yaw_deg + 90, false},
+                          {ContactShape::kSphere, 3.0, principal_yaw_deg, true}};
+  constexpr int kPairStart = 6;
+  const int kStarts = kPairStart + (options_.fit_pairs ? 1 : 0);
+  // A start's first guess. A pair: two 3 mm spheres, each with half the force, on the
+  // principal axis either side of the centroid, as far apart as the readings spread.
+  auto start_hypothesis = [&](const Start& s) {
+    Hypothesis h;
+    h.first = guess;
+    h.first.shape = s.shape;
+    h.first.radius_mm = s.radius_mm;
+    h.first.yaw_deg = s.yaw_deg;
+    if (s.pair) {
+      const double yaw = s.yaw_deg * kPi / 180;
+      const double d = std::max(std::sqrt(principal_var_mm2), 0.5 * options_.min_pair_separation_mm);
+      h.pair = true;
+      h.first.yaw_deg = 0;
+      h.first.normal_force_N = 0.5 * guess.normal_force_N;
+      h.second = h.first;
+      h.first.x_mm = mx - d * std::cos(yaw);
+      h.first.y_mm = my - d * std::sin(yaw);
+      h.second.x_mm = mx + d * std::cos(yaw);
+      h.second.y_mm = my + d * std::sin(yaw);
+      h.second.shear_x_N = h.second.shear_y_N = 0;
+    }
+    return h;
+  };
   auto fit_start = [&](const Start& s) {
-    ContactPrimitive p = guess;
-    p.radius_mm = s.radius_mm;
-    p.yaw_deg = s.yaw_deg;
-    const Fit fit = FitShape(s.shape, p, options_.explore_evaluations);
+    const Fit fit = FitModel(start_hypothesis(s), options_.explore_evaluations);
     estimate_.evaluations += fit.evaluations;
     return fit;
   };
   auto better = [&](const Fit& a, const Fit& b) {  // a better than b
-    return Plausible(a.primitive) && std::isfinite(a.chi2) && (!std::isfinite(b.chi2) || a.Penalized() < b.Penalized());
+    return Plausible(a.model) && std::isfinite(a.chi2) && (!std::isfinite(b.chi2) || a.Penalized() < b.Penalized());
   };
 
   const bool amortized = options_.selection == ModelSelection::kAmortized;
   Fit best;
   bool warm_won = false;
   if (have_last_) {
-    best = FitShape(last_.shape, last_, 0, amortized ? options_.warm_scan_evaluations : 0);
+    best = FitModel(last_, 0, amortized ? options_.warm_scan_evaluations : 0);
     estimate_.evaluations += best.evaluations;
-    warm_won = Plausible(best.primitive);
+    warm_won = Plausible(best.model);
     if (!warm_won) best = Fit{};
   }
   const bool settled = warm_won && explored_ >= kStarts && std::sqrt(best.chi2 / dof) <= options_.settle_rms_sigma;
   if (options_.selection == ModelSelection::kFull && !(warm_won && std::sqrt(best.chi2 / dof) <= 0.5 * options_.max_rms_sigma)) {
     // Every start, now.
-    for (const Start& s : starts) {
-      const Fit fit = fit_start(s);
+    for (int i = 0; i < kStarts; ++i) {
+      const Fit fit = fit_start(starts[i]);
       if (better(fit, best)) best = fit, warm_won = false;
     }
   } else if (amortized && !settled) {
@@ -484,26 +604,35 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     // per-scan total: exploring is then a check that can wait for a cheap (holding) scan.
     if (warm_won && options_.scan_evaluations > 0 && std::sqrt(best.chi2 / dof) <= options_.max_rms_sigma)
       budget = std::min(budget, options_.scan_evaluations - best.budget_used);
+    const bool warm_unexplained = warm_won && !(best.chi2 <= options_.max_rms_sigma * options_.max_rms_sigma * dof);
     for (int tried = 0; budget > 0 && tried < kStarts; ++tried) {
       if (!have_candidate_) {
-        const Start& st = starts[next_start_];
-        next_start_ = (next_start_ + 1) % kStarts;
-        candidate_ = guess;
-        candidate_.shape = st.shape;
-        candidate_.radius_mm = st.radius_mm;
-        candidate_.yaw_deg = st.yaw_deg;
+        // Two contacts are what no single shape explains: when the current model stops
+        // explaining the scan, the pair jumps the queue (once an episode), so a two-point
+        // touch is found as its load grows instead of after every single shape's turn (12
+        // fallback scans on the synthetic two_spheres). A first touch, with no model yet,
+        // and explained scans keep the rotation's order.
+        int pick = next_start_ % kStarts;
+        if (options_.fit_pairs && !pair_tried_ && warm_unexplained) {
+          pick = kPairStart;
+        } else {
+          if (pick == kPairStart && pair_tried_) pick = 0;  // its turn came early
+          next_start_ = (pick + 1) % kStarts;
+        }
+        pair_tried_ = pair_tried_ || pick == kPairStart;
+        candidate_ = start_hypothesis(starts[pick]);
         candidate_spent_ = 0;
         have_candidate_ = true;
       }
-      const Fit fit = FitShape(candidate_.shape, candidate_, options_.explore_evaluations, budget);
+      const Fit fit = FitModel(candidate_, options_.explore_evaluations, budget);
       estimate_.evaluations += fit.evaluations;
       budget -= fit.budget_used;
-      candidate_ = fit.primitive;
+      candidate_ = fit.model;
       candidate_spent_ += fit.budget_used;
       // A candidate whose radius runs out of the plausible range is the wrong shape (a rod
       // or sphere growing without bound to explain a flat), and its huge patches are the
       // most expensive evaluations: given up.
-      bool done = fit.converged || candidate_spent_ >= options_.candidate_evaluations || !Plausible(fit.primitive) ||
+      bool done = fit.converged || candidate_spent_ >= options_.candidate_evaluations || !Plausible(fit.model) ||
                   !std::isfinite(fit.chi2) || fit.at_radius_bound;
       if (better(fit, best)) best = fit, warm_won = false, done = true;
       if (done) {
@@ -516,7 +645,10 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     // Still nothing: the flat, whose evaluations are precomputed unit responses (about a
     // microsecond each), so that a scan between two models is answered, not dropped.
     if (!std::isfinite(best.chi2)) {
-      const Fit flat = FitShape(ContactShape::kFlat, guess);
+      Hypothesis flat_start;
+      flat_start.first = guess;
+      flat_start.first.shape = ContactShape::kFlat;
+      const Fit flat = FitModel(flat_start);
       estimate_.evaluations += flat.evaluations;
       if (better(flat, best)) best = flat;
     }

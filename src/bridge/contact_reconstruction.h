@@ -1,11 +1,11 @@
 #pragma once
 // Contact reconstruction: from one scan of the follower's three-axis sensor, the object that
-// touches it — shape (sphere, cylinder, flat), pad-frame position, radius, yaw, normal force
-// and tangential force — by inverting the calibrated forward model
+// touches it — shape (sphere, cylinder, flat, or two spheres at once), pad-frame position,
+// radius, yaw, normal force and tangential force — by inverting the calibrated forward model
 // (sensors/tactile_forward_model.h) with weighted nonlinear least squares.
 //
 // Solver: Eigen's Levenberg–Marquardt (unsupported/NonLinearOptimization, a MINPACK port that
-// ships with Eigen). The problem is dense and tiny (<= 6 unknowns, 48 residuals) and runs per
+// ships with Eigen). The problem is dense and tiny (<= 10 unknowns, 48 residuals) and runs per
 // scan, so Ceres' strengths (sparsity, autodiff through a cost graph, robust losses) buy
 // nothing here and its setup cost per solve would.
 //
@@ -61,6 +61,15 @@ struct ReconstructionOptions {
   double min_radius_mm = 0.3;     ///< plausible radii for spheres and rods
   double max_radius_mm = 60;
   double max_offset_mm = 14;      ///< contact centre within this of the pad centre
+  /// Two simultaneous contacts (two fingertips, two bumps) are one more model: two spheres,
+  /// each with its own position, radius and force, sharing the tangential force. A pair is
+  /// plausible only when its spheres touch at least this far apart (closer, two spots are
+  /// one broad contact to taxels of about this pitch) ...
+  double min_pair_separation_mm = 5.0;
+  /// ... and the lighter carries at least this share of the total force (a lighter one is
+  /// fitting noise or the other's model error, not a second object).
+  double min_pair_force_share = 0.15;
+  bool fit_pairs = true;          ///< false: single primitives only (a pair is a fallback)
   bool fit_shear = true;          ///< estimate the tangential force (three-axis sensors)
   int max_evaluations = 400;      ///< full: LM function evaluations per warm fit
   int explore_evaluations = 150;  ///< full: LM function evaluations per cold start
@@ -132,12 +141,21 @@ struct ReconstructionOptions {
 struct ContactEstimate {
   bool contact = false;       ///< something presses (force >= min_force_N)
   bool ok = false;            ///< contact and a trustworthy fit (else: fall back)
-  sensors::ContactPrimitive primitive;  ///< pad frame; normal_force_N = 0 when no contact
+  /// Pad frame; normal_force_N = 0 when no contact. With two contacts: the first sphere, its
+  /// own normal force, and the whole tangential force.
+  sensors::ContactPrimitive primitive;
+  bool two_contacts = false;  ///< a second sphere touches at the same time
+  sensors::ContactPrimitive second;  ///< the second sphere (its normal force; no shear)
   double rms_sigma = 0;       ///< RMS residual in single-scan noise units (about 1 = within noise)
   int averaged_scans = 1;     ///< scans in the hold mean that was fitted (1: this scan alone)
   int evaluations = 0;        ///< forward-model evaluations this scan
   bool warm_started = false;  ///< the last scan's estimate was refined, no model selection
   std::string problem;        ///< why not ok
+
+  /// The whole pressing force [N] (both spheres of a pair).
+  double normal_force_N() const {
+    return primitive.normal_force_N + (two_contacts ? second.normal_force_N : 0.0);
+  }
 };
 
 /// Counters since construction.
@@ -147,12 +165,20 @@ struct ReconstructionCounters {
   int64_t fits = 0;
   int64_t warm_fits = 0;       ///< answered from the warm start alone
   int64_t fallbacks = 0;       ///< poor or diverged fits
+  int64_t two_contacts = 0;    ///< scans answered with two spheres
   int64_t saturated_taxels = 0;
   int64_t evaluations = 0;     ///< forward-model evaluations, all scans (the cost, deterministic)
 };
 
 class ContactReconstructor {
  public:
+  /// One model's parameters: a primitive, or (pair) two spheres.
+  struct Hypothesis {
+    sensors::ContactPrimitive first;
+    bool pair = false;
+    sensors::ContactPrimitive second;  ///< pair only: a sphere, no shear
+  };
+
   /// @param profile  three-axis profile with a `forward_model` (throws std::invalid_argument
   ///                 otherwise)
   ContactReconstructor(const sensors::SensorProfile& profile, ReconstructionOptions options = {});
@@ -167,6 +193,7 @@ class ContactReconstructor {
     have_last_ = false;
     have_candidate_ = false;
     explored_ = 0;
+    pair_tried_ = false;
     hold_scans_ = 0;
   }
 
@@ -178,10 +205,10 @@ class ContactReconstructor {
   struct Fit;
   /// LM from `start`; max_evaluations: LM function evaluations (0: options' max_evaluations);
   /// evaluation_budget: stop after the LM iteration that reaches this many forward-model
-  /// evaluations (0: none).
-  Fit FitShape(sensors::ContactShape shape, const sensors::ContactPrimitive& start, int max_evaluations = 0,
-               int evaluation_budget = 0) const;
+  /// evaluations (0: none). Each sphere of a pair counts as one evaluation.
+  Fit FitModel(const Hypothesis& start, int max_evaluations = 0, int evaluation_budget = 0) const;
   bool Plausible(const sensors::ContactPrimitive& p) const;
+  bool Plausible(const Hypothesis& h) const;
 
   sensors::SensorProfile profile_;
   ReconstructionOptions options_;
@@ -202,13 +229,14 @@ class ContactReconstructor {
   std::vector<uint8_t> saturated_;
   ContactEstimate estimate_;
   bool have_last_ = false;
-  sensors::ContactPrimitive last_;
+  Hypothesis last_;
   int next_start_ = 0;   // amortized selection: next start to try
   int explored_ = 0;     // starts tried in this contact episode
+  bool pair_tried_ = false;  // the pair start was tried in this contact episode
   // Amortized selection: the candidate being fitted over several scans (its iterate) and
   // the evaluations it has spent.
   bool have_candidate_ = false;
-  sensors::ContactPrimitive candidate_;
+  Hypothesis candidate_;
   int candidate_spent_ = 0;
   ReconstructionCounters counters_;
 };

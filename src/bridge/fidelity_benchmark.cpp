@@ -126,6 +126,8 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
   row.recon_max_us = us.back();
   row.fallbacks = static_cast<int>(recon.counters().fallbacks);
   row.recon_object = at_peak.primitive;
+  row.recon_two_contacts = at_peak.two_contacts;
+  row.recon_second = at_peak.second;
   row.recon_ok = at_peak.ok && at_peak.contact;
   row.recon_rms_sigma = at_peak.rms_sigma;
 
@@ -149,8 +151,8 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
   // Reconstructed contact.
   if (row.recon_ok) {
     leader_->ResetWarmStart();
-    const auto r = leader_->PressToForce({ToRigidObject(row.recon_object)}, row.recon_object.normal_force_N,
-                                         ReconstructedPressOptions(), LeaderTangentialLoad_N(row.recon_object));
+    const auto r = leader_->PressToForce(ToRigidObjects(at_peak), at_peak.normal_force_N(),
+                                         ReconstructedPressOptions(), LeaderTangentialLoad_N(at_peak));
     row.recon_press = PressAnswered(r, *leader_) ? "reached" : scene::ToString(r.status);
     maps->recon = leader_->sed_Pa();
   } else {

@@ -68,7 +68,9 @@ struct FidelityRow {
   std::string label;                   ///< the true object in words
   bool truth_is_primitive = false;
   sensors::ContactPrimitive truth_object;  ///< at the peak scan's force (load from the case)
-  sensors::ContactPrimitive recon_object;  ///< estimate at the peak scan
+  sensors::ContactPrimitive recon_object;  ///< estimate at the peak scan (a pair's first sphere)
+  bool recon_two_contacts = false;     ///< the estimate is two spheres
+  sensors::ContactPrimitive recon_second;  ///< a pair's second sphere
   bool recon_ok = false;               ///< false: fell back to the map
   double recon_rms_sigma = 0;
   double truth_max_sed_Pa = 0, map_max_sed_Pa = 0, recon_max_sed_Pa = 0;

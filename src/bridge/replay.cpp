@@ -43,8 +43,10 @@ std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::Se
     map.fe_step = FeStepKind::kReduced;
     scene::FingertipComplianceOptions leader = LeaderComplianceOptions(config.compliance_cache_dir, config.face_contact);
     leader.contact.full_field = full_field;
+    ReconstructionOptions reconstruction;
+    reconstruction.fit_pairs = config.two_contacts;
     return std::make_unique<ContactFeStep>(config.model, profile, PadRegistration(profile.taxels, config.registration),
-                                           MakeFeStep(map, profile), std::move(leader));
+                                           MakeFeStep(map, profile), std::move(leader), reconstruction);
   }
   if (config.fe_step == FeStepKind::kReduced)
     return std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, config.preset), profile,
@@ -249,20 +251,22 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
       // The reconstructed contact at the peak, with its Hertz contact size on the sensor
       // (sphere: radius; rod: half-width) for the plot.
       const auto& m = peak_contact;
-      double contact_mm = 0;
-      if (profile.has_forward_model && m.normal_force_N > 0 && (m.shape == 1 || m.shape == 2)) {
+      const bool sphere = m.shape == 1 || m.shape == 4;
+      auto half_width_mm = [&](double force_N, double radius_mm) {
+        if (!profile.has_forward_model || !(force_N > 0) || !(sphere || m.shape == 2)) return 0.0;
         const double E = profile.forward_model.contact_modulus_kPa * 1e-3;  // N/mm^2
-        contact_mm = m.shape == 1 ? std::cbrt(3.0 * m.normal_force_N * m.radius_mm / (4.0 * E))
-                                  : std::sqrt(4.0 * m.normal_force_N / profile.forward_model.pad_size_mm * m.radius_mm /
-                                              (3.14159265358979 * E));
-      }
-      static const char* const kShapes[] = {"none", "sphere", "cylinder", "flat"};
+        return sphere ? std::cbrt(3.0 * force_N * radius_mm / (4.0 * E))
+                      : std::sqrt(4.0 * force_N / profile.forward_model.pad_size_mm * radius_mm / (3.14159265358979 * E));
+      };
+      static const char* const kShapes[] = {"none", "sphere", "cylinder", "flat", "two_spheres"};
       std::ofstream con((dir / "peak_contact.csv").string());
       con << "shape,x_mm,y_mm,radius_mm,yaw_deg,normal_force_N,shear_x_N,shear_y_N,residual_rms_sigma,fallback,"
-             "contact_half_width_mm\n";
-      con << kShapes[std::clamp<int>(m.shape, 0, 3)] << ',' << m.x_mm << ',' << m.y_mm << ',' << m.radius_mm << ','
+             "contact_half_width_mm,x2_mm,y2_mm,radius2_mm,normal_force2_N,contact2_half_width_mm\n";
+      con << kShapes[std::clamp<int>(m.shape, 0, 4)] << ',' << m.x_mm << ',' << m.y_mm << ',' << m.radius_mm << ','
           << m.yaw_deg << ',' << m.normal_force_N << ',' << m.shear_x_N << ',' << m.shear_y_N << ','
-          << m.residual_rms_sigma << ',' << int(m.fallback) << ',' << contact_mm << '\n';
+          << m.residual_rms_sigma << ',' << int(m.fallback) << ',' << half_width_mm(m.normal_force_N, m.radius_mm)
+          << ',' << m.x2_mm << ',' << m.y2_mm << ',' << m.radius2_mm << ',' << m.normal_force2_N << ','
+          << half_width_mm(m.normal_force2_N, m.radius2_mm) << '\n';
     }
   }
   return result;

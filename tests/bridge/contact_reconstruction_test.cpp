@@ -268,7 +268,46 @@ TEST(ContactReconstruction, SlidingAcrossTaxelBoundariesHasNoJumps) {
   EXPECT_GT(r.counters().warm_fits, 60);  // the warm start carries a moving contact
 }
 
-TEST(ContactReconstruction, TwoSimultaneousContactsAreAFallbackNotAGuess) {
+// Two spheres pressed at once (two fingertips, two bumps): the pair model finds both, with
+// each one's position and force, within a short hold of noisy scans.
+TEST(ContactReconstruction, TwoSimultaneousContactsAreTwoSpheres) {
+  sensors::TactileForwardModel model(Uskin(), Uskin().forward_model);
+  ContactPrimitive a, b;
+  a.radius_mm = 2.5;
+  b.radius_mm = 4;
+  a.normal_force_N = 0.5;
+  b.normal_force_N = 0.3;
+  a.x_mm = -5;
+  a.y_mm = -4;
+  b.x_mm = 4;
+  b.y_mm = 5;
+  Eigen::VectorXd ra, rb;
+  model.Predict(a, &ra);
+  model.Predict(b, &rb);
+  std::mt19937_64 rng(7);
+  ContactReconstructor r(Uskin());
+  ContactEstimate e;
+  for (int scan = 0; scan < 40; ++scan) e = r.Reconstruct(Noisy(ra + rb, &rng), std::vector<uint8_t>(16, 1));
+  ASSERT_TRUE(e.ok) << e.problem;
+  ASSERT_TRUE(e.two_contacts) << ContactShapeName(e.primitive.shape) << " R " << e.primitive.radius_mm;
+  // Which sphere is "first" is the fit's choice.
+  const bool swapped = e.primitive.x_mm > e.second.x_mm;
+  const ContactPrimitive& ea = swapped ? e.second : e.primitive;
+  const ContactPrimitive& eb = swapped ? e.primitive : e.second;
+  EXPECT_NEAR(ea.x_mm, a.x_mm, 0.3);
+  EXPECT_NEAR(ea.y_mm, a.y_mm, 0.3);
+  EXPECT_NEAR(eb.x_mm, b.x_mm, 0.3);
+  EXPECT_NEAR(eb.y_mm, b.y_mm, 0.3);
+  EXPECT_NEAR(ea.normal_force_N, a.normal_force_N, 0.05);
+  EXPECT_NEAR(eb.normal_force_N, b.normal_force_N, 0.05);
+  EXPECT_NEAR(e.normal_force_N(), 0.8, 0.02);
+  EXPECT_LT(e.rms_sigma, 1.5);
+  EXPECT_GT(r.counters().two_contacts, 0);
+}
+
+// Without the pair model, one primitive cannot explain two contacts: a fallback (the
+// pressure map takes over), counted, not a guess.
+TEST(ContactReconstruction, TwoContactsWithoutThePairModelAreAFallbackNotAGuess) {
   sensors::TactileForwardModel model(Uskin(), Uskin().forward_model);
   ContactPrimitive a, b;
   a.radius_mm = b.radius_mm = 2.5;
@@ -280,11 +319,43 @@ TEST(ContactReconstruction, TwoSimultaneousContactsAreAFallbackNotAGuess) {
   Eigen::VectorXd ra, rb;
   model.Predict(a, &ra);
   model.Predict(b, &rb);
-  ContactReconstructor r(Uskin());
+  ReconstructionOptions options;
+  options.fit_pairs = false;
+  ContactReconstructor r(Uskin(), options);
   const ContactEstimate& e = r.Reconstruct(ra + rb, std::vector<uint8_t>(16, 1));
   EXPECT_TRUE(e.contact);
-  EXPECT_FALSE(e.ok);  // one primitive cannot explain two contacts: the map takes over
+  EXPECT_FALSE(e.ok);
+  EXPECT_FALSE(e.two_contacts);
   EXPECT_EQ(r.counters().fallbacks, 1);
+}
+
+// One contact is not split in two: a sphere, a rod across the pad and a flat, each held,
+// stay single primitives (the pair's four extra unknowns must buy more than they cost, and
+// its spheres must be apart and each carry a share).
+TEST(ContactReconstruction, OneContactIsNotReadAsTwo) {
+  sensors::TactileForwardModel model(Uskin(), Uskin().forward_model);
+  std::vector<ContactPrimitive> objects(3);
+  objects[0].radius_mm = 8;
+  objects[0].normal_force_N = 0.8;
+  objects[0].x_mm = 1;
+  objects[1].shape = ContactShape::kCylinder;
+  objects[1].radius_mm = 1;
+  objects[1].yaw_deg = 30;
+  objects[1].normal_force_N = 0.6;
+  objects[2].shape = ContactShape::kFlat;
+  objects[2].normal_force_N = 1.0;
+  std::mt19937_64 rng(11);
+  for (const ContactPrimitive& c : objects) {
+    Eigen::VectorXd reading;
+    model.Predict(c, &reading);
+    ContactReconstructor r(Uskin());
+    ContactEstimate e;
+    for (int scan = 0; scan < 40; ++scan) e = r.Reconstruct(Noisy(reading, &rng), std::vector<uint8_t>(16, 1));
+    ASSERT_TRUE(e.ok) << ContactShapeName(c.shape) << ": " << e.problem;
+    EXPECT_FALSE(e.two_contacts) << ContactShapeName(c.shape);
+    EXPECT_EQ(e.primitive.shape, c.shape);
+    EXPECT_EQ(r.counters().two_contacts, 0) << ContactShapeName(c.shape);
+  }
 }
 
 TEST(ContactReconstruction, SaturatedTaxelsAreHardContactNotMissing) {
