@@ -32,8 +32,10 @@ double Rational(const RadialKernel& k, double rho_mm, int order) {
 }
 
 // Length of the line p + t d inside the square |x|, |y| <= half (slab clipping).
-double LengthInSquare(double px, double py, double dx, double dy, double half) {
-  double t0 = -kUnboundedLineParameter, t1 = kUnboundedLineParameter;
+// Length of the line p + t d (|d| = 1), |t| <= half_length, inside the square |x|, |y| <= half.
+double LengthInSquare(double px, double py, double dx, double dy, double half,
+                      double half_length = kUnboundedLineParameter) {
+  double t0 = -half_length, t1 = half_length;
   const double p[2] = {px, py}, d[2] = {dx, dy};
   for (int a = 0; a < 2; ++a) {
     if (std::abs(d[a]) < kParallelDirection) {
@@ -49,6 +51,17 @@ double LengthInSquare(double px, double py, double dx, double dy, double half) {
 }
 
 // Fraction of the cell [c - h/2, c + h/2] inside [-half, half] (continuous in half).
+// CDF of a unit-area tent of half-width h, at x.
+double TentCdf(double x, double h) {
+  if (x <= -h) return 0;
+  if (x >= h) return 1;
+  const double t = (x + h) / h;  // in [0, 2]
+  return t <= 1 ? 0.5 * t * t : 1 - 0.5 * (2 - t) * (2 - t);
+}
+// Share of a tent of half-width h centred at c inside [-half, half].
+double TentCoverage(double c, double h, double half) {
+  return std::clamp(TentCdf(half - c, h) - TentCdf(-half - c, h), 0.0, 1.0);
+}
 double Coverage1d(double c, double h, double half) {
   const double lo = std::max(c - 0.5 * h, -half), hi = std::min(c + 0.5 * h, half);
   return std::clamp((hi - lo) / h, 0.0, 1.0);
@@ -222,7 +235,9 @@ void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLo
     }
     case ContactShape::kCylinder: {
       const double yaw = c.yaw_deg * kPi / 180.0, dx = std::cos(yaw), dy = std::sin(yaw);
-      const double L = LengthInSquare(c.x_mm, c.y_mm, dx, dy, half);
+      // A finite rod: its half-length along the axis from (x, y); an infinite one: none.
+      const double half_length = c.length_mm > 0 ? 0.5 * c.length_mm : kUnboundedLineParameter;
+      const double L = LengthInSquare(c.x_mm, c.y_mm, dx, dy, half, half_length);
       if (L <= 0) return;
       const double R = std::max(c.radius_mm, 1e-3);
       const double b = std::hypot(std::sqrt(4.0 * (F / L) * R / (kPi * E_N_mm2)), h);
@@ -235,7 +250,13 @@ void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLo
         const double t = (-(x - c.x_mm) * dy + (y - c.y_mm) * dx) / b;
         const double lo = std::max(-1.0, t - t_half), hi = std::min(1.0, t + t_half);
         if (hi <= lo) return 0.0;
-        return (HalfDiscArea(hi) - HalfDiscArea(lo)) * Coverage1d(x, h, half) * Coverage1d(y, h, half);
+        // A finite rod's ends: the cell's share of [-half_length, half_length] along the
+        // axis, for a tent-shaped cell (half-width h): the tents sum to one along the axis,
+        // so the loaded length is exact, and the share is C1 in the ends' positions (a
+        // box-shaped cell's share kinks at every cell boundary, which a hold's mean sees).
+        const double ends = c.length_mm > 0 ? TentCoverage((x - c.x_mm) * dx + (y - c.y_mm) * dy, h, half_length) : 1.0;
+        if (!(ends > 0)) return 0.0;
+        return (HalfDiscArea(hi) - HalfDiscArea(lo)) * ends * Coverage1d(x, h, half) * Coverage1d(y, h, half);
       };
       // Only the band |s| < b around the axis, row by row (or column by column for a rod
       // closer to the x axis), not the whole pad.
@@ -276,6 +297,13 @@ void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLo
     l.shear_x_N = tx * l.normal_N;
     l.shear_y_N = ty * l.normal_N;
   }
+}
+
+double TactileForwardModel::RodLengthOnPad_mm(const ContactPrimitive& c) const {
+  if (c.shape != ContactShape::kCylinder) return 0;
+  const double yaw = c.yaw_deg * kPi / 180.0;
+  return LengthInSquare(c.x_mm, c.y_mm, std::cos(yaw), std::sin(yaw), 0.5 * params_.pad_size_mm,
+                        c.length_mm > 0 ? 0.5 * c.length_mm : kUnboundedLineParameter);
 }
 
 void TactileForwardModel::Predict(const ContactPrimitive& c, Eigen::VectorXd* readings_N) const {

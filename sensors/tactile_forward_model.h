@@ -8,7 +8,8 @@
 //  1. Contact pressure on the pad surface (pad frame, z = 0), on a grid of spacing h:
 //       sphere   Hertz:  a = cbrt(3 F R / (4 E*)),  p ~ sqrt(1 - r^2/a^2)
 //       cylinder Hertz line contact of the rod's length inside the pad (L):
-//                b = sqrt(4 (F/L) R / (pi E*)),  p ~ sqrt(1 - s^2/b^2)
+//                b = sqrt(4 (F/L) R / (pi E*)),  p ~ sqrt(1 - s^2/b^2); a finite rod (an
+//                edge of length_mm: a ruler's, a key's) loads only its own length
 //       flat     uniform over the pad square (side pad_size_mm)
 //     each scaled so the cells sum to the normal force F; a tangential force T (stroking)
 //     is spread over the same cells in proportion to p.
@@ -47,10 +48,11 @@ const char* ContactShapeName(ContactShape shape);
 /// One object pressed onto the sensor pad, in the pad frame.
 struct ContactPrimitive {
   ContactShape shape = ContactShape::kSphere;
-  double x_mm = 0;        ///< sphere: lowest point; cylinder: a point on the axis; flat: unused
+  double x_mm = 0;        ///< sphere: lowest point; cylinder: a point on the axis (a finite rod: its centre); flat: unused
   double y_mm = 0;
   double radius_mm = 5;   ///< sphere/cylinder radius
   double yaw_deg = 0;     ///< cylinder axis direction (cos yaw, sin yaw, 0)
+  double length_mm = 0;   ///< cylinder: its length, centred on (x, y) [mm]; 0 = crosses the whole pad
   double normal_force_N = 0;  ///< pressing force (>= 0)
   double shear_x_N = 0;   ///< total tangential force on the pad (object drags the pad along +x)
   double shear_y_N = 0;
@@ -95,6 +97,9 @@ class TactileForwardModel {
   /// Readings [N] for arbitrary surface loads on the grid (the simulated sensor's pad
   /// pressure, for one): out(3 k + a). Resized to 3 * #taxels.
   void Respond(const std::vector<SurfaceLoad>& loads, Eigen::VectorXd* readings_N) const;
+  /// Length of a cylinder's axis over the pad square [mm] (a finite rod: of its own length;
+  /// 0 for other shapes).
+  double RodLengthOnPad_mm(const ContactPrimitive& contact) const;
   /// Load grid: cell_count() cells of cell_size_mm() side; centre of cell i [mm].
   int cell_count() const { return grid_n_ * grid_n_; }
   double cell_size_mm() const { return params_.grid_mm; }

@@ -95,9 +95,10 @@ def main():
         elif c["shape"] == "cylinder":
             yaw = math.radians(float(c["yaw_deg"]))
             dx, dy = math.cos(yaw), math.sin(yaw)
+            half = 0.5 * float(c.get("length_mm") or 0) or 12  # 0: the rod crosses the pad
             for off in (-w, w):
-                ax.plot([x - 12 * dx - off * dy, x + 12 * dx - off * dy], [y - 12 * dy + off * dx, y + 12 * dy + off * dx],
-                        **style)
+                ax.plot([x - half * dx - off * dy, x + half * dx - off * dy],
+                        [y - half * dy + off * dx, y + half * dy + off * dx], **style)
         elif c["shape"] == "flat":
             ax.add_patch(matplotlib.patches.Rectangle((-10, -10), 20, 20, fill=False, **style))
         if c["shape"] != "none":

@@ -114,6 +114,8 @@ def write_table(rows, out):
             else:
                 if r["recon_shape"] != "flat":
                     rec += " R%.2f" % float(r["recon_radius_mm"])
+                if float(r.get("recon_length_mm") or 0) > 0:  # a finite rod
+                    rec += " L%.1f" % float(r["recon_length_mm"])
                 rec += " (%.2f, %.2f) %.3f N" % (float(r["recon_x_mm"]), float(r["recon_y_mm"]),
                                                  float(r["recon_force_N"]))
             if r["recon_ok"] != "1":

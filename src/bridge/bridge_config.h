@@ -53,6 +53,7 @@ struct BridgeConfig {
   std::string compliance_cache_dir = "out/cache";  ///< fe.compliance_cache: precompute cache of fe.step contact
   bool face_contact = true;  ///< fe.face_contact: the leader press of fe.step contact touches skin faces too
   bool two_contacts = true;  ///< fe.two_contacts: fe.step contact may read a scan as two spheres at once
+  bool finite_rods = true;   ///< fe.finite_rods: fe.step contact may read a rod that ends on the pad (an edge)
 
   // registration:
   PadRegistrationParams registration;
@@ -90,6 +91,7 @@ struct BridgeConfig {
       f->Visit(Field("compliance_cache", &compliance_cache_dir));
       f->Visit(Field("face_contact", &face_contact));
       f->Visit(Field("two_contacts", &two_contacts));
+      f->Visit(Field("finite_rods", &finite_rods));
     });
     a->Section("registration", [&](auto* g) {
       g->Visit(Field("offset_mm", &registration.offset_mm));

@@ -79,6 +79,7 @@ void ContactFeStep::FillMessage(const TaxelValues& values, bool fallback, double
   message_.y_mm = static_cast<float>(p.y_mm);
   message_.radius_mm = static_cast<float>(p.radius_mm);
   message_.yaw_deg = static_cast<float>(p.yaw_deg);
+  message_.length_mm = static_cast<float>(p.length_mm);
   message_.normal_force_N = static_cast<float>(p.normal_force_N);
   message_.shear_x_N = static_cast<float>(p.shear_x_N);
   message_.shear_y_N = static_cast<float>(p.shear_y_N);
@@ -117,6 +118,8 @@ bool ContactFeStep::SameAsLastPress(const ContactEstimate& e) const {
     return false;
   auto same_pose = [](const sensors::ContactPrimitive& a, const sensors::ContactPrimitive& b) {
     if (a.shape == sensors::ContactShape::kFlat) return true;
+    if ((a.length_mm > 0) != (b.length_mm > 0)) return false;
+    if (a.length_mm > 0 && !(std::abs(std::log(a.length_mm / b.length_mm)) <= 2e-3)) return false;
     return std::abs(a.x_mm - b.x_mm) <= 5e-3 && std::abs(a.y_mm - b.y_mm) <= 5e-3 &&
            std::abs(std::log(a.radius_mm / b.radius_mm)) <= 2e-3 &&
            std::abs(std::remainder(a.yaw_deg - b.yaw_deg, 180.0)) <= 0.05;
@@ -152,6 +155,7 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
     p.x_mm = xy.x();
     p.y_mm = xy.y();
     p.radius_mm *= registration_.params().scale;
+    p.length_mm *= registration_.params().scale;
     p.yaw_deg += registration_.params().rotation_deg;
     p.shear_x_N = shear.x();
     p.shear_y_N = shear.y();

@@ -22,7 +22,7 @@ geometry::RigidObject ToRigidObject(const sensors::ContactPrimitive& p) {
       break;
     case sensors::ContactShape::kCylinder:
       o.name = "cylinder";
-      o.shape = std::make_shared<geometry::CylinderSdf>(r_m, kRodHalfLength_m);
+      o.shape = std::make_shared<geometry::CylinderSdf>(r_m, p.length_mm > 0 ? 0.5e-3 * p.length_mm : kRodHalfLength_m);
       pose.linear() = geometry::RotationFromRpyDeg(Eigen::Vector3d(0, 0, p.yaw_deg));
       pose.translation() = Eigen::Vector3d(p.x_mm * 1e-3, p.y_mm * 1e-3, r_m);
       break;

@@ -12,8 +12,9 @@
 
 namespace sedbridge::bridge {
 
-/// Sphere: SphereSdf centred R above (x, y); cylinder: an infinite rod along (cos yaw,
-/// sin yaw, 0) resting on the pad plane; flat: the half-space above z = 0.
+/// Sphere: SphereSdf centred R above (x, y); cylinder: a rod along (cos yaw, sin yaw, 0)
+/// resting on the pad plane, 20 mm long (across the pad) or, a finite rod, length_mm
+/// centred on (x, y); flat: the half-space above z = 0.
 geometry::RigidObject ToRigidObject(const sensors::ContactPrimitive& primitive);
 /// The objects of an estimate: its primitive, and a pair's second sphere. Both rest on the
 /// pad plane at first touch and are pressed together, as one rigid pair, to the total force

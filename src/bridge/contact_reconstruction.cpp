@@ -24,14 +24,22 @@ constexpr double kGuessNormalGain = 0.6;
 constexpr int kLogRadius = 2;
 constexpr int kSphereUnknowns = 4;
 
-int UnknownCount(ContactShape s, bool pair, bool shear) {
-  const int base = pair ? 2 * kSphereUnknowns : s == ContactShape::kFlat ? 1 : 4;
+// A finite rod's half-length stays within these [mm] (longer crosses the pad anyway).
+constexpr double kMinHalfLength_mm = 0.25, kMaxHalfLength_mm = 15;
+
+// A finite rod ends at least this far inside the pad (its axis's chord) [mm].
+constexpr double kMinEdgeShortfall_mm = 1.0;
+
+bool IsFiniteRod(const ContactPrimitive& p) { return p.shape == ContactShape::kCylinder && p.length_mm > 0; }
+
+int UnknownCount(ContactShape s, bool pair, bool finite, bool shear) {
+  const int base = pair ? 2 * kSphereUnknowns : s == ContactShape::kFlat ? 1 : finite ? 6 : 4;
   return base + (shear ? 2 : 0);
 }
 
 // The shape's own unknowns (no shear) appended at u[*i]. Sphere: x, y, log R, log F;
-// cylinder: offset of the axis from the pad centre along its normal, yaw, log R, log F;
-// flat: log F.
+// cylinder: offset of the axis from the pad centre along its normal, yaw, log R, (a finite
+// rod: its centre along the axis, log half-length,) log F; flat: log F.
 void AppendShapeUnknowns(const ContactPrimitive& p, Eigen::VectorXd* u, int* i) {
   switch (p.shape) {
     case ContactShape::kSphere:
@@ -44,6 +52,10 @@ void AppendShapeUnknowns(const ContactPrimitive& p, Eigen::VectorXd* u, int* i) 
       (*u)[(*i)++] = -p.x_mm * std::sin(yaw) + p.y_mm * std::cos(yaw);
       (*u)[(*i)++] = yaw;
       (*u)[(*i)++] = std::log(p.radius_mm);
+      if (IsFiniteRod(p)) {
+        (*u)[(*i)++] = p.x_mm * std::cos(yaw) + p.y_mm * std::sin(yaw);
+        (*u)[(*i)++] = std::log(0.5 * p.length_mm);
+      }
       break;
     }
     case ContactShape::kFlat: break;
@@ -51,7 +63,7 @@ void AppendShapeUnknowns(const ContactPrimitive& p, Eigen::VectorXd* u, int* i) 
   (*u)[(*i)++] = std::log(std::max(p.normal_force_N, 1e-6));
 }
 
-ContactPrimitive ShapeFromUnknowns(ContactShape shape, const double* u) {
+ContactPrimitive ShapeFromUnknowns(ContactShape shape, bool finite, const double* u) {
   ContactPrimitive p;
   p.shape = shape;
   int i = 0;
@@ -70,6 +82,12 @@ ContactPrimitive ShapeFromUnknowns(ContactShape shape, const double* u) {
       if (deg >= 90) deg -= 180;
       p.yaw_deg = deg;
       p.radius_mm = std::exp(std::clamp(u[i++], -5.0, 6.0));
+      if (finite) {
+        const double along = u[i++];
+        p.x_mm += along * std::cos(yaw);
+        p.y_mm += along * std::sin(yaw);
+        p.length_mm = 2 * std::exp(std::clamp(u[i++], std::log(kMinHalfLength_mm), std::log(kMaxHalfLength_mm)));
+      }
       break;
     }
     case ContactShape::kFlat: p.radius_mm = 0; break;
@@ -82,7 +100,7 @@ using Hypothesis = ContactReconstructor::Hypothesis;
 
 // Unknowns <-> hypothesis: the shape's unknowns (a pair: both spheres'), then T_x, T_y [N].
 Eigen::VectorXd ToUnknowns(const Hypothesis& h, bool shear) {
-  Eigen::VectorXd u(UnknownCount(h.first.shape, h.pair, shear));
+  Eigen::VectorXd u(UnknownCount(h.first.shape, h.pair, IsFiniteRod(h.first), shear));
   int i = 0;
   AppendShapeUnknowns(h.first, &u, &i);
   if (h.pair) AppendShapeUnknowns(h.second, &u, &i);
@@ -93,11 +111,11 @@ Eigen::VectorXd ToUnknowns(const Hypothesis& h, bool shear) {
   return u;
 }
 
-Hypothesis FromUnknowns(ContactShape shape, bool pair, const Eigen::VectorXd& u, bool shear) {
+Hypothesis FromUnknowns(ContactShape shape, bool pair, bool finite, const Eigen::VectorXd& u, bool shear) {
   Hypothesis h;
   h.pair = pair;
-  h.first = ShapeFromUnknowns(pair ? ContactShape::kSphere : shape, u.data());
-  if (pair) h.second = ShapeFromUnknowns(ContactShape::kSphere, u.data() + kSphereUnknowns);
+  h.first = ShapeFromUnknowns(pair ? ContactShape::kSphere : shape, finite, u.data());
+  if (pair) h.second = ShapeFromUnknowns(ContactShape::kSphere, false, u.data() + kSphereUnknowns);
   if (shear) {
     h.first.shear_x_N = u[u.size() - 2];
     h.first.shear_y_N = u[u.size() - 1];
@@ -157,6 +175,16 @@ bool ContactReconstructor::Plausible(const ContactPrimitive& p) const {
   if (p.shape != ContactShape::kFlat &&
       (p.radius_mm < options_.min_radius_mm || p.radius_mm > options_.max_radius_mm))
     return false;
+  if (IsFiniteRod(p)) {
+    // An edge: at least min_rod_length_mm long, and ending on the pad (at least 1 mm short of
+    // the axis's chord across it; one that crosses the pad is the rod model's, whose two
+    // unknowns fewer the model selection would otherwise spend on trimming its ends).
+    ContactPrimitive crossing = p;
+    crossing.length_mm = 0;
+    if (p.length_mm < options_.min_rod_length_mm ||
+        model_.RodLengthOnPad_mm(p) > model_.RodLengthOnPad_mm(crossing) - kMinEdgeShortfall_mm)
+      return false;
+  }
   return std::hypot(p.x_mm, p.y_mm) <= options_.max_offset_mm;
 }
 
@@ -174,6 +202,7 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
   const bool shear = options_.fit_shear;
   const bool pair = start.pair;
   const ContactShape shape = pair ? ContactShape::kSphere : start.first.shape;
+  const bool finite = !pair && IsFiniteRod(start.first);
   // Residuals and their Jacobian. The tangential force enters the forward model linearly,
   // so its two columns are exact and free (PredictLinearInShear). The force column is free
   // too: the patch depends on F and R only through its Hertz half-width (a^3 ~ F R for a
@@ -181,7 +210,8 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
   // width, so d pred / d log F = normal part + d pred / d log R (the flat: = normal part).
   // The pose and radius columns are forward differences with NumericalDiff's step
   // (1e-3 |u_j|, or 1e-3 at 0), from the parts already computed at u. A Jacobian costs one
-  // model evaluation per pose/radius unknown (3 for spheres and rods, 0 for the flat).
+  // model evaluation per pose/radius unknown (3 for spheres and rods, 5 for a finite rod,
+  // 0 for the flat; a finite rod's width depends on F and R only through F R / L too).
   // A pair is two spheres whose readings add (the sensor's response is linear in the surface
   // load, and two separate patches are that load's sum); the tangential force spreads over
   // both patches in proportion to the pressure. Its columns are forward differences too,
@@ -194,6 +224,7 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
     const ContactReconstructor* self;
     ContactShape shape;
     bool pair;
+    bool finite;
     bool shear;
     int* evaluations;
     int* budget_used;  // evaluations weighted by patch size (cells_per_evaluation)
@@ -204,14 +235,14 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
     // evaluated the residuals. A pair keeps each sphere's.
     mutable Eigen::VectorXd at, normal, per_x, per_y, pred, r_step;
     mutable Part parts[2];
-    int inputs() const { return UnknownCount(shape, pair, shear); }
+    int inputs() const { return UnknownCount(shape, pair, finite, shear); }
     int prior_rows() const { return prior_weight > 0 ? (pair ? 2 : 1) : 0; }
     int values() const { return static_cast<int>(self->obs_.size()) + prior_rows(); }
     void EvaluateSphere(int s, const Eigen::VectorXd& u) const {
       ++*evaluations;
       int cells = 0;
       Part& p = parts[s];
-      const ContactPrimitive c = ShapeFromUnknowns(ContactShape::kSphere, u.data() + s * kSphereUnknowns);
+      const ContactPrimitive c = ShapeFromUnknowns(ContactShape::kSphere, false, u.data() + s * kSphereUnknowns);
       self->model_.PredictLinearInShear(c, &p.normal, &p.per_x, &p.per_y, &cells);
       p.force_N = c.normal_force_N;
       *budget_used += std::max(1, cells / std::max(1, self->options_.cells_per_evaluation));
@@ -230,7 +261,7 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
       } else {
         ++*evaluations;
         int cells = 0;
-        self->model_.PredictLinearInShear(ShapeFromUnknowns(shape, u.data()), &normal, &per_x, &per_y, &cells);
+        self->model_.PredictLinearInShear(ShapeFromUnknowns(shape, finite, u.data()), &normal, &per_x, &per_y, &cells);
         *budget_used += std::max(1, cells / std::max(1, self->options_.cells_per_evaluation));
       }
       at = u;
@@ -317,7 +348,7 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
     }
   };
   int evaluations = 0, budget_used = 0;
-  Functor f{{}, this, shape, pair, shear, &evaluations, &budget_used, 0, 0, {}, {}, {}, {}, {}, {}, {}};
+  Functor f{{}, this, shape, pair, finite, shear, &evaluations, &budget_used, 0, 0, {}, {}, {}, {}, {}, {}, {}};
   if (shape != ContactShape::kFlat && options_.radius_prior_log_sigma > 0) {
     f.prior_weight = 1.0 / options_.radius_prior_log_sigma;
     f.prior_mean = std::log(options_.radius_prior_mm);
@@ -353,7 +384,7 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
                   status == Eigen::LevenbergMarquardtSpace::FtolTooSmall ||
                   status == Eigen::LevenbergMarquardtSpace::XtolTooSmall ||
                   status == Eigen::LevenbergMarquardtSpace::GtolTooSmall;
-  fit.model = FromUnknowns(shape, pair, u, shear);
+  fit.model = FromUnknowns(shape, pair, finite, u, shear);
   // A radius the scans barely determine (thin rods: a patch narrower than the load grid) can
   // drift out of the plausible range; the answer is then the nearest plausible radius (the
   // next scan's warm fit starts there), not a fallback.
@@ -373,7 +404,7 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
   // The data's chi^2 (the prior's residual is not evidence for model selection or the RMS).
   const auto data = r.head(static_cast<Eigen::Index>(obs_.size()));
   fit.chi2 = data.allFinite() ? data.squaredNorm() : std::numeric_limits<double>::infinity();
-  fit.unknowns = UnknownCount(shape, pair, shear);
+  fit.unknowns = UnknownCount(shape, pair, finite, shear);
   fit.evaluations = evaluations;
   fit.budget_used = budget_used;
   return fit;
@@ -500,6 +531,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
   // Spread of the normal readings along the principal direction [mm^2].
   const double principal_var_mm2 =
       (0.5 * (sxx + syy) + std::sqrt(0.25 * (sxx - syy) * (sxx - syy) + sxy * sxy)) / sum_z;
+  const double minor_var_mm2 = (sxx + syy) / sum_z - principal_var_mm2;
 
   // In single-scan noise units whatever the number of scans averaged.
   const double dof = std::max(1.0, static_cast<double>((weight_.array() > 0).count())) * estimate_.averaged_scans;
@@ -532,18 +564,19 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
   struct Start {
     ContactShape shape;
     double radius_mm, yaw_deg;
-    bool pair;
+    bool pair = false, finite = false;
   };
-  // The pair last (fit_pairs), kPairStart.
-  const Start starts[] = {{ContactShape::kSphere, 3.0, 0, false},
-                          {ContactShape::kCylinder, 1.0, principal_yaw_deg, false},
-                          {ContactShape::kFlat, 0, 0, false},
-                          {ContactShape::kSphere, 10.0, 0, false},
-                          {ContactShape::kCylinder, 3.0, principal_yaw_deg, false},
-                          {ContactShape::kCylinder, 1.5, principal_yaw_deg + 90, false},
-                          {ContactShape::kSphere, 3.0, principal_yaw_deg, true}};
-  constexpr int kPairStart = 6;
-  const int kStarts = kPairStart + (options_.fit_pairs ? 1 : 0);
+  // The finite rod (fit_finite_rods) before the pair, the pair last (fit_pairs).
+  Start starts[8] = {{ContactShape::kSphere, 3.0, 0},
+                     {ContactShape::kCylinder, 1.0, principal_yaw_deg},
+                     {ContactShape::kFlat, 0, 0},
+                     {ContactShape::kSphere, 10.0, 0},
+                     {ContactShape::kCylinder, 3.0, principal_yaw_deg},
+                     {ContactShape::kCylinder, 1.5, principal_yaw_deg + 90}};
+  int start_count = 6;
+  if (options_.fit_finite_rods) starts[start_count++] = {ContactShape::kCylinder, 1.0, principal_yaw_deg, false, true};
+  const int pair_start = start_count;
+  if (options_.fit_pairs) starts[start_count++] = {ContactShape::kSphere, 3.0, principal_yaw_deg, true};
   // A start's first guess. A pair: two 3 mm spheres, each with half the force, on the
   // principal axis either side of the centroid, as far apart as the readings spread.
   auto start_hypothesis = [&](const Start& s) {
@@ -552,6 +585,12 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     h.first.shape = s.shape;
     h.first.radius_mm = s.radius_mm;
     h.first.yaw_deg = s.yaw_deg;
+    if (s.finite) {
+      // Centred on the centroid; a uniform line of length l has variance l^2 / 12 along it
+      // (the minor variance stands for the readings' own spread).
+      h.first.length_mm = std::clamp(std::sqrt(12 * std::max(principal_var_mm2 - minor_var_mm2, 0.0)),
+                                     options_.min_rod_length_mm + 1, 2 * kMaxHalfLength_mm);
+    }
     if (s.pair) {
       const double yaw = s.yaw_deg * kPi / 180;
       const double d = std::max(std::sqrt(principal_var_mm2), 0.5 * options_.min_pair_separation_mm);
@@ -585,10 +624,10 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     warm_won = Plausible(best.model);
     if (!warm_won) best = Fit{};
   }
-  const bool settled = warm_won && explored_ >= kStarts && std::sqrt(best.chi2 / dof) <= options_.settle_rms_sigma;
+  const bool settled = warm_won && explored_ >= start_count && std::sqrt(best.chi2 / dof) <= options_.settle_rms_sigma;
   if (options_.selection == ModelSelection::kFull && !(warm_won && std::sqrt(best.chi2 / dof) <= 0.5 * options_.max_rms_sigma)) {
     // Every start, now.
-    for (int i = 0; i < kStarts; ++i) {
+    for (int i = 0; i < start_count; ++i) {
       const Fit fit = fit_start(starts[i]);
       if (better(fit, best)) best = fit, warm_won = false;
     }
@@ -605,21 +644,21 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     if (warm_won && options_.scan_evaluations > 0 && std::sqrt(best.chi2 / dof) <= options_.max_rms_sigma)
       budget = std::min(budget, options_.scan_evaluations - best.budget_used);
     const bool warm_unexplained = warm_won && !(best.chi2 <= options_.max_rms_sigma * options_.max_rms_sigma * dof);
-    for (int tried = 0; budget > 0 && tried < kStarts; ++tried) {
+    for (int tried = 0; budget > 0 && tried < start_count; ++tried) {
       if (!have_candidate_) {
         // Two contacts are what no single shape explains: when the current model stops
         // explaining the scan, the pair jumps the queue (once an episode), so a two-point
         // touch is found as its load grows instead of after every single shape's turn (12
         // fallback scans on the synthetic two_spheres). A first touch, with no model yet,
         // and explained scans keep the rotation's order.
-        int pick = next_start_ % kStarts;
+        int pick = next_start_ % start_count;
         if (options_.fit_pairs && !pair_tried_ && warm_unexplained) {
-          pick = kPairStart;
+          pick = pair_start;
         } else {
-          if (pick == kPairStart && pair_tried_) pick = 0;  // its turn came early
-          next_start_ = (pick + 1) % kStarts;
+          if (pick == pair_start && pair_tried_) pick = 0;  // its turn came early
+          next_start_ = (pick + 1) % start_count;
         }
-        pair_tried_ = pair_tried_ || pick == kPairStart;
+        pair_tried_ = pair_tried_ || pick == pair_start;
         candidate_ = start_hypothesis(starts[pick]);
         candidate_spent_ = 0;
         have_candidate_ = true;

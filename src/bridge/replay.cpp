@@ -45,6 +45,7 @@ std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::Se
     leader.contact.full_field = full_field;
     ReconstructionOptions reconstruction;
     reconstruction.fit_pairs = config.two_contacts;
+    reconstruction.fit_finite_rods = config.finite_rods;
     return std::make_unique<ContactFeStep>(config.model, profile, PadRegistration(profile.taxels, config.registration),
                                            MakeFeStep(map, profile), std::move(leader), reconstruction);
   }
@@ -261,12 +262,12 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
       static const char* const kShapes[] = {"none", "sphere", "cylinder", "flat", "two_spheres"};
       std::ofstream con((dir / "peak_contact.csv").string());
       con << "shape,x_mm,y_mm,radius_mm,yaw_deg,normal_force_N,shear_x_N,shear_y_N,residual_rms_sigma,fallback,"
-             "contact_half_width_mm,x2_mm,y2_mm,radius2_mm,normal_force2_N,contact2_half_width_mm\n";
+             "contact_half_width_mm,x2_mm,y2_mm,radius2_mm,normal_force2_N,contact2_half_width_mm,length_mm\n";
       con << kShapes[std::clamp<int>(m.shape, 0, 4)] << ',' << m.x_mm << ',' << m.y_mm << ',' << m.radius_mm << ','
           << m.yaw_deg << ',' << m.normal_force_N << ',' << m.shear_x_N << ',' << m.shear_y_N << ','
           << m.residual_rms_sigma << ',' << int(m.fallback) << ',' << half_width_mm(m.normal_force_N, m.radius_mm)
           << ',' << m.x2_mm << ',' << m.y2_mm << ',' << m.radius2_mm << ',' << m.normal_force2_N << ','
-          << half_width_mm(m.normal_force2_N, m.radius2_mm) << '\n';
+          << half_width_mm(m.normal_force2_N, m.radius2_mm) << ',' << m.length_mm << '\n';
     }
   }
   return result;

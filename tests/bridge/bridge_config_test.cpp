@@ -21,6 +21,7 @@ TEST(BridgeConfig, ShippedDefaultLoadsWithEveryKey) {
   EXPECT_EQ(c.fe_step, FeStepKind::kContact);
   EXPECT_TRUE(c.face_contact);
   EXPECT_TRUE(c.two_contacts);
+  EXPECT_TRUE(c.finite_rods);
   EXPECT_EQ(c.display_profile, "suction_4x4");
   EXPECT_DOUBLE_EQ(c.status_Hz, 10);
   EXPECT_DOUBLE_EQ(c.conditioning.noise_floor_Pa, 150);
@@ -35,6 +36,7 @@ TEST(BridgeConfig, EmptyFileGivesDefaults) {
   EXPECT_FALSE(ParseBridgeConfig("fe: {face_contact: false}\n", "nodes.yaml").face_contact);
   EXPECT_TRUE(c.two_contacts);
   EXPECT_FALSE(ParseBridgeConfig("fe: {two_contacts: false}\n", "single.yaml").two_contacts);
+  EXPECT_FALSE(ParseBridgeConfig("fe: {finite_rods: false}\n", "crossing.yaml").finite_rods);
   // The leader press's options follow the key.
   EXPECT_TRUE(LeaderComplianceOptions("").face_samples);
   EXPECT_FALSE(LeaderComplianceOptions("", false).face_samples);

@@ -305,6 +305,44 @@ TEST(ContactReconstruction, TwoSimultaneousContactsAreTwoSpheres) {
   EXPECT_GT(r.counters().two_contacts, 0);
 }
 
+// An edge that ends on the pad (a 9 mm rod of radius 1 mm, yaw 20, centred at (1, -2)) is a
+// finite rod: its length, centre and yaw found from a held press; without the finite-rod
+// model the crossing rod cannot explain it (fallback or a poorer fit).
+TEST(ContactReconstruction, AnEdgeIsARodOfFiniteLength) {
+  sensors::TactileForwardModel model(Uskin(), Uskin().forward_model);
+  ContactPrimitive c;
+  c.shape = ContactShape::kCylinder;
+  c.radius_mm = 1;
+  c.length_mm = 9;
+  c.yaw_deg = 20;
+  c.x_mm = 1;
+  c.y_mm = -2;
+  c.normal_force_N = 0.6;
+  Eigen::VectorXd reading;
+  model.Predict(c, &reading);
+  std::mt19937_64 rng(5);
+  ContactReconstructor r(Uskin());
+  ContactEstimate e;
+  for (int scan = 0; scan < 40; ++scan) e = r.Reconstruct(Noisy(reading, &rng), std::vector<uint8_t>(16, 1));
+  ASSERT_TRUE(e.ok) << e.problem;
+  ASSERT_EQ(e.primitive.shape, ContactShape::kCylinder);
+  EXPECT_NEAR(e.primitive.length_mm, 9.0, 1.0);
+  EXPECT_NEAR(e.primitive.x_mm, 1.0, 0.3);
+  EXPECT_NEAR(e.primitive.y_mm, -2.0, 0.3);
+  EXPECT_NEAR(e.primitive.yaw_deg, 20.0, 3.0);
+  EXPECT_NEAR(e.primitive.normal_force_N, 0.6, 0.02);
+  EXPECT_LT(e.rms_sigma, 1.5);
+
+  ReconstructionOptions crossing_only;
+  crossing_only.fit_finite_rods = false;
+  ContactReconstructor r2(Uskin(), crossing_only);
+  ContactEstimate e2;
+  rng.seed(5);
+  for (int scan = 0; scan < 40; ++scan) e2 = r2.Reconstruct(Noisy(reading, &rng), std::vector<uint8_t>(16, 1));
+  EXPECT_EQ(e2.primitive.length_mm, 0.0);
+  EXPECT_TRUE(!e2.ok || e2.rms_sigma > 2 * e.rms_sigma) << e2.rms_sigma << " vs " << e.rms_sigma;
+}
+
 // Without the pair model, one primitive cannot explain two contacts: a fallback (the
 // pressure map takes over), counted, not a guess.
 TEST(ContactReconstruction, TwoContactsWithoutThePairModelAreAFallbackNotAGuess) {
@@ -354,6 +392,7 @@ TEST(ContactReconstruction, OneContactIsNotReadAsTwo) {
     ASSERT_TRUE(e.ok) << ContactShapeName(c.shape) << ": " << e.problem;
     EXPECT_FALSE(e.two_contacts) << ContactShapeName(c.shape);
     EXPECT_EQ(e.primitive.shape, c.shape);
+    EXPECT_EQ(e.primitive.length_mm, 0.0) << ContactShapeName(c.shape);  // the rod crosses the pad
     EXPECT_EQ(r.counters().two_contacts, 0) << ContactShapeName(c.shape);
   }
 }
