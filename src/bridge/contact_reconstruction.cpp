@@ -176,12 +176,14 @@ bool ContactReconstructor::Plausible(const ContactPrimitive& p) const {
       (p.radius_mm < options_.min_radius_mm || p.radius_mm > options_.max_radius_mm))
     return false;
   if (IsFiniteRod(p)) {
-    // An edge: at least min_rod_length_mm long, and ending on the pad (at least 1 mm short of
-    // the axis's chord across it; one that crosses the pad is the rod model's, whose two
-    // unknowns fewer the model selection would otherwise spend on trimming its ends).
+    // An edge: at least min_rod_length_mm and its diameter long (a stubby cylinder's patch
+    // is a sphere's: a held-out 15 mm sphere was read as a rod of radius 11 mm, 4.9 mm long,
+    // whose flat ends then cut into the leader's pad), and ending on the pad (at least 1 mm
+    // short of the axis's chord across it; one that crosses the pad is the rod model's,
+    // whose two unknowns fewer the model selection would otherwise spend on trimming its ends).
     ContactPrimitive crossing = p;
     crossing.length_mm = 0;
-    if (p.length_mm < options_.min_rod_length_mm ||
+    if (p.length_mm < std::max(options_.min_rod_length_mm, 2 * p.radius_mm) ||
         model_.RodLengthOnPad_mm(p) > model_.RodLengthOnPad_mm(crossing) - kMinEdgeShortfall_mm)
       return false;
   }

@@ -72,8 +72,8 @@ struct ReconstructionOptions {
   bool fit_pairs = true;          ///< false: single primitives only (a pair is a fallback)
   /// A rod of finite length (a box's or a ruler's edge, a key: two more unknowns, its centre
   /// along the axis and its length) is one more model beside the rod that crosses the pad;
-  /// shorter than this it is not plausible (a spot, not an edge, to taxels of about this
-  /// pitch: a 2 mm sphere read as a 2.3 mm rod otherwise) [mm].
+  /// shorter than this, or than its diameter, it is not plausible (a spot, not an edge, to
+  /// taxels of about this pitch: a 2 mm sphere read as a 2.3 mm rod otherwise) [mm].
   bool fit_finite_rods = true;
   double min_rod_length_mm = 4.0;
   bool fit_shear = true;          ///< estimate the tangential force (three-axis sensors)
