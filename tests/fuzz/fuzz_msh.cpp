@@ -28,5 +28,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     }
   } catch (const config::ConfigError&) {
   }
+  std::remove(path.c_str());  // nothing left behind when fuzzing stops
   return 0;
 }

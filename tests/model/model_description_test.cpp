@@ -2,11 +2,11 @@
 #include "model/model_description.h"
 
 #include <gtest/gtest.h>
+#include "tests/common/scratch_dir.h"
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <unistd.h>
 
 #include "common/config_error.h"
 #include "common/resource_path.h"
@@ -21,7 +21,7 @@ namespace fs = std::filesystem;
 // Writes `yaml` to a temp file whose mesh key points at the 3-tet fixture.
 std::string WriteYaml(const std::string& name, const std::string& yaml) {
   // Per process: ctest -j runs the tests of this file in parallel processes.
-  const fs::path path = fs::path(::testing::TempDir()) / (std::to_string(getpid()) + "_" + name);
+  const fs::path path = fs::path(sedbridge::testing::ScratchDir()) / name;
   std::ofstream(path) << yaml;
   return path.string();
 }
@@ -46,7 +46,7 @@ void ExpectYamlError(const std::string& yaml, int line, const std::string& fragm
 
 // The 3-tet fixture with its coordinates in metres (x 1e-3: the same 2.3 mm model).
 std::string FixtureInMetres() {
-  const fs::path path = fs::path(::testing::TempDir()) / (std::to_string(getpid()) + "_three_tets_m.msh");
+  const fs::path path = fs::path(sedbridge::testing::ScratchDir()) / "three_tets_m.msh";
   std::ifstream in(testing::FixturePath("three_tets.msh"));
   std::ofstream out(path);
   bool nodes = false;

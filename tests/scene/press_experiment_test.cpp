@@ -1,11 +1,11 @@
 #include "scene/press_experiment.h"
 
 #include <gtest/gtest.h>
+#include "tests/common/scratch_dir.h"
 
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <unistd.h>
 
 #include "common/resource_path.h"
 
@@ -19,7 +19,7 @@ TEST(PressExperiment, CoarsePressWritesTheOutputContract) {
   d.dt_s = 0.1;
   d.outputs.vtu_every = 5;
   FingertipScene scene(d);
-  const std::string dir = ::testing::TempDir() + "/press_contract_" + std::to_string(getpid());
+  const std::string dir = sedbridge::testing::ScratchDir() + "/press_contract";
   PressOptions options;
   options.vtu_dir = dir;
   const PressResult r = RunPress(scene, options);

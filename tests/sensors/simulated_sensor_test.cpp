@@ -1,7 +1,7 @@
 #include "sensors/simulated/simulated_sensor.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
+#include "tests/common/scratch_dir.h"
 
 #include <cmath>
 #include <fstream>
@@ -154,7 +154,7 @@ TEST(SimulatedSensorTest, ShippedScenesLoadAndUnknownKeysAreErrors) {
     EXPECT_FALSE(c.objects.empty()) << scene;
     EXPECT_GT(SimulatedSensor(c).scan_count(), 10) << scene;
   }
-  const std::string path = ::testing::TempDir() + "/bad_sensor_scene_" + std::to_string(getpid()) + ".yaml";
+  const std::string path = sedbridge::testing::ScratchDir() + "/bad_sensor_scene.yaml";
   std::ofstream(path) << "sensor:\n  profile: cyskin_16\n  pad: {thicknes_mm: 2}\nobjects: []\n";
   try {
     LoadSimulatedSensorScene(path);
@@ -171,7 +171,7 @@ namespace sedbridge::sensors {
 namespace {
 
 TEST(SimulatedSensorScene, DurationIsBounded) {
-  const std::string path = ::testing::TempDir() + "/long_scene_" + std::to_string(::getpid()) + ".yaml";
+  const std::string path = sedbridge::testing::ScratchDir() + "/long_scene.yaml";
   {
     std::ofstream f(path);
     f << "sensor: {profile: uskin_4x4, duration_s: 2.0e9}\nobjects: []\n";

@@ -3,7 +3,7 @@
 #include "sensors/tactile_forward_model.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
+#include "tests/common/scratch_dir.h"
 
 #include <cmath>
 #include <filesystem>
@@ -121,7 +121,7 @@ TEST(TactileForwardModel, ReproducesEveryRigPressWithinNoise) {
 }
 
 TEST(CalibrationPress, BadCasesFileNamesTheLocation) {
-  const std::string path = ::testing::TempDir() + "/cases_bad_" + std::to_string(getpid()) + ".json";
+  const std::string path = sedbridge::testing::ScratchDir() + "/cases_bad.json";
   {
     std::ofstream f(path);
     f << "{\"cases\": [{\"object\": {\"shape\": \"cone\", \"position_mm\": [0, 0]}, \"force_N\": 1, \"log\": \"x.log\"}]}";
@@ -139,7 +139,7 @@ TEST(CalibrationPress, BadCasesFileNamesTheLocation) {
 TEST(CalibrationPress, AbsoluteLogPathsAreUsedAsGiven) {
   const std::string log =
       std::filesystem::absolute(config::ResolveResource("config/sensors/rig_uskin_4x4/press_03.log")).lexically_normal().string();
-  const std::string path = ::testing::TempDir() + "/cases_abs_" + std::to_string(getpid()) + ".json";
+  const std::string path = sedbridge::testing::ScratchDir() + "/cases_abs.json";
   {
     std::ofstream f(path);
     f << "{\"cases\": [{\"object\": {\"shape\": \"sphere\", \"position_mm\": [0, 0], \"radius_mm\": 5}, "
@@ -154,7 +154,7 @@ TEST(CalibrationPress, AbsoluteLogPathsAreUsedAsGiven) {
 
 // The error a cases file with `cases_json` gives ("" = none).
 std::string CasesError(const std::string& cases_json) {
-  const std::string path = ::testing::TempDir() + "/cases_err_" + std::to_string(getpid()) + ".json";
+  const std::string path = sedbridge::testing::ScratchDir() + "/cases_err.json";
   {
     std::ofstream f(path);
     f << cases_json;
