@@ -34,6 +34,15 @@ BridgeConfig ContactConfig() {
   return c;
 }
 
+// A contact step with the pressure map as its fallback, as the bridge builds it.
+std::unique_ptr<ContactFeStep> MakeContactStep(const BridgeConfig& config, const sensors::SensorProfile& profile,
+                                               const PadRegistration& registration) {
+  auto map = std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, "fast"), profile,
+                                                   registration, config.traction);
+  return std::make_unique<ContactFeStep>(config.model, profile, registration, std::move(map),
+                                         LeaderComplianceOptions(""));
+}
+
 TEST(ContactFeStep, ExampleLogPublishesContactEstimates) {
   const BridgeConfig config = ContactConfig();
   sensors::CandumpLogSource source(testing::ExampleLogPath());
@@ -114,12 +123,7 @@ TEST(ContactFeStep, HoldScansReuseTheLastPressWithTheSameAnswer) {
       config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), profile);
   const BridgeConfig config = ContactConfig();
   const PadRegistration registration(profile.taxels, config.registration);
-  auto make = [&] {
-    auto map = std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, "fast"), profile,
-                                                     registration, config.traction);
-    return std::make_unique<ContactFeStep>(config.model, profile, registration, std::move(map),
-                                           LeaderComplianceOptions(""));
-  };
+  auto make = [&] { return MakeContactStep(config, profile, registration); };
   for (int i : {3, 14, 17}) {  // sphere 5 mm, rod 2.5 mm, flat
     const auto& press = presses[size_t(i)];
     auto reusing = make(), solving = make();
@@ -157,12 +161,7 @@ TEST(ContactFeStep, TwoSpheresArePressedTogether) {
   ASSERT_NE(it, cases.end());
   const BridgeConfig config = ContactConfig();
   const PadRegistration registration(profile.taxels, config.registration);
-  auto make = [&] {
-    auto map = std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, "fast"), profile,
-                                                     registration, config.traction);
-    return std::make_unique<ContactFeStep>(config.model, profile, registration, std::move(map),
-                                           LeaderComplianceOptions(""));
-  };
+  auto make = [&] { return MakeContactStep(config, profile, registration); };
   auto reusing = make(), solving = make();
   solving->set_reuse_press(false);
   ScanConditioner conditioner(profile, registration, config.conditioning);

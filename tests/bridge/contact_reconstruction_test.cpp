@@ -36,6 +36,12 @@ ContactEstimate AtHold(const sensors::CalibrationPress& press, ContactReconstruc
   return e;
 }
 
+ContactPrimitive SphereAt(double x_mm, double y_mm, double radius_mm, double force_N) {
+  ContactPrimitive c;
+  c.x_mm = x_mm, c.y_mm = y_mm, c.radius_mm = radius_mm, c.normal_force_N = force_N;
+  return c;
+}
+
 Eigen::VectorXd Noisy(const Eigen::VectorXd& r, std::mt19937_64* rng) {
   std::normal_distribution<double> n(0, 1);
   Eigen::VectorXd out = r;
@@ -272,15 +278,7 @@ TEST(ContactReconstruction, SlidingAcrossTaxelBoundariesHasNoJumps) {
 // each one's position and force, within a short hold of noisy scans.
 TEST(ContactReconstruction, TwoSimultaneousContactsAreTwoSpheres) {
   sensors::TactileForwardModel model(Uskin(), Uskin().forward_model);
-  ContactPrimitive a, b;
-  a.radius_mm = 2.5;
-  b.radius_mm = 4;
-  a.normal_force_N = 0.5;
-  b.normal_force_N = 0.3;
-  a.x_mm = -5;
-  a.y_mm = -4;
-  b.x_mm = 4;
-  b.y_mm = 5;
+  const ContactPrimitive a = SphereAt(-5, -4, 2.5, 0.5), b = SphereAt(4, 5, 4, 0.3);
   Eigen::VectorXd ra, rb;
   model.Predict(a, &ra);
   model.Predict(b, &rb);
@@ -347,13 +345,7 @@ TEST(ContactReconstruction, AnEdgeIsARodOfFiniteLength) {
 // pressure map takes over), counted, not a guess.
 TEST(ContactReconstruction, TwoContactsWithoutThePairModelAreAFallbackNotAGuess) {
   sensors::TactileForwardModel model(Uskin(), Uskin().forward_model);
-  ContactPrimitive a, b;
-  a.radius_mm = b.radius_mm = 2.5;
-  a.normal_force_N = b.normal_force_N = 0.5;
-  a.x_mm = -5;
-  a.y_mm = -5;
-  b.x_mm = 5;
-  b.y_mm = 5;
+  const ContactPrimitive a = SphereAt(-5, -5, 2.5, 0.5), b = SphereAt(5, 5, 2.5, 0.5);
   Eigen::VectorXd ra, rb;
   model.Predict(a, &ra);
   model.Predict(b, &rb);

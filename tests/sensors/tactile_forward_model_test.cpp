@@ -19,6 +19,15 @@ namespace {
 
 SensorProfile Uskin() { return LoadNamedSensorProfile("uskin_4x4"); }
 
+// 1 / sigma of each reading of a 50-scan mean with 2-count single-scan noise [1/N]: the
+// resolution at which a hold sees the readings.
+Eigen::VectorXd InvSigmaOfAHoldMean(const SensorProfile& p) {
+  Eigen::VectorXd inv_sigma(3 * p.taxel_count);
+  for (int k = 0; k < p.taxel_count; ++k)
+    for (int a = 0; a < 3; ++a) inv_sigma[3 * k + a] = std::sqrt(50.0) / (2.0 * NewtonsPerCount(p, k, a));
+  return inv_sigma;
+}
+
 // Off-centre contacts with a tangential force, for the split-prediction checks.
 ContactPrimitive DraggedSphere() {
   ContactPrimitive c;
@@ -240,9 +249,7 @@ namespace {
 TEST(TactileForwardModel, RodReadingsAreSmoothInItsRadius) {
   const SensorProfile p = Uskin();
   TactileForwardModel m(p, p.forward_model);
-  Eigen::VectorXd inv_sigma_mean(3 * p.taxel_count);
-  for (int k = 0; k < p.taxel_count; ++k)
-    for (int a = 0; a < 3; ++a) inv_sigma_mean[3 * k + a] = std::sqrt(50.0) / (2.0 * NewtonsPerCount(p, k, a));
+  const Eigen::VectorXd inv_sigma_mean = InvSigmaOfAHoldMean(p);
   for (double yaw_deg : {0.0, 45.0, 80.0}) {
     ContactPrimitive c;
     c.shape = ContactShape::kCylinder;
@@ -347,9 +354,7 @@ TEST(TactileForwardModel, FiniteRodLoadsOnlyItsLength) {
 TEST(TactileForwardModel, FiniteRodReadingsAreSmoothInItsLength) {
   const SensorProfile p = Uskin();
   TactileForwardModel m(p, p.forward_model);
-  Eigen::VectorXd inv_sigma_mean(3 * p.taxel_count);
-  for (int k = 0; k < p.taxel_count; ++k)
-    for (int a = 0; a < 3; ++a) inv_sigma_mean[3 * k + a] = std::sqrt(50.0) / (2.0 * NewtonsPerCount(p, k, a));
+  const Eigen::VectorXd inv_sigma_mean = InvSigmaOfAHoldMean(p);
   for (double yaw_deg : {0.0, 30.0, 80.0}) {
     ContactPrimitive c = DraggedRod(1.0);
     c.yaw_deg = yaw_deg;
