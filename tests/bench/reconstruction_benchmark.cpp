@@ -1,0 +1,98 @@
+// Contact reconstruction (bridge/contact_reconstruction.h) and the sensor forward model it
+// inverts (sensors/tactile_forward_model.h): what each contact model costs.
+// Run (Release build):
+//   build/tests/bench/reconstruction_benchmark
+//   build/tests/bench/reconstruction_benchmark --benchmark_filter=ReconstructPress
+// ForwardModel/<shape>: one PredictLinearInShear (the unit every fit is counted in), with
+//   the patch's cells as a counter.
+// ReconstructPress/<press>/<models>: every scan of a calibration-rig press through a fresh
+//   reconstructor, as the bridge runs it; models: 0 = crossing rods, spheres and flats only,
+//   1 = + finite rods (fe.finite_rods), 2 = + pairs (fe.two_contacts), 3 = both (the
+//   default). Counters: per-scan median / p99 / max ms (wall clock, over the press's scans),
+//   evaluations per scan (deterministic: the cost without the machine's noise), fallbacks.
+
+#include <benchmark/benchmark.h>
+
+#include <algorithm>
+#include <chrono>
+#include <vector>
+
+#include "bridge/contact_reconstruction.h"
+#include "common/resource_path.h"
+#include "sensors/calibration_press.h"
+
+namespace sedbridge {
+namespace {
+
+const sensors::SensorProfile& Profile() {
+  static const sensors::SensorProfile p = sensors::LoadNamedSensorProfile("uskin_4x4");
+  return p;
+}
+
+const std::vector<sensors::CalibrationPress>& Rig() {
+  static const auto presses = sensors::LoadCalibrationPresses(
+      config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), Profile());
+  return presses;
+}
+
+sensors::ContactPrimitive Shape(int which) {
+  sensors::ContactPrimitive c;
+  c.x_mm = 1.0, c.y_mm = -0.5, c.normal_force_N = 0.8, c.shear_x_N = 0.05;
+  switch (which) {
+    case 0: c.radius_mm = 5; break;  // sphere
+    case 1: c.shape = sensors::ContactShape::kCylinder, c.radius_mm = 1.5, c.yaw_deg = 30; break;
+    case 2: c.shape = sensors::ContactShape::kCylinder, c.radius_mm = 1.5, c.yaw_deg = 30, c.length_mm = 8; break;
+    default: c.shape = sensors::ContactShape::kFlat; break;
+  }
+  return c;
+}
+
+void ForwardModel(benchmark::State& state) {
+  const sensors::TactileForwardModel model(Profile(), Profile().forward_model);
+  const sensors::ContactPrimitive c = Shape(static_cast<int>(state.range(0)));
+  Eigen::VectorXd normal, per_x, per_y;
+  int cells = 0;
+  for (auto _ : state) {
+    model.PredictLinearInShear(c, &normal, &per_x, &per_y, &cells);
+    benchmark::DoNotOptimize(normal.data());
+  }
+  state.counters["cells"] = cells;
+}
+BENCHMARK(ForwardModel)->ArgName("sphere_rod_finite_flat")->DenseRange(0, 3)->Unit(benchmark::kMicrosecond);
+
+void ReconstructPress(benchmark::State& state) {
+  const sensors::CalibrationPress& press = Rig()[static_cast<size_t>(state.range(0))];
+  bridge::ReconstructionOptions options;
+  options.fit_finite_rods = (state.range(1) & 1) != 0;
+  options.fit_pairs = (state.range(1) & 2) != 0;
+  std::vector<double> ms;
+  int64_t evaluations = 0, fallbacks = 0, scans = 0;
+  for (auto _ : state) {
+    bridge::ContactReconstructor r(Profile(), options);
+    for (const auto& scan : press.scans) {
+      const auto t0 = std::chrono::steady_clock::now();
+      benchmark::DoNotOptimize(r.Reconstruct(scan).primitive.normal_force_N);
+      ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    }
+    evaluations += r.counters().evaluations;
+    fallbacks += r.counters().fallbacks;
+    scans += r.counters().scans;
+  }
+  std::sort(ms.begin(), ms.end());
+  state.SetLabel(press.name);
+  state.counters["median_ms"] = ms[ms.size() / 2];
+  state.counters["p99_ms"] = ms[ms.size() * 99 / 100];
+  state.counters["max_ms"] = ms.back();
+  state.counters["evals_per_scan"] = double(evaluations) / double(scans);
+  state.counters["fallbacks"] = double(fallbacks) / double(state.iterations());
+}
+// press_03: 5 mm sphere, press_14: 2.5 mm rod, press_17: flat, press_19: a stroke.
+BENCHMARK(ReconstructPress)
+    ->ArgNames({"press", "models"})
+    ->ArgsProduct({{3, 14, 17, 19}, {0, 3}})
+    ->Unit(benchmark::kMillisecond);
+
+}  // namespace
+}  // namespace sedbridge
+
+BENCHMARK_MAIN();
