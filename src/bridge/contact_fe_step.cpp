@@ -51,13 +51,14 @@ std::string ContactFeStep::CountersLine() const {
   const LatencySummary rt = recon_time_.Run(), pt = press_time_.Run(), ct = cpu_time_.Run();
   char line[800];
   std::snprintf(line, sizeof line,
-                "contact: %lld scans pressed on the leader (%lld reusing the last press), %lld no contact, "
+                "contact: %lld scans pressed on the leader (%lld reusing the last press; %lld fits of two contacts), "
+                "%lld no contact, "
                 "%lld fit fallbacks, %lld press fallbacks "
                 "(pressure map); %lld of %lld fits warm-started, %lld forward-model "
                 "evaluations; reconstruction median %.3f / p99 %.3f ms, "
                 "leader press median %.3f / p99 %.3f ms; CPU per scan median %.3f / p99 %.3f ms",
                 static_cast<long long>(counters_.pressed), static_cast<long long>(counters_.press_reused),
-                static_cast<long long>(counters_.no_contact),
+                static_cast<long long>(r.two_contacts), static_cast<long long>(counters_.no_contact),
                 static_cast<long long>(counters_.fit_fallbacks), static_cast<long long>(counters_.press_fallbacks),
                 static_cast<long long>(r.warm_fits), static_cast<long long>(r.fits),
                 static_cast<long long>(r.evaluations), rt.p50_ms, rt.p99_ms, pt.p50_ms,

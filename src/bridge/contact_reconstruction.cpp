@@ -1,5 +1,6 @@
 #include "bridge/contact_reconstruction.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -200,7 +201,7 @@ bool ContactReconstructor::Plausible(const Hypothesis& h) const {
 }
 
 ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start, int max_evaluations,
-                                                         int evaluation_budget) const {
+                                                         int evaluation_budget, bool force_only) const {
   const bool shear = options_.fit_shear;
   const bool pair = start.pair;
   const ContactShape shape = pair ? ContactShape::kSphere : start.first.shape;
@@ -363,6 +364,39 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
   s.first.shape = shape;
   if (shape == ContactShape::kFlat) s.first.x_mm = s.first.y_mm = 0;
   Eigen::VectorXd u = ToUnknowns(s, shear);
+  if (force_only) {
+    // One Gauss-Newton step in (log F, T) with the shape held: three evaluations (the point,
+    // its log R difference for the free force column, the step), where an LM iteration of
+    // the whole model costs four and a ramp scan takes three of them.
+    Fit fit;
+    const Eigen::Index m = obs_.size();
+    Eigen::VectorXd r0, r1;
+    f(u, r0);
+    const Eigen::VectorXd pred0 = f.pred, normal0 = f.normal, per_x0 = f.per_x, per_y0 = f.per_y;
+    const double h = u[kLogRadius] != 0 ? 1e-3 * std::abs(u[kLogRadius]) : 1e-3;
+    Eigen::VectorXd ur = u;
+    ur[kLogRadius] += h;
+    f(ur, r1);
+    const int log_force = static_cast<int>(u.size()) - 3;
+    Eigen::MatrixXd A(m, 3);
+    A.col(0) = (normal0 + (f.pred - pred0) / h).cwiseProduct(weight_);
+    A.col(1) = per_x0.cwiseProduct(weight_);
+    A.col(2) = per_y0.cwiseProduct(weight_);
+    const Eigen::Vector3d step = (A.transpose() * A).ldlt().solve(-A.transpose() * r0.head(m));
+    Eigen::VectorXd u1 = u;
+    u1[log_force] += step[0];
+    u1[u.size() - 2] += step[1];
+    u1[u.size() - 1] += step[2];
+    f(u1, r1);
+    const double chi2_0 = r0.head(m).squaredNorm(), chi2_1 = r1.head(m).squaredNorm();
+    const bool took = step.allFinite() && std::isfinite(chi2_1) && chi2_1 < chi2_0;
+    fit.model = FromUnknowns(shape, pair, finite, took ? u1 : u, shear);
+    fit.chi2 = took ? chi2_1 : (std::isfinite(chi2_0) ? chi2_0 : std::numeric_limits<double>::infinity());
+    fit.unknowns = UnknownCount(shape, pair, finite, shear);
+    fit.evaluations = evaluations;
+    fit.budget_used = budget_used;
+    return fit;
+  }
   // lm.minimize(u), stopped early when the budget is spent.
   Eigen::LevenbergMarquardtSpace::Status status = lm.minimizeInit(u);
   if (status != Eigen::LevenbergMarquardtSpace::ImproperInputParameters) {
@@ -495,6 +529,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     estimate_.problem = "fewer than 4 usable taxels";
     ++counters_.fallbacks;
     have_last_ = false;
+    have_last_chi2_ = false;
     have_candidate_ = false;
     return estimate_;
   }
@@ -512,6 +547,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     estimate_.ok = true;  // "no contact" is a trustworthy answer
     estimate_.primitive.normal_force_N = 0;
     have_last_ = false;
+    have_last_chi2_ = false;
     have_candidate_ = false;
     explored_ = 0;
     pair_tried_ = false;
@@ -551,9 +587,12 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
       // Amortized selection keeps a plausible best guess to refine while it explores.
       have_last_ = options_.selection == ModelSelection::kAmortized && plausible;
       if (have_last_) last_ = fit.model;
+      have_last_chi2_ = false;
     } else {
       last_ = fit.model;
       have_last_ = true;
+      last_chi2_per_dof_ = fit.chi2 / dof;
+      have_last_chi2_ = true;
       if (fit.model.pair) ++counters_.two_contacts;
     }
   };
@@ -621,8 +660,26 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
   Fit best;
   bool warm_won = false;
   if (have_last_) {
-    best = FitModel(last_, 0, amortized ? options_.warm_scan_evaluations : 0);
-    estimate_.evaluations += best.evaluations;
+    // A scan of a moving load (no hold mean) whose contact keeps its shape, only its force:
+    // the force step explains it as well as the last fit explained its scan, and the
+    // shape's refinement waits for a scan that needs it (or the hold's mean).
+    bool quick = false;
+    const bool saturated = std::find(saturated_.begin(), saturated_.end(), 1) != saturated_.end();
+    if (amortized && options_.force_step_first && have_last_chi2_ && estimate_.averaged_scans == 1 && !last_.pair &&
+        last_.first.shape != ContactShape::kFlat && options_.fit_shear && !saturated) {
+      const Fit step = FitModel(last_, 0, 0, true);
+      estimate_.evaluations += step.evaluations;
+      const double tolerance = 3 * std::sqrt(2 / dof);
+      if (Plausible(step.model) && step.chi2 / dof <= last_chi2_per_dof_ + tolerance) {
+        best = step;
+        quick = true;
+        ++counters_.force_steps;
+      }
+    }
+    if (!quick) {
+      best = FitModel(last_, 0, amortized ? options_.warm_scan_evaluations : 0);
+      estimate_.evaluations += best.evaluations;
+    }
     warm_won = Plausible(best.model);
     if (!warm_won) best = Fit{};
   }
@@ -699,6 +756,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     estimate_.problem = "no shape fitted";
     ++counters_.fallbacks;
     have_last_ = false;  // the candidate (amortized) goes on from its iterate
+    have_last_chi2_ = false;
     return estimate_;
   }
   if (warm_won) ++counters_.warm_fits;

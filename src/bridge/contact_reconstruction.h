@@ -70,6 +70,11 @@ struct ReconstructionOptions {
   /// fitting noise or the other's model error, not a second object).
   double min_pair_force_share = 0.15;
   bool fit_pairs = true;          ///< false: single primitives only (a pair is a fallback)
+  /// Amortized: a scan that is not a hold (a press, a release) first tries one Gauss-Newton
+  /// step in the force and shear alone, the shape held (3 evaluations); when that explains
+  /// the scan as well as the last fit explained its own (chi^2 per reading within 3 standard
+  /// deviations of pure noise's), the full warm fit is skipped.
+  bool force_step_first = true;
   /// A rod of finite length (a box's or a ruler's edge, a key: two more unknowns, its centre
   /// along the axis and its length) is one more model beside the rod that crosses the pad;
   /// shorter than this, or than its diameter, it is not plausible (a spot, not an edge, to
@@ -172,6 +177,7 @@ struct ReconstructionCounters {
   int64_t warm_fits = 0;       ///< answered from the warm start alone
   int64_t fallbacks = 0;       ///< poor or diverged fits
   int64_t two_contacts = 0;    ///< scans answered with two spheres
+  int64_t force_steps = 0;     ///< warm fits answered by the force step alone (force_step_first)
   int64_t saturated_taxels = 0;
   int64_t evaluations = 0;     ///< forward-model evaluations, all scans (the cost, deterministic)
 };
@@ -197,6 +203,7 @@ class ContactReconstructor {
   /// Forgets the warm start.
   void Reset() {
     have_last_ = false;
+    have_last_chi2_ = false;
     have_candidate_ = false;
     explored_ = 0;
     pair_tried_ = false;
@@ -212,7 +219,10 @@ class ContactReconstructor {
   /// LM from `start`; max_evaluations: LM function evaluations (0: options' max_evaluations);
   /// evaluation_budget: stop after the LM iteration that reaches this many forward-model
   /// evaluations (0: none). Each sphere of a pair counts as one evaluation.
-  Fit FitModel(const Hypothesis& start, int max_evaluations = 0, int evaluation_budget = 0) const;
+  /// force_only: one Gauss-Newton step in log F and the shear with the shape held (single,
+  /// non-flat shapes with shear; no saturated taxel): three evaluations.
+  Fit FitModel(const Hypothesis& start, int max_evaluations = 0, int evaluation_budget = 0,
+               bool force_only = false) const;
   bool Plausible(const sensors::ContactPrimitive& p) const;
   bool Plausible(const Hypothesis& h) const;
 
@@ -236,6 +246,8 @@ class ContactReconstructor {
   ContactEstimate estimate_;
   bool have_last_ = false;
   Hypothesis last_;
+  bool have_last_chi2_ = false;
+  double last_chi2_per_dof_ = 0;  // the last accepted fit's chi^2 per reading (its own scan's dof)
   int next_start_ = 0;   // amortized selection: next start to try
   int explored_ = 0;     // starts tried in this contact episode
   bool pair_tried_ = false;  // the pair start was tried in this contact episode

@@ -5,9 +5,10 @@
 //   build/tests/bench/reconstruction_benchmark --benchmark_filter=ReconstructPress
 // ForwardModel/<shape>: one PredictLinearInShear (the unit every fit is counted in), with
 //   the patch's cells as a counter.
-// ReconstructPress/<press>/<models>: every scan of a calibration-rig press through a fresh
-//   reconstructor, as the bridge runs it; models: 0 = crossing rods, spheres and flats only,
-//   1 = + finite rods (fe.finite_rods), 2 = + pairs (fe.two_contacts), 3 = both (the
+// ReconstructPress/<press>/<models>/<force_step>: every scan of a calibration-rig press
+//   through a fresh reconstructor, as the bridge runs it; models: 0 = crossing rods, spheres
+//   and flats only, 1 = + finite rods (fe.finite_rods), 2 = + pairs (fe.two_contacts), 3 =
+//   both (the default); force_step: ReconstructionOptions::force_step_first (1, the
 //   default). Counters: per-scan median / p99 / max ms (wall clock, over the press's scans),
 //   evaluations per scan (deterministic: the cost without the machine's noise), fallbacks.
 
@@ -65,6 +66,7 @@ void ReconstructPress(benchmark::State& state) {
   bridge::ReconstructionOptions options;
   options.fit_finite_rods = (state.range(1) & 1) != 0;
   options.fit_pairs = (state.range(1) & 2) != 0;
+  options.force_step_first = state.range(2) != 0;
   std::vector<double> ms;
   int64_t evaluations = 0, fallbacks = 0, scans = 0;
   for (auto _ : state) {
@@ -88,8 +90,8 @@ void ReconstructPress(benchmark::State& state) {
 }
 // press_03: 5 mm sphere, press_14: 2.5 mm rod, press_17: flat, press_19: a stroke.
 BENCHMARK(ReconstructPress)
-    ->ArgNames({"press", "models"})
-    ->ArgsProduct({{3, 14, 17, 19}, {0, 3}})
+    ->ArgNames({"press", "models", "force_step"})
+    ->ArgsProduct({{3, 14, 17, 19}, {0, 3}, {0, 1}})
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace
