@@ -550,7 +550,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     have_last_chi2_ = false;
     have_candidate_ = false;
     explored_ = 0;
-    pair_tried_ = false;
+    pair_checked_ = false;
     return estimate_;
   }
   estimate_.contact = true;
@@ -702,22 +702,24 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     // per-scan total: exploring is then a check that can wait for a cheap (holding) scan.
     if (warm_won && options_.scan_evaluations > 0 && std::sqrt(best.chi2 / dof) <= options_.max_rms_sigma)
       budget = std::min(budget, options_.scan_evaluations - best.budget_used);
-    const bool warm_unexplained = warm_won && !(best.chi2 <= options_.max_rms_sigma * options_.max_rms_sigma * dof);
+    // Two contacts are what no single shape explains: when the current model stops
+    // explaining the scan, the pair gets a quick check (once an episode, its own candidate
+    // budget, outside the rotation), so a two-point touch is found as its load grows
+    // instead of after every single shape's turn (12 fallback scans on the synthetic
+    // two_spheres). Taking the rotation's slot instead cost press_02 and press_08 a fallback
+    // scan each on the first touch, where the next single shape explained the scan.
+    if (options_.fit_pairs && !pair_checked_ && warm_won &&
+        !(best.chi2 <= options_.max_rms_sigma * options_.max_rms_sigma * dof)) {
+      pair_checked_ = true;
+      const Fit fit = FitModel(start_hypothesis(starts[pair_start]), options_.explore_evaluations,
+                               options_.candidate_scan_evaluations);
+      estimate_.evaluations += fit.evaluations;
+      if (better(fit, best)) best = fit, warm_won = false;
+    }
     for (int tried = 0; budget > 0 && tried < start_count; ++tried) {
       if (!have_candidate_) {
-        // Two contacts are what no single shape explains: when the current model stops
-        // explaining the scan, the pair jumps the queue (once an episode), so a two-point
-        // touch is found as its load grows instead of after every single shape's turn (12
-        // fallback scans on the synthetic two_spheres). A first touch, with no model yet,
-        // and explained scans keep the rotation's order.
-        int pick = next_start_ % start_count;
-        if (options_.fit_pairs && !pair_tried_ && warm_unexplained) {
-          pick = pair_start;
-        } else {
-          if (pick == pair_start && pair_tried_) pick = 0;  // its turn came early
-          next_start_ = (pick + 1) % start_count;
-        }
-        pair_tried_ = pair_tried_ || pick == pair_start;
+        const int pick = next_start_ % start_count;
+        next_start_ = (pick + 1) % start_count;
         candidate_ = start_hypothesis(starts[pick]);
         candidate_spent_ = 0;
         have_candidate_ = true;

@@ -206,7 +206,7 @@ class ContactReconstructor {
     have_last_chi2_ = false;
     have_candidate_ = false;
     explored_ = 0;
-    pair_tried_ = false;
+    pair_checked_ = false;
     hold_scans_ = 0;
   }
 
@@ -250,7 +250,7 @@ class ContactReconstructor {
   double last_chi2_per_dof_ = 0;  // the last accepted fit's chi^2 per reading (its own scan's dof)
   int next_start_ = 0;   // amortized selection: next start to try
   int explored_ = 0;     // starts tried in this contact episode
-  bool pair_tried_ = false;  // the pair start was tried in this contact episode
+  bool pair_checked_ = false;  // the pair's quick check ran in this contact episode
   // Amortized selection: the candidate being fitted over several scans (its iterate) and
   // the evaluations it has spent.
   bool have_candidate_ = false;

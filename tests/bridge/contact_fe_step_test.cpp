@@ -186,8 +186,8 @@ TEST(ContactFeStep, TwoSpheresArePressedTogether) {
     EXPECT_EQ(ToRigidObjects(e).size(), 2u);
     if (e.normal_force_N() > peak_force_N) peak_force_N = e.normal_force_N(), at_peak = *reusing->contact_message();
   }
-  // Measured 62 of the 70 contact scans, no fit fallback (without the pair's jump in the
-  // starts' queue when the current model stops explaining the scan: 50, and 12 fallbacks).
+  // Measured 62 of the 70 contact scans, no fit fallback (without the pair's quick check
+  // when the current model stops explaining the scan: 50, and 12 fallbacks).
   EXPECT_GT(pairs, 55) << reusing->counters().fit_fallbacks << " fit fallbacks";
   EXPECT_LE(reusing->counters().fit_fallbacks, 3);
   EXPECT_EQ(reusing->counters().pressed, solving->counters().pressed);
