@@ -702,6 +702,8 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     // per-scan total: exploring is then a check that can wait for a cheap (holding) scan.
     if (warm_won && options_.scan_evaluations > 0 && std::sqrt(best.chi2 / dof) <= options_.max_rms_sigma)
       budget = std::min(budget, options_.scan_evaluations - best.budget_used);
+    if (warm_won && options_.explained_candidate_evaluations > 0 && std::sqrt(best.chi2 / dof) <= options_.settle_rms_sigma)
+      budget = std::min(budget, options_.explained_candidate_evaluations);
     // Two contacts are what no single shape explains: when the current model stops
     // explaining the scan, the pair gets a quick check (once an episode, its own candidate
     // budget, outside the rotation), so a two-point touch is found as its load grows

@@ -104,6 +104,10 @@ struct ReconstructionOptions {
   /// log's p99 shows, but the synthetic box corner's peak ratio 0.87 -> 0.68
   /// (docs/bridge-fidelity.md §8): off until it measures better.
   int scan_evaluations = 0;
+  /// Amortized: while the current model explains the scan within settle_rms_sigma, the
+  /// candidate gets at most this many per scan (0 = candidate_scan_evaluations): exploring
+  /// is then a check, spread thinner over more scans.
+  int explained_candidate_evaluations = 6;
   /// Amortized budgets count an evaluation as max(1, patch cells / this): an evaluation
   /// costs in proportion to its patch, and a rod or sphere grown over the whole pad (a
   /// candidate explaining a flat) costs 5-10 of a 5 mm sphere's (about 400 cells at 0.8 N).

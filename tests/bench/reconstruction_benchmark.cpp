@@ -9,7 +9,8 @@
 //   through a fresh reconstructor, as the bridge runs it; models: 0 = crossing rods, spheres
 //   and flats only, 1 = + finite rods (fe.finite_rods), 2 = + pairs (fe.two_contacts), 3 =
 //   both (the default); force_step: ReconstructionOptions::force_step_first (1, the
-//   default). Counters: per-scan median / p99 / max ms (wall clock, over the press's scans),
+//   default). ReconstructPressExplainedBudget/<press>/<budget>: the candidate's budget on
+//   scans the current model explains (6, the default, or 0 = the full 12). Counters: per-scan median / p99 / max ms (wall clock, over the press's scans),
 //   evaluations per scan (deterministic: the cost without the machine's noise), fallbacks.
 
 #include <benchmark/benchmark.h>
@@ -61,12 +62,8 @@ void ForwardModel(benchmark::State& state) {
 }
 BENCHMARK(ForwardModel)->ArgName("sphere_rod_finite_flat")->DenseRange(0, 3)->Unit(benchmark::kMicrosecond);
 
-void ReconstructPress(benchmark::State& state) {
-  const sensors::CalibrationPress& press = Rig()[static_cast<size_t>(state.range(0))];
-  bridge::ReconstructionOptions options;
-  options.fit_finite_rods = (state.range(1) & 1) != 0;
-  options.fit_pairs = (state.range(1) & 2) != 0;
-  options.force_step_first = state.range(2) != 0;
+// Every scan of `press` through a fresh reconstructor with `options`; per-scan counters.
+void RunPress(benchmark::State& state, const sensors::CalibrationPress& press, const bridge::ReconstructionOptions& options) {
   std::vector<double> ms;
   int64_t evaluations = 0, fallbacks = 0, scans = 0;
   for (auto _ : state) {
@@ -88,10 +85,30 @@ void ReconstructPress(benchmark::State& state) {
   state.counters["evals_per_scan"] = double(evaluations) / double(scans);
   state.counters["fallbacks"] = double(fallbacks) / double(state.iterations());
 }
+
+void ReconstructPress(benchmark::State& state) {
+  bridge::ReconstructionOptions options;
+  options.fit_finite_rods = (state.range(1) & 1) != 0;
+  options.fit_pairs = (state.range(1) & 2) != 0;
+  options.force_step_first = state.range(2) != 0;
+  RunPress(state, Rig()[static_cast<size_t>(state.range(0))], options);
+}
+
+// The candidate budget while the current model explains the scan
+// (ReconstructionOptions::explained_candidate_evaluations; 0 = the full candidate budget).
+void ReconstructPressExplainedBudget(benchmark::State& state) {
+  bridge::ReconstructionOptions options;
+  options.explained_candidate_evaluations = static_cast<int>(state.range(1));
+  RunPress(state, Rig()[static_cast<size_t>(state.range(0))], options);
+}
 // press_03: 5 mm sphere, press_14: 2.5 mm rod, press_17: flat, press_19: a stroke.
 BENCHMARK(ReconstructPress)
     ->ArgNames({"press", "models", "force_step"})
     ->ArgsProduct({{3, 14, 17, 19}, {0, 3}, {0, 1}})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(ReconstructPressExplainedBudget)
+    ->ArgNames({"press", "budget"})
+    ->ArgsProduct({{0, 3, 12, 14, 17, 19}, {0, 6}})
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace
