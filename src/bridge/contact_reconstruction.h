@@ -15,8 +15,11 @@
 //    mean's noise: a hold determines what one scan cannot (a thin rod's radius);
 //  - no contact: the normal readings sum below min_force_N x the model's gain -> force 0;
 //  - warm start: the last scan's shape and parameters, refined (contacts move
-//    continuously, so this is the common path);
-//  - model selection among starts of every shape (moments of the normal readings), the
+//    continuously, so this is the common path); off a hold, a step in the force and shear
+//    alone comes first and answers the scan when it explains it as well as the last fit
+//    explained its own (a ramp changes the force, not the shape: force_step_first);
+//  - model selection among starts of every shape (moments of the normal readings; spheres,
+//    rods across the pad, rods that end on it, flats, two spheres at once), the
 //    least penalized residual (chi^2 + 2 x #unknowns) winning: amortized (default) refines
 //    the current model and at most one candidate start per scan, each within a budget of
 //    forward-model evaluations, continuing from where the last scan stopped (a fit of the
