@@ -104,8 +104,14 @@ def main():
         if c["shape"] != "none":
             ax.set_xlim(-12, 12)
             ax.set_ylim(-12, 12)
-            ax.text(0.02, 0.02, "%s R %.1f mm, %.2f N%s" % (c["shape"], float(c["radius_mm"]), float(c["normal_force_N"]),
-                                                         " (fallback)" if c["fallback"] == "1" else ""),
+            if c["shape"] == "two_spheres":
+                what = "two spheres R %.1f / %.1f mm, %.2f + %.2f N" % (
+                    float(c["radius_mm"]), float(c["radius2_mm"]), float(c["normal_force_N"]), float(c["normal_force2_N"]))
+            else:
+                what = "%s R %.1f mm, %.2f N" % (c["shape"], float(c["radius_mm"]), float(c["normal_force_N"]))
+                if float(c.get("length_mm") or 0) > 0:
+                    what += ", %.1f mm long" % float(c["length_mm"])
+            ax.text(0.02, 0.02, what + (" (fallback)" if c["fallback"] == "1" else ""),
                     transform=ax.transAxes, color="red", fontsize=8)
     ax.set_title("taxels (registered on the pad)")
     ax = axes[1]
