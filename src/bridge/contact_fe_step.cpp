@@ -164,7 +164,13 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
   to_pad(estimate_.primitive);
   if (estimate_.two_contacts) to_pad(estimate_.second);
 
-  if (estimate_.ok && !estimate_.contact) {
+  // A fit whose force is a tenth of the no-contact threshold or less (the readings' sum
+  // passed the threshold, the fitted object presses far less: a touch's first scans) is no
+  // contact too: pressing the leader to ~0 N only collapses the root find's bracket (a press
+  // fallback on a two-sphere make-log scene, 0.00005 N at its first touch).
+  const bool negligible = estimate_.ok && estimate_.contact &&
+                          estimate_.normal_force_N() < 0.1 * reconstructor_->options().min_force_N;
+  if (estimate_.ok && (!estimate_.contact || negligible)) {
     ++counters_.no_contact;
     leader_->ResetWarmStart();
     result_ = MerkelSedResult{};

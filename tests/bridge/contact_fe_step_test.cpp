@@ -190,6 +190,7 @@ TEST(ContactFeStep, TwoSpheresArePressedTogether) {
   // when the current model stops explaining the scan: 50, and 12 fallbacks).
   EXPECT_GT(pairs, 55) << reusing->counters().fit_fallbacks << " fit fallbacks";
   EXPECT_LE(reusing->counters().fit_fallbacks, 3);
+  EXPECT_EQ(reusing->counters().press_fallbacks, 0);
   EXPECT_EQ(reusing->counters().pressed, solving->counters().pressed);
   EXPECT_GT(reusing->counters().press_reused, 0);
   EXPECT_EQ(at_peak.shape, 4);
