@@ -154,6 +154,11 @@ ContactReconstructor::ContactReconstructor(const sensors::SensorProfile& profile
     throw std::invalid_argument(
         "contact reconstruction: need max_hold_scans >= 1, hold_change_sigma and hold_force_change_sigma > 0, "
         "cells_per_evaluation >= 1, min_chi2_gain >= 0, noise_counts > 0, scan_evaluations >= 0");
+  if (!(options_.min_pair_separation_mm >= 0) || !(options_.min_pair_force_share >= 0 && options_.min_pair_force_share <= 0.5) ||
+      !(options_.min_rod_length_mm > 0) || options_.explained_candidate_evaluations < 0)
+    throw std::invalid_argument(
+        "contact reconstruction: need min_pair_separation_mm >= 0, 0 <= min_pair_force_share <= 0.5, "
+        "min_rod_length_mm > 0, explained_candidate_evaluations >= 0");
   // A hair inside the plausible range, so that a clamped radius is still plausible.
   log_r_lo_ = std::log(options_.min_radius_mm) + 1e-9;
   log_r_hi_ = std::log(options_.max_radius_mm) - 1e-9;

@@ -513,6 +513,15 @@ TEST(ContactReconstruction, RejectsOptionsThatCannotWork) {
   EXPECT_NO_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.scan_evaluations = 0; })));
   EXPECT_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.scan_evaluations = -1; })),
                std::invalid_argument);
+  EXPECT_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.min_pair_force_share = 0.6; })),
+               std::invalid_argument);
+  EXPECT_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.min_rod_length_mm = 0; })),
+               std::invalid_argument);
+  EXPECT_THROW(
+      ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.explained_candidate_evaluations = -1; })),
+      std::invalid_argument);
+  EXPECT_NO_THROW(
+      ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.explained_candidate_evaluations = 0; })));
 }
 
 }  // namespace
