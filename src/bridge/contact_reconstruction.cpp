@@ -430,14 +430,12 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
   // drift out of the plausible range; the answer is then the nearest plausible radius (the
   // next scan's warm fit starts there), not a fallback.
   if (shape != ContactShape::kFlat) {
-    for (ContactPrimitive* p : {&fit.model.first, &fit.model.second}) {
-      if (p == &fit.model.second && !pair) break;
-      const double r = std::clamp(p->radius_mm, std::exp(log_r_lo_), std::exp(log_r_hi_));
-      if (r != p->radius_mm) {
-        fit.at_radius_bound = true;
-        p->radius_mm = r;
-      }
-    }
+    auto clamp_radius = [&](ContactPrimitive& p) {
+      const double r = std::clamp(p.radius_mm, std::exp(log_r_lo_), std::exp(log_r_hi_));
+      if (r != p.radius_mm) fit.at_radius_bound = true, p.radius_mm = r;
+    };
+    clamp_radius(fit.model.first);
+    if (pair) clamp_radius(fit.model.second);
     if (fit.at_radius_bound) u = ToUnknowns(fit.model, shear);
   }
   Eigen::VectorXd r;

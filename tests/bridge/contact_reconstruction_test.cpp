@@ -49,6 +49,14 @@ Eigen::VectorXd Noisy(const Eigen::VectorXd& r, std::mt19937_64* rng) {
   return out;
 }
 
+// The estimate after `scans` noisy scans of the same readings (all taxels valid): a hold.
+ContactEstimate HeldFor(ContactReconstructor* r, const Eigen::VectorXd& reading, std::mt19937_64* rng,
+                        int scans = 40) {
+  ContactEstimate e;
+  for (int k = 0; k < scans; ++k) e = r->Reconstruct(Noisy(reading, rng), std::vector<uint8_t>(16, 1));
+  return e;
+}
+
 TEST(ContactReconstruction, RigSpheresFromOneNoisyScan) {
   for (int i : {0, 1, 3, 5, 6, 9, 10, 11}) {
     const auto& press = Rig()[size_t(i)];
@@ -284,8 +292,7 @@ TEST(ContactReconstruction, TwoSimultaneousContactsAreTwoSpheres) {
   model.Predict(b, &rb);
   std::mt19937_64 rng(7);
   ContactReconstructor r(Uskin());
-  ContactEstimate e;
-  for (int scan = 0; scan < 40; ++scan) e = r.Reconstruct(Noisy(ra + rb, &rng), std::vector<uint8_t>(16, 1));
+  const ContactEstimate e = HeldFor(&r, ra + rb, &rng);
   ASSERT_TRUE(e.ok) << e.problem;
   ASSERT_TRUE(e.two_contacts) << ContactShapeName(e.primitive.shape) << " R " << e.primitive.radius_mm;
   // Which sphere is "first" is the fit's choice.
@@ -355,8 +362,7 @@ TEST(ContactReconstruction, AnEdgeIsARodOfFiniteLength) {
   model.Predict(c, &reading);
   std::mt19937_64 rng(5);
   ContactReconstructor r(Uskin());
-  ContactEstimate e;
-  for (int scan = 0; scan < 40; ++scan) e = r.Reconstruct(Noisy(reading, &rng), std::vector<uint8_t>(16, 1));
+  const ContactEstimate e = HeldFor(&r, reading, &rng);
   ASSERT_TRUE(e.ok) << e.problem;
   ASSERT_EQ(e.primitive.shape, ContactShape::kCylinder);
   EXPECT_NEAR(e.primitive.length_mm, 9.0, 1.0);
@@ -369,9 +375,8 @@ TEST(ContactReconstruction, AnEdgeIsARodOfFiniteLength) {
   ReconstructionOptions crossing_only;
   crossing_only.fit_finite_rods = false;
   ContactReconstructor r2(Uskin(), crossing_only);
-  ContactEstimate e2;
   rng.seed(5);
-  for (int scan = 0; scan < 40; ++scan) e2 = r2.Reconstruct(Noisy(reading, &rng), std::vector<uint8_t>(16, 1));
+  const ContactEstimate e2 = HeldFor(&r2, reading, &rng);
   EXPECT_EQ(e2.primitive.length_mm, 0.0);
   EXPECT_TRUE(!e2.ok || e2.rms_sigma > 2 * e.rms_sigma) << e2.rms_sigma << " vs " << e.rms_sigma;
 }
@@ -414,8 +419,7 @@ TEST(ContactReconstruction, OneContactIsNotReadAsTwo) {
     Eigen::VectorXd reading;
     model.Predict(c, &reading);
     ContactReconstructor r(Uskin());
-    ContactEstimate e;
-    for (int scan = 0; scan < 40; ++scan) e = r.Reconstruct(Noisy(reading, &rng), std::vector<uint8_t>(16, 1));
+    const ContactEstimate e = HeldFor(&r, reading, &rng);
     ASSERT_TRUE(e.ok) << ContactShapeName(c.shape) << ": " << e.problem;
     EXPECT_FALSE(e.two_contacts) << ContactShapeName(c.shape);
     EXPECT_EQ(e.primitive.shape, c.shape);
@@ -560,8 +564,7 @@ void UnseenObjects(ModelSelection selection, int scans) {
     ReconstructionOptions options;
     options.selection = selection;
     ContactReconstructor r(Uskin(), options);
-    ContactEstimate e;
-    for (int s = 0; s < scans; ++s) e = r.Reconstruct(Noisy(reading, &rng), std::vector<uint8_t>(16, 1));
+    const ContactEstimate e = HeldFor(&r, reading, &rng, scans);
     ++cases;
     ASSERT_TRUE(e.ok) << i << ": " << e.problem;
     EXPECT_NEAR(e.primitive.normal_force_N, c.normal_force_N, 0.05 * c.normal_force_N) << i;
