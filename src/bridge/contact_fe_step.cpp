@@ -49,17 +49,19 @@ bool ContactFeStep::Frame(FeFrame* frame) const {
 std::string ContactFeStep::CountersLine() const {
   const auto& r = reconstructor_->counters();
   const LatencySummary rt = recon_time_.Run(), pt = press_time_.Run(), ct = cpu_time_.Run();
-  char line[800];
+  char line[1000];
   std::snprintf(line, sizeof line,
                 "contact: %lld scans pressed on the leader (%lld reusing the last press; %lld fits of two contacts), "
                 "%lld no contact, "
                 "%lld fit fallbacks, %lld press fallbacks "
-                "(pressure map); %lld of %lld fits warm-started, %lld forward-model "
+                "(pressure map); %lld presses by one force-controlled solve, %lld contact solves; "
+                "%lld of %lld fits warm-started, %lld forward-model "
                 "evaluations; reconstruction median %.3f / p99 %.3f ms, "
                 "leader press median %.3f / p99 %.3f ms; CPU per scan median %.3f / p99 %.3f ms",
                 static_cast<long long>(counters_.pressed), static_cast<long long>(counters_.press_reused),
                 static_cast<long long>(r.two_contacts), static_cast<long long>(counters_.no_contact),
                 static_cast<long long>(counters_.fit_fallbacks), static_cast<long long>(counters_.press_fallbacks),
+                static_cast<long long>(counters_.force_controlled), static_cast<long long>(counters_.press_solves),
                 static_cast<long long>(r.warm_fits), static_cast<long long>(r.fits),
                 static_cast<long long>(r.evaluations), rt.p50_ms, rt.p99_ms, pt.p50_ms,
                 pt.p99_ms, ct.p50_ms, ct.p99_ms);
@@ -205,6 +207,8 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
                                            ReconstructedPressOptions(), LeaderTangentialLoad_N(estimate_));
   press_timer.Stop();
   press_time_.AddMs(times[Stage::kPress]);
+  counters_.press_solves += press.iterations;
+  if (press.force_controlled) ++counters_.force_controlled;
   if (!PressAnswered(press, *leader_)) {
     ++counters_.press_fallbacks;
     estimate_.ok = false;

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <fstream>
 #include <set>
 #include <stdexcept>
@@ -37,6 +38,9 @@ constexpr double kExactGapScale_m = 1e-3;
 // A point whose gap is known to exceed this is not evaluated again within a step (it can
 // only come into contact by moving that far; the QP sees the bound as its gap).
 constexpr double kFarGap_m = 0.5e-3;
+// Force control: a row whose direction turns less than this [-] toward the push cannot
+// start carrying the force (its force would be huge, its gap closing from far away).
+constexpr double kMinPush = 1e-3;
 constexpr char kCacheMagic[8] = {'S', 'E', 'D', 'B', 'W', 'C', 'M', 'P'};
 
 // FNV-1a, 64 bit: a content key for the cache (not a security hash).
@@ -397,6 +401,31 @@ void ComplianceContact::CandidateDisplacements() {
 
 const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::RigidObject>& objects, double t_s,
                                                     const Eigen::Vector3d& tangential_force_N, bool compute_sed) {
+  return Solve(objects, t_s, tangential_force_N, compute_sed, nullptr);
+}
+
+const ComplianceStepResult& ComplianceContact::StepToForce(const std::vector<geometry::RigidObject>& objects,
+                                                           ForceControl& control,
+                                                           const Eigen::Vector3d& tangential_force_N, bool compute_sed) {
+  const char* refused = nullptr;
+  if (options_.exact_contact || options_.friction_anisotropy > 0)
+    refused = "force control needs frictionless penalty contact";
+  else if (!(control.target_N > 0 && std::isfinite(control.target_N)) || !control.direction_unit.allFinite() ||
+           !(std::abs(control.direction_unit.norm() - 1.0) < 1e-9) || !(control.max_change_m > 0) ||
+           !(control.max_offset_m > 0) || !std::isfinite(control.offset_m))
+    refused = "force control needs a unit direction, a target > 0 and positive step bounds";
+  if (refused) {
+    sed_current_ = false;
+    result_ = ComplianceStepResult{};
+    result_.error = refused;
+    return result_;
+  }
+  return Solve(objects, 0.0, tangential_force_N, compute_sed, &control);
+}
+
+const ComplianceStepResult& ComplianceContact::Solve(const std::vector<geometry::RigidObject>& objects, double t_s,
+                                                     const Eigen::Vector3d& tangential_force_N, bool compute_sed,
+                                                     ForceControl* control) {
   sed_current_ = false;
   result_.ok = result_.converged = false;
   result_.iterations = 0;
@@ -424,22 +453,37 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
   const double k_t = options_.friction_anisotropy * options_.stiffness_N_m;
   phi_m_.resize(lambda_N_.size());
   phi_evaluated_.resize(lambda_N_.size());
+  offset_evaluated_.resize(lambda_N_.size());
   x_evaluated_.resize(3, lambda_N_.size());
   skippable_.resize(size_t(no));
   for (int o = 0; o < no; ++o) skippable_[size_t(o)] = objects[size_t(o)].shape && objects[size_t(o)].shape->lipschitz();
   pose_.resize(size_t(no));
   pose_inverse_.resize(size_t(no));
   pose_rotation_.resize(size_t(no));
+  base_pose_.resize(size_t(no));
   for (int o = 0; o < no; ++o) {
     if (!objects[size_t(o)].shape) {
       result_.error = "object without a shape";
       return result_;
     }
-    const Eigen::Isometry3d pose = objects[size_t(o)].trajectory.Pose(t_s);
-    pose_[size_t(o)] = pose;
-    pose_inverse_[size_t(o)] = pose.inverse();
-    pose_rotation_[size_t(o)] = pose.linear();
+    base_pose_[size_t(o)] = objects[size_t(o)].trajectory.Pose(t_s);
   }
+  // Force control moves every object by offset along its direction.
+  double offset = control ? control->offset_m : 0.0;
+  auto place_objects = [&] {
+    for (int o = 0; o < no; ++o) {
+      Eigen::Isometry3d pose = base_pose_[size_t(o)];
+      if (control) pose.pretranslate(offset * control->direction_unit);
+      pose_[size_t(o)] = pose;
+      pose_inverse_[size_t(o)] = pose.inverse();
+      pose_rotation_[size_t(o)] = pose.linear();
+    }
+  };
+  place_objects();
+  // Anderson history of the offset (its mapped value at the last iteration) and whether
+  // the last move was cut to max_change_m (then the history says nothing).
+  double previous_mapped_offset = offset;
+  bool offset_capped = false;
   const double k = options_.stiffness_N_m;
 
   const bool exact = options_.exact_contact;
@@ -486,6 +530,7 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
     // gaps >= 0 everywhere; the mismatch is then the gap error times a stiffness scale.
     active_.clear();
     double largest = 0, mismatch = 0, gap_error = 0, turn = 0;
+    double pushed_N = 0;  // force control: sum k depth n . direction at these positions
     for (int j = 0; j < c; ++j) {
       const Eigen::Vector3d x = rest_c_.col(j) + u_c_.segment<3>(3 * j);
       for (int o = 0; o < no; ++o) {
@@ -495,7 +540,9 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
         // contact: its gap is left at that lower bound (the QP then only sees it as nearer
         // than it is) and the SDF is not evaluated (most points, most iterations).
         if (it > 0 && !exact && !friction && lambda_N_[p] == 0 && skippable_[size_t(o)]) {
-          const double bound = phi_evaluated_[p] - (x - x_evaluated_.col(p)).norm();
+          // The objects moved too (force control): by at most |offset change|.
+          const double bound =
+              phi_evaluated_[p] - (x - x_evaluated_.col(p)).norm() - std::abs(offset - offset_evaluated_[p]);
           if (bound > kFarGap_m) {
             phi_m_[p] = bound;
             continue;
@@ -506,6 +553,7 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
         s.normal = pose_rotation_[size_t(o)] * s.normal;
         phi_m_[p] = s.distance_m;
         phi_evaluated_[p] = s.distance_m;
+        offset_evaluated_[p] = offset;
         x_evaluated_.col(p) = x;
         if (!std::isfinite(s.distance_m) || !s.normal.allFinite()) {
           result_.error = "non-finite signed distance (object pose?)";
@@ -524,6 +572,7 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
         } else if (s.distance_m < 0) {
           const double target = -k * s.distance_m;
           mismatch = std::max(mismatch, (target * s.normal - lambda_N_[p] * normal_.col(p)).norm());
+          if (control) pushed_N += target * s.normal.dot(control->direction_unit);
           largest = std::max(largest, target);
           normal_.col(p) = s.normal;
           active_.push_back(p);
@@ -559,6 +608,14 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
         result_.converged = true;
         break;
       }
+    } else if (control) {
+      // The penalty law as a plain step, and the force: each active pair within the law's
+      // tolerance bounds the force's error by #active times it.
+      const double law = options_.relative_tolerance * largest;
+      if (!active_.empty() && mismatch <= law && std::abs(pushed_N - control->target_N) <= double(active_.size()) * law) {
+        result_.converged = true;
+        break;
+      }
     } else if (mismatch <= options_.relative_tolerance * largest || (active_.empty() && mismatch == 0)) {
       result_.converged = true;
       break;
@@ -572,8 +629,9 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
     // Solved by a primal active-set method (Lawson-Hanson style): the objective falls at
     // every change of the active set, so it cannot cycle (a plain semismooth Newton on
     // max(0, .) does cycle here: N^T W N is not an M-matrix).
-    if (!SolveLinearizedQp(no, tau)) {
-      result_.error = "contact solve produced NaN";
+    if (!SolveLinearizedQp(no, tau, control)) {
+      result_.error = control ? "force-controlled contact solve failed (no contact can carry the force, or NaN)"
+                              : "contact solve produced NaN";
       ResetWarmStart();
       return result_;
     }
@@ -583,6 +641,7 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
     // it superlinear in practice.
     mapped_ = normal_ * lambda_N_.asDiagonal();
     residual_ = mapped_ - state_;
+    double accelerated_gamma = 0;  // set when Anderson moved the forces
     const bool same_support = !friction && have_previous && ((mapped_.colwise().squaredNorm().array() > 0) ==
                                                 (previous_mapped_.colwise().squaredNorm().array() > 0)).all();
     if (same_support) {
@@ -590,6 +649,7 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
       const double dd = dr.squaredNorm();
       const double gamma = dd > 0 ? (residual_.cwiseProduct(dr)).sum() / dd : 0.0;
       if (std::isfinite(gamma) && std::abs(gamma) < 10) {
+        accelerated_gamma = gamma;
         const Eigen::Matrix3Xd accelerated = mapped_ - gamma * (mapped_ - previous_mapped_);
         for (Eigen::Index p = 0; p < accelerated.cols(); ++p) {
           const double norm = accelerated.col(p).norm();
@@ -605,6 +665,25 @@ const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::
     previous_mapped_ = mapped_;
     previous_residual_ = residual_;
     have_previous = true;
+    if (control) {
+      // The QP's move, cut to max_change_m (a trust region against tunnelling), and
+      // accelerated with the forces' coefficient while neither this nor the last was cut.
+      const double change = std::clamp(qp_offset_change_m_, -control->max_change_m, control->max_change_m);
+      const bool capped = change != qp_offset_change_m_;
+      const double mapped_offset = offset + change;
+      offset = mapped_offset;
+      if (accelerated_gamma != 0 && !capped && !offset_capped)
+        offset = mapped_offset - accelerated_gamma * (mapped_offset - previous_mapped_offset);
+      previous_mapped_offset = mapped_offset;
+      offset_capped = capped;
+      if (capped) have_previous = false;
+      if (!(offset >= -control->max_change_m && offset <= control->max_offset_m + control->max_change_m)) break;
+      place_objects();
+    }
+  }
+  if (control) {
+    control->offset_m = offset;
+    if (!(offset >= 0 && offset <= control->max_offset_m)) result_.converged = false;
   }
 
   // Report what the positions say (k * depth at the final gaps), as PenaltyContactForce.
@@ -664,7 +743,7 @@ void ComplianceContact::ComputeSed() {
   sed_current_ = true;
 }
 
-bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau) {
+bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau, const ForceControl* control) {
   const double k = options_.stiffness_N_m;
   const bool friction = options_.friction_anisotropy > 0;
   const double k_t = options_.friction_anisotropy * k;
@@ -723,6 +802,32 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau) {
     }
   }
 
+  // Force control: the rows' forces must push target_N along the direction; the objects'
+  // move delta (the multiplier of that constraint) closes each gap by delta * push_r. The
+  // active-set iterates all carry the target (convex combinations of points that do), so
+  // start from one that does: the warm forces scaled to it, else the row that closes
+  // first as the objects move.
+  double delta = 0;
+  if (control) {
+    row_push_.setZero(rows);
+    double carried = 0;
+    for (int r = 0; r < bounded_rows_; ++r) {
+      row_push_[r] = control->direction_unit.dot(row_dir_.col(r));
+      if (row_lambda_[r] > 0) carried += row_push_[r] * row_lambda_[r];
+    }
+    if (carried > 0) {
+      for (int r = 0; r < bounded_rows_; ++r) row_lambda_[r] *= control->target_N / carried;
+    } else {
+      int first = -1;
+      double closes_at = std::numeric_limits<double>::infinity();
+      for (int r = 0; r < bounded_rows_; ++r) {
+        row_lambda_[r] = 0;
+        if (row_push_[r] > kMinPush && row_gap_[r] / row_push_[r] < closes_at) closes_at = row_gap_[r] / row_push_[r], first = r;
+      }
+      if (first < 0) return false;
+      row_lambda_[first] = control->target_N / row_push_[first];
+    }
+  }
   // Predicted displacements for row forces l: u_t + sum_r l_r W dir_r.
   auto predicted_displacements = [&](const std::vector<int>& set, const Eigen::VectorXd& l) {
     u_new_ = u_t_;
@@ -754,7 +859,22 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau) {
       }
       J_(a, a) += row_compliance_[r];
     }
-    z_ = m ? Eigen::VectorXd(J_.selfadjointView<Eigen::Lower>().llt().solve(rhs_)) : Eigen::VectorXd();
+    if (m) {
+      const auto llt = J_.selfadjointView<Eigen::Lower>().llt();
+      z_ = llt.solve(rhs_);
+      if (control) {  // J l = rhs + delta push, push . l = target
+        push_passive_.resize(m);
+        for (int a = 0; a < m; ++a) push_passive_[a] = row_push_[passive_[size_t(a)]];
+        const Eigen::VectorXd y = llt.solve(push_passive_);
+        const double denominator = push_passive_.dot(y);
+        if (!(denominator > 0)) return false;
+        delta = (control->target_N - push_passive_.dot(z_)) / denominator;
+        z_ += delta * y;
+      }
+    } else {
+      if (control) return false;
+      z_.resize(0);
+    }
     if (!z_.allFinite()) return false;
     // Infeasible: step from l toward z until the first bounded force reaches zero, drop it.
     double alpha = 1;
@@ -804,7 +924,8 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau) {
     for (int r = 0; r < bounded_rows_; ++r) {
       if (in_passive[size_t(r)]) continue;
       const int i = row_node_[size_t(r)];
-      const double gap = row_gap_[r] + row_dir_.col(r).dot(u_new_.segment<3>(3 * i) - u_c_.segment<3>(3 * i));
+      double gap = row_gap_[r] + row_dir_.col(r).dot(u_new_.segment<3>(3 * i) - u_c_.segment<3>(3 * i));
+      if (control) gap -= delta * row_push_[r];
       if (gap < -gap_tolerance) passive_.push_back(r);
       if (gap < worst) worst = gap, most_violated = r;
     }
@@ -828,6 +949,7 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau) {
   // u_new_ = W f for exactly these forces when the set settled (reused as the next
   // iteration's displacements).
   prediction_valid_ = solved;
+  qp_offset_change_m_ = delta;
   return true;  // not solved: out of inner iterations, the outer loop reports non-convergence
 }
 

@@ -111,6 +111,29 @@ class ComplianceContact {
   const ComplianceStepResult& Step(const std::vector<geometry::RigidObject>& objects, double t_s = 0.0,
                                    const Eigen::Vector3d& tangential_force_N = Eigen::Vector3d::Zero(),
                                    bool compute_sed = true);
+  /// Force control: the objects move together along `direction` by an offset the step
+  /// finds with the contact forces, so that the force they apply along it is target_N.
+  /// The offset is the Lagrange multiplier of that force in the step's QP (a rigid
+  /// indenter under a dead load), so one step answers what a root find over
+  /// displacement-controlled steps answers in several.
+  struct ForceControl {
+    Eigen::Vector3d direction_unit = -Eigen::Vector3d::UnitZ();  ///< how the objects move (model frame)
+    double target_N = 0;       ///< wanted sum of contact forces . direction_unit (> 0)
+    double offset_m = 0;       ///< in: where to start; out: the answer's offset along direction
+    /// Most the offset moves in one outer iteration [m]: the SDF is evaluated at displaced
+    /// nodes, so a longer move lets nodes tunnel through a thin object (as
+    /// scene::PressToForceOptions::max_step_mm).
+    double max_change_m = 0.2e-3;
+    double max_offset_m = 5e-3;  ///< beyond this (or below 0) the step gives up
+  };
+  /// One step under force control (see ForceControl); objects posed at t = 0 plus the
+  /// offset. Frictionless penalty contact only (with exact_contact or friction springs it
+  /// fails with an error). converged = false if the force or the penalty law is not met
+  /// within max_iterations, or the offset leaves [0, max_offset_m]; then the caller falls
+  /// back to displacement-controlled steps (the warm start is reset).
+  const ComplianceStepResult& StepToForce(const std::vector<geometry::RigidObject>& objects, ForceControl& control,
+                                          const Eigen::Vector3d& tangential_force_N = Eigen::Vector3d::Zero(),
+                                          bool compute_sed = true);
   /// The last step's Merkel SED (result sed_Pa) and positions_m(), from its contact forces;
   /// what Step does at its end unless told not to. No-op if the last step failed.
   void ComputeSed();
@@ -154,6 +177,8 @@ class ComplianceContact {
   const std::string& cache_rejected_reason() const { return cache_rejected_; }
 
  private:
+  const ComplianceStepResult& Solve(const std::vector<geometry::RigidObject>& objects, double t_s,
+                                    const Eigen::Vector3d& tangential_force_N, bool compute_sed, ForceControl* control);
   void Precompute(const SystemMatrix& K);
   bool LoadCache(std::uint64_t key);
   /// W over nodes + face samples (the QP's blocks), sample positions.
@@ -175,7 +200,9 @@ class ComplianceContact {
   void CandidateDisplacements();
   /// One convex QP for the normal forces with the gaps linearized at the current
   /// positions (see the .cpp); updates lambda_N_. False on NaN.
-  bool SolveLinearizedQp(int num_objects, const Eigen::Vector3d& tau);
+  /// With `control`: the force along its direction is its target, and qp_offset_change_m_
+  /// is how far the objects move for it (the multiplier of that constraint).
+  bool SolveLinearizedQp(int num_objects, const Eigen::Vector3d& tau, const ForceControl* control = nullptr);
 
   const TetMesh& mesh_;
   std::vector<std::unique_ptr<ForceTerm>> terms_;
@@ -209,13 +236,13 @@ class ComplianceContact {
   Eigen::Matrix3Xd normal_;           // unit normal per pair (direction of its force)
   Eigen::VectorXd phi_m_;             // signed distance per pair at the current positions
   // ... where and what it was at the pair's last evaluation in this step (skipping far points)
-  Eigen::VectorXd phi_evaluated_;
+  Eigen::VectorXd phi_evaluated_, offset_evaluated_;
   Eigen::Matrix3Xd x_evaluated_;
   std::vector<char> skippable_;       // per object: a 1-Lipschitz SDF
   Eigen::VectorXd f_c_, u_c_, u_t_;   // candidate forces, displacements, tangential part
   std::vector<int> active_, loaded_;  // pairs penetrating now; candidates with a force
   Eigen::MatrixXd J_;
-  Eigen::VectorXd rhs_, z_, u_new_, u_s_;
+  Eigen::VectorXd rhs_, z_, u_new_, u_s_, push_passive_;
   bool prediction_valid_ = false;  // u_new_ = W f of the current forces (QP's last prediction)
   // Pseudo friction, per pair: anchor in the object's frame, current spring force, the
   // force the law asks at the current positions, and whether a spring acts (anchored and
@@ -233,7 +260,9 @@ class ComplianceContact {
   std::vector<char> in_passive_;
   double largest_ = 0;
   Eigen::Matrix3Xd rest_c_;
-  std::vector<Eigen::Isometry3d> pose_, pose_inverse_;  // per object, this step
+  std::vector<Eigen::Isometry3d> pose_, pose_inverse_, base_pose_;  // per object, this step
+  Eigen::VectorXd row_push_;        // force control: dir . row direction per QP row
+  double qp_offset_change_m_ = 0;   // force control: the QP's move of the objects
   std::vector<Eigen::Matrix3d> pose_rotation_;
   Eigen::VectorXd x_;
   bool sed_current_ = false;

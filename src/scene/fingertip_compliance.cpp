@@ -301,6 +301,37 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
   if (state > 0 && state == last_indentation_mm_ && last_target_N_ > 0)
     d = std::clamp(PowerLawDepth_mm(state, last_target_N_, target_N, last_exponent_), std::max(0.0, state - opt.max_step_mm),
                    std::min(opt.max_indentation_mm, state + opt.max_step_mm));
+  // One force-controlled solve from there: the indentation comes with the contact forces.
+  // Only from a state without force at indentation 0 (f_zero = 0), and frictionless.
+  if (opt.force_control && f_zero == 0 && !(options_.contact.friction_anisotropy > 0) &&
+      !options_.contact.exact_contact) {
+    fem::ComplianceContact::ForceControl control;
+    control.direction_unit = -model_.pad_frame.model_from_pad.linear().col(2);
+    control.target_N = target_N;
+    control.offset_m = d * 1e-3;
+    control.max_change_m = std::max(1e-3, opt.max_step_mm) * 1e-3;
+    control.max_offset_m = opt.max_indentation_mm * 1e-3;
+    for (size_t k = 0; k < pushed.size(); ++k) pushed[k].trajectory = geometry::Trajectory(touch[k]);
+    const Eigen::Vector3d t_model = model_.pad_frame.model_from_pad.linear() *
+                                    Eigen::Vector3d(tangential_pad_N.x(), tangential_pad_N.y(), 0.0);
+    const fem::ComplianceStepResult& s = contact_->StepToForce(ToModel(pushed), control, t_model, /*compute_sed=*/false);
+    ++r.iterations;
+    const double d_mm = control.offset_m * 1e3;
+    const double f_N = s.ok ? normal_force_N() : 0.0;
+    if (s.ok && s.converged && !s.contacts.empty() && std::abs(f_N - target_N) <= tol) {
+      for (size_t k = 0; k < pushed.size(); ++k)
+        pushed[k].trajectory = geometry::Trajectory(Eigen::Translation3d(0, 0, -d_mm * 1e-3) * touch[k]);
+      last_model = ToModel(pushed);
+      state_indentation_mm_ = d_mm;
+      r.indentation_mm = d_mm;
+      r.force_controlled = true;
+      return finish(PressStatus::kReached, d_mm, f_N, "");
+    }
+    // Not answered (not converged, out of depth, patch edge or no contact): the root find
+    // below, from no contact.
+    contact_->ResetWarmStart();
+    d = 0;
+  }
   double f = f_zero;
   bool restarted = d <= 0;
   auto restart = [&] {

@@ -74,6 +74,11 @@ struct PressToForceOptions {
   /// tunnel through it (a 1 mm rod pushed from 1 to 2 mm in one solve loses its force).
   double max_step_mm = 0.2;
   int max_iterations = 60;            ///< contact solves in one call
+  /// First try one force-controlled contact solve (fem::ComplianceContact::StepToForce:
+  /// the indentation found with the contact forces); if it does not converge, or the
+  /// objects start inside the skin, or the contact has friction springs, the root find over
+  /// indentation-controlled solves answers. false: the root find only.
+  bool force_control = true;
 };
 
 struct PressToForceResult {
@@ -83,6 +88,7 @@ struct PressToForceResult {
   double force_N = 0;            ///< normal force reached (along -z_pad, on the skin)
   double indentation_mm = 0;     ///< push along -z_pad from the poses at first touch
   int iterations = 0;            ///< contact solves used
+  bool force_controlled = false; ///< answered by one force-controlled solve (no root find)
   int active_nodes = 0;          ///< skin nodes in contact at the answer
   std::string message;           ///< why, when not reached
 };

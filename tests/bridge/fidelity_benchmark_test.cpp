@@ -27,15 +27,15 @@ struct RigBench {
       "B", profile, display::LoadNamedDisplayProfile("suction_4x4"), "");
 };
 
-// The 0.6 mm rod of press_16 has a truth with the leader's face contact (the default), none
-// with skin nodes only (`fidelity --node-contact`): it passes between them.
-TEST(FidelityBenchmark, NodeContactLeavesTheThinRodWithoutATruth) {
+// The 0.6 mm rod of press_16 has a truth with the leader's face contact (the default).
+// With skin nodes only (`fidelity --node-contact`) its press depends on the path: pushed
+// down step by step it passes between the nodes (no truth); under force control a few
+// nodes hold it on their flanks (FingertipCompliance.FaceContactCatchesARodThinnerThanThe
+// NodeSpacing), so node contact is not asserted here.
+TEST(FidelityBenchmark, FaceContactGivesTheThinRodATruth) {
   const RigBench rig;
-  FidelityBenchmark nodes("B", rig.profile, display::LoadNamedDisplayProfile("suction_4x4"), "", false);
   FidelityMaps maps;
-  const FidelityRow by_nodes = nodes.Run(FromCalibrationPress(rig.presses[16]), &maps);
   const FidelityRow by_faces = rig.bench->Run(FromCalibrationPress(rig.presses[16]), &maps);
-  EXPECT_FALSE(by_nodes.truth_valid) << by_nodes.truth_press;
   EXPECT_TRUE(by_faces.truth_valid) << by_faces.truth_press;
 }
 

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <set>
 
 #include "common/config_error.h"
@@ -116,46 +117,62 @@ TEST(FingertipCompliance, PressToForceReachesTheTargetAndWarmStarts) {
   EXPECT_EQ(objects.size(), 2u);
 }
 
-// Scan after scan the press starts from the last answer scaled by Hertz (F ~ d^1.5) and
-// brackets the target tightly; the answer (force, SED) must be the one a press from no
-// contact finds, and the warm sequence must need fewer contact solves than cold presses.
+// Scan after scan the press starts from the last answer (its indentation scaled by the
+// measured power law, its contact forces scaled to the new target); the answer (force,
+// SED) must be the one a press from no contact finds, and the warm sequence must need
+// less work than cold presses: fewer contact solves for the root find, fewer outer
+// iterations of the one force-controlled solve.
 TEST(FingertipCompliance, WarmStartedPressMatchesTheColdPress) {
-  FingertipCompliance warm(Model()), cold(Model());
-  const std::vector<geometry::RigidObject> sphere{Sphere(8, {0.5, 1, 8})};
-  int warm_solves = 0, cold_solves = 0;
-  for (const double target_N : {0.30, 0.31, 0.33, 0.32, 0.50, 0.45, 0.451, 0.20}) {
-    const PressToForceResult w = warm.PressToForce(sphere, target_N);
-    cold.ResetWarmStart();
-    const PressToForceResult c = cold.PressToForce(sphere, target_N);
-    ASSERT_TRUE(w.reached) << target_N << ": " << w.message;
-    ASSERT_TRUE(c.reached) << target_N << ": " << c.message;
-    EXPECT_NEAR(w.force_N, target_N, 1e-6 * target_N);
-    EXPECT_NEAR(w.indentation_mm, c.indentation_mm, 1e-5) << target_N;
-    EXPECT_LT((warm.sed_Pa() - cold.sed_Pa()).norm(), 1e-5 * cold.sed_Pa().norm()) << target_N;
-    warm_solves += w.iterations;
-    cold_solves += c.iterations;
+  for (const bool force_control : {false, true}) {
+    SCOPED_TRACE(force_control ? "force control" : "root find");
+    PressToForceOptions opt;
+    opt.force_control = force_control;
+    FingertipCompliance warm(Model()), cold(Model());
+    const std::vector<geometry::RigidObject> sphere{Sphere(8, {0.5, 1, 8})};
+    int warm_work = 0, cold_work = 0;
+    for (const double target_N : {0.30, 0.31, 0.33, 0.32, 0.50, 0.45, 0.451, 0.20}) {
+      const PressToForceResult w = warm.PressToForce(sphere, target_N, opt);
+      const int w_outer = warm.contact().last().iterations;
+      cold.ResetWarmStart();
+      const PressToForceResult c = cold.PressToForce(sphere, target_N, opt);
+      ASSERT_TRUE(w.reached) << target_N << ": " << w.message;
+      ASSERT_TRUE(c.reached) << target_N << ": " << c.message;
+      EXPECT_EQ(w.force_controlled, force_control);
+      EXPECT_EQ(c.force_controlled, force_control);
+      EXPECT_NEAR(w.force_N, target_N, 1e-6 * target_N);
+      EXPECT_NEAR(w.indentation_mm, c.indentation_mm, 1e-5) << target_N;
+      EXPECT_LT((warm.sed_Pa() - cold.sed_Pa()).norm(), 1e-5 * cold.sed_Pa().norm()) << target_N;
+      warm_work += force_control ? w_outer : w.iterations;
+      cold_work += force_control ? cold.contact().last().iterations : c.iterations;
+    }
+    EXPECT_LT(3 * warm_work, 2 * cold_work) << "warm " << warm_work << ", cold " << cold_work;
   }
-  EXPECT_LT(3 * warm_solves, 2 * cold_solves) << "warm " << warm_solves << ", cold " << cold_solves;
 }
 
 // A live press, scan after scan (force up about 1 % a scan, the reconstructed centre
-// jittering by 10 um, the bridge's 1e-3 tolerance): the press aims at the target with the
-// force-indentation exponent it measured last time, so most scans need two contact solves
-// (measured 2.0; the Hertz-exponent bracket past the target took 3.0 on this ramp).
-TEST(FingertipCompliance, ScanAfterScanPressTakesAboutTwoSolves) {
-  FingertipCompliance cc(Model());
-  PressToForceOptions opt;
-  opt.relative_tolerance = 1e-3;
-  int solves = 0, presses = 0;
-  double target_N = 0.3;
-  for (int scan = 0; scan < 30; ++scan, target_N *= 1.01) {
-    const double jitter_mm = scan % 2 ? 0.01 : -0.01;
-    const PressToForceResult r = cc.PressToForce({Sphere(5, {jitter_mm, 1, 5})}, target_N, opt);
-    ASSERT_TRUE(r.reached) << scan << ": " << r.message;
-    EXPECT_NEAR(r.force_N, target_N, 1e-3 * target_N);
-    if (scan > 0) solves += r.iterations, ++presses;
+// jittering by 10 um, the bridge's 1e-3 tolerance). The root find aims at the target with
+// the force-indentation exponent it measured last time, so most scans need two contact
+// solves (measured 2.0; the Hertz-exponent bracket past the target took 3.0 on this
+// ramp); force control answers every scan, the first touch included, with one.
+TEST(FingertipCompliance, ScanAfterScanPressTakesAboutTwoSolvesOrOneUnderForceControl) {
+  for (const bool force_control : {false, true}) {
+    SCOPED_TRACE(force_control ? "force control" : "root find");
+    FingertipCompliance cc(Model());
+    PressToForceOptions opt;
+    opt.relative_tolerance = 1e-3;
+    opt.force_control = force_control;
+    int solves = 0, presses = 0;
+    double target_N = 0.3;
+    for (int scan = 0; scan < 30; ++scan, target_N *= 1.01) {
+      const double jitter_mm = scan % 2 ? 0.01 : -0.01;
+      const PressToForceResult r = cc.PressToForce({Sphere(5, {jitter_mm, 1, 5})}, target_N, opt);
+      ASSERT_TRUE(r.reached) << scan << ": " << r.message;
+      EXPECT_NEAR(r.force_N, target_N, 1e-3 * target_N);
+      if (force_control) EXPECT_EQ(r.iterations, 1) << scan;
+      if (scan > 0) solves += r.iterations, ++presses;
+    }
+    EXPECT_LE(solves, (force_control ? 1.0 : 2.3) * presses) << solves << " solves in " << presses << " presses";
   }
-  EXPECT_LE(solves, 2.3 * presses) << solves << " solves in " << presses << " presses";
 }
 
 // PressToForce asks the contact solves for their force only and the SED once, at the
@@ -228,9 +245,19 @@ TEST(FingertipCompliance, FaceContactCatchesARodThinnerThanTheNodeSpacing) {
   FingertipCompliance nodes(ModelB()), faces(ModelB(), face);
   EXPECT_GT(faces.contact().num_samples(), nodes.contact().num_samples());
   const geometry::RigidObject rod = PadRod(0.6, 60, -1.5, 0);
-  const PressToForceResult by_nodes = nodes.PressToForce({rod}, 0.3);
+  // Pushed down step by step (the root find's march): node contact lets the rod slip
+  // between the nodes. (Node contact has more than one equilibrium here: a force-controlled
+  // solve from no contact finds one with five nodes holding the rod on their sides at
+  // 0.94 mm; face contact has neither problem.)
+  PressToForceOptions march;
+  march.force_control = false;
+  const PressToForceResult by_nodes = nodes.PressToForce({rod}, 0.3, march);
   const PressToForceResult by_faces = faces.PressToForce({rod}, 0.3);
   EXPECT_FALSE(by_nodes.reached) << ToString(by_nodes.status);
+  nodes.ResetWarmStart();
+  const PressToForceResult held_by_nodes = nodes.PressToForce({rod}, 0.3);
+  EXPECT_TRUE(held_by_nodes.force_controlled);
+  EXPECT_LE(held_by_nodes.active_nodes, 8);
   ASSERT_TRUE(by_faces.reached) << ToString(by_faces.status) << " " << by_faces.message;
   EXPECT_LT(by_faces.indentation_mm, 2.0);
   EXPECT_TRUE(faces.sed_Pa().allFinite());
@@ -261,6 +288,87 @@ TEST(FingertipCompliance, FaceContactKeepsAThinRodPressContinuousInATinyShear) {
   ASSERT_TRUE(nodes.PressToForce({flat}, 1.0).reached);
   ASSERT_TRUE(faces.PressToForce({flat}, 1.0).reached);
   EXPECT_LT((faces.sed_Pa() - nodes.sed_Pa()).norm(), 0.05 * nodes.sed_Pa().norm());
+}
+
+// The force-controlled press (one contact solve whose QP carries the target force, the
+// indentation its multiplier) must give the root find's answer: the bridge's leader (model
+// B, face contact) with the shapes the reconstruction sends, first touch and a live ramp
+// (force up 4 % a scan, the object drifting 50 um a scan). The root find runs to 1e-9
+// here so that the difference is force control's own.
+TEST(FingertipCompliance, ForceControlledPressEqualsTheRootFind) {
+  FingertipComplianceOptions face;
+  face.face_samples = true;
+  FingertipCompliance controlled(ModelB(), face), marched(ModelB(), face);
+  PressToForceOptions root_find;
+  root_find.force_control = false;
+  root_find.relative_tolerance = 1e-9;
+  // Force control's force is as exact as its contact solve's penalty law (relative
+  // tolerance 1e-8 per contact): about 1e-8 of the force.
+  PressToForceOptions control = root_find;
+  control.force_control = true;
+  control.relative_tolerance = 1e-7;
+  auto finite_rod = [](double radius_mm, double length_mm, double yaw_deg, double x_mm) {
+    geometry::RigidObject rod = PadRod(radius_mm, yaw_deg, x_mm, 1);
+    rod.shape = std::make_shared<geometry::CylinderSdf>(radius_mm * 1e-3, 0.5e-3 * length_mm);
+    return rod;
+  };
+  geometry::RigidObject flat{"flat", std::make_shared<geometry::PlaneSdf>(),
+                             geometry::Trajectory(Eigen::Isometry3d(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX())))};
+  const std::vector<std::pair<std::string, std::function<std::vector<geometry::RigidObject>(double)>>> cases = {
+      {"sphere 5 mm", [](double s) { return std::vector<geometry::RigidObject>{Sphere(5, {s, 1, 5})}; }},
+      {"sphere 12 mm off centre", [](double s) { return std::vector<geometry::RigidObject>{Sphere(12, {3 + s, -2, 12})}; }},
+      {"rod 1.36 mm across", [](double s) { return std::vector<geometry::RigidObject>{PadRod(1.36, 90, s, 0)}; }},
+      {"rod 0.6 mm at 60 deg", [](double s) { return std::vector<geometry::RigidObject>{PadRod(0.6, 60, -1.5 + s, 0)}; }},
+      {"finite rod 1 mm x 6 mm", [&](double s) { return std::vector<geometry::RigidObject>{finite_rod(1, 6, 30, s)}; }},
+      {"flat", [&](double) { return std::vector<geometry::RigidObject>{flat}; }},
+      {"two spheres", [](double s) {
+         return std::vector<geometry::RigidObject>{Sphere(3, {-3 + s, 1, 3}), Sphere(4, {3 + s, 1, 4})};
+       }}};
+  for (const auto& [name, objects_at] : cases) {
+    controlled.ResetWarmStart();
+    marched.ResetWarmStart();
+    double target_N = 0.25;
+    for (int scan = 0; scan < 6; ++scan, target_N *= 1.04) {
+      SCOPED_TRACE(name + ", scan " + std::to_string(scan));
+      const auto objects = objects_at(0.05 * scan);
+      const PressToForceResult c = controlled.PressToForce(objects, target_N, control);
+      const PressToForceResult m = marched.PressToForce(objects, target_N, root_find);
+      ASSERT_TRUE(m.reached) << ToString(m.status) << " " << m.message;
+      ASSERT_TRUE(c.reached) << ToString(c.status) << " " << c.message;
+      EXPECT_TRUE(c.force_controlled);
+      EXPECT_EQ(c.iterations, 1);
+      EXPECT_NEAR(c.force_N, target_N, 1e-7 * target_N);
+      EXPECT_NEAR(c.indentation_mm, m.indentation_mm, 1e-6);
+      EXPECT_LT((controlled.sed_Pa() - marched.sed_Pa()).norm(), 1e-6 * marched.sed_Pa().norm());
+    }
+  }
+}
+
+// Where force control cannot answer (objects already inside the skin at indentation 0,
+// a target beyond the deepest push) the root find does, and says what it found.
+TEST(FingertipCompliance, ForceControlLeavesWhatItCannotAnswerToTheRootFind) {
+  FingertipCompliance cc(Model());
+  PressToForceOptions shallow;
+  shallow.max_indentation_mm = 0.3;
+  const PressToForceResult deep = cc.PressToForce({Sphere(5, {0, 1, 5})}, 20.0, shallow);
+  EXPECT_EQ(deep.status, PressStatus::kMaxDepth) << deep.message;
+  EXPECT_FALSE(deep.force_controlled);
+  EXPECT_GT(deep.iterations, 1);
+  // Starts 0.3 mm inside the skin: f(0) > 0, the root find's case.
+  const PressToForceResult inside = cc.PressToForce({Sphere(5, {0, 1, 4.7})}, 1.0);
+  ASSERT_TRUE(inside.reached) << ToString(inside.status) << " " << inside.message;
+  EXPECT_FALSE(inside.force_controlled);
+  EXPECT_NEAR(inside.force_N, 1.0, 1e-6);
+  // And the contact solver refuses force control it cannot do.
+  FingertipComplianceOptions exact;
+  exact.contact.exact_contact = true;
+  FingertipCompliance rigid(Model(), exact);
+  fem::ComplianceContact::ForceControl fc;
+  fc.target_N = 0.5;
+  EXPECT_FALSE(rigid.contact().StepToForce({Sphere(5, {0, 1, 5})}, fc).ok);
+  fc.target_N = -1;
+  EXPECT_FALSE(cc.contact().StepToForce({Sphere(5, {0, 1, 5})}, fc).ok);
+  EXPECT_FALSE(cc.contact().last().error.empty());
 }
 
 TEST(FingertipCompliance, ExactContactReachesTheForceAtLessIndentationThanPenalty) {
