@@ -181,26 +181,36 @@ void PlaneStep(benchmark::State& state) {
   Report(state, timer);
 }
 
-// Contact reconstruction's call: a sphere pressed to a force that changes each call.
+// Contact reconstruction's call: a sphere pressed to a force that changes each call, by
+// one force-controlled solve (arg 0 = 1) or the root find over indentation-controlled
+// solves (0); warm (arg 1 = 0: scan after scan) or from no contact each call (1: a first
+// touch).
 void PressToForce(benchmark::State& state) {
   omp_set_num_threads(1);
   scene::FingertipCompliance& cc = Shared();
   cc.contact().ResetWarmStart();
   const std::vector<geometry::RigidObject> sphere{Sphere(8, 0)};
+  scene::PressToForceOptions options;
+  options.force_control = state.range(0) != 0;
+  const bool cold = state.range(1) != 0;
   Timer timer;
-  double solves = 0, contacts = 0;
+  double solves = 0, contacts = 0, outer = 0;
   int k = 0;
   for (auto _ : state) {
     const double target = 1.0 + 0.1 * std::sin(0.05 * k++);
+    if (cold) cc.ResetWarmStart();
     timer.Start();
-    const scene::PressToForceResult r = cc.PressToForce(sphere, target);
+    const scene::PressToForceResult r = cc.PressToForce(sphere, target, options);
     timer.Stop();
     if (!r.reached) state.SkipWithError(r.message.c_str());
     solves += r.iterations;
     contacts += r.active_nodes;
+    outer += cc.contact().last().iterations;
   }
   state.counters["contact_solves"] = solves / double(timer.wall_ms.size());
   state.counters["contacts"] = contacts / double(timer.wall_ms.size());
+  // Outer iterations of the last solve (force control: of the press's only solve).
+  state.counters["last_solve_iterations"] = outer / double(timer.wall_ms.size());
   Report(state, timer);
 }
 
@@ -214,8 +224,9 @@ void Register() {
       ->Iterations(2000)->Unit(benchmark::kMillisecond)->UseRealTime();
   benchmark::RegisterBenchmark("PlaneStep", PlaneStep)->Arg(50)->Arg(100)->Arg(200)->Arg(300)
       ->Iterations(2000)->Unit(benchmark::kMillisecond)->UseRealTime();
-  benchmark::RegisterBenchmark("PressToForce", PressToForce)->Iterations(500)->Unit(benchmark::kMillisecond)
-      ->UseRealTime();
+  benchmark::RegisterBenchmark("PressToForce", PressToForce)
+      ->ArgNames({"force_control", "cold"})->Args({0, 0})->Args({1, 0})->Args({0, 1})->Args({1, 1})
+      ->Iterations(500)->Unit(benchmark::kMillisecond)->UseRealTime();
 }
 
 }  // namespace
