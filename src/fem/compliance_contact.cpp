@@ -386,6 +386,24 @@ void ComplianceContact::ResetWarmStart() {
   u_c_.setZero();
 }
 
+void ComplianceContact::RestoreWarmStart(const WarmStart& w) {
+  if (w.num_objects < 0 || w.lambda_N.size() != w.normal.cols() || w.lambda_N.size() % std::max(1, w.num_objects) != 0 ||
+      w.lambda_N.size() != Eigen::Index(num_samples()) * w.num_objects) {
+    ResetWarmStart();
+    return;
+  }
+  const bool same_scene = w.num_objects == num_objects_;
+  num_objects_ = w.num_objects;
+  lambda_N_ = w.lambda_N;
+  normal_ = w.normal;
+  if (!same_scene) {  // the per-pair friction state must have the saved scene's size
+    const Eigen::Index pairs = lambda_N_.size();
+    anchored_.assign(size_t(pairs), 0);
+    sticking_.assign(size_t(pairs), 0);
+    anchor_ = anchor_world_ = friction_ = friction_target_ = Eigen::Matrix3Xd::Zero(3, pairs);
+  }
+}
+
 Eigen::VectorXd ComplianceContact::full_positions_m() const {
   if (F_.size() == 0) return {};
   Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(mesh_.rest_positions_m.data(), mesh_.rest_positions_m.size());

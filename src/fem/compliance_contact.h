@@ -142,6 +142,16 @@ class ComplianceContact {
   const ComplianceStepResult& last() const { return result_; }
   /// Forgets the warm start (the next step starts from no contact) and friction anchors.
   void ResetWarmStart();
+  /// The warm start (contact forces and directions of the last step), to try a step and
+  /// go back if it is not taken (PressToForce's force-controlled try).
+  struct WarmStart {
+    int num_objects = -1;
+    Eigen::VectorXd lambda_N;
+    Eigen::Matrix3Xd normal;
+  };
+  WarmStart SaveWarmStart() const { return {num_objects_, lambda_N_, normal_}; }
+  /// Back to a saved warm start (friction anchors are not part of it: unchanged).
+  void RestoreWarmStart(const WarmStart& w);
   /// Accepts the last step for pseudo friction (as a simulation's EndStep): contacts
   /// anchor where they touch now, sliding anchors move. No-op without friction.
   void EndStep();

@@ -312,6 +312,7 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
     control.max_change_m = std::max(1e-3, opt.max_step_mm) * 1e-3;
     control.max_offset_m = opt.max_indentation_mm * 1e-3;
     for (size_t k = 0; k < pushed.size(); ++k) pushed[k].trajectory = geometry::Trajectory(touch[k]);
+    const fem::ComplianceContact::WarmStart before = contact_->SaveWarmStart();
     const Eigen::Vector3d t_model = model_.pad_frame.model_from_pad.linear() *
                                     Eigen::Vector3d(tangential_pad_N.x(), tangential_pad_N.y(), 0.0);
     const fem::ComplianceStepResult& s = contact_->StepToForce(ToModel(pushed), control, t_model, /*compute_sed=*/false);
@@ -328,9 +329,8 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
       return finish(PressStatus::kReached, d_mm, f_N, "");
     }
     // Not answered (not converged, out of depth, patch edge or no contact): the root find
-    // below, from no contact.
-    contact_->ResetWarmStart();
-    d = 0;
+    // below, from the state force control started from.
+    contact_->RestoreWarmStart(before);
   }
   double f = f_zero;
   bool restarted = d <= 0;
