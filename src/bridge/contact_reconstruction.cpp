@@ -134,6 +134,7 @@ struct ContactReconstructor::Fit {
   bool converged = false;  // LM stopped by its own tests, not by a budget or an error
   bool at_radius_bound = false;  // the radius ran out of the plausible range (clamped)
   int budget_used = 0;           // evaluations weighted by patch size
+  Prediction prediction;         // at the model's unknowns
   double Penalized() const { return chi2 + 2.0 * unknowns; }
 };
 
@@ -206,7 +207,8 @@ bool ContactReconstructor::Plausible(const Hypothesis& h) const {
 }
 
 ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start, int max_evaluations,
-                                                         int evaluation_budget, bool force_only) const {
+                                                         int evaluation_budget, bool force_only,
+                                                         const Prediction* known) const {
   const bool shear = options_.fit_shear;
   const bool pair = start.pair;
   const ContactShape shape = pair ? ContactShape::kSphere : start.first.shape;
@@ -292,7 +294,7 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
       }
     }
     int operator()(const Eigen::VectorXd& u, Eigen::VectorXd& r) const {
-      Parts(u);
+      if (at.size() != u.size() || at != u) Parts(u);
       Residuals(u, r);
       return 0;
     }
@@ -369,6 +371,42 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
   s.first.shape = shape;
   if (shape == ContactShape::kFlat) s.first.x_mm = s.first.y_mm = 0;
   Eigen::VectorXd u = ToUnknowns(s, shear);
+  // Start from the known parts (the last scan's answer): exactly where they were computed.
+  if (known && known->valid && known->shape == shape && known->pair == pair && known->finite == finite &&
+      known->at.size() == u.size() &&
+      (known->at - u).cwiseAbs().maxCoeff() <= 1e-9 * (1 + u.cwiseAbs().maxCoeff())) {
+    u = known->at;
+    f.at = known->at;
+    f.normal = known->normal;
+    f.per_x = known->per_x;
+    f.per_y = known->per_y;
+    for (int k = 0; k < 2; ++k) {
+      f.parts[k].normal = known->part_normal[k];
+      f.parts[k].per_x = known->part_per_x[k];
+      f.parts[k].per_y = known->part_per_y[k];
+      f.parts[k].force_N = known->part_force_N[k];
+    }
+  }
+  // The parts at the functor's last point, when that is the fit's answer u.
+  auto prediction_at = [&](const Eigen::VectorXd& answer) {
+    Prediction p;
+    if (f.at.size() != answer.size() || f.at != answer) return p;
+    p.valid = true;
+    p.shape = shape;
+    p.pair = pair;
+    p.finite = finite;
+    p.at = f.at;
+    p.normal = f.normal;
+    p.per_x = f.per_x;
+    p.per_y = f.per_y;
+    for (int k = 0; k < 2; ++k) {
+      p.part_normal[k] = f.parts[k].normal;
+      p.part_per_x[k] = f.parts[k].per_x;
+      p.part_per_y[k] = f.parts[k].per_y;
+      p.part_force_N[k] = f.parts[k].force_N;
+    }
+    return p;
+  };
   if (force_only) {
     // One Gauss-Newton step in (log F, T) with the shape held: three evaluations (the point,
     // its log R difference for the free force column, the step), where an LM iteration of
@@ -396,6 +434,7 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
     const double chi2_0 = r0.head(m).squaredNorm(), chi2_1 = r1.head(m).squaredNorm();
     const bool took = step.allFinite() && std::isfinite(chi2_1) && chi2_1 < chi2_0;
     fit.model = FromUnknowns(shape, pair, finite, took ? u1 : u, shear);
+    if (took) fit.prediction = prediction_at(u1);
     fit.chi2 = took ? chi2_1 : (std::isfinite(chi2_0) ? chi2_0 : std::numeric_limits<double>::infinity());
     fit.unknowns = UnknownCount(shape, pair, finite, shear);
     fit.evaluations = evaluations;
@@ -446,6 +485,7 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
   fit.unknowns = UnknownCount(shape, pair, finite, shear);
   fit.evaluations = evaluations;
   fit.budget_used = budget_used;
+  fit.prediction = prediction_at(u);
   return fit;
 }
 
@@ -589,10 +629,11 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
       ++counters_.fallbacks;
       // Amortized selection keeps a plausible best guess to refine while it explores.
       have_last_ = options_.selection == ModelSelection::kAmortized && plausible;
-      if (have_last_) last_ = fit.model;
+      if (have_last_) last_ = fit.model, last_prediction_ = fit.prediction;
       have_last_chi2_ = false;
     } else {
       last_ = fit.model;
+      last_prediction_ = fit.prediction;
       have_last_ = true;
       last_chi2_per_dof_ = fit.chi2 / dof;
       have_last_chi2_ = true;
@@ -670,7 +711,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     const bool saturated = std::find(saturated_.begin(), saturated_.end(), 1) != saturated_.end();
     if (amortized && options_.force_step_first && have_last_chi2_ && estimate_.averaged_scans == 1 && !last_.pair &&
         last_.first.shape != ContactShape::kFlat && options_.fit_shear && !saturated) {
-      const Fit step = FitModel(last_, 0, 0, true);
+      const Fit step = FitModel(last_, 0, 0, true, &last_prediction_);
       estimate_.evaluations += step.evaluations;
       const double tolerance = 3 * std::sqrt(2 / dof);
       if (Plausible(step.model) && step.chi2 / dof <= last_chi2_per_dof_ + tolerance) {
@@ -680,7 +721,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
       }
     }
     if (!quick) {
-      best = FitModel(last_, 0, amortized ? options_.warm_scan_evaluations : 0);
+      best = FitModel(last_, 0, amortized ? options_.warm_scan_evaluations : 0, false, &last_prediction_);
       estimate_.evaluations += best.evaluations;
     }
     warm_won = Plausible(best.model);

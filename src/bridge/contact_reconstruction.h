@@ -223,13 +223,26 @@ class ContactReconstructor {
 
  private:
   struct Fit;
+  /// The forward model's parts (normal readings, per unit shear) at a fit's final
+  /// unknowns. They do not depend on the readings, so the next scan's force step and warm
+  /// fit, which start there, need not evaluate that point again.
+  struct Prediction {
+    bool valid = false;
+    sensors::ContactShape shape = sensors::ContactShape::kSphere;
+    bool pair = false, finite = false;
+    Eigen::VectorXd at, normal, per_x, per_y;
+    // A pair's two spheres, each its own parts (their sum is combined by force).
+    Eigen::VectorXd part_normal[2], part_per_x[2], part_per_y[2];
+    double part_force_N[2] = {0, 0};
+  };
   /// LM from `start`; max_evaluations: LM function evaluations (0: options' max_evaluations);
   /// evaluation_budget: stop after the LM iteration that reaches this many forward-model
   /// evaluations (0: none). Each sphere of a pair counts as one evaluation.
   /// force_only: one Gauss-Newton step in log F and the shear with the shape held (single,
   /// non-flat shapes with shear; no saturated taxel): three evaluations.
+  /// known: the parts at `start` when they are known (its unknowns within round-off).
   Fit FitModel(const Hypothesis& start, int max_evaluations = 0, int evaluation_budget = 0,
-               bool force_only = false) const;
+               bool force_only = false, const Prediction* known = nullptr) const;
   bool Plausible(const sensors::ContactPrimitive& p) const;
   bool Plausible(const Hypothesis& h) const;
 
@@ -253,6 +266,7 @@ class ContactReconstructor {
   ContactEstimate estimate_;
   bool have_last_ = false;
   Hypothesis last_;
+  Prediction last_prediction_;  // at last_ (when valid)
   bool have_last_chi2_ = false;
   double last_chi2_per_dof_ = 0;  // the last accepted fit's chi^2 per reading (its own scan's dof)
   int next_start_ = 0;   // amortized selection: next start to try
