@@ -767,13 +767,15 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
         const int pick = next_start_ % start_count;
         next_start_ = (pick + 1) % start_count;
         candidate_ = start_hypothesis(starts[pick]);
+        candidate_prediction_ = Prediction{};
         candidate_spent_ = 0;
         have_candidate_ = true;
       }
-      const Fit fit = FitModel(candidate_, options_.explore_evaluations, budget);
+      const Fit fit = FitModel(candidate_, options_.explore_evaluations, budget, false, &candidate_prediction_);
       estimate_.evaluations += fit.evaluations;
       budget -= fit.budget_used;
       candidate_ = fit.model;
+      candidate_prediction_ = fit.prediction;
       candidate_spent_ += fit.budget_used;
       // A candidate whose radius runs out of the plausible range is the wrong shape (a rod
       // or sphere growing without bound to explain a flat), and its huge patches are the

@@ -74,7 +74,8 @@ struct ReconstructionOptions {
   double min_pair_force_share = 0.15;
   bool fit_pairs = true;          ///< false: single primitives only (a pair is a fallback)
   /// Amortized: a scan that is not a hold (a press, a release) first tries one Gauss-Newton
-  /// step in the force and shear alone, the shape held (3 evaluations); when that explains
+  /// step in the force and shear alone, the shape held (2 evaluations: the last answer's
+  /// prediction is kept, see Prediction); when that explains
   /// the scan as well as the last fit explained its own (chi^2 per reading within 3 standard
   /// deviations of pure noise's), the full warm fit is skipped.
   bool force_step_first = true;
@@ -239,7 +240,7 @@ class ContactReconstructor {
   /// evaluation_budget: stop after the LM iteration that reaches this many forward-model
   /// evaluations (0: none). Each sphere of a pair counts as one evaluation.
   /// force_only: one Gauss-Newton step in log F and the shear with the shape held (single,
-  /// non-flat shapes with shear; no saturated taxel): three evaluations.
+  /// non-flat shapes with shear; no saturated taxel): three evaluations, two from `known`.
   /// known: the parts at `start` when they are known (its unknowns within round-off).
   Fit FitModel(const Hypothesis& start, int max_evaluations = 0, int evaluation_budget = 0,
                bool force_only = false, const Prediction* known = nullptr) const;
@@ -276,6 +277,7 @@ class ContactReconstructor {
   // the evaluations it has spent.
   bool have_candidate_ = false;
   Hypothesis candidate_;
+  Prediction candidate_prediction_;  // at candidate_ (when valid)
   int candidate_spent_ = 0;
   ReconstructionCounters counters_;
 };

@@ -320,13 +320,19 @@ TEST(ContactReconstruction, ForceStepTracksARampWithFewerEvaluations) {
   ContactReconstructor with_step(Uskin()), full(Uskin(), without);
   std::mt19937_64 rng(3);
   double worst_with = 0, worst_full = 0;
+  int fewest_on_a_step = 1000, steps_alone = 0;
   ContactEstimate a, b;
   for (int scan = 0; scan < 80; ++scan) {
     const ContactPrimitive c = SphereAt(1, -1, 5, 0.1 + 0.01 * scan);  // 1.25 %/scan at the end
     Eigen::VectorXd reading;
     model.Predict(c, &reading);
     const Eigen::VectorXd noisy = Noisy(reading, &rng);
+    const int64_t steps_before = with_step.counters().force_steps;
     a = with_step.Reconstruct(noisy, std::vector<uint8_t>(16, 1));
+    if (with_step.counters().force_steps > steps_before) {
+      fewest_on_a_step = std::min(fewest_on_a_step, a.evaluations);
+      steps_alone += a.evaluations == 2;
+    }
     b = full.Reconstruct(noisy, std::vector<uint8_t>(16, 1));
     ASSERT_TRUE(a.ok && b.ok) << "scan " << scan;
     if (scan >= 10) {
@@ -343,6 +349,10 @@ TEST(ContactReconstruction, ForceStepTracksARampWithFewerEvaluations) {
   EXPECT_LT(worst_with, worst_full + 0.01);
   EXPECT_NEAR(a.primitive.radius_mm, 5.0, 0.5);
   EXPECT_NEAR(a.primitive.x_mm, 1.0, 0.1);
+  // The last answer's parts are kept: a scan answered by the force step alone evaluates
+  // its log R difference and the step, not the point it starts from (3 without that).
+  EXPECT_EQ(fewest_on_a_step, 2);
+  EXPECT_GT(steps_alone, 10);
 }
 
 // An edge that ends on the pad (a 9 mm rod of radius 1 mm, yaw 20, centred at (1, -2)) is a
