@@ -59,10 +59,51 @@ struct Fnv {
   }
 };
 
+// The two hot loops of a step (the dense column products and the Merkel layer's linear
+// SED) as raw-pointer functions with an x86-64-v3 (AVX2, FMA) clone beside the baseline
+// build; the loader picks the clone the CPU runs. (Per-file -mavx2 would mix Eigen's
+// alignment ABI across translation units: never.)
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#define SEDBRIDGE_HOT_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define SEDBRIDGE_HOT_CLONES
+#endif
+
+SEDBRIDGE_HOT_CLONES
+void AddThreeColumns(int rows, const double* a0, const double* a1, const double* a2, double f0, double f1, double f2,
+                     double* y) {
+  for (int i = 0; i < rows; ++i) y[i] += a0[i] * f0 + a1[i] * f1 + a2[i] * f2;
+}
+
 // y += A.middleCols<3>(3 j) * f as one fused pass over the rows (Eigen's generic 3-column
 // product path was the largest cost of a step with many contacts).
 void AddColumns3(const Eigen::MatrixXd& A, int j, const Eigen::Vector3d& f, Eigen::VectorXd& y) {
-  y.noalias() += A.col(3 * j) * f[0] + A.col(3 * j + 1) * f[1] + A.col(3 * j + 2) * f[2];
+  const Eigen::Index rows = A.rows();
+  const double* a = A.data() + 3 * Eigen::Index(j) * rows;
+  AddThreeColumns(int(rows), a, a + rows, a + 2 * rows, f[0], f[1], f[2], y.data());
+}
+
+// Linear SED of `count` tetrahedra from the displacements u [m] of their nodes: element e's
+// node a at u + offset[a * count + e], shape gradient component (a, q) at
+// gradient[(3 a + q) * count + e] (structure of arrays, so the loop vectorizes across
+// elements). mu eps:eps + lambda/2 tr(eps)^2 [Pa].
+SEDBRIDGE_HOT_CLONES
+void LinearElementSeds(int count, const int* offset, const double* gradient, const double* mu_Pa,
+                       const double* lambda_Pa, const double* u, double* sed_Pa) {
+  for (int e = 0; e < count; ++e) {
+    double H[3][3] = {};  // displacement gradient sum_a u_a g_a^T
+    for (int a = 0; a < 4; ++a) {
+      const double* ua = u + offset[a * count + e];
+      for (int q = 0; q < 3; ++q) {
+        const double g = gradient[(3 * a + q) * count + e];
+        for (int r = 0; r < 3; ++r) H[r][q] += ua[r] * g;
+      }
+    }
+    const double e01 = 0.5 * (H[0][1] + H[1][0]), e02 = 0.5 * (H[0][2] + H[2][0]), e12 = 0.5 * (H[1][2] + H[2][1]);
+    const double tr = H[0][0] + H[1][1] + H[2][2];
+    const double eps_eps = H[0][0] * H[0][0] + H[1][1] * H[1][1] + H[2][2] * H[2][2] + 2 * (e01 * e01 + e02 * e02 + e12 * e12);
+    sed_Pa[e] = mu_Pa[e] * eps_eps + 0.5 * lambda_Pa[e] * tr * tr;
+  }
 }
 
 }  // namespace
@@ -108,14 +149,21 @@ ComplianceContact::ComplianceContact(const TetMesh& mesh, std::vector<std::uniqu
     sed_nodes_.assign(nodes.begin(), nodes.end());
     std::vector<int> local(size_t(n), -1);
     for (size_t a = 0; a < sed_nodes_.size(); ++a) local[size_t(sed_nodes_[a])] = int(a);
-    for (int e : sed_->elements()) {
+    const std::vector<int>& elements = sed_->elements();
+    const size_t count = elements.size();
+    sed_offset_.assign(4 * count, 0);
+    sed_gradient_.assign(12 * count, 0.0);
+    sed_mu_Pa_.resize(count);
+    sed_lambda_Pa_.resize(count);
+    for (size_t k = 0; k < count; ++k) {
+      const int e = elements[k];
       const TetElement& te = elastic->elements()[size_t(e)];
-      SedElement se;
-      for (int a = 0; a < 4; ++a) se.node[size_t(a)] = local[size_t(mesh.tets[size_t(e)][size_t(a)])];
-      se.shape_gradients = te.shape_gradients;
-      se.mu_Pa = te.mu_Pa;
-      se.lambda_Pa = te.lambda_Pa;
-      sed_elements_.push_back(se);
+      for (size_t a = 0; a < 4; ++a) {
+        sed_offset_[a * count + k] = 3 * local[size_t(mesh.tets[size_t(e)][a])];
+        for (size_t q = 0; q < 3; ++q) sed_gradient_[(3 * a + q) * count + k] = te.shape_gradients(Eigen::Index(a), Eigen::Index(q));
+      }
+      sed_mu_Pa_[k] = te.mu_Pa;
+      sed_lambda_Pa_[k] = te.lambda_Pa;
     }
   }
 
@@ -742,21 +790,9 @@ void ComplianceContact::ComputeSed() {
   for (int j = 0; j < c; ++j) x_.segment<3>(3 * candidates_[size_t(j)]) = rest_c_.col(j) + u_c_.segment<3>(3 * j);
   // Linear SED straight from the displacement gradient (same value as ElementSed with
   // R = I, a third of its work: this is most of a step with few contacts).
-  element_sed_.resize(Eigen::Index(sed_elements_.size()));
-  const double* u = u_s_.data();
-  for (size_t e = 0; e < sed_elements_.size(); ++e) {
-    const SedElement& se = sed_elements_[e];
-    double H[3][3] = {};  // displacement gradient sum_a u_a g_a^T, plain loops (hot)
-    for (int a = 0; a < 4; ++a) {
-      const double* ua = u + 3 * se.node[size_t(a)];
-      for (int r = 0; r < 3; ++r)
-        for (int q = 0; q < 3; ++q) H[r][q] += ua[r] * se.shape_gradients(a, q);
-    }
-    const double e01 = 0.5 * (H[0][1] + H[1][0]), e02 = 0.5 * (H[0][2] + H[2][0]), e12 = 0.5 * (H[1][2] + H[2][1]);
-    const double tr = H[0][0] + H[1][1] + H[2][2];
-    const double eps_eps = H[0][0] * H[0][0] + H[1][1] * H[1][1] + H[2][2] * H[2][2] + 2 * (e01 * e01 + e02 * e02 + e12 * e12);
-    element_sed_[Eigen::Index(e)] = se.mu_Pa * eps_eps + 0.5 * se.lambda_Pa * tr * tr;
-  }
+  element_sed_.resize(Eigen::Index(sed_mu_Pa_.size()));
+  LinearElementSeds(int(sed_mu_Pa_.size()), sed_offset_.data(), sed_gradient_.data(), sed_mu_Pa_.data(),
+                    sed_lambda_Pa_.data(), u_s_.data(), element_sed_.data());
   sed_->AverageToVertices(element_sed_, result_.sed_Pa);
   sed_current_ = true;
 }

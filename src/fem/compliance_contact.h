@@ -221,12 +221,11 @@ class ComplianceContact {
   std::vector<int> sed_nodes_;
   ComplianceContactOptions options_;
   std::unique_ptr<VertexSedEvaluator> sed_;
-  struct SedElement {
-    std::array<int, 4> node;  // indices into sed_nodes_
-    Eigen::Matrix<double, 4, 3> shape_gradients;
-    double mu_Pa, lambda_Pa;
-  };
-  std::vector<SedElement> sed_elements_;  // in the order of sed_->elements()
+  // The SED elements (in the order of sed_->elements()), structure of arrays: node a's
+  // offset 3 * (index into sed_nodes_) at [a * count + e], shape gradient (a, q) at
+  // [(3 a + q) * count + e], Lame parameters per element.
+  std::vector<int> sed_offset_;
+  std::vector<double> sed_gradient_, sed_mu_Pa_, sed_lambda_Pa_;
   Eigen::VectorXd element_sed_;
   Eigen::MatrixXd W_, G_, F_;  // F_: K^-1 H^T for every dof (full_field only)
   // Face samples: W over the nodes only; G_ and F_ stay over the nodes.
