@@ -90,6 +90,7 @@ void AddColumns3(const Eigen::MatrixXd& A, int j, const Eigen::Vector3d& f, Eige
 SEDBRIDGE_HOT_CLONES
 void LinearElementSeds(int count, const int* offset, const double* gradient, const double* mu_Pa,
                        const double* lambda_Pa, const double* u, double* sed_Pa) {
+#pragma omp simd
   for (int e = 0; e < count; ++e) {
     double H[3][3] = {};  // displacement gradient sum_a u_a g_a^T
     for (int a = 0; a < 4; ++a) {
