@@ -66,7 +66,9 @@ int RunFidelity(int argc, char** argv) {
   for (const auto& press : presses) {
     FidelityMaps maps;
     const FidelityRow r = bench.Run(press, &maps);
-    const bool map_within = WithinTargets(r.map_error), recon_within = WithinTargets(r.recon_error);
+    // Without a valid truth nothing is scored (two near-zero maps would agree).
+    const bool map_within = r.truth_valid && WithinTargets(r.map_error);
+    const bool recon_within = r.truth_valid && WithinTargets(r.recon_error);
     if (r.truth_valid) {
       ++scored;
       map_hits += map_within;

@@ -150,11 +150,11 @@ ContactReconstructor::ContactReconstructor(const sensors::SensorProfile& profile
       (options_.radius_prior_log_sigma > 0 && !(options_.radius_prior_mm > 0)))
     throw std::invalid_argument("contact reconstruction: need 0 < min_radius_mm < max_radius_mm and radius_prior_mm > 0");
   if (options_.max_hold_scans < 1 || !(options_.hold_change_sigma > 0) || !(options_.hold_force_change_sigma > 0) ||
-      options_.cells_per_evaluation < 1 || !(options_.min_chi2_gain >= 0) || !(options_.noise_counts > 0) ||
+      options_.cells_per_evaluation < 1 || options_.jacobian_refresh < 1 || !(options_.min_chi2_gain >= 0) || !(options_.noise_counts > 0) ||
       options_.scan_evaluations < 0)
     throw std::invalid_argument(
         "contact reconstruction: need max_hold_scans >= 1, hold_change_sigma and hold_force_change_sigma > 0, "
-        "cells_per_evaluation >= 1, min_chi2_gain >= 0, noise_counts > 0, scan_evaluations >= 0");
+        "cells_per_evaluation >= 1, jacobian_refresh >= 1, min_chi2_gain >= 0, noise_counts > 0, scan_evaluations >= 0");
   if (!(options_.min_pair_separation_mm >= 0) || !(options_.min_pair_force_share >= 0 && options_.min_pair_force_share <= 0.5) ||
       !(options_.min_rod_length_mm > 0) || options_.explained_candidate_evaluations < 0)
     throw std::invalid_argument(
@@ -245,6 +245,12 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
     // evaluated the residuals. A pair keeps each sphere's.
     mutable Eigen::VectorXd at, normal, per_x, per_y, pred, r_step;
     mutable Part parts[2];
+    // Broyden: the last Jacobian, the point and residuals it belongs to, LM iterations since
+    // its finite differences (-1: none yet in this fit).
+    int refresh = 1;
+    mutable Eigen::MatrixXd J_last;
+    mutable Eigen::VectorXd u_last, r_last;
+    mutable int since_differences = -1;
     int inputs() const { return UnknownCount(shape, pair, finite, shear); }
     int prior_rows() const { return prior_weight > 0 ? (pair ? 2 : 1) : 0; }
     int values() const { return static_cast<int>(self->obs_.size()) + prior_rows(); }
@@ -321,6 +327,38 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
         double h = 1e-3 * std::abs(u0[j]);
         return h == 0 ? 1e-3 : h;
       };
+      auto keep = [&] {
+        J_last = J;
+        u_last = u0;
+        r_last = r0;
+      };
+      // Broyden for the pose columns only (not a pair's): the radius, which a light scan
+      // barely determines, keeps its difference column (with it the free force column), so
+      // a poor secant cannot walk it to a bound (the rig's rod press_12 did, to 60 mm).
+      const int log_force_column = geometric - 1;
+      if (!pair && refresh > 1 && log_force_column > kLogRadius && since_differences >= 0 &&
+          since_differences + 1 < refresh && J_last.rows() == J.rows() && J_last.cols() == J.cols()) {
+        // Secant update from the last accepted point: J + (dr - J du) du^T / du^T du.
+        const Eigen::VectorXd du = u0 - u_last;
+        const double dd = du.squaredNorm();
+        J = J_last;
+        if (dd > 0) J.noalias() += ((r0 - r_last) - J_last * du) * (du.transpose() / dd);
+        const double h = step(kLogRadius);
+        Eigen::VectorXd ur = u0;
+        ur[kLogRadius] += h;
+        Parts(ur);
+        Residuals(ur, r_step);
+        J.col(kLogRadius) = (r_step - r0) / h;
+        set_column(log_force_column, normal0 + (pred - pred0) / h);
+        if (shear) {
+          set_column(geometric, per_x0);
+          set_column(geometric + 1, per_y0);
+        }
+        ++since_differences;
+        keep();
+        return 0;
+      }
+      since_differences = 0;
       if (pair) {
         const Part saved[2] = {parts[0], parts[1]};
         for (int j = 0; j < geometric; ++j) {
@@ -354,11 +392,13 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
         set_column(geometric, per_x0);
         set_column(geometric + 1, per_y0);
       }
+      keep();
       return 0;
     }
   };
   int evaluations = 0, budget_used = 0;
   Functor f{{}, this, shape, pair, finite, shear, &evaluations, &budget_used, 0, 0, {}, {}, {}, {}, {}, {}, {}};
+  f.refresh = options_.jacobian_refresh;
   if (shape != ContactShape::kFlat && options_.radius_prior_log_sigma > 0) {
     f.prior_weight = 1.0 / options_.radius_prior_log_sigma;
     f.prior_mean = std::log(options_.radius_prior_mm);

@@ -106,7 +106,9 @@ struct ReconstructionOptions {
   /// the scan leaves the candidate its whole budget. 0 = no total (the default). 24: the
   /// scans' p99 evaluations 36 -> 29 over the rig replays, no fallback, no time gain that a
   /// log's p99 shows, but the synthetic box corner's peak ratio 0.87 -> 0.68
-  /// (docs/bridge-fidelity.md §8): off until it measures better.
+  /// (docs/bridge-fidelity.md §8): off until it measures better. With Broyden updates
+  /// (jacobian_refresh) a total of 12 cuts the dearest explained scan 33 -> 26 evaluations
+  /// but spends 4 % more in all (a deferred fit starts again with a difference Jacobian).
   int scan_evaluations = 0;
   /// Amortized: while the current model explains the scan within settle_rms_sigma, the
   /// candidate gets at most this many per scan (0 = candidate_scan_evaluations): exploring
@@ -129,6 +131,18 @@ struct ReconstructionOptions {
   /// fidelity at the peak scans, the same force per scan to 0.08 % of peak (p95)
   /// (docs/bridge-fidelity.md §7).
   double min_chi2_gain = 0.3;
+  /// A fit's Jacobian by finite differences (one forward-model evaluation per pose and
+  /// radius unknown) at its first LM iteration and every jacobian_refresh-th after; the
+  /// iterations between update it by Broyden's rank-one secant formula from the step just
+  /// taken (no evaluation), the shear columns exact. 1 = finite differences every iteration.
+  /// Only the pose columns are updated: the radius (which a light scan barely determines)
+  /// keeps its difference column, and with it the free force column, so a sphere's or
+  /// rod's iteration costs 2 evaluations instead of 4 (with the radius updated too: 1, but
+  /// a light scan of the rig's rod press_12 walked to the 60 mm bound). 4: forward-model
+  /// evaluations over the replays of the example and rig press_03 / press_14 965 / 1260 /
+  /// 1487 -> 775 / 836 / 1114, the same fidelity counts, no fit fallback over the 21 rig
+  /// replays (docs/bridge-fidelity.md §5, sixth round).
+  int jacobian_refresh = 4;
   /// Hold averaging: while the scans agree with their running mean within noise (a
   /// stationary contact: a hold, a slow press), the fit reads the mean of the last
   /// max_hold_scans scans with the noise of that mean. One scan barely determines a thin

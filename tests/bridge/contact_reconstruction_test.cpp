@@ -355,6 +355,44 @@ TEST(ContactReconstruction, ForceStepTracksARampWithFewerEvaluations) {
   EXPECT_GT(steps_alone, 10);
 }
 
+// Broyden's secant update between finite-difference Jacobians: the same ramp (force up
+// 1.25 %/scan) and a sphere moving 20 um a scan, read with far fewer forward-model
+// evaluations and the same accuracy. Measured: 636 evaluations against 1068, worst force
+// error from scan 10 on 2.4 % against 2.5 %, worst x error 0.057 mm both, R 5.99 mm.
+TEST(ContactReconstruction, BroydenJacobianFitsWithFewerEvaluations) {
+  sensors::TactileForwardModel model(Uskin(), Uskin().forward_model);
+  ReconstructionOptions differences;
+  differences.jacobian_refresh = 1;
+  ContactReconstructor broyden(Uskin()), every(Uskin(), differences);
+  EXPECT_EQ(broyden.options().jacobian_refresh, 4);
+  std::mt19937_64 rng(5);
+  double worst_force[2] = {0, 0}, worst_x[2] = {0, 0};
+  ContactEstimate a, b;
+  for (int scan = 0; scan < 80; ++scan) {
+    const double x_mm = 0.5 + 0.02 * scan;
+    const ContactPrimitive c = SphereAt(x_mm, -1, 6, 0.1 + 0.01 * scan);
+    Eigen::VectorXd reading;
+    model.Predict(c, &reading);
+    const Eigen::VectorXd noisy = Noisy(reading, &rng);
+    a = broyden.Reconstruct(noisy, std::vector<uint8_t>(16, 1));
+    b = every.Reconstruct(noisy, std::vector<uint8_t>(16, 1));
+    ASSERT_TRUE(a.ok && b.ok) << "scan " << scan;
+    if (scan >= 10) {
+      worst_force[0] = std::max(worst_force[0], std::abs(a.primitive.normal_force_N / c.normal_force_N - 1));
+      worst_force[1] = std::max(worst_force[1], std::abs(b.primitive.normal_force_N / c.normal_force_N - 1));
+      worst_x[0] = std::max(worst_x[0], std::abs(a.primitive.x_mm - x_mm));
+      worst_x[1] = std::max(worst_x[1], std::abs(b.primitive.x_mm - x_mm));
+    }
+  }
+  EXPECT_LT(broyden.counters().evaluations, 0.8 * every.counters().evaluations)
+      << broyden.counters().evaluations << " vs " << every.counters().evaluations;
+  EXPECT_LT(worst_force[0], 0.05);
+  EXPECT_LT(worst_force[0], worst_force[1] + 0.01);
+  EXPECT_LT(worst_x[0], 0.1);
+  EXPECT_LT(worst_x[0], worst_x[1] + 0.03);
+  EXPECT_NEAR(a.primitive.radius_mm, 6.0, 0.6);
+}
+
 // An edge that ends on the pad (a 9 mm rod of radius 1 mm, yaw 20, centred at (1, -2)) is a
 // finite rod: its length, centre and yaw found from a held press; without the finite-rod
 // model the crossing rod cannot explain it (fallback or a poorer fit).
@@ -522,6 +560,8 @@ TEST(ContactReconstruction, RejectsOptionsThatCannotWork) {
                std::invalid_argument);
   EXPECT_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.radius_prior_mm = -1; })),
                std::invalid_argument);
+  EXPECT_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.jacobian_refresh = 0; })),
+               std::invalid_argument);
   EXPECT_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.cells_per_evaluation = 0; })),
                std::invalid_argument);
   EXPECT_NO_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.scan_evaluations = 0; })));
@@ -654,54 +694,62 @@ TEST(ContactReconstruction, AmortizedScanCostIsBounded) {
 }
 
 // While the current model explains the scan, the warm fit and the candidate share one
-// per-scan total (scan_evaluations), each overshooting it by at most one LM iteration (4
-// evaluations, a few more when Eigen's step rejects trials, and the fit's final evaluation);
-// without the total the same scans spend the two budgets added up (measured: 32 vs 43).
+// per-scan total (scan_evaluations, off by default), each overshooting it by at most one LM
+// iteration with its Jacobian (a first iteration: 4 evaluations, and Eigen's rejected
+// trials); without the total the same scans spend the two budgets added up. Measured with
+// Broyden updates and a total of 12: dearest explained scan 26 against 33, at 4 % more
+// evaluations over these presses (3829 vs 3677: a deferred fit starts again with a
+// finite-difference Jacobian). Before Broyden updates, with 24: 32 against 43.
 TEST(ContactReconstruction, ExplainedScansShareOneScanTotal) {
-  auto most_when_explained = [](const ReconstructionOptions& o) {
-    int most = 0;
+  auto when_explained = [](const ReconstructionOptions& o, int* most) {
+    int spent = 0;
+    *most = 0;
     for (int i : {3, 12, 15, 19}) {
       ContactReconstructor r(Uskin(), o);
       for (const auto& s : Rig()[size_t(i)].scans) {
         const ContactEstimate& e = r.Reconstruct(s);
-        if (e.warm_started && e.ok) most = std::max(most, e.evaluations);
+        if (e.warm_started && e.ok) *most = std::max(*most, e.evaluations), spent += e.evaluations;
       }
     }
-    return most;
+    return spent;
   };
   ReconstructionOptions o;
-  o.scan_evaluations = 24;
-  const int with_total = most_when_explained(o);
-  EXPECT_LE(with_total, o.scan_evaluations + 2 * 6);
+  o.scan_evaluations = 12;
+  int most_with = 0, most_without = 0;
+  const int with_total = when_explained(o, &most_with);
+  EXPECT_LE(most_with, o.scan_evaluations + 2 * 8);
   o.scan_evaluations = 0;
-  const int without = most_when_explained(o);
-  EXPECT_GT(without, with_total);
-  RecordProperty("most_evaluations", std::to_string(with_total) + " (without the total: " + std::to_string(without) + ")");
+  const int without = when_explained(o, &most_without);
+  EXPECT_LT(most_with, most_without);
+  RecordProperty("evaluations", std::to_string(with_total) + " (without the total: " + std::to_string(without) +
+                                    "; dearest scan " + std::to_string(most_with) + " vs " + std::to_string(most_without) + ")");
 }
 
 // While the current model explains the scan within settle_rms_sigma, exploring is a check:
-// the candidate gets explained_candidate_evaluations (6) a scan instead of 12, so the
-// dearest of those scans cost less (the per-scan p99 of the reconstruction on the rig's
-// flat fell from 1.9 to 0.5 ms in reconstruction_benchmark; fidelity unchanged).
+// the candidate gets explained_candidate_evaluations (6) a scan instead of 12, so those
+// scans cost less (the per-scan p99 of the reconstruction on the rig's flat fell from 1.9
+// to 0.5 ms in reconstruction_benchmark; fidelity unchanged). With Broyden updates a
+// candidate's iteration costs one evaluation but each scan's continuation starts with a
+// finite-difference Jacobian, so the dearest scan is no longer the measure: the explained
+// scans' total is.
 TEST(ContactReconstruction, ExplainedScansExploreWithASmallerBudget) {
   // The rig's flat (press_17): its warm fit costs one evaluation, so the candidate's budget
   // is what its explained scans spend.
-  auto most_when_explained = [](const ReconstructionOptions& o) {
-    int most = 0;
+  auto spent_when_explained = [](const ReconstructionOptions& o) {
+    int spent = 0;
     ContactReconstructor r(Uskin(), o);
     for (const auto& s : Rig()[17].scans) {
       const ContactEstimate& e = r.Reconstruct(s);
-      if (e.warm_started && e.ok && e.rms_sigma <= o.settle_rms_sigma) most = std::max(most, e.evaluations);
+      if (e.warm_started && e.ok && e.rms_sigma <= o.settle_rms_sigma) spent += e.evaluations;
     }
-    return most;
+    return spent;
   };
   ReconstructionOptions o;
-  const int small = most_when_explained(o);
+  const int small = spent_when_explained(o);
   o.explained_candidate_evaluations = 0;
-  const int full = most_when_explained(o);
-  // Measured 18 vs 21 evaluations; the time differs more (these candidates are spheres and
-  // rods grown over the whole pad, the dearest evaluations).
+  const int full = spent_when_explained(o);
   EXPECT_LT(small, full);
+  RecordProperty("evaluations", std::to_string(small) + " (candidate budget 12: " + std::to_string(full) + ")");
 }
 
 }  // namespace
