@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
+
 #include <algorithm>
 #include <cmath>
 #include <memory>
@@ -182,6 +184,10 @@ TEST(FidelityBenchmark, HeldOutPressesWithARefittedSensorModel) {
     EXPECT_EQ(r.recon_object.length_mm, 0.0);
     by_argmax += WithinTargets(r.recon_error);
     by_region += WithinTargets(r.recon_error, {}, true);
+    char metrics[96];
+    std::snprintf(metrics, sizeof metrics, "%.2f / %.2f / %.1f", r.recon_error.peak_ratio, r.recon_error.rel_l2,
+                  r.recon_error.peak_offset_mm);
+    RecordProperty(r.name, metrics);
   }
   EXPECT_GE(by_argmax, 5);
   EXPECT_EQ(by_region, 6);
