@@ -10,7 +10,9 @@
 //   and flats only, 1 = + finite rods (fe.finite_rods), 2 = + pairs (fe.two_contacts), 3 =
 //   both (the default); force_step: ReconstructionOptions::force_step_first (1, the
 //   default). ReconstructPressExplainedBudget/<press>/<budget>: the candidate's budget on
-//   scans the current model explains (6, the default, or 0 = the full 12). Counters: per-scan median / p99 / max ms (wall clock, over the press's scans),
+//   scans the current model explains (6, the default, or 0 = the full 12).
+//   ReconstructPressJacobian/<press>/<refresh>: ReconstructionOptions::jacobian_refresh (1 =
+//   finite differences every LM iteration, 4 = the default's Broyden updates). Counters: per-scan median / p99 / max ms (wall clock, over the press's scans),
 //   evaluations per scan (deterministic: the cost without the machine's noise), fallbacks.
 
 #include <benchmark/benchmark.h>
@@ -101,6 +103,13 @@ void ReconstructPressExplainedBudget(benchmark::State& state) {
   options.explained_candidate_evaluations = static_cast<int>(state.range(1));
   RunPress(state, Rig()[static_cast<size_t>(state.range(0))], options);
 }
+// Finite-difference Jacobians every LM iteration (jacobian_refresh 1) or Broyden updates of
+// the pose columns between them (4, the default).
+void ReconstructPressJacobian(benchmark::State& state) {
+  bridge::ReconstructionOptions options;
+  options.jacobian_refresh = static_cast<int>(state.range(1));
+  RunPress(state, Rig()[static_cast<size_t>(state.range(0))], options);
+}
 // press_03: 5 mm sphere, press_14: 2.5 mm rod, press_17: flat, press_19: a stroke.
 BENCHMARK(ReconstructPress)
     ->ArgNames({"press", "models", "force_step"})
@@ -109,6 +118,10 @@ BENCHMARK(ReconstructPress)
 BENCHMARK(ReconstructPressExplainedBudget)
     ->ArgNames({"press", "budget"})
     ->ArgsProduct({{0, 3, 12, 14, 17, 19}, {0, 6}})
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(ReconstructPressJacobian)
+    ->ArgNames({"press", "refresh"})
+    ->ArgsProduct({{0, 3, 12, 14, 17, 19}, {1, 4}})
     ->Unit(benchmark::kMillisecond);
 
 }  // namespace
