@@ -327,6 +327,16 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
         double h = 1e-3 * std::abs(u0[j]);
         return h == 0 ? 1e-3 : h;
       };
+      // Column j by a forward difference; returns d pred / d u_j (Parts are then at u0 + h e_j).
+      auto difference_column = [&](int j) {
+        const double h = step(j);
+        Eigen::VectorXd uj = u0;
+        uj[j] += h;
+        Parts(uj);
+        Residuals(uj, r_step);
+        J.col(j) = (r_step - r0) / h;
+        return Eigen::VectorXd((pred - pred0) / h);
+      };
       auto keep = [&] {
         J_last = J;
         u_last = u0;
@@ -343,13 +353,7 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
         const double dd = du.squaredNorm();
         J = J_last;
         if (dd > 0) J.noalias() += ((r0 - r_last) - J_last * du) * (du.transpose() / dd);
-        const double h = step(kLogRadius);
-        Eigen::VectorXd ur = u0;
-        ur[kLogRadius] += h;
-        Parts(ur);
-        Residuals(ur, r_step);
-        J.col(kLogRadius) = (r_step - r0) / h;
-        set_column(log_force_column, normal0 + (pred - pred0) / h);
+        set_column(log_force_column, normal0 + difference_column(kLogRadius));
         if (shear) {
           set_column(geometric, per_x0);
           set_column(geometric + 1, per_y0);
@@ -378,13 +382,8 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
         const int log_force = geometric - 1;  // ToUnknowns: log F after the pose and radius
         Eigen::VectorXd d_pred_log_r = Eigen::VectorXd::Zero(normal0.size());  // the flat: none
         for (int j = 0; j < log_force; ++j) {
-          const double h = step(j);
-          Eigen::VectorXd uj = u0;
-          uj[j] += h;
-          Parts(uj);
-          Residuals(uj, r_step);
-          J.col(j) = (r_step - r0) / h;
-          if (j == kLogRadius) d_pred_log_r = (pred - pred0) / h;
+          const Eigen::VectorXd d_pred = difference_column(j);
+          if (j == kLogRadius) d_pred_log_r = d_pred;
         }
         set_column(log_force, normal0 + d_pred_log_r);
       }
@@ -449,8 +448,9 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
   };
   if (force_only) {
     // One Gauss-Newton step in (log F, T) with the shape held: three evaluations (the point,
-    // its log R difference for the free force column, the step), where an LM iteration of
-    // the whole model costs four and a ramp scan takes three of them.
+    // its log R difference for the free force column, the step; two when the point's parts
+    // are known), where an LM iteration of the whole model costs four and a ramp scan takes
+    // three of them.
     Fit fit;
     const Eigen::Index m = obs_.size();
     Eigen::VectorXd r0, r1;
