@@ -150,11 +150,10 @@ ContactReconstructor::ContactReconstructor(const sensors::SensorProfile& profile
       (options_.radius_prior_log_sigma > 0 && !(options_.radius_prior_mm > 0)))
     throw std::invalid_argument("contact reconstruction: need 0 < min_radius_mm < max_radius_mm and radius_prior_mm > 0");
   if (options_.max_hold_scans < 1 || !(options_.hold_change_sigma > 0) || !(options_.hold_force_change_sigma > 0) ||
-      options_.cells_per_evaluation < 1 || options_.jacobian_refresh < 1 || !(options_.min_chi2_gain >= 0) || !(options_.noise_counts > 0) ||
-      options_.scan_evaluations < 0)
+      options_.cells_per_evaluation < 1 || options_.jacobian_refresh < 1 || !(options_.min_chi2_gain >= 0) || !(options_.noise_counts > 0))
     throw std::invalid_argument(
         "contact reconstruction: need max_hold_scans >= 1, hold_change_sigma and hold_force_change_sigma > 0, "
-        "cells_per_evaluation >= 1, jacobian_refresh >= 1, min_chi2_gain >= 0, noise_counts > 0, scan_evaluations >= 0");
+        "cells_per_evaluation >= 1, jacobian_refresh >= 1, min_chi2_gain >= 0, noise_counts > 0");
   if (!(options_.min_pair_separation_mm >= 0) || !(options_.min_pair_force_share >= 0 && options_.min_pair_force_share <= 0.5) ||
       !(options_.min_rod_length_mm > 0) || options_.explained_candidate_evaluations < 0)
     throw std::invalid_argument(
@@ -245,11 +244,12 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
     // evaluated the residuals. A pair keeps each sphere's.
     mutable Eigen::VectorXd at, normal, per_x, per_y, pred, r_step;
     mutable Part parts[2];
-    // Broyden: the last Jacobian, the point and residuals it belongs to, LM iterations since
-    // its finite differences (-1: none yet in this fit).
+    // Broyden: the last Jacobian of the prediction (d pred / du: the readings' weights and
+    // saturated channels do not enter it, so it carries over to the next scan), the point
+    // and prediction it belongs to, LM iterations since its finite differences (-1: none).
     int refresh = 1;
-    mutable Eigen::MatrixXd J_last;
-    mutable Eigen::VectorXd u_last, r_last;
+    mutable Eigen::MatrixXd Jp_last, Jp;
+    mutable Eigen::VectorXd u_last, pred_last;
     mutable int since_differences = -1;
     int inputs() const { return UnknownCount(shape, pair, finite, shear); }
     int prior_rows() const { return prior_weight > 0 ? (pair ? 2 : 1) : 0; }
@@ -338,23 +338,34 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
         return Eigen::VectorXd((pred - pred0) / h);
       };
       auto keep = [&] {
-        J_last = J;
+        if (pair) return;
+        Jp_last = Jp;
         u_last = u0;
-        r_last = r0;
+        pred_last = pred0;
       };
+      const int n_pred = static_cast<int>(pred0.size());
+      Jp.resize(n_pred, n);
       // Broyden for the pose columns only (not a pair's): the radius, which a light scan
       // barely determines, keeps its difference column (with it the free force column), so
       // a poor secant cannot walk it to a bound (the rig's rod press_12 did, to 60 mm).
       const int log_force_column = geometric - 1;
       if (!pair && refresh > 1 && log_force_column > kLogRadius && since_differences >= 0 &&
-          since_differences + 1 < refresh && J_last.rows() == J.rows() && J_last.cols() == J.cols()) {
-        // Secant update from the last accepted point: J + (dr - J du) du^T / du^T du.
+          since_differences + 1 < refresh && Jp_last.rows() == n_pred && Jp_last.cols() == n &&
+          u_last.size() == n) {
+        // Secant update of the prediction's Jacobian from where it was last:
+        // Jp + (d pred - Jp du) du^T / du^T du; the residuals' columns from it.
         const Eigen::VectorXd du = u0 - u_last;
         const double dd = du.squaredNorm();
-        J = J_last;
-        if (dd > 0) J.noalias() += ((r0 - r_last) - J_last * du) * (du.transpose() / dd);
-        set_column(log_force_column, normal0 + difference_column(kLogRadius));
+        Jp = Jp_last;
+        if (dd > 0) Jp.noalias() += ((pred0 - pred_last) - Jp_last * du) * (du.transpose() / dd);
+        for (int j = 0; j < log_force_column; ++j)
+          if (j != kLogRadius) set_column(j, Jp.col(j));
+        Jp.col(kLogRadius) = difference_column(kLogRadius);
+        Jp.col(log_force_column) = normal0 + Jp.col(kLogRadius);
+        set_column(log_force_column, Jp.col(log_force_column));
         if (shear) {
+          Jp.col(geometric) = per_x0;
+          Jp.col(geometric + 1) = per_y0;
           set_column(geometric, per_x0);
           set_column(geometric + 1, per_y0);
         }
@@ -382,14 +393,16 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
         const int log_force = geometric - 1;  // ToUnknowns: log F after the pose and radius
         Eigen::VectorXd d_pred_log_r = Eigen::VectorXd::Zero(normal0.size());  // the flat: none
         for (int j = 0; j < log_force; ++j) {
-          const Eigen::VectorXd d_pred = difference_column(j);
-          if (j == kLogRadius) d_pred_log_r = d_pred;
+          Jp.col(j) = difference_column(j);
+          if (j == kLogRadius) d_pred_log_r = Jp.col(j);
         }
-        set_column(log_force, normal0 + d_pred_log_r);
+        Jp.col(log_force) = normal0 + d_pred_log_r;
+        set_column(log_force, Jp.col(log_force));
       }
       if (shear) {  // d pred / d T = per_x, per_y
         set_column(geometric, per_x0);
         set_column(geometric + 1, per_y0);
+        if (!pair) Jp.col(geometric) = per_x0, Jp.col(geometric + 1) = per_y0;
       }
       keep();
       return 0;
@@ -419,6 +432,12 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
     f.normal = known->normal;
     f.per_x = known->per_x;
     f.per_y = known->per_y;
+    if (known->since_differences >= 0) {
+      f.Jp_last = known->jacobian;
+      f.u_last = known->jacobian_at;
+      f.pred_last = known->pred_at_jacobian;
+      f.since_differences = known->since_differences;
+    }
     for (int k = 0; k < 2; ++k) {
       f.parts[k].normal = known->part_normal[k];
       f.parts[k].per_x = known->part_per_x[k];
@@ -438,6 +457,12 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
     p.normal = f.normal;
     p.per_x = f.per_x;
     p.per_y = f.per_y;
+    if (!pair && f.since_differences >= 0) {
+      p.jacobian = f.Jp_last;
+      p.jacobian_at = f.u_last;
+      p.pred_at_jacobian = f.pred_last;
+      p.since_differences = f.since_differences;
+    }
     for (int k = 0; k < 2; ++k) {
       p.part_normal[k] = f.parts[k].normal;
       p.part_per_x[k] = f.parts[k].per_x;
@@ -782,10 +807,6 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     // the candidates get the warm budget too, and the next start is tried while budget
     // is left and nothing explains the scan.
     int budget = options_.candidate_scan_evaluations + (warm_won ? 0 : options_.warm_scan_evaluations);
-    // A current model that explains the scan leaves the candidate only the rest of the
-    // per-scan total: exploring is then a check that can wait for a cheap (holding) scan.
-    if (warm_won && options_.scan_evaluations > 0 && std::sqrt(best.chi2 / dof) <= options_.max_rms_sigma)
-      budget = std::min(budget, options_.scan_evaluations - best.budget_used);
     if (warm_won && options_.explained_candidate_evaluations > 0 && std::sqrt(best.chi2 / dof) <= options_.settle_rms_sigma)
       budget = std::min(budget, options_.explained_candidate_evaluations);
     // Two contacts are what no single shape explains: when the current model stops

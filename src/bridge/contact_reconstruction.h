@@ -99,17 +99,6 @@ struct ReconstructionOptions {
   /// 24/12 to 40/20 (at 5 an iteration) each lost a rod (docs/bridge-fidelity.md §5, §7, §8).
   int warm_scan_evaluations = 24;
   int candidate_scan_evaluations = 12;
-  /// Amortized: while the current model explains the scan (RMS within max_rms_sigma), the
-  /// warm fit and the candidate together spend at most this many per scan (the candidate
-  /// gets what the warm fit left, up to candidate_scan_evaluations): on a ramp, where the
-  /// warm fit uses its budget, exploring waits for the hold. A model that does not explain
-  /// the scan leaves the candidate its whole budget. 0 = no total (the default). 24: the
-  /// scans' p99 evaluations 36 -> 29 over the rig replays, no fallback, no time gain that a
-  /// log's p99 shows, but the synthetic box corner's peak ratio 0.87 -> 0.68
-  /// (docs/bridge-fidelity.md §8): off until it measures better. With Broyden updates
-  /// (jacobian_refresh) a total of 12 cuts the dearest explained scan 33 -> 26 evaluations
-  /// but spends 4 % more in all (a deferred fit starts again with a difference Jacobian).
-  int scan_evaluations = 0;
   /// Amortized: while the current model explains the scan within settle_rms_sigma, the
   /// candidate gets at most this many per scan (0 = candidate_scan_evaluations): exploring
   /// is then a check, spread thinner over more scans.
@@ -138,9 +127,11 @@ struct ReconstructionOptions {
   /// Only the pose columns are updated: the radius (which a light scan barely determines)
   /// keeps its difference column, and with it the free force column, so a sphere's or
   /// rod's iteration costs 2 evaluations instead of 4 (with the radius updated too: 1, but
-  /// a light scan of the rig's rod press_12 walked to the 60 mm bound). 4: forward-model
-  /// evaluations over the replays of the example and rig press_03 / press_14 965 / 1260 /
-  /// 1487 -> 775 / 836 / 1114, the same fidelity counts, no fit fallback over the 21 rig
+  /// a light scan of the rig's rod press_12 walked to the 60 mm bound). The Jacobian is of
+  /// the prediction, so it carries over to the next scan's fits (Prediction): their first
+  /// iteration is an update too. 4: forward-model evaluations over the replays of the
+  /// example and rig press_03 / press_14 965 / 1260 / 1487 -> 699 / 792 / 1043 (775 / 836 /
+  /// 1114 without carrying it), the same fidelity counts, no fit fallback over the 21 rig
   /// replays (docs/bridge-fidelity.md §5, sixth round).
   int jacobian_refresh = 4;
   /// Hold averaging: while the scans agree with their running mean within noise (a
@@ -249,6 +240,12 @@ class ContactReconstructor {
     // A pair's two spheres, each its own parts (their sum is combined by force).
     Eigen::VectorXd part_normal[2], part_per_x[2], part_per_y[2];
     double part_force_N[2] = {0, 0};
+    // The last Jacobian of the prediction (d pred / du, single shapes) with the point and
+    // prediction it was taken at, and LM iterations since its finite differences (-1: none):
+    // the next fit's first iteration updates it (Broyden) instead of differencing again.
+    Eigen::MatrixXd jacobian;
+    Eigen::VectorXd jacobian_at, pred_at_jacobian;
+    int since_differences = -1;
   };
   /// LM from `start`; max_evaluations: LM function evaluations (0: options' max_evaluations);
   /// evaluation_budget: stop after the LM iteration that reaches this many forward-model
