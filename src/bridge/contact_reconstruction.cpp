@@ -225,10 +225,7 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
   // load, and two separate patches are that load's sum); the tangential force spreads over
   // both patches in proportion to the pressure. Its columns are forward differences too,
   // each re-evaluating the one sphere it moves: 8 sphere evaluations a Jacobian.
-  struct Part {
-    Eigen::VectorXd normal, per_x, per_y;
-    double force_N = 0;
-  };
+  using Part = ModelPart;
   struct Functor : common::DynamicSizeFunctor {
     const ContactReconstructor* self;
     ContactShape shape;
@@ -248,9 +245,8 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
     // saturated channels do not enter it, so it carries over to the next scan), the point
     // and prediction it belongs to, LM iterations since its finite differences (-1: none).
     int refresh = 1;
-    mutable Eigen::MatrixXd Jp_last, Jp;
-    mutable Eigen::VectorXd u_last, pred_last;
-    mutable int since_differences = -1;
+    mutable Linearization last{};
+    mutable Eigen::MatrixXd Jp{};
     int inputs() const { return UnknownCount(shape, pair, finite, shear); }
     int prior_rows() const { return prior_weight > 0 ? (pair ? 2 : 1) : 0; }
     int values() const { return static_cast<int>(self->obs_.size()) + prior_rows(); }
@@ -339,9 +335,9 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
       };
       auto keep = [&] {
         if (pair) return;
-        Jp_last = Jp;
-        u_last = u0;
-        pred_last = pred0;
+        last.jacobian = Jp;
+        last.at = u0;
+        last.pred = pred0;
       };
       const int n_pred = static_cast<int>(pred0.size());
       Jp.resize(n_pred, n);
@@ -349,15 +345,15 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
       // barely determines, keeps its difference column (with it the free force column), so
       // a poor secant cannot walk it to a bound (the rig's rod press_12 did, to 60 mm).
       const int log_force_column = geometric - 1;
-      if (!pair && refresh > 1 && log_force_column > kLogRadius && since_differences >= 0 &&
-          since_differences + 1 < refresh && Jp_last.rows() == n_pred && Jp_last.cols() == n &&
-          u_last.size() == n) {
+      if (!pair && refresh > 1 && log_force_column > kLogRadius && last.since_differences >= 0 &&
+          last.since_differences + 1 < refresh && last.jacobian.rows() == n_pred && last.jacobian.cols() == n &&
+          last.at.size() == n) {
         // Secant update of the prediction's Jacobian from where it was last:
         // Jp + (d pred - Jp du) du^T / du^T du; the residuals' columns from it.
-        const Eigen::VectorXd du = u0 - u_last;
+        const Eigen::VectorXd du = u0 - last.at;
         const double dd = du.squaredNorm();
-        Jp = Jp_last;
-        if (dd > 0) Jp.noalias() += ((pred0 - pred_last) - Jp_last * du) * (du.transpose() / dd);
+        Jp = last.jacobian;
+        if (dd > 0) Jp.noalias() += ((pred0 - last.pred) - last.jacobian * du) * (du.transpose() / dd);
         for (int j = 0; j < log_force_column; ++j)
           if (j != kLogRadius) set_column(j, Jp.col(j));
         Jp.col(kLogRadius) = difference_column(kLogRadius);
@@ -369,11 +365,11 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
           set_column(geometric, per_x0);
           set_column(geometric + 1, per_y0);
         }
-        ++since_differences;
         keep();
+        ++last.since_differences;
         return 0;
       }
-      since_differences = 0;
+      last.since_differences = 0;
       if (pair) {
         const Part saved[2] = {parts[0], parts[1]};
         for (int j = 0; j < geometric; ++j) {
@@ -429,21 +425,12 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
       (known->at - u).cwiseAbs().maxCoeff() <= 1e-9 * (1 + u.cwiseAbs().maxCoeff())) {
     u = known->at;
     f.at = known->at;
-    f.normal = known->normal;
-    f.per_x = known->per_x;
-    f.per_y = known->per_y;
-    if (known->since_differences >= 0) {
-      f.Jp_last = known->jacobian;
-      f.u_last = known->jacobian_at;
-      f.pred_last = known->pred_at_jacobian;
-      f.since_differences = known->since_differences;
-    }
-    for (int k = 0; k < 2; ++k) {
-      f.parts[k].normal = known->part_normal[k];
-      f.parts[k].per_x = known->part_per_x[k];
-      f.parts[k].per_y = known->part_per_y[k];
-      f.parts[k].force_N = known->part_force_N[k];
-    }
+    f.normal = known->whole.normal;
+    f.per_x = known->whole.per_x;
+    f.per_y = known->whole.per_y;
+    f.parts[0] = known->parts[0];
+    f.parts[1] = known->parts[1];
+    f.last = known->linearization;
   }
   // The parts at the functor's last point, when that is the fit's answer u.
   auto prediction_at = [&](const Eigen::VectorXd& answer) {
@@ -454,21 +441,10 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
     p.pair = pair;
     p.finite = finite;
     p.at = f.at;
-    p.normal = f.normal;
-    p.per_x = f.per_x;
-    p.per_y = f.per_y;
-    if (!pair && f.since_differences >= 0) {
-      p.jacobian = f.Jp_last;
-      p.jacobian_at = f.u_last;
-      p.pred_at_jacobian = f.pred_last;
-      p.since_differences = f.since_differences;
-    }
-    for (int k = 0; k < 2; ++k) {
-      p.part_normal[k] = f.parts[k].normal;
-      p.part_per_x[k] = f.parts[k].per_x;
-      p.part_per_y[k] = f.parts[k].per_y;
-      p.part_force_N[k] = f.parts[k].force_N;
-    }
+    p.whole = {f.normal, f.per_x, f.per_y, 0.0};
+    p.parts[0] = f.parts[0];
+    p.parts[1] = f.parts[1];
+    p.linearization = f.last;
     return p;
   };
   if (force_only) {

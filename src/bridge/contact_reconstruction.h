@@ -232,20 +232,29 @@ class ContactReconstructor {
   /// The forward model's parts (normal readings, per unit shear) at a fit's final
   /// unknowns. They do not depend on the readings, so the next scan's force step and warm
   /// fit, which start there, need not evaluate that point again.
+  /// One sphere's (or a single shape's) forward-model parts: normal readings, readings per
+  /// unit shear, and the force they were computed for.
+  struct ModelPart {
+    Eigen::VectorXd normal, per_x, per_y;
+    double force_N = 0;
+  };
+  /// The last Jacobian of the prediction (d pred / du, single shapes) with the point and
+  /// prediction it was taken at, and LM iterations since its finite differences (-1: none):
+  /// a fit's next iteration, or the next scan's first, updates it (Broyden) instead of
+  /// differencing again.
+  struct Linearization {
+    Eigen::MatrixXd jacobian;
+    Eigen::VectorXd at, pred;
+    int since_differences = -1;
+  };
   struct Prediction {
     bool valid = false;
     sensors::ContactShape shape = sensors::ContactShape::kSphere;
     bool pair = false, finite = false;
-    Eigen::VectorXd at, normal, per_x, per_y;
-    // A pair's two spheres, each its own parts (their sum is combined by force).
-    Eigen::VectorXd part_normal[2], part_per_x[2], part_per_y[2];
-    double part_force_N[2] = {0, 0};
-    // The last Jacobian of the prediction (d pred / du, single shapes) with the point and
-    // prediction it was taken at, and LM iterations since its finite differences (-1: none):
-    // the next fit's first iteration updates it (Broyden) instead of differencing again.
-    Eigen::MatrixXd jacobian;
-    Eigen::VectorXd jacobian_at, pred_at_jacobian;
-    int since_differences = -1;
+    Eigen::VectorXd at;
+    ModelPart whole;      // the model's parts at `at` (a pair's combined)
+    ModelPart parts[2];   // a pair's two spheres, each its own
+    Linearization linearization;
   };
   /// LM from `start`; max_evaluations: LM function evaluations (0: options' max_evaluations);
   /// evaluation_budget: stop after the LM iteration that reaches this many forward-model

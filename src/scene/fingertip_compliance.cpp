@@ -155,8 +155,7 @@ std::vector<geometry::RigidObject> FingertipCompliance::ToModel(const std::vecto
 
 const fem::ComplianceStepResult& FingertipCompliance::Step(const std::vector<geometry::RigidObject>& objects_pad,
                                                            double t_s, const Eigen::Vector2d& tangential_pad_N) {
-  const Eigen::Vector3d t_model = model_.pad_frame.model_from_pad.linear() *
-                                  Eigen::Vector3d(tangential_pad_N.x(), tangential_pad_N.y(), 0.0);
+  const Eigen::Vector3d t_model = TangentialToModel(tangential_pad_N);
   state_indentation_mm_ = -1;
   return contact_->Step(ToModel(objects_pad), t_s, t_model);
 }
@@ -164,6 +163,10 @@ const fem::ComplianceStepResult& FingertipCompliance::Step(const std::vector<geo
 void FingertipCompliance::ResetWarmStart() {
   contact_->ResetWarmStart();
   state_indentation_mm_ = 0;
+}
+
+Eigen::Vector3d FingertipCompliance::TangentialToModel(const Eigen::Vector2d& tangential_pad_N) const {
+  return model_.pad_frame.model_from_pad.linear() * Eigen::Vector3d(tangential_pad_N.x(), tangential_pad_N.y(), 0.0);
 }
 
 double FingertipCompliance::normal_force_N() const {
@@ -211,15 +214,18 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
   if (options_.contact.friction_anisotropy > 0) contact_->ResetWarmStart();
   std::vector<geometry::RigidObject> pushed = objects_pad;
   std::vector<geometry::RigidObject> last_model;
+  const Eigen::Vector3d t_model = TangentialToModel(tangential_pad_N);
   bool solve_failed = false, solve_unconverged = false;
-  // Normal force at indentation d [mm] (objects translated by -d along z_pad).
-  auto force_at = [&](double d_mm) {
+  // The objects at indentation d [mm] (translated by -d along z_pad); the contact state's.
+  auto place = [&](double d_mm) {
     for (size_t k = 0; k < pushed.size(); ++k)
       pushed[k].trajectory = geometry::Trajectory(Eigen::Translation3d(0, 0, -d_mm * 1e-3) * touch[k]);
     last_model = ToModel(pushed);
     state_indentation_mm_ = d_mm;
-    const Eigen::Vector3d t_model = model_.pad_frame.model_from_pad.linear() *
-                                    Eigen::Vector3d(tangential_pad_N.x(), tangential_pad_N.y(), 0.0);
+  };
+  // Normal force at indentation d [mm].
+  auto force_at = [&](double d_mm) {
+    place(d_mm);
     // The root find needs only the force: the SED once, at the answer (finish).
     const fem::ComplianceStepResult& s = contact_->Step(last_model, 0.0, t_model, /*compute_sed=*/false);
     ++r.iterations;
@@ -311,19 +317,14 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
     control.offset_m = d * 1e-3;
     control.max_change_m = std::max(1e-3, opt.max_step_mm) * 1e-3;
     control.max_offset_m = opt.max_indentation_mm * 1e-3;
-    for (size_t k = 0; k < pushed.size(); ++k) pushed[k].trajectory = geometry::Trajectory(touch[k]);
+    const std::vector<geometry::RigidObject> at_touch = ToModel(objects_pad);  // poses at t = 0
     const fem::ComplianceContact::WarmStart before = contact_->SaveWarmStart();
-    const Eigen::Vector3d t_model = model_.pad_frame.model_from_pad.linear() *
-                                    Eigen::Vector3d(tangential_pad_N.x(), tangential_pad_N.y(), 0.0);
-    const fem::ComplianceStepResult& s = contact_->StepToForce(ToModel(pushed), control, t_model, /*compute_sed=*/false);
+    const fem::ComplianceStepResult& s = contact_->StepToForce(at_touch, control, t_model, /*compute_sed=*/false);
     ++r.iterations;
     const double d_mm = control.offset_m * 1e3;
     const double f_N = s.ok ? normal_force_N() : 0.0;
     if (s.ok && s.converged && !s.contacts.empty() && std::abs(f_N - target_N) <= tol) {
-      for (size_t k = 0; k < pushed.size(); ++k)
-        pushed[k].trajectory = geometry::Trajectory(Eigen::Translation3d(0, 0, -d_mm * 1e-3) * touch[k]);
-      last_model = ToModel(pushed);
-      state_indentation_mm_ = d_mm;
+      place(d_mm);
       r.indentation_mm = d_mm;
       r.force_controlled = true;
       return finish(PressStatus::kReached, d_mm, f_N, "");

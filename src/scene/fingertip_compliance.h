@@ -138,6 +138,8 @@ class FingertipCompliance {
   /// True if any of `nodes` lies inside an object at its rest position (poses at t = 0).
   bool AnyInside(const std::vector<geometry::RigidObject>& objects_model, const std::vector<int>& nodes) const;
   std::vector<geometry::RigidObject> ToModel(const std::vector<geometry::RigidObject>& objects_pad) const;
+  /// A tangential load along pad x, y [N] in the model frame.
+  Eigen::Vector3d TangentialToModel(const Eigen::Vector2d& tangential_pad_N) const;
 
   const model::FingertipModel& model_;
   FingertipComplianceOptions options_;

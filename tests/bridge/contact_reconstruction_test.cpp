@@ -42,6 +42,18 @@ ContactPrimitive SphereAt(double x_mm, double y_mm, double radius_mm, double for
   return c;
 }
 
+// The calibrated model's readings of contacts pressed at once (the sensor is linear in the
+// surface load: the readings add).
+Eigen::VectorXd ReadingsOf(std::initializer_list<ContactPrimitive> contacts) {
+  static const sensors::TactileForwardModel model(Uskin(), Uskin().forward_model);
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(3 * Uskin().taxel_count), one;
+  for (const ContactPrimitive& c : contacts) {
+    model.Predict(c, &one);
+    sum += one;
+  }
+  return sum;
+}
+
 Eigen::VectorXd Noisy(const Eigen::VectorXd& r, std::mt19937_64* rng) {
   std::normal_distribution<double> n(0, 1);
   Eigen::VectorXd out = r;
@@ -285,14 +297,10 @@ TEST(ContactReconstruction, SlidingAcrossTaxelBoundariesHasNoJumps) {
 // Two spheres pressed at once (two fingertips, two bumps): the pair model finds both, with
 // each one's position and force, within a short hold of noisy scans.
 TEST(ContactReconstruction, TwoSimultaneousContactsAreTwoSpheres) {
-  sensors::TactileForwardModel model(Uskin(), Uskin().forward_model);
   const ContactPrimitive a = SphereAt(-5, -4, 2.5, 0.5), b = SphereAt(4, 5, 4, 0.3);
-  Eigen::VectorXd ra, rb;
-  model.Predict(a, &ra);
-  model.Predict(b, &rb);
   std::mt19937_64 rng(7);
   ContactReconstructor r(Uskin());
-  const ContactEstimate e = HeldFor(&r, ra + rb, &rng);
+  const ContactEstimate e = HeldFor(&r, ReadingsOf({a, b}), &rng);
   ASSERT_TRUE(e.ok) << e.problem;
   ASSERT_TRUE(e.two_contacts) << ContactShapeName(e.primitive.shape) << " R " << e.primitive.radius_mm;
   // Which sphere is "first" is the fit's choice.
@@ -432,15 +440,11 @@ TEST(ContactReconstruction, AnEdgeIsARodOfFiniteLength) {
 // Without the pair model, one primitive cannot explain two contacts: a fallback (the
 // pressure map takes over), counted, not a guess.
 TEST(ContactReconstruction, TwoContactsWithoutThePairModelAreAFallbackNotAGuess) {
-  sensors::TactileForwardModel model(Uskin(), Uskin().forward_model);
   const ContactPrimitive a = SphereAt(-5, -5, 2.5, 0.5), b = SphereAt(5, 5, 2.5, 0.5);
-  Eigen::VectorXd ra, rb;
-  model.Predict(a, &ra);
-  model.Predict(b, &rb);
   ReconstructionOptions options;
   options.fit_pairs = false;
   ContactReconstructor r(Uskin(), options);
-  const ContactEstimate& e = r.Reconstruct(ra + rb, std::vector<uint8_t>(16, 1));
+  const ContactEstimate& e = r.Reconstruct(ReadingsOf({a, b}), std::vector<uint8_t>(16, 1));
   EXPECT_TRUE(e.contact);
   EXPECT_FALSE(e.ok);
   EXPECT_FALSE(e.two_contacts);
