@@ -63,6 +63,7 @@ double TentCoverage(double c, double h, double half) {
   return std::clamp(TentCdf(half - c, h) - TentCdf(-half - c, h), 0.0, 1.0);
 }
 double Coverage1d(double c, double h, double half) {
+  if (std::abs(c) + 0.5 * h <= half) return 1;  // inside: exactly 1, and no division
   const double lo = std::max(c - 0.5 * h, -half), hi = std::min(c + 0.5 * h, half);
   return std::clamp((hi - lo) / h, 0.0, 1.0);
 }
@@ -135,12 +136,12 @@ void TactileForwardModel::BuildKernelTable() {
   }
   table_half_ = static_cast<int>(std::ceil(reach / h)) + 1;
   table_stride_ = 2 * table_half_ + 1;
-  table_.assign(static_cast<size_t>(table_stride_) * table_stride_ * 9, 0.0);
+  table_.assign(static_cast<size_t>(table_stride_) * table_stride_, KernelEntry{});
   const double wx = taxel_w_mm_ / kAreaPoints, wy = taxel_h_mm_ / kAreaPoints;
   const double inv = 1.0 / (kAreaPoints * kAreaPoints);
   for (int j = -table_half_; j <= table_half_; ++j) {
     for (int i = -table_half_; i <= table_half_; ++i) {
-      double* out = &table_[9 * ((i + table_half_) + (j + table_half_) * table_stride_)];
+      double* out = table_[static_cast<size_t>((i + table_half_) + (j + table_half_) * table_stride_)].v;
       for (int sy = 0; sy < kAreaPoints; ++sy) {
         for (int sx = 0; sx < kAreaPoints; ++sx) {
           const double dx = i * h + (sx - 0.5 * (kAreaPoints - 1)) * wx;
@@ -155,13 +156,12 @@ void TactileForwardModel::BuildKernelTable() {
           out[1] += inv * kr * ey;
           out[2] += inv * kn;
           // T_x -> x, y, z
-          out[3] += inv * (kt + kc * ex * ex);
-          out[4] += inv * kc * ey * ex;
-          out[5] += inv * kl * ex;
-          // T_y -> x, y, z
-          out[6] += inv * kc * ex * ey;
-          out[7] += inv * (kt + kc * ey * ey);
-          out[8] += inv * kl * ey;
+          out[kTxX] += inv * (kt + kc * ex * ex);
+          out[kTxY] += inv * kc * ey * ex;  // also T_y -> x: the cross term is symmetric
+          out[kTxZ] += inv * kl * ex;
+          // T_y -> y, z
+          out[kTyY] += inv * (kt + kc * ey * ey);
+          out[kTyZ] += inv * kl * ey;
         }
       }
     }
@@ -178,29 +178,58 @@ void TactileForwardModel::TableOffsets(const std::vector<SurfaceLoad>& loads, st
   offsets->resize(loads.size());
   for (size_t c = 0; c < loads.size(); ++c) {
     const int i = loads[c].cell % grid_n_, j = loads[c].cell / grid_n_;
-    (*offsets)[c] = 9 * (i + j * table_stride_);
+    (*offsets)[c] = i + j * table_stride_;
   }
 }
 
 namespace {
-// r[q] = sum_c w[c] row[q - offset[c]], q < 9: most of a forward-model evaluation. Raw
+// r[q] = sum_c w[c] (row - offset[c])->v[q], q < 8: most of a forward-model evaluation. Raw
 // pointers only (no Eigen), so that the x86-64-v3 (AVX2, FMA) clone is safe to mix with the
 // rest of the build; the loader picks the clone the CPU runs.
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
 __attribute__((target_clones("arch=x86-64-v3", "default")))
 #endif
-void SumKernelRows(const double* row, const int* offset, const double* w, int m, double* r) {
-  double s[9] = {};
-  for (int c = 0; c < m; ++c) {
-    const double* t = row - offset[c];
-    const double P = w[c];
-    for (int q = 0; q < 9; ++q) s[q] += P * t[q];
+void SumKernelRows(const KernelEntry* row, const int* offset, const double* w, int m, double* r) {
+  // Four cells at a time into four sets of sums: one set is a chain of dependent FMAs whose
+  // latency, not the FMA units, sets the speed.
+  double s0[kKernelValues] = {}, s1[kKernelValues] = {}, s2[kKernelValues] = {}, s3[kKernelValues] = {};
+  int c = 0;
+  for (; c + 3 < m; c += 4) {
+    const double* t0 = (row - offset[c])->v;
+    const double* t1 = (row - offset[c + 1])->v;
+    const double* t2 = (row - offset[c + 2])->v;
+    const double* t3 = (row - offset[c + 3])->v;
+    const double w0 = w[c], w1 = w[c + 1], w2 = w[c + 2], w3 = w[c + 3];
+    for (int q = 0; q < kKernelValues; ++q) {
+      s0[q] += w0 * t0[q];
+      s1[q] += w1 * t1[q];
+      s2[q] += w2 * t2[q];
+      s3[q] += w3 * t3[q];
+    }
   }
-  for (int q = 0; q < 9; ++q) r[q] = s[q];
+  for (; c < m; ++c) {
+    const double* t = (row - offset[c])->v;
+    for (int q = 0; q < kKernelValues; ++q) s0[q] += w[c] * t[q];
+  }
+  for (int q = 0; q < kKernelValues; ++q) r[q] = (s0[q] + s1[q]) + (s2[q] + s3[q]);
 }
 
-// Integral of sqrt(1 - u^2) from 0 to t, |t| <= 1.
-double HalfDiscArea(double t) { return 0.5 * (t * std::sqrt(std::max(0.0, 1 - t * t)) + std::asin(t)); }
+// The fields stored one by one: a braced SurfaceLoad is built on the stack by scalar stores
+// and copied by 16-byte loads, which stall on store forwarding (a third of a rod's patch).
+void AddLoad(std::vector<SurfaceLoad>* loads, int cell, double normal_N) {
+  SurfaceLoad& l = loads->emplace_back();
+  l.cell = cell;
+  l.normal_N = normal_N;
+}
+
+// Integral of sqrt(1 - u^2) over [lo, hi], -1 <= lo < hi <= 1, hi - lo <= 1, with one
+// arcsine: asin(hi) - asin(lo) = asin(hi sqrt(1 - lo^2) - lo sqrt(1 - hi^2)), which holds
+// when lo hi >= 0 or lo^2 + hi^2 <= 1 (here: lo < 0 < hi and hi - lo <= 1 give the
+// latter). The arcsines are most of a rod's patch.
+double HalfDiscStrip(double lo, double hi) {
+  const double c_lo = std::sqrt(std::max(0.0, 1 - lo * lo)), c_hi = std::sqrt(std::max(0.0, 1 - hi * hi));
+  return 0.5 * (hi * c_hi - lo * c_lo + std::asin(std::clamp(hi * c_lo - lo * c_hi, -1.0, 1.0)));
+}
 }  // namespace
 
 void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLoad>* loads) const {
@@ -218,7 +247,7 @@ void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLo
       for (int i = i0; i <= i1; ++i) {
         const double x = grid_x0_mm_ + i * h, y = grid_y0_mm_ + j * h;
         const double w = weight(x, y) * Coverage1d(x, h, half + kGridMargin_mm) * Coverage1d(y, h, half + kGridMargin_mm);
-        if (w > 0) loads->push_back({i + j * grid_n_, w});
+        if (w > 0) AddLoad(loads, i + j * grid_n_, w);
       }
   };
   switch (c.shape) {
@@ -245,9 +274,9 @@ void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLo
       // the cell centre: a strip only a few cells wide, point-sampled, gains or loses a
       // cell with a sqrt-kink as b grows, which made the readings (and chi^2) rough in R
       // at the noise level of a hold's mean (jumps of tens in chi^2 between R and 1.05 R).
-      const double t_half = 0.5 * h / b;
+      const double t_half = 0.5 * h / b, inv_b = 1 / b;
       auto weight = [&](double x, double y) {
-        const double t = (-(x - c.x_mm) * dy + (y - c.y_mm) * dx) / b;
+        const double t = (-(x - c.x_mm) * dy + (y - c.y_mm) * dx) * inv_b;
         const double lo = std::max(-1.0, t - t_half), hi = std::min(1.0, t + t_half);
         if (hi <= lo) return 0.0;
         // A finite rod's ends: the cell's share of [-half_length, half_length] along the
@@ -256,7 +285,7 @@ void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLo
         // box-shaped cell's share kinks at every cell boundary, which a hold's mean sees).
         const double ends = c.length_mm > 0 ? TentCoverage((x - c.x_mm) * dx + (y - c.y_mm) * dy, h, half_length) : 1.0;
         if (!(ends > 0)) return 0.0;
-        return (HalfDiscArea(hi) - HalfDiscArea(lo)) * ends * Coverage1d(x, h, half) * Coverage1d(y, h, half);
+        return HalfDiscStrip(lo, hi) * ends * Coverage1d(x, h, half) * Coverage1d(y, h, half);
       };
       // Only the band |s| < b around the axis, row by row (or column by column for a rod
       // closer to the x axis), not the whole pad.
@@ -275,7 +304,7 @@ void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLo
           const int i = by_rows ? k : line, j = by_rows ? line : k;
           const double x = grid_x0_mm_ + i * h, y = grid_y0_mm_ + j * h;
           const double w = weight(x, y);
-          if (w > 0) loads->push_back({i + j * grid_n_, w});
+          if (w > 0) AddLoad(loads, i + j * grid_n_, w);
         }
       }
       break;
@@ -353,13 +382,11 @@ void TactileForwardModel::PredictLinearInShear(const ContactPrimitive& c, Eigen:
   weights.resize(loads.size());
   for (int c_i = 0; c_i < m; ++c_i) weights[static_cast<size_t>(c_i)] = loads[static_cast<size_t>(c_i)].normal_N;
   for (int k = 0; k < n; ++k) {
-    double r[9];
-    SumKernelRows(&table_[9 * static_cast<size_t>(taxel_base_[k])], offsets.data(), weights.data(), m, r);
-    for (int q = 0; q < 3; ++q) {
-      a[3 * k + q] = r[q];
-      bx[3 * k + q] = r[3 + q] * inv_F;
-      by[3 * k + q] = r[6 + q] * inv_F;
-    }
+    double r[kKernelValues];
+    SumKernelRows(&table_[static_cast<size_t>(taxel_base_[k])], offsets.data(), weights.data(), m, r);
+    for (int q = 0; q < 3; ++q) a[3 * k + q] = r[kNormalX + q];
+    bx[3 * k] = r[kTxX] * inv_F, bx[3 * k + 1] = r[kTxY] * inv_F, bx[3 * k + 2] = r[kTxZ] * inv_F;
+    by[3 * k] = r[kTxY] * inv_F, by[3 * k + 1] = r[kTyY] * inv_F, by[3 * k + 2] = r[kTyZ] * inv_F;
   }
 }
 
@@ -375,18 +402,18 @@ void TactileForwardModel::Respond(const std::vector<SurfaceLoad>& loads, Eigen::
   const size_t m = loads.size();
   for (int k = 0; k < n; ++k) {
     double rx = 0, ry = 0, rz = 0;
-    const double* row = &table_[9 * static_cast<size_t>(taxel_base_[k])];
+    const KernelEntry* row = &table_[static_cast<size_t>(taxel_base_[k])];
     for (size_t c_i = 0; c_i < m; ++c_i) {
       const SurfaceLoad& l = loads[c_i];
-      const double* t = row - offsets[c_i];
+      const double* t = (row - offsets[c_i])->v;
       const double P = l.normal_N;
-      rx += P * t[0];
-      ry += P * t[1];
-      rz += P * t[2];
+      rx += P * t[kNormalX];
+      ry += P * t[kNormalY];
+      rz += P * t[kNormalZ];
       if (shear) {
-        rx += l.shear_x_N * t[3] + l.shear_y_N * t[6];
-        ry += l.shear_x_N * t[4] + l.shear_y_N * t[7];
-        rz += l.shear_x_N * t[5] + l.shear_y_N * t[8];
+        rx += l.shear_x_N * t[kTxX] + l.shear_y_N * t[kTxY];
+        ry += l.shear_x_N * t[kTxY] + l.shear_y_N * t[kTyY];
+        rz += l.shear_x_N * t[kTxZ] + l.shear_y_N * t[kTyZ];
       }
     }
     out[3 * k] = rx;

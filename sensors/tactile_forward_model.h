@@ -59,6 +59,13 @@ struct ContactPrimitive {
 };
 
 /// Surface load on one grid cell.
+/// One offset of the forward model's kernel table: what a unit load on a cell gives a taxel
+/// at that offset (taxel-area averaged), one 64-byte cache line.
+enum KernelValue { kNormalX, kNormalY, kNormalZ, kTxX, kTxY, kTxZ, kTyY, kTyZ, kKernelValues };
+struct alignas(64) KernelEntry {
+  double v[kKernelValues] = {};
+};
+
 struct SurfaceLoad {
   int cell = 0;      ///< index into the model's load grid
   double normal_N = 0;   ///< pressing force on the cell [N]
@@ -107,8 +114,8 @@ class TactileForwardModel {
 
  private:
   void BuildKernelTable();
-  /// Per load, its cell's distance into the kernel table [doubles]: the entry for taxel k is
-  /// table_[9 * taxel_base_[k] - offset]. Once per patch, not once per (taxel, cell): the
+  /// Per load, its cell's distance into the kernel table [entries]: the entry for taxel k is
+  /// table_[taxel_base_[k] - offset]. Once per patch, not once per (taxel, cell): the
   /// integer division per (taxel, cell) pair was about a tenth of an evaluation.
   void TableOffsets(const std::vector<SurfaceLoad>& loads, std::vector<int>* offsets) const;
 
@@ -119,9 +126,10 @@ class TactileForwardModel {
   int grid_n_ = 0;
   double grid_x0_mm_ = 0, grid_y0_mm_ = 0;
   // Taxel-area-averaged kernels tabulated on offsets (i, j) * h, |i|,|j| <= table_half_:
-  // 9 values per offset: normal -> (x, y, z), T_x -> (x, y, z), T_y -> (x, y, z).
+  // One cache line per offset (KernelEntry): normal -> (x, y, z), T_x -> (x, y, z),
+  // T_y -> (y, z); T_y -> x is T_x -> y (the cross kernel is symmetric).
   int table_half_ = 0;
-  std::vector<double> table_;
+  std::vector<KernelEntry> table_;
   // Per taxel, offset index of grid cell 0 and strides (table index = base + i*sx + j*sy).
   std::vector<int> taxel_base_;
   int table_stride_ = 0;
