@@ -411,6 +411,12 @@ void ComplianceContact::SaveCache(std::uint64_t key) const {
   if (ec) std::filesystem::remove(tmp, ec);
 }
 
+void ComplianceContact::set_relative_tolerance(double tolerance) {
+  if (!(tolerance > 0 && tolerance < 1))
+    throw std::invalid_argument("compliance contact: relative_tolerance must be in (0, 1)");
+  options_.relative_tolerance = tolerance;
+}
+
 size_t ComplianceContact::num_anchors() const {
   return size_t(std::count(anchored_.begin(), anchored_.end(), char(1)));
 }

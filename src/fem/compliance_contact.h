@@ -178,6 +178,10 @@ class ComplianceContact {
   const Eigen::MatrixXd& sed_node_map_m_N() const { return G_; }
 
   const ComplianceContactOptions& options() const { return options_; }
+  /// The solve's tolerance (ComplianceContactOptions::relative_tolerance) for the steps
+  /// that follow; the precompute does not depend on it. Throws std::invalid_argument
+  /// unless 0 < tolerance < 1.
+  void set_relative_tolerance(double tolerance);
   /// Wall time of the precompute (or cache load) [s] and where it came from.
   double precompute_s() const { return precompute_s_; }
   bool loaded_from_cache() const { return loaded_from_cache_; }

@@ -198,10 +198,18 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
   PressToForceResult r;
   r.target_force_N = target_N;
   if (!(std::isfinite(target_N) && target_N > 0) || objects_pad.empty() || !tangential_pad_N.allFinite() ||
-      !(opt.max_indentation_mm > 0) || !(opt.relative_tolerance > 0)) {
+      !(opt.max_indentation_mm > 0) || !(opt.relative_tolerance > 0) ||
+      !(opt.contact_relative_tolerance >= 0 && opt.contact_relative_tolerance < 1)) {
     r.message = "target force must be finite and > 0, with at least one object";
     return r;
   }
+  // The call's contact tolerance, the configured one back on every return.
+  struct ToleranceScope {
+    fem::ComplianceContact& contact;
+    double configured;
+    ~ToleranceScope() { contact.set_relative_tolerance(configured); }
+  } tolerance_scope{*contact_, contact_->options().relative_tolerance};
+  if (opt.contact_relative_tolerance > 0) contact_->set_relative_tolerance(opt.contact_relative_tolerance);
   std::vector<Eigen::Isometry3d> touch;
   for (const auto& o : objects_pad) {
     touch.push_back(o.trajectory.Pose(0.0));

@@ -79,6 +79,11 @@ struct PressToForceOptions {
   /// objects start inside the skin, or the contact has friction springs, the root find over
   /// indentation-controlled solves answers. false: the root find only.
   bool force_control = true;
+  /// The contact solves' own tolerance for this call (fem::ComplianceContactOptions::
+  /// relative_tolerance: the penalty law k * depth to this fraction of the largest contact
+  /// force); 0 = the contact's configured one (1e-8 by default, what makes the method equal
+  /// the full FE to 1e-6). Looser is faster: fewer outer iterations per solve.
+  double contact_relative_tolerance = 0;
 };
 
 struct PressToForceResult {

@@ -3,6 +3,7 @@
 // Run (Release build), one thread:
 //   OMP_NUM_THREADS=1 build/tests/bench/compliance_contact_benchmark
 //   SEDBRIDGE_BENCH_MODEL=B_coarse build/tests/bench/compliance_contact_benchmark --benchmark_filter=Step
+//   build/tests/bench/compliance_contact_benchmark --benchmark_filter=BridgePress
 // Counters: median_ms / p99_ms / max_ms per step (wall clock), cpu_median_ms / cpu_p99_ms
 // (this thread's CPU time: on a shared machine the wall-clock tail is mostly preemption),
 // steps_per_s (from the wall median), contacts (active nodes, mean), iterations (outer
@@ -214,6 +215,44 @@ void PressToForce(benchmark::State& state) {
   Report(state, timer);
 }
 
+// The bridge's press: face contact (the bridge's default, fe.face_contact), one
+// force-controlled solve per call on a ramp, a sphere (arg 0 = 0, R 8 mm) or a rod across the
+// pad (1, R 2.5 mm, axis along the pad's x): the reconstructed contact's path in
+// `sedbridge replay`, a rod's line of contacts the dearer.
+void BridgePress(benchmark::State& state) {
+  omp_set_num_threads(1);
+  static scene::FingertipCompliance cc = [] {
+    scene::FingertipComplianceOptions o;
+    o.contact.cache_dir = CacheDir();
+    o.face_samples = true;
+    return scene::FingertipCompliance(SharedModel(), o);
+  }();
+  cc.ResetWarmStart();
+  scene::PressToForceOptions options;  // as bridge::ReconstructedPressOptions
+  options.relative_tolerance = 1e-3;
+  options.contact_relative_tolerance = std::pow(10.0, -double(state.range(1)));
+  const bool rod = state.range(0) != 0;
+  const std::vector<geometry::RigidObject> objects{
+      rod ? geometry::RigidObject{"rod", std::make_shared<geometry::CylinderSdf>(2.5e-3, 0.0),
+                                  geometry::Trajectory(Eigen::Isometry3d(Eigen::Translation3d(0, 1e-3, 2.5e-3)))}
+          : Sphere(8, 0)};
+  Timer timer;
+  double contacts = 0, outer = 0;
+  int k = 0;
+  for (auto _ : state) {
+    const double target = 0.6 + 0.3 * std::sin(0.05 * k++);
+    timer.Start();
+    const scene::PressToForceResult r = cc.PressToForce(objects, target, options);
+    timer.Stop();
+    if (!r.reached) state.SkipWithError(r.message.c_str());
+    contacts += r.active_nodes;
+    outer += cc.contact().last().iterations;
+  }
+  state.counters["contacts"] = contacts / double(timer.wall_ms.size());
+  state.counters["last_solve_iterations"] = outer / double(timer.wall_ms.size());
+  Report(state, timer);
+}
+
 void Register() {
   benchmark::RegisterBenchmark("Precompute", Precompute)->Arg(1)->Arg(2)->Iterations(1)->Unit(benchmark::kMillisecond)
       ->UseRealTime();
@@ -226,6 +265,9 @@ void Register() {
       ->Iterations(2000)->Unit(benchmark::kMillisecond)->UseRealTime();
   benchmark::RegisterBenchmark("PressToForce", PressToForce)
       ->ArgNames({"force_control", "cold"})->Args({0, 0})->Args({1, 0})->Args({0, 1})->Args({1, 1})
+      ->Iterations(500)->Unit(benchmark::kMillisecond)->UseRealTime();
+  benchmark::RegisterBenchmark("BridgePress", BridgePress)->ArgNames({"rod", "tol_exp"})
+      ->ArgsProduct({{0, 1}, {8, 6, 5, 4, 3}})
       ->Iterations(500)->Unit(benchmark::kMillisecond)->UseRealTime();
 }
 

@@ -344,6 +344,38 @@ TEST(FingertipCompliance, ForceControlledPressEqualsTheRootFind) {
   }
 }
 
+// The bridge's leader press asks its contact solves for the penalty law to 1e-5 instead of
+// 1e-8 (PressToForceOptions::contact_relative_tolerance): fewer outer iterations, an SED
+// within a small multiple of that tolerance, and the configured tolerance back afterwards.
+TEST(FingertipCompliance, LooserContactToleranceTakesFewerIterationsForAboutTheSameSed) {
+  FingertipComplianceOptions face;
+  face.face_samples = true;
+  FingertipCompliance tight(ModelB(), face), loose(ModelB(), face);
+  PressToForceOptions tight_options, loose_options;
+  tight_options.relative_tolerance = loose_options.relative_tolerance = 1e-3;
+  loose_options.contact_relative_tolerance = 1e-5;
+  for (const auto& objects : {std::vector<geometry::RigidObject>{Sphere(8, {0, 1, 8})},
+                              std::vector<geometry::RigidObject>{PadRod(2.5, 0, 0, 1)}}) {
+    tight.ResetWarmStart();
+    loose.ResetWarmStart();
+    int tight_iterations = 0, loose_iterations = 0;
+    for (int scan = 0; scan < 8; ++scan) {
+      SCOPED_TRACE("object " + objects[0].name + ", scan " + std::to_string(scan));
+      const double target_N = 0.4 + 0.05 * scan;
+      ASSERT_TRUE(tight.PressToForce(objects, target_N, tight_options).reached);
+      tight_iterations += tight.contact().last().iterations;
+      ASSERT_TRUE(loose.PressToForce(objects, target_N, loose_options).reached);
+      loose_iterations += loose.contact().last().iterations;
+      EXPECT_DOUBLE_EQ(loose.contact().options().relative_tolerance, 1e-8);
+      EXPECT_LT((loose.sed_Pa() - tight.sed_Pa()).cwiseAbs().maxCoeff(), 1e-4 * tight.sed_Pa().maxCoeff());
+    }
+    EXPECT_LT(loose_iterations, tight_iterations);
+  }
+  PressToForceOptions invalid;
+  invalid.contact_relative_tolerance = 1.5;
+  EXPECT_FALSE(loose.PressToForce({Sphere(8, {0, 1, 8})}, 0.4, invalid).reached);
+}
+
 // Where force control cannot answer (objects already inside the skin at indentation 0,
 // a target beyond the deepest push) the root find does, and says what it found.
 TEST(FingertipCompliance, ForceControlLeavesWhatItCannotAnswerToTheRootFind) {
