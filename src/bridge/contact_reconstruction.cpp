@@ -207,7 +207,7 @@ bool ContactReconstructor::Plausible(const Hypothesis& h) const {
 
 ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start, int max_evaluations,
                                                          int evaluation_budget, bool force_only,
-                                                         const Prediction* known) const {
+                                                         const Prediction* known, double tracked_log_radius) const {
   const bool shear = options_.fit_shear;
   const bool pair = start.pair;
   const ContactShape shape = pair ? ContactShape::kSphere : start.first.shape;
@@ -410,6 +410,10 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
   if (shape != ContactShape::kFlat && options_.radius_prior_log_sigma > 0) {
     f.prior_weight = 1.0 / options_.radius_prior_log_sigma;
     f.prior_mean = std::log(options_.radius_prior_mm);
+  }
+  if (shape != ContactShape::kFlat && !pair && std::isfinite(tracked_log_radius) && options_.radius_track_log_sigma > 0) {
+    f.prior_weight = 1.0 / options_.radius_track_log_sigma;
+    f.prior_mean = tracked_log_radius;
   }
   Eigen::LevenbergMarquardt<Functor> lm(f);
   lm.parameters.maxfev = max_evaluations > 0 ? max_evaluations : options_.max_evaluations;
@@ -762,7 +766,10 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
       }
     }
     if (!quick) {
-      best = FitModel(last_, 0, amortized ? options_.warm_scan_evaluations : 0, false, &last_prediction_);
+      const double tracked = amortized && !last_.pair
+                                 ? std::log(last_.first.radius_mm)
+                                 : std::numeric_limits<double>::quiet_NaN();
+      best = FitModel(last_, 0, amortized ? options_.warm_scan_evaluations : 0, false, &last_prediction_, tracked);
       estimate_.evaluations += best.evaluations;
     }
     warm_won = Plausible(best.model);
