@@ -155,10 +155,12 @@ ContactReconstructor::ContactReconstructor(const sensors::SensorProfile& profile
         "contact reconstruction: need max_hold_scans >= 1, hold_change_sigma and hold_force_change_sigma > 0, "
         "cells_per_evaluation >= 1, jacobian_refresh >= 1, min_chi2_gain >= 0, noise_counts > 0");
   if (!(options_.min_pair_separation_mm >= 0) || !(options_.min_pair_force_share >= 0 && options_.min_pair_force_share <= 0.5) ||
-      !(options_.min_rod_length_mm > 0) || options_.explained_candidate_evaluations < 0)
+      !(options_.min_rod_length_mm > 0) || options_.explained_candidate_evaluations < 0 ||
+      !(options_.radius_track_log_sigma >= 0) || options_.force_step_max_averaged_scans < 1)
     throw std::invalid_argument(
         "contact reconstruction: need min_pair_separation_mm >= 0, 0 <= min_pair_force_share <= 0.5, "
-        "min_rod_length_mm > 0, explained_candidate_evaluations >= 0");
+        "min_rod_length_mm > 0, explained_candidate_evaluations >= 0, radius_track_log_sigma >= 0, "
+        "force_step_max_averaged_scans >= 1");
   // A hair inside the plausible range, so that a clamped radius is still plausible.
   log_r_lo_ = std::log(options_.min_radius_mm) + 1e-9;
   log_r_hi_ = std::log(options_.max_radius_mm) - 1e-9;
@@ -749,12 +751,14 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
   Fit best;
   bool warm_won = false;
   if (have_last_) {
-    // A scan of a moving load (no hold mean) whose contact keeps its shape, only its force:
+    // A scan of a moving load (no hold mean, or a short one) whose contact keeps its shape,
+    // only its force:
     // the force step explains it as well as the last fit explained its scan, and the
     // shape's refinement waits for a scan that needs it (or the hold's mean).
     bool quick = false;
     const bool saturated = std::find(saturated_.begin(), saturated_.end(), 1) != saturated_.end();
-    if (amortized && options_.force_step_first && have_last_chi2_ && estimate_.averaged_scans == 1 && !last_.pair &&
+    if (amortized && options_.force_step_first && have_last_chi2_ &&
+        estimate_.averaged_scans <= options_.force_step_max_averaged_scans && !last_.pair &&
         last_.first.shape != ContactShape::kFlat && options_.fit_shear && !saturated) {
       const Fit step = FitModel(last_, 0, 0, true, &last_prediction_);
       estimate_.evaluations += step.evaluations;

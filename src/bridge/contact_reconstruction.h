@@ -79,6 +79,11 @@ struct ReconstructionOptions {
   /// the scan as well as the last fit explained its own (chi^2 per reading within 3 standard
   /// deviations of pure noise's), the full warm fit is skipped.
   bool force_step_first = true;
+  /// ... also on the mean of this many scans or fewer: a slow ramp holds still for 2-4 scans
+  /// at a time, and so short a mean tells the shape hardly more than one scan (rig rod
+  /// press_14: 5.1 -> 4.0 evaluations a scan with 4 instead of 1, its peak ratio 0.94 ->
+  /// 0.97; docs/bridge-fidelity.md §5, seventh round). A longer hold refines the shape.
+  int force_step_max_averaged_scans = 4;
   /// A rod of finite length (a box's or a ruler's edge, a key: two more unknowns, its centre
   /// along the axis and its length) is one more model beside the rod that crosses the pad;
   /// shorter than this, or than its diameter, it is not plausible (a spot, not an edge, to
