@@ -58,7 +58,6 @@ struct ContactPrimitive {
   double shear_y_N = 0;
 };
 
-/// Surface load on one grid cell.
 /// One offset of the forward model's kernel table: what a unit load on a cell gives a taxel
 /// at that offset (taxel-area averaged), one 64-byte cache line.
 enum KernelValue { kNormalX, kNormalY, kNormalZ, kTxX, kTxY, kTxZ, kTyY, kTyZ, kKernelValues };
@@ -66,6 +65,7 @@ struct alignas(64) KernelEntry {
   double v[kKernelValues] = {};
 };
 
+/// Surface load on one grid cell.
 struct SurfaceLoad {
   int cell = 0;      ///< index into the model's load grid
   double normal_N = 0;   ///< pressing force on the cell [N]

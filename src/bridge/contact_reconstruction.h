@@ -164,12 +164,13 @@ struct ReconstructionOptions {
   /// against at most a few units here). 0 = no prior.
   double radius_prior_mm = 3.0;
   double radius_prior_log_sigma = 1.0;
-  /// Amortized: on a scan read alone (no hold mean) the warm fit's radius prior is centred on
-  /// the last answer's radius with this sigma in log R instead: an object keeps its size
-  /// while it touches, and one scan of a light or thin contact barely tells the radius (a
-  /// rod's wandered 1.5-4.5 mm from scan to scan on the rig's loading ramps, each scan's fit
-  /// walking the valley for 10-14 evaluations). The hold mean, which does tell it, keeps the
-  /// weak prior above. 0 = off.
+  /// Amortized: the warm fit's radius prior is centred on the last answer's radius with this
+  /// sigma in log R instead of the weak prior above: an object keeps its size while it
+  /// touches, and a scan of a light or thin contact (or the mean of the few scans a slow ramp
+  /// holds still) barely tells the radius (a rod's jumped 0.7-4.5 mm between neighbouring
+  /// scans on the rig's loading ramps). A long hold's mean, whose chi^2 moves by tens between
+  /// radii, still decides: each scan's fit steps from the last answer towards its minimum.
+  /// Candidates (model selection) keep the weak prior. 0 = off.
   double radius_track_log_sigma = 0.15;
 };
 
@@ -275,7 +276,7 @@ class ContactReconstructor {
   /// non-flat shapes with shear; no saturated taxel): three evaluations, two from `known`.
   /// known: the parts at `start` when they are known (its unknowns within round-off).
   /// @param tracked_log_radius  finite: the radius prior is centred here with
-  ///                            radius_track_log_sigma (a warm fit of a scan read alone)
+  ///                            radius_track_log_sigma (the warm fit: the last answer's)
   Fit FitModel(const Hypothesis& start, int max_evaluations = 0, int evaluation_budget = 0,
                bool force_only = false, const Prediction* known = nullptr,
                double tracked_log_radius = std::numeric_limits<double>::quiet_NaN()) const;
