@@ -54,6 +54,9 @@ struct BridgeConfig {
   bool face_contact = true;  ///< fe.face_contact: the leader press of fe.step contact touches skin faces too
   bool two_contacts = true;  ///< fe.two_contacts: fe.step contact may read a scan as two spheres at once
   bool finite_rods = true;   ///< fe.finite_rods: fe.step contact may read a rod that ends on the pad (an edge)
+  /// fe.contact_tolerance: fe.step contact's leader press solves the penalty law to this
+  /// fraction of its largest contact force (scene::PressToForceOptions::contact_relative_tolerance)
+  double contact_tolerance = 1e-5;
 
   // registration:
   PadRegistrationParams registration;
@@ -92,6 +95,7 @@ struct BridgeConfig {
       f->Visit(Field("face_contact", &face_contact));
       f->Visit(Field("two_contacts", &two_contacts));
       f->Visit(Field("finite_rods", &finite_rods));
+      f->Visit(Field("contact_tolerance", &contact_tolerance).InRange(1e-12, 0.1));
     });
     a->Section("registration", [&](auto* g) {
       g->Visit(Field("offset_mm", &registration.offset_mm));

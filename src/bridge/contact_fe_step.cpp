@@ -13,8 +13,9 @@ namespace sedbridge::bridge {
 
 ContactFeStep::ContactFeStep(const std::string& model_name, const sensors::SensorProfile& profile,
                              const PadRegistration& registration, std::unique_ptr<FeStep> fallback,
-                             scene::FingertipComplianceOptions leader, ReconstructionOptions options)
-    : fallback_(std::move(fallback)), registration_(registration) {
+                             scene::FingertipComplianceOptions leader, ReconstructionOptions options,
+                             scene::PressToForceOptions press)
+    : fallback_(std::move(fallback)), registration_(registration), press_options_(press) {
   reconstructor_ = std::make_unique<ContactReconstructor>(profile, options);
   model_ = std::make_unique<model::FingertipModel>(model::LoadFingertipModel(model_name));
   leader_ = std::make_unique<scene::FingertipCompliance>(*model_, std::move(leader));
@@ -113,7 +114,7 @@ bool ContactFeStep::SameAsLastPress(const ContactEstimate& e) const {
   // target), 5 um, 0.2 % in radius, 0.05 deg: the reused SED stays within 3e-3 (L2) of a
   // fresh press (test HoldScansReuseTheLastPressWithTheSameAnswer), about the press's own
   // 1e-3 force tolerance times the SED's sensitivity to force.
-  const double force_tol_N = 0.5 * ReconstructedPressOptions().relative_tolerance * last.normal_force_N();
+  const double force_tol_N = 0.5 * press_options_.relative_tolerance * last.normal_force_N();
   // The tangential load the leader was pressed with, not the raw estimate.
   const Eigen::Vector2d dt = LeaderTangentialLoad_N(e) - LeaderTangentialLoad_N(last);
   if (p.shape != q.shape || !(std::abs(e.normal_force_N() - last.normal_force_N()) <= force_tol_N) ||
@@ -204,7 +205,7 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
   }
   StageTimer press_timer(times, Stage::kPress);
   const auto press = leader_->PressToForce(ToRigidObjects(estimate_), estimate_.normal_force_N(),
-                                           ReconstructedPressOptions(), LeaderTangentialLoad_N(estimate_));
+                                           press_options_, LeaderTangentialLoad_N(estimate_));
   press_timer.Stop();
   press_time_.AddMs(times[Stage::kPress]);
   counters_.press_solves += press.iterations;

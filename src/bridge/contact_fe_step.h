@@ -50,9 +50,12 @@ class ContactFeStep final : public FeStep {
   ///                    contact); contact.full_field keeps what frame_positions_m() needs
   ///                    for the whole mesh (VTU frames; 24 MB on B, and the precompute runs
   ///                    instead of the cache)
+  /// @param press       the leader press's force and contact tolerances
+  ///                    (ReconstructedPressOptions(); fe.contact_tolerance sets its contact one)
   ContactFeStep(const std::string& model_name, const sensors::SensorProfile& profile,
                 const PadRegistration& registration, std::unique_ptr<FeStep> fallback,
-                scene::FingertipComplianceOptions leader, ReconstructionOptions options = {});
+                scene::FingertipComplianceOptions leader, ReconstructionOptions options = {},
+                scene::PressToForceOptions press = ReconstructedPressOptions());
   ~ContactFeStep() override;
 
   /// Needs values.scan (set by ScanConditioner); without it the fallback answers.
@@ -62,6 +65,8 @@ class ContactFeStep final : public FeStep {
   std::string Describe() const override;
   std::string CountersLine() const override;
   const lcmt_contact_estimate* contact_message() const override { return &message_; }
+  /// The leader press's options (fe.contact_tolerance is their contact tolerance).
+  const scene::PressToForceOptions& press_options() const { return press_options_; }
   /// With leader.contact.full_field: the leader's mesh under the pressed object and the step's Merkel SED
   /// (a fallback scan shows the fallback's own frame, or rest). False without full_field.
   bool Frame(FeFrame* frame) const override;
@@ -95,6 +100,7 @@ class ContactFeStep final : public FeStep {
   std::unique_ptr<ContactReconstructor> reconstructor_;
   std::unique_ptr<FeStep> fallback_;
   PadRegistration registration_;
+  scene::PressToForceOptions press_options_;
   ContactEstimate estimate_;
   ContactStepCounters counters_;
   enum class LastStep { kNone, kPressed, kFallback } last_ = LastStep::kNone;

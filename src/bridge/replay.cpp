@@ -46,8 +46,10 @@ std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::Se
     ReconstructionOptions reconstruction;
     reconstruction.fit_pairs = config.two_contacts;
     reconstruction.fit_finite_rods = config.finite_rods;
+    scene::PressToForceOptions press = ReconstructedPressOptions();
+    press.contact_relative_tolerance = config.contact_tolerance;
     return std::make_unique<ContactFeStep>(config.model, profile, PadRegistration(profile.taxels, config.registration),
-                                           MakeFeStep(map, profile), std::move(leader), reconstruction);
+                                           MakeFeStep(map, profile), std::move(leader), reconstruction, press);
   }
   if (config.fe_step == FeStepKind::kReduced)
     return std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, config.preset), profile,

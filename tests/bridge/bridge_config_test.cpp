@@ -22,6 +22,7 @@ TEST(BridgeConfig, ShippedDefaultLoadsWithEveryKey) {
   EXPECT_TRUE(c.face_contact);
   EXPECT_TRUE(c.two_contacts);
   EXPECT_TRUE(c.finite_rods);
+  EXPECT_DOUBLE_EQ(c.contact_tolerance, 1e-5);
   EXPECT_EQ(c.display_profile, "suction_4x4");
   EXPECT_DOUBLE_EQ(c.status_Hz, 10);
   EXPECT_DOUBLE_EQ(c.conditioning.noise_floor_Pa, 150);
@@ -37,6 +38,8 @@ TEST(BridgeConfig, EmptyFileGivesDefaults) {
   EXPECT_TRUE(c.two_contacts);
   EXPECT_FALSE(ParseBridgeConfig("fe: {two_contacts: false}\n", "single.yaml").two_contacts);
   EXPECT_FALSE(ParseBridgeConfig("fe: {finite_rods: false}\n", "crossing.yaml").finite_rods);
+  EXPECT_DOUBLE_EQ(c.contact_tolerance, 1e-5);
+  EXPECT_DOUBLE_EQ(ParseBridgeConfig("fe: {contact_tolerance: 1.0e-8}\n", "tight.yaml").contact_tolerance, 1e-8);
   // The leader press's options follow the key.
   EXPECT_TRUE(LeaderComplianceOptions("").face_samples);
   EXPECT_FALSE(LeaderComplianceOptions("", false).face_samples);
@@ -74,6 +77,15 @@ TEST(BridgeConfig, UnknownKeyNamesFileLineColumn) {
   EXPECT_THROW(ParseBridgeConfig("bogus: 1\n", "b.yaml"), config::ConfigError);
   EXPECT_THROW(ParseBridgeConfig("fe: {preset: accurate, step: reduced}\n", "b.yaml"), config::ConfigError);
   EXPECT_EQ(ParseBridgeConfig("fe: {step: reduced}\n", "b.yaml").fe_step, FeStepKind::kReduced);
+  try {
+    ParseBridgeConfig("fe:\n  contact_tolerance: 0.5\n", "loose.yaml");
+    FAIL() << "no error";
+  } catch (const config::ConfigError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("loose.yaml:2:"), std::string::npos) << what;
+    EXPECT_NE(what.find("contact_tolerance"), std::string::npos) << what;
+  }
+  EXPECT_THROW(ParseBridgeConfig("fe: {contact_tolerance: 0}\n", "b.yaml"), config::ConfigError);
 }
 
 TEST(BridgeConfig, LcmSectionIsReadThroughItsSchema) {

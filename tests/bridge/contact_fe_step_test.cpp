@@ -43,6 +43,18 @@ std::unique_ptr<ContactFeStep> MakeContactStep(const BridgeConfig& config, const
                                          LeaderComplianceOptions(""));
 }
 
+// fe.contact_tolerance reaches the leader press the bridge builds (MakeFeStep).
+TEST(ContactFeStep, ContactToleranceKeyReachesTheLeaderPress) {
+  BridgeConfig config = ContactConfig();
+  config.contact_tolerance = 1e-7;
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
+  const std::unique_ptr<FeStep> step = MakeFeStep(config, profile);
+  const auto* contact = dynamic_cast<const ContactFeStep*>(step.get());
+  ASSERT_NE(contact, nullptr);
+  EXPECT_DOUBLE_EQ(contact->press_options().contact_relative_tolerance, 1e-7);
+  EXPECT_DOUBLE_EQ(contact->press_options().relative_tolerance, ReconstructedPressOptions().relative_tolerance);
+}
+
 TEST(ContactFeStep, ExampleLogPublishesContactEstimates) {
   const BridgeConfig config = ContactConfig();
   sensors::CandumpLogSource source(testing::ExampleLogPath());
