@@ -302,6 +302,7 @@ void ComplianceContact::AddWTimes(const Items& items, const SampleOf& sample_of,
     const Eigen::Vector3d f = force(item);
     if (!f.isZero(0.0)) AddSampleForce(sample_of(item), f);
   }
+  if (forced_nodes_.empty()) return;  // no force (a press without shear: the tangential part)
   node_u_.setZero();
   ApplyNodeForces(W_nodes_, node_u_);
   AddToSamples(node_u_, u_samples);
