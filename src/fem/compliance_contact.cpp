@@ -69,6 +69,24 @@ struct Fnv {
 #define SEDBRIDGE_HOT_CLONES
 #endif
 
+// Calls f(p, a, b) for every pair index in either sorted list, with a pointer to its vector
+// in each (null where the list lacks it), in increasing order.
+template <typename Lists, typename F>
+void MergePairs(const Lists& a, const Lists& b, F&& f) {
+  size_t i = 0, k = 0;
+  while (i < a.pairs.size() || k < b.pairs.size()) {
+    const int pa = i < a.pairs.size() ? a.pairs[i] : std::numeric_limits<int>::max();
+    const int pb = k < b.pairs.size() ? b.pairs[k] : std::numeric_limits<int>::max();
+    if (pa == pb) {
+      f(pa, &a.values[i++], &b.values[k++]);
+    } else if (pa < pb) {
+      f(pa, &a.values[i++], nullptr);
+    } else {
+      f(pb, nullptr, &b.values[k++]);
+    }
+  }
+}
+
 SEDBRIDGE_HOT_CLONES
 void AddThreeColumns(int rows, const double* a0, const double* a1, const double* a2, double f0, double f1, double f2,
                      double* y) {
@@ -565,9 +583,8 @@ const ComplianceStepResult& ComplianceContact::Solve(const std::vector<geometry:
   bool have_previous = false;  // Anderson history valid (same contacts as last iteration)
   prediction_valid_ = false;
   for (int it = 0; it <= options_.max_iterations; ++it) {
-    // The iteration's state: force vector l_p n_p of every pair.
-    state_ = normal_ * lambda_N_.asDiagonal();
-    if (friction) state_ += friction_;
+    // The iteration's state: force vector l_p n_p of every pair that carries one (below).
+    state_.clear();
     // 1. Displacements from the current forces: normal k*depth along each pair's normal,
     // plus the tangential load in proportion to each node's normal force.
     const double total = lambda_N_.sum();
@@ -580,8 +597,10 @@ const ComplianceStepResult& ComplianceContact::Solve(const std::vector<geometry:
       for (int o = 0; o < no; ++o) {
         const int p = j * no + o;
         if (lambda_N_[p] > 0) {
-          f_c_.segment<3>(3 * j) += lambda_N_[p] * normal_.col(p);
+          const Eigen::Vector3d force = lambda_N_[p] * normal_.col(p);
+          f_c_.segment<3>(3 * j) += force;
           node_lambda += lambda_N_[p];
+          state_.push(p, force);
         }
         if (friction && !friction_.col(p).isZero(0.0)) {
           f_c_.segment<3>(3 * j) += friction_.col(p);
@@ -713,32 +732,46 @@ const ComplianceStepResult& ComplianceContact::Solve(const std::vector<geometry:
     // that outer iteration converges only linearly (rate ~0.3 measured on B). Anderson
     // acceleration of depth 1 on the force vectors, while the contact set holds, makes
     // it superlinear in practice.
-    mapped_ = normal_ * lambda_N_.asDiagonal();
-    residual_ = mapped_ - state_;
+    // (Not with friction springs: their forces are not along the normals.)
     double accelerated_gamma = 0;  // set when Anderson moved the forces
-    const bool same_support = !friction && have_previous && ((mapped_.colwise().squaredNorm().array() > 0) ==
-                                                (previous_mapped_.colwise().squaredNorm().array() > 0)).all();
-    if (same_support) {
-      const Eigen::Matrix3Xd dr = residual_ - previous_residual_;
-      const double dd = dr.squaredNorm();
-      const double gamma = dd > 0 ? (residual_.cwiseProduct(dr)).sum() / dd : 0.0;
-      if (std::isfinite(gamma) && std::abs(gamma) < 10) {
-        accelerated_gamma = gamma;
-        const Eigen::Matrix3Xd accelerated = mapped_ - gamma * (mapped_ - previous_mapped_);
-        for (Eigen::Index p = 0; p < accelerated.cols(); ++p) {
-          const double norm = accelerated.col(p).norm();
-          // Keep the QP's contact set and directions that stay outward of the object.
-          if (lambda_N_[p] > 0 && norm > 0 && accelerated.col(p).dot(normal_.col(p)) > 0) {
-            prediction_valid_ = false;
-            lambda_N_[p] = norm;
-            normal_.col(p) = accelerated.col(p) / norm;
+    if (!friction) {
+      mapped_.clear();
+      for (Eigen::Index p = 0; p < lambda_N_.size(); ++p)
+        if (lambda_N_[p] > 0) mapped_.push(int(p), lambda_N_[p] * normal_.col(p));
+      // residual = mapped - state on the union of their pairs (both sorted).
+      residual_.clear();
+      MergePairs(mapped_, state_, [&](int p, const Eigen::Vector3d* m, const Eigen::Vector3d* s) {
+        residual_.push(p, (m ? *m : Eigen::Vector3d::Zero()) - (s ? *s : Eigen::Vector3d::Zero()));
+      });
+      if (have_previous && mapped_.pairs == previous_mapped_.pairs) {
+        double dd = 0, rd = 0;  // |r - r_previous|^2 and r . (r - r_previous)
+        MergePairs(residual_, previous_residual_, [&](int, const Eigen::Vector3d* r, const Eigen::Vector3d* q) {
+          const Eigen::Vector3d rv = r ? *r : Eigen::Vector3d::Zero();
+          const Eigen::Vector3d dr = rv - (q ? *q : Eigen::Vector3d::Zero());
+          dd += dr.squaredNorm();
+          rd += rv.dot(dr);
+        });
+        const double gamma = dd > 0 ? rd / dd : 0.0;
+        if (std::isfinite(gamma) && std::abs(gamma) < 10) {
+          accelerated_gamma = gamma;
+          for (size_t i = 0; i < mapped_.pairs.size(); ++i) {
+            const int p = mapped_.pairs[i];
+            const Eigen::Vector3d accelerated =
+                mapped_.values[i] - gamma * (mapped_.values[i] - previous_mapped_.values[i]);
+            const double norm = accelerated.norm();
+            // Keep the QP's contact set and directions that stay outward of the object.
+            if (norm > 0 && accelerated.dot(normal_.col(p)) > 0) {
+              prediction_valid_ = false;
+              lambda_N_[p] = norm;
+              normal_.col(p) = accelerated / norm;
+            }
           }
         }
       }
+      std::swap(previous_mapped_, mapped_);
+      std::swap(previous_residual_, residual_);
+      have_previous = true;
     }
-    previous_mapped_ = mapped_;
-    previous_residual_ = residual_;
-    have_previous = true;
     if (control) {
       // The QP's move, cut to max_change_m (a trust region against tunnelling), and
       // accelerated with the forces' coefficient while neither this nor the last was cut.

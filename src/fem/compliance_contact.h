@@ -268,7 +268,16 @@ class ComplianceContact {
   Eigen::VectorXd row_gap_, row_lambda_, row_compliance_;
   int bounded_rows_ = 0;
   Eigen::VectorXd held_;  // forces held fixed during a QP (the tangential load)
-  Eigen::Matrix3Xd state_, mapped_, residual_, previous_mapped_, previous_residual_;  // Anderson(1)
+  // Anderson(1) on the force vectors l_p n_p, over the pairs that carry force (sorted pair
+  // indices and their vectors: most of the pad's points carry none, and dense 3 x #pairs
+  // sweeps were a tenth of a rod's press).
+  struct PairVectors {
+    std::vector<int> pairs;
+    std::vector<Eigen::Vector3d> values;
+    void clear() { pairs.clear(), values.clear(); }
+    void push(int p, const Eigen::Vector3d& v) { pairs.push_back(p), values.push_back(v); }
+  };
+  PairVectors state_, mapped_, residual_, previous_mapped_, previous_residual_;
   std::vector<int> passive_, before_add_, kept_;
   std::vector<char> in_passive_;
   double largest_ = 0;
