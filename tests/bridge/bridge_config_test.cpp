@@ -62,29 +62,28 @@ TEST(BridgeConfig, ReadsRegistrationAndTraction) {
   EXPECT_DOUBLE_EQ(c.tick_Hz, 500);
 }
 
-TEST(BridgeConfig, UnknownKeyNamesFileLineColumn) {
+// The error of parsing `yaml` names `where` (file:line[:column]) and `key`.
+void ExpectErrorNaming(const std::string& yaml, const std::string& file, const std::string& where,
+                       const std::string& key) {
   try {
-    ParseBridgeConfig("fe:\n  model: B\n  presett: fast\n", "bridge.yaml");
-    FAIL() << "no error";
+    ParseBridgeConfig(yaml, file);
+    FAIL() << "no error for " << yaml;
   } catch (const config::ConfigError& e) {
     const std::string what = e.what();
-    EXPECT_NE(what.find("bridge.yaml:3:3"), std::string::npos) << what;
-    EXPECT_NE(what.find("presett"), std::string::npos) << what;
+    EXPECT_NE(what.find(where), std::string::npos) << what;
+    EXPECT_NE(what.find(key), std::string::npos) << what;
   }
+}
+
+TEST(BridgeConfig, UnknownKeyNamesFileLineColumn) {
+  ExpectErrorNaming("fe:\n  model: B\n  presett: fast\n", "bridge.yaml", "bridge.yaml:3:3", "presett");
   EXPECT_THROW(ParseBridgeConfig("registration: {scale: -1}\n", "b.yaml"), config::ConfigError);
   EXPECT_THROW(ParseBridgeConfig("fe: {preset: turbo}\n", "b.yaml"), config::ConfigError);
   EXPECT_THROW(ParseBridgeConfig("lcm: {channels: {command: lower}}\n", "b.yaml"), config::ConfigError);
   EXPECT_THROW(ParseBridgeConfig("bogus: 1\n", "b.yaml"), config::ConfigError);
   EXPECT_THROW(ParseBridgeConfig("fe: {preset: accurate, step: reduced}\n", "b.yaml"), config::ConfigError);
   EXPECT_EQ(ParseBridgeConfig("fe: {step: reduced}\n", "b.yaml").fe_step, FeStepKind::kReduced);
-  try {
-    ParseBridgeConfig("fe:\n  contact_tolerance: 0.5\n", "loose.yaml");
-    FAIL() << "no error";
-  } catch (const config::ConfigError& e) {
-    const std::string what = e.what();
-    EXPECT_NE(what.find("loose.yaml:2:"), std::string::npos) << what;
-    EXPECT_NE(what.find("contact_tolerance"), std::string::npos) << what;
-  }
+  ExpectErrorNaming("fe:\n  contact_tolerance: 0.5\n", "loose.yaml", "loose.yaml:2:", "contact_tolerance");
   EXPECT_THROW(ParseBridgeConfig("fe: {contact_tolerance: 0}\n", "b.yaml"), config::ConfigError);
 }
 
