@@ -871,13 +871,14 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau, co
   row_gap_.resize(rows);
   row_lambda_.resize(rows);
   row_compliance_.resize(rows);
-  for (Eigen::Index p = 0; p < pairs; ++p) {
-    row_node_[size_t(p)] = int(p) / no;
-    row_dir_.col(p) = normal_.col(p);
-    row_gap_[p] = phi_m_[p];
-    row_lambda_[p] = lambda_N_[p];
-    row_compliance_[p] = inverse_k;
-  }
+  // Block copies, and the node of pair p = j * no + o without an integer division per pair
+  // (570 of them per QP with face contact).
+  for (int j = 0, p = 0; p < int(pairs); ++j)
+    for (int o = 0; o < no; ++o) row_node_[size_t(p++)] = j;
+  row_dir_.leftCols(pairs) = normal_;
+  row_gap_.head(pairs) = phi_m_;
+  row_lambda_.head(pairs) = lambda_N_;
+  row_compliance_.head(pairs).setConstant(inverse_k);
   if (friction) {
     int r = int(pairs);
     for (Eigen::Index p = 0; p < pairs; ++p) {
