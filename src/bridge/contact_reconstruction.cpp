@@ -409,13 +409,12 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
   int evaluations = 0, budget_used = 0;
   Functor f{{}, this, shape, pair, finite, shear, &evaluations, &budget_used, 0, 0, {}, {}, {}, {}, {}, {}, {}};
   f.refresh = options_.jacobian_refresh;
-  if (shape != ContactShape::kFlat && options_.radius_prior_log_sigma > 0) {
-    f.prior_weight = 1.0 / options_.radius_prior_log_sigma;
-    f.prior_mean = std::log(options_.radius_prior_mm);
-  }
-  if (shape != ContactShape::kFlat && !pair && std::isfinite(tracked_log_radius) && options_.radius_track_log_sigma > 0) {
-    f.prior_weight = 1.0 / options_.radius_track_log_sigma;
-    f.prior_mean = tracked_log_radius;
+  // The radius prior: on the tracked radius (a single shape's warm fit), else the weak one.
+  const bool tracked = !pair && std::isfinite(tracked_log_radius) && options_.radius_track_log_sigma > 0;
+  const double prior_sigma = tracked ? options_.radius_track_log_sigma : options_.radius_prior_log_sigma;
+  if (shape != ContactShape::kFlat && prior_sigma > 0) {
+    f.prior_weight = 1.0 / prior_sigma;
+    f.prior_mean = tracked ? tracked_log_radius : std::log(options_.radius_prior_mm);
   }
   Eigen::LevenbergMarquardt<Functor> lm(f);
   lm.parameters.maxfev = max_evaluations > 0 ? max_evaluations : options_.max_evaluations;

@@ -10,8 +10,8 @@
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
-#include <limits>
 #include <fstream>
+#include <limits>
 #include <set>
 #include <stdexcept>
 
@@ -600,7 +600,7 @@ const ComplianceStepResult& ComplianceContact::Solve(const std::vector<geometry:
           const Eigen::Vector3d force = lambda_N_[p] * normal_.col(p);
           f_c_.segment<3>(3 * j) += force;
           node_lambda += lambda_N_[p];
-          state_.push(p, force);
+          if (!friction) state_.push(p, force);  // Anderson's state (not with friction)
         }
         if (friction && !friction_.col(p).isZero(0.0)) {
           f_c_.segment<3>(3 * j) += friction_.col(p);

@@ -198,9 +198,12 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
   PressToForceResult r;
   r.target_force_N = target_N;
   if (!(std::isfinite(target_N) && target_N > 0) || objects_pad.empty() || !tangential_pad_N.allFinite() ||
-      !(opt.max_indentation_mm > 0) || !(opt.relative_tolerance > 0) ||
-      !(opt.contact_relative_tolerance >= 0 && opt.contact_relative_tolerance < 1)) {
+      !(opt.max_indentation_mm > 0) || !(opt.relative_tolerance > 0)) {
     r.message = "target force must be finite and > 0, with at least one object";
+    return r;
+  }
+  if (!(opt.contact_relative_tolerance >= 0 && opt.contact_relative_tolerance < 1)) {
+    r.message = "contact_relative_tolerance must be in [0, 1) (0: the contact's own)";
     return r;
   }
   // The call's contact tolerance, the configured one back on every return.
