@@ -232,6 +232,20 @@ int ElasticTetForce::AccumulateElement(int t, const SystemState& state, bool for
   const int twists =
       corotational && tangent_ == CorotationalTangent::kConsistent && !definite_ && !inverted ? CorotationalTwistTerms(e, R, F, true, 0.0, twist, twist_sign)
                                                                                           : 0;
+  if (twists == 0) {
+    // D = beta K: each block in one pass over the matrix's values.
+    const double beta = damping ? beta_s_ : 0.0;
+    for (int a = 0; a < 4; ++a) {
+      for (int b = a; b < 4; ++b) {
+        const Eigen::Matrix3d K = StiffnessBlock(e, h[a], h[b], e.shape_gradients.row(a).dot(e.shape_gradients.row(b)));
+        sink->AddProportionalTo(values, k_times_v, slots_[size_t(t)][size_t(4 * a + b)], n[size_t(a)], n[size_t(b)], K, beta);
+        if (b != a)
+          sink->AddProportionalTo(values, k_times_v, slots_[size_t(t)][size_t(4 * b + a)], n[size_t(b)], n[size_t(a)],
+                                  K.transpose(), beta);
+      }
+    }
+    return inverted;
+  }
   for (int a = 0; a < 4; ++a) {
     for (int b = a; b < 4; ++b) {
       Eigen::Matrix3d K = StiffnessBlock(e, h[a], h[b], e.shape_gradients.row(a).dot(e.shape_gradients.row(b)));
@@ -274,12 +288,14 @@ double ElasticTetForce::PotentialEnergy(const SystemState& state) const {
 
 void ElasticTetForce::ComputeNodeRotations(std::vector<Eigen::Matrix3d>& node_rotations) const {
   node_rotations.resize(node_elements_.size());
+  // From the last call's rotation: the nodes turn little between calls (1-2 Newton steps
+  // instead of 3-4 from the identity).
+  node_quaternions_.resize(node_elements_.size(), Eigen::Quaterniond::Identity());
 #pragma omp parallel for schedule(static) if (node_elements_.size() > 20000)
   for (int i = 0; i < int(node_elements_.size()); ++i) {
     Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
     for (int t : node_elements_[size_t(i)]) sum += rotations_[size_t(t)];
-    Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
-    node_rotations[size_t(i)] = ExtractRotation(sum, q);
+    node_rotations[size_t(i)] = ExtractRotation(sum, node_quaternions_[size_t(i)]);
   }
 }
 

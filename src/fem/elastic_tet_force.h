@@ -92,6 +92,8 @@ class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
   std::vector<Eigen::Quaterniond> quaternions_;  // warm starts
   std::vector<Eigen::Matrix3d> rotations_;
   std::vector<std::vector<int>> node_elements_;
+  // Warm starts of ComputeNodeRotations (a cache: the answer is the same to round-off).
+  mutable std::vector<Eigen::Quaterniond> node_quaternions_;
   int inverted_elements_ = 0;
   /// Element kernel: force into `force`, Jacobian blocks into `values`/`k_times_v` (laid
   /// out like sink's matrix). Returns 1 if the element is inverted.

@@ -21,8 +21,8 @@ constexpr double kSmallAngle_rad = 1e-4;
 
 }  // namespace
 
-Eigen::Matrix3d ExtractRotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q,
-                                int max_iterations) {
+Eigen::Matrix3d ExtractRotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q, int max_iterations,
+                                double last_newton_step_rad) {
   // Maximises tr(R^T F) over R = R_q exp([w]). In the element frame A = R^T F, the
   // objective is tr(A) + g.w - w^T H w / 2 with g = axial(A - A^T) and H = tr(S) I - S,
   // S = sym(A). Newton's step w = H^-1 g converges quadratically (2-3 steps from a warm
@@ -36,19 +36,23 @@ Eigen::Matrix3d ExtractRotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q,
     const Eigen::Matrix3d A = R.transpose() * F;
     const Eigen::Vector3d g(A(2, 1) - A(1, 2), A(0, 2) - A(2, 0), A(1, 0) - A(0, 1));
     const double trace = A.trace();
-    Eigen::Vector3d omega = g / (std::abs(trace) + kAlignmentFloor);
-    const Eigen::Matrix3d S = 0.5 * (A + A.transpose());
-    Eigen::Matrix3d H = -S;
-    H.diagonal().array() += trace;
+    Eigen::Vector3d omega;
+    // H = tr(S) I - S (symmetric) by its six entries and its adjugate: H^-1 g = adj(H) g / det H.
+    const double h00 = trace - A(0, 0), h11 = trace - A(1, 1), h22 = trace - A(2, 2);
+    const double h01 = -0.5 * (A(0, 1) + A(1, 0)), h02 = -0.5 * (A(0, 2) + A(2, 0)), h12 = -0.5 * (A(1, 2) + A(2, 1));
+    const double c00 = h11 * h22 - h12 * h12, c01 = h02 * h12 - h01 * h22, c02 = h01 * h12 - h02 * h11;
+    const double c11 = h00 * h22 - h02 * h02, c12 = h01 * h02 - h00 * h12, c22 = h00 * h11 - h01 * h01;
     // Positive definite, by leading minors, with a margin against a nearly singular H.
     const double margin = kNewtonMargin * std::abs(trace);
-    const double m1 = H(0, 0);
-    const double m2 = H(0, 0) * H(1, 1) - H(0, 1) * H(1, 0);
-    const double m3 = H.determinant();
+    const double m1 = h00, m2 = c22, m3 = h00 * c00 + h01 * c01 + h02 * c02;
+    bool newton_step = false;
     if (m1 > margin && m2 > margin * margin && m3 > margin * margin * margin) {
-      const Eigen::Vector3d newton = H.inverse() * g;
-      if (newton.norm() < kMaxNewtonStep_rad) omega = newton;
+      const double inv_det = 1.0 / m3;
+      omega = inv_det * Eigen::Vector3d(c00 * g.x() + c01 * g.y() + c02 * g.z(), c01 * g.x() + c11 * g.y() + c12 * g.z(),
+                                        c02 * g.x() + c12 * g.y() + c22 * g.z());
+      newton_step = omega.squaredNorm() < kMaxNewtonStep_rad * kMaxNewtonStep_rad;
     }
+    if (!newton_step) omega = g / (std::abs(trace) + kAlignmentFloor);
     const double angle = omega.norm();
     if (!(angle > kConvergedAngle_rad)) break;  // also stops on NaN input
     if (angle < kSmallAngle_rad) {
@@ -59,6 +63,9 @@ Eigen::Matrix3d ExtractRotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q,
     }
     q.normalize();
     R = q.toRotationMatrix();
+    // Newton's error after this step is of the order of its square: another iteration
+    // would only confirm it.
+    if (newton_step && angle < last_newton_step_rad) break;
   }
   if (!R.allFinite()) {
     q = Eigen::Quaterniond::Identity();

@@ -12,11 +12,12 @@ namespace sedbridge::fem {
 
 /// Rotation extraction: maximises tr(R^T F) over rotations by Newton's method on the
 /// rotation (quadratic convergence), falling back to Mueller et al.'s robust step where
-/// Newton's is not safe. Warm-started from `q`, which is updated in place: 2-3 iterations
-/// when F changes little between calls. Stops when the update is below 1e-12 rad or after
-/// `max_iterations`. Returns R.
-Eigen::Matrix3d ExtractRotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q,
-                                int max_iterations = 20);
+/// Newton's is not safe. Warm-started from `q`, which is updated in place: 1-2 iterations
+/// when F changes little between calls. Stops when the update is below 1e-12 rad, after a
+/// Newton step shorter than `last_newton_step_rad` (the error left is of the order of its
+/// square: the default leaves ~1e-12 rad), or after `max_iterations`. Returns R.
+Eigen::Matrix3d ExtractRotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q, int max_iterations = 20,
+                                double last_newton_step_rad = 1e-6);
 
 /// Reference: SVD-based polar rotation with the smallest singular direction flipped for
 /// inverted F (det F < 0). Slower; used in tests and as a cross-check.

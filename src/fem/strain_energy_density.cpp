@@ -13,6 +13,13 @@ namespace sedbridge::fem {
 // threads, docs/performance.md "Triangular solves on two cores").
 constexpr size_t kParallelMinElements = 1000;
 
+// The SED is stationary in R at the polar rotation: with G = R^T F = S there, turning R by
+// a small skew W moves eps by -(W S - S W)/2, and sigma (a polynomial in S) commutes with S,
+// so sigma : d eps = 0. A rotation off by d rad moves the SED by ~ mu d^2, so the
+// iteration stops after a Newton step below 1e-3 rad (d ~ 1e-6 rad, ~1e-8 Pa) instead of
+// confirming 1e-12 rad: one polar step per element a step instead of two.
+constexpr double kSedLastNewtonStep_rad = 1e-3;
+
 double ElementSed(const TetElement& e, const Eigen::Matrix3d& F, const Eigen::Matrix3d& R) {
   const Eigen::Matrix3d G = R.transpose() * F;
   const Eigen::Matrix3d eps = 0.5 * (G + G.transpose()) - Eigen::Matrix3d::Identity();
@@ -93,7 +100,7 @@ void VertexSedEvaluator::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd& ver
     const Eigen::Matrix3d F = DeformationGradient(e, x.segment<3>(3 * n[0]), x.segment<3>(3 * n[1]),
                                                   x.segment<3>(3 * n[2]), x.segment<3>(3 * n[3]));
     Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-    if (corotational) R = ExtractRotation(F, warm_[size_t(k)]);
+    if (corotational) R = ExtractRotation(F, warm_[size_t(k)], 20, kSedLastNewtonStep_rad);
     element_sed_[k] = ElementSed(e, F, R);
   }
   AverageToVertices(element_sed_, vertex_sed);
@@ -118,7 +125,7 @@ void VertexSedEvaluator::EvaluateNodalPressure(const Eigen::VectorXd& x) {
     if (!corotational)
       ring_R_[size_t(k)].setIdentity();
     else if (k < int(elements_.size()))
-      ring_R_[size_t(k)] = ExtractRotation(ring_F_[size_t(k)], ring_warm_[size_t(k)]);
+      ring_R_[size_t(k)] = ExtractRotation(ring_F_[size_t(k)], ring_warm_[size_t(k)], 20, kSedLastNewtonStep_rad);
     else
       ring_R_[size_t(k)] = elastic_.rotations()[size_t(t)];
     ring_theta_[k] = NodalPressureTetForce::ElementVolumetricStrain(ring_F_[size_t(k)], ring_R_[size_t(k)]);

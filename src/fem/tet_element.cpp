@@ -12,14 +12,6 @@ double SignedVolume(const Eigen::Vector3d& x0, const Eigen::Vector3d& x1,
   return (x1 - x0).cross(x2 - x0).dot(x3 - x0) / 6.0;
 }
 
-Eigen::Matrix3d DeformationGradient(const TetElement& e, const Eigen::Vector3d& x0,
-                                    const Eigen::Vector3d& x1, const Eigen::Vector3d& x2,
-                                    const Eigen::Vector3d& x3) {
-  Eigen::Matrix3d ds;
-  ds << x1 - x0, x2 - x0, x3 - x0;
-  return ds * e.rest_inverse;
-}
-
 std::vector<TetElement> PrecomputeElements(const TetMesh& mesh) {
   std::vector<TetElement> out(mesh.tets.size());
   for (size_t t = 0; t < mesh.tets.size(); ++t) {
@@ -49,13 +41,6 @@ std::vector<TetElement> PrecomputeElements(const TetMesh& mesh) {
     e.lambda_Pa = mat.lame_lambda_Pa();
   }
   return out;
-}
-
-Eigen::Matrix3d StiffnessBlock(const TetElement& e, const Eigen::Vector3d& ha, const Eigen::Vector3d& hb,
-                               double ga_dot_gb) {
-  Eigen::Matrix3d k = (e.volume_m3 * e.lambda_Pa) * ha * hb.transpose() + (e.volume_m3 * e.mu_Pa) * hb * ha.transpose();
-  k.diagonal().array() += e.volume_m3 * e.mu_Pa * ga_dot_gb;
-  return k;
 }
 
 Matrix12d RestStiffness(const TetElement& e) {

@@ -19,17 +19,27 @@ struct TetElement {
 };
 
 /// Block (a, b) of the stiffness R K0 R^T [N/m] for rotated gradients h = R g:
-/// V (lambda h_a h_b^T + mu h_b h_a^T + mu (g_a . g_b) I).
-Eigen::Matrix3d StiffnessBlock(const TetElement& e, const Eigen::Vector3d& h_a, const Eigen::Vector3d& h_b,
-                               double ga_dot_gb);
+/// V (lambda h_a h_b^T + mu h_b h_a^T + mu (g_a . g_b) I). Inline: returned through memory
+/// from an out-of-line call, the block's scalar stores stalled the caller's vector loads
+/// (store forwarding), a tenth of a corotational assembly.
+inline Eigen::Matrix3d StiffnessBlock(const TetElement& e, const Eigen::Vector3d& h_a, const Eigen::Vector3d& h_b,
+                                      double ga_dot_gb) {
+  Eigen::Matrix3d k = (e.volume_m3 * e.lambda_Pa) * h_a * h_b.transpose() + (e.volume_m3 * e.mu_Pa) * h_b * h_a.transpose();
+  k.diagonal().array() += e.volume_m3 * e.mu_Pa * ga_dot_gb;
+  return k;
+}
 
 /// The full rest stiffness K0 (12x12) of one element; blocks (a,b) at (3a, 3b).
 Matrix12d RestStiffness(const TetElement& e);
 
 /// Deformation gradient F = Ds Dm^-1 from current positions of the tet's nodes.
-Eigen::Matrix3d DeformationGradient(const TetElement& e, const Eigen::Vector3d& x0,
-                                    const Eigen::Vector3d& x1, const Eigen::Vector3d& x2,
-                                    const Eigen::Vector3d& x3);
+inline Eigen::Matrix3d DeformationGradient(const TetElement& e, const Eigen::Vector3d& x0,
+                                           const Eigen::Vector3d& x1, const Eigen::Vector3d& x2,
+                                           const Eigen::Vector3d& x3) {
+  Eigen::Matrix3d ds;
+  ds << x1 - x0, x2 - x0, x3 - x0;
+  return ds * e.rest_inverse;
+}
 
 /// Precomputes all elements. Throws std::invalid_argument naming the element index when a
 /// tet is inverted or has (near-)zero volume (relative to its edge length cubed).

@@ -5,7 +5,8 @@
 // Counters: median_ms / p99_ms per step, steps_per_s (from the median), threads; for the
 // traction step and the contact press also assembly_ms / solve_ms / sed_ms (mean per step)
 // and linear_iterations (PCG iterations per step). ContactPressStep/.../pcg_warp/rest_only
-// turns the warped PCG's contact update off (solver.contact_update: false).
+// turns the warped PCG's contact update off (solver.contact_update: false); .../capN accepts
+// the PCG iterate after N iterations; force_N is the contact force after the timed steps.
 // The argument is the OpenMP team: 1, 2, or 0 = chosen by the step itself
 // (fem/thread_team.h; `threads` then reports the team it kept at the end, 0 = still measuring).
 
@@ -112,7 +113,10 @@ void TractionStep(benchmark::State& state, const std::string& elasticity, const 
 // A solver name ending in "/rest_only" turns the contact update of the warped PCG off
 // (solver.contact_update: false): the rest factor alone, as before that update; one
 // ending in "/double" keeps the warped rest factor's solves in double precision
-// (solver.single_precision_factor: false), as before session 11.
+// (solver.single_precision_factor: false), as before session 11; "/capN" accepts the PCG
+// iterate after N iterations (max_iterations: N, no direct fallback: the accuracy-cost
+// study's capped rows). `force_N` is the contact force after the timed steps, so rows can be
+// compared for what they compute, not only for how fast.
 void ContactPressStep(benchmark::State& state, const std::string& elasticity, const std::string& solver_case) {
   SetThreads(state);
   auto ends_with = [&](const std::string& suffix) {
@@ -120,9 +124,13 @@ void ContactPressStep(benchmark::State& state, const std::string& elasticity, co
            solver_case.compare(solver_case.size() - suffix.size(), suffix.size(), suffix) == 0;
   };
   const bool rest_only = ends_with("/rest_only"), double_factor = ends_with("/double");
+  const size_t cap_at = solver_case.find("/cap");
+  const std::string iterations =
+      cap_at == std::string::npos ? "max_iterations: 200" : "max_iterations: " + solver_case.substr(cap_at + 4) +
+                                                                ", fallback_to_direct: false";
   const std::string solver = solver_case.substr(0, solver_case.find('/'));
   const std::string yaml = "model: " + ModelName() + "\nelasticity: " + elasticity + "\nsolver: {type: " + solver +
-                           ", tolerance: 1.0e-6, max_iterations: 200" + (rest_only ? ", contact_update: false" : "") +
+                           ", tolerance: 1.0e-6, " + iterations + (rest_only ? ", contact_update: false" : "") +
                            (double_factor ? ", single_precision_factor: false" : "") +
                            "}\n"
                            "dynamics: {integrator: backward_euler, dt_s: 0.001, newton_iterations: 1}\n"
@@ -142,6 +150,7 @@ void ContactPressStep(benchmark::State& state, const std::string& elasticity, co
     stage_sum_ms.Add(r.stage_ms);
   }
   state.counters["contacts"] = double(s.contact()->active_contacts().size());
+  state.counters["force_N"] = s.contact()->TotalSpringForceMagnitude();
   ReportStages(state, linear_iterations, stage_sum_ms, ms.size());
   Report(state, ms);
   ReportTeam(state, s.simulation());
@@ -213,7 +222,7 @@ void Register() {
     }
   for (auto [el, solver] : std::vector<std::pair<const char*, const char*>>{
            {"linear", "ldlt"}, {"linear", "cholmod"}, {"corotational", "pcg_warp"}, {"corotational", "pcg_warp/rest_only"},
-           {"corotational", "pcg_warp/double"},
+           {"corotational", "pcg_warp/double"}, {"corotational", "pcg_warp/cap3"}, {"corotational", "pcg_warp/cap1"},
            {"corotational", "pcg_warp_ldlt"}, {"corotational", "pcg_warp_ichol"}, {"linear", "pcg_warp"},
            {"linear", "pcg_warp/rest_only"}, {"linear", "pcg_warp/double"}, {"linear", "pcg_warp_ldlt"},
            {"linear", "pcg_warp_ichol"}, {"nodal_pressure", "pcg_warp"}, {"nodal_pressure", "pcg_jacobi"}}) {
