@@ -1,5 +1,8 @@
 #include "fem/rotation_extraction.h"
 
+#include "fem/strain_energy_density.h"
+#include "fem/tet_element.h"
+
 #include <gtest/gtest.h>
 
 #include <random>
@@ -45,6 +48,63 @@ TEST(RotationExtraction, ConvergesQuadraticallyToRoundOff) {
     warm.normalize();
     EXPECT_LT((ExtractRotation(R * S, warm, 3) - R).norm(), 1e-11) << "trial " << trial;
   }
+}
+
+TEST(RotationExtraction, StopsAfterANewtonStepBelowItsBound) {
+  // Warm-started ~1e-3 rad away: the first Newton step (~1e-3 rad) leaves an error far
+  // below 1e-6 rad, so the second step is below the default bound and the last one; a
+  // bound above the first step stops after it.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> s(0.8, 1.2);
+  std::normal_distribution<double> n(0.0, 1e-3);
+  for (int trial = 0; trial < 50; ++trial) {
+    const Eigen::Matrix3d R = RandomRotation(rng);
+    const Eigen::Matrix3d Q = RandomRotation(rng);
+    const Eigen::Matrix3d F = R * Q * Eigen::Vector3d(s(rng), s(rng), s(rng)).asDiagonal() * Q.transpose();
+    Eigen::Quaterniond start(R);
+    start = start * Eigen::Quaterniond(1.0, n(rng), n(rng), n(rng));
+    start.normalize();
+    Eigen::Quaterniond q1 = start, q2 = start, q20 = start, loose = start;
+    const Eigen::Matrix3d r1 = ExtractRotation(F, q1, 1);
+    const Eigen::Matrix3d r2 = ExtractRotation(F, q2, 2);
+    const Eigen::Matrix3d r20 = ExtractRotation(F, q20, 20);
+    EXPECT_LT((r1 - R).norm(), 1e-6) << "trial " << trial;
+    EXPECT_LT((r2 - R).norm(), 1e-13) << "trial " << trial;
+    EXPECT_EQ((r2 - r20).norm(), 0.0) << "trial " << trial;  // stopped after the second step
+    EXPECT_EQ((ExtractRotation(F, loose, 20, 1e-2) - r1).norm(), 0.0) << "trial " << trial;
+  }
+}
+
+TEST(RotationExtraction, SedIsStationaryInTheRotation) {
+  // Why the SED may take a rotation to 1e-3 rad per Newton step: at the polar R, turning R by
+  // d rad moves the corotational strain by O(d) but the SED only by O(d^2).
+  TetMesh mesh;
+  mesh.rest_positions_m.resize(3, 4);
+  mesh.rest_positions_m << 0, 1e-3, 0, 0, 0, 0, 1e-3, 0, 0, 0, 0, 1e-3;
+  mesh.tets = {{0, 1, 2, 3}};
+  mesh.materials = {LinearElasticMaterial{"skin", 1e5, 0.45, 1100}};
+  mesh.tet_material = {0};
+  const TetElement e = PrecomputeElements(mesh)[0];
+  std::mt19937 rng(7);
+  const Eigen::Matrix3d R = RandomRotation(rng);
+  Eigen::Matrix3d S;
+  S << 1.05, 0.02, -0.01, 0.02, 0.97, 0.015, -0.01, 0.015, 1.01;
+  const Eigen::Matrix3d F = R * S;
+  const double sed = ElementSed(e, F, R);
+  ASSERT_GT(sed, 100.0);
+  double sed_change[2], strain_change[2];
+  for (int k = 0; k < 2; ++k) {
+    const double d = k == 0 ? 1e-3 : 1e-4;
+    const Eigen::Matrix3d turned = R * Eigen::AngleAxisd(d, Eigen::Vector3d(0.3, -0.5, 0.8).normalized()).toRotationMatrix();
+    const Eigen::Matrix3d G = turned.transpose() * F, G0 = R.transpose() * F;
+    strain_change[k] = (0.5 * (G + G.transpose()) - 0.5 * (G0 + G0.transpose())).norm();
+    sed_change[k] = std::abs(ElementSed(e, F, turned) - sed);
+  }
+  // A tenth of the angle: a tenth of the strain change (first order), a hundredth of the
+  // SED change (second order).
+  EXPECT_NEAR(strain_change[0] / strain_change[1], 10.0, 0.5);
+  EXPECT_NEAR(sed_change[0] / sed_change[1], 100.0, 5.0);
+  EXPECT_LT(sed_change[0], 1e-4 * sed);
 }
 
 TEST(RotationExtraction, InvertedAndDegenerateGiveProperRotations) {
