@@ -234,15 +234,26 @@ int ElasticTetForce::AccumulateElement(int t, const SystemState& state, bool for
                                                                                           : 0;
   if (twists == 0) {
     // D = beta K: each block in one pass over the matrix's values.
-    const double beta = damping ? beta_s_ : 0.0;
+    const double scale = sink->stiffness_scale + (damping ? beta_s_ * sink->damping_scale : 0.0);
     for (int a = 0; a < 4; ++a) {
       for (int b = a; b < 4; ++b) {
         const Eigen::Matrix3d K = StiffnessBlock(e, h[a], h[b], e.shape_gradients.row(a).dot(e.shape_gradients.row(b)));
-        sink->AddProportionalTo(values, k_times_v, slots_[size_t(t)][size_t(4 * a + b)], n[size_t(a)], n[size_t(b)], K, beta);
-        if (b != a)
-          sink->AddProportionalTo(values, k_times_v, slots_[size_t(t)][size_t(4 * b + a)], n[size_t(b)], n[size_t(a)],
-                                  K.transpose(), beta);
+        sink->matrix->AddBlockTo(values, slots_[size_t(t)][size_t(4 * a + b)], K, scale);
+        if (b != a) sink->matrix->AddBlockTo(values, slots_[size_t(t)][size_t(4 * b + a)], K.transpose(), scale);
       }
+    }
+    if (sink->velocity) {
+      // K v in stress form, as the force: (K v)_a = V R sigma(sym(R^T dv Dm^-1)) g_a, the
+      // strain of the velocity in the element's rotated frame (16 block products otherwise).
+      const Eigen::VectorXd& v = *sink->velocity;
+      const Eigen::Vector3d v0 = v.segment<3>(3 * n[0]);
+      Eigen::Matrix3d dv;
+      dv << v.segment<3>(3 * n[1]) - v0, v.segment<3>(3 * n[2]) - v0, v.segment<3>(3 * n[3]) - v0;
+      const Eigen::Matrix3d L = R.transpose() * dv * e.rest_inverse;
+      Eigen::Matrix3d sigma = e.mu_Pa * (L + L.transpose());
+      sigma.diagonal().array() += e.lambda_Pa * L.trace();
+      const Eigen::Matrix3d P = e.volume_m3 * (R * sigma);
+      for (int a = 0; a < 4; ++a) k_times_v->segment<3>(3 * n[size_t(a)]) += P * e.shape_gradients.row(a).transpose();
     }
     return inverted;
   }

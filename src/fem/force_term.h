@@ -44,13 +44,6 @@ struct JacobianSink {
     if (D && damping_scale != 0) matrix->AddBlockTo(values, slot, *D, damping_scale);
     if (velocity) k_times_v->segment<3>(3 * i) += K * velocity->segment<3>(3 * j);
   }
-  /// Same for a block whose damping is proportional to it, D = beta K (stiffness-proportional
-  /// Rayleigh damping): one pass over the matrix's values instead of two.
-  void AddProportionalTo(double* values, Eigen::VectorXd* k_times_v, int slot, int i, int j, const Eigen::Matrix3d& K,
-                         double beta) const {
-    matrix->AddBlockTo(values, slot, K, stiffness_scale + beta * damping_scale);
-    if (velocity) k_times_v->segment<3>(3 * i) += K * velocity->segment<3>(3 * j);
-  }
 };
 
 class ForceTerm {
