@@ -168,20 +168,24 @@ void NodalPressureTetForce::AddForce(const SystemState& state, Eigen::VectorXd& 
     }
     const double c = patch_volume_[size_t(p)] * patch_bulk_[size_t(p)];
     const int* slots = slots_.data() + slot_offsets_[size_t(p)];
-    // Symmetric: each off-diagonal outer product once, written to (i, j) and (j, i).
+    // Symmetric: each off-diagonal outer product once, written to (i, j) and (j, i), with its
+    // stiffness-proportional damping (D = beta K) in the same pass.
+    const double scale = sink->stiffness_scale + (damping ? beta_s_ * sink->damping_scale : 0.0);
     for (int i = 0; i < np; ++i) {
       const Eigen::Vector3d bi = c * b_[size_t(i)];
-      const int ni = patch_nodes_[size_t(n0 + i)];
       for (int j = i; j < np; ++j) {
-        const int nj = patch_nodes_[size_t(n0 + j)];
         const Eigen::Matrix3d K = bi * b_[size_t(j)].transpose();
-        const Eigen::Matrix3d D = beta_s_ * K;
-        sink->AddTo(values, sink->stiffness_times_velocity, slots[i * np + j], ni, nj, K, damping ? &D : nullptr);
-        if (j != i) {
-          const Eigen::Matrix3d Kt = K.transpose(), Dt = D.transpose();
-          sink->AddTo(values, sink->stiffness_times_velocity, slots[j * np + i], nj, ni, Kt, damping ? &Dt : nullptr);
-        }
+        sink->matrix->AddBlockTo(values, slots[i * np + j], K, scale);
+        if (j != i) sink->matrix->AddBlockTo(values, slots[j * np + i], K.transpose(), scale);
       }
+    }
+    if (sink->velocity) {
+      // The patch's K is c b b^T: K v = c b (b . v), one dot product instead of np^2 blocks.
+      const Eigen::VectorXd& v = *sink->velocity;
+      double bv = 0;
+      for (int j = 0; j < np; ++j) bv += b_[size_t(j)].dot(v.segment<3>(3 * patch_nodes_[size_t(n0 + j)]));
+      for (int i = 0; i < np; ++i)
+        sink->stiffness_times_velocity->segment<3>(3 * patch_nodes_[size_t(n0 + i)]) += (c * bv) * b_[size_t(i)];
     }
   }
   if (elastic_.corotational_tangent() != CorotationalTangent::kConsistent || definite_ || element_slots_.empty()) return;
