@@ -9,6 +9,7 @@
 #include "app/arg_parser.h"
 #include "app/command.h"
 #include "app/plot_runner.h"
+#include "bridge/bridge_config.h"
 #include "bridge/fidelity_benchmark.h"
 #include "common/resource_path.h"
 #include "display/display_profile.h"
@@ -27,15 +28,23 @@ int RunFidelity(int argc, char** argv) {
                  "reconstructed contact pressed on the leader's model (recon). Writes fidelity.csv,\n"
                  "one Merkel map CSV per case and side-by-side plots.");
   args.Option("cases", "JSON", "presses to run", "config/sensors/rig_uskin_4x4/cases.json")
+      .Option("config", "BRIDGE.yaml",
+              "the bridge judged: its fe.contact_tolerance, fe.face_contact, fe.two_contacts, fe.finite_rods, "
+              "fe.compliance_cache, registration, traction and conditioning",
+              "config/bridge/default.yaml")
       .Option("profile", "PROFILE", "sensor profile of the logs (needs a forward_model)", "uskin_4x4")
-      .Option("model", "MODEL", "leader fingertip model", "B")
+      .Option("model", "MODEL", "leader fingertip model (default: the config's fe.model)")
       .Option("display", "PROFILE", "display profile for the command metric", "suction_4x4")
       .Option("out", "DIR", "output folder", "out/fidelity")
-      .Option("cache-dir", "DIR", "compliance precompute cache", "out/cache")
+      .Option("cache-dir", "DIR", "compliance precompute cache (default: the config's fe.compliance_cache)")
       .Flag("synthetic", "run the synthetic set instead (simulated sensor, kernel pad model: shapes the rig did not press)")
       .Flag("node-contact", "press on the leader's skin nodes only (bridge fe.face_contact: false), not its faces too")
       .Flag("no-plots", "skip the PNG plots");
   if (!args.Parse(argc, argv)) return 0;
+  BridgeConfig config = LoadBridgeConfig(config::ResolveResource(args.Get("config")));
+  if (auto dir = args.GetOptional("cache-dir")) config.compliance_cache_dir = *dir;
+  if (args.GetFlag("node-contact")) config.face_contact = false;
+  const std::string model = args.GetOptional("model").value_or(config.model);
   const std::string out = args.Get("out");
   std::filesystem::create_directories(out + "/maps");
   const auto profile = sensors::LoadNamedSensorProfile(args.Get("profile"));
@@ -47,10 +56,10 @@ int RunFidelity(int argc, char** argv) {
     for (const auto& p : sensors::LoadCalibrationPresses(config::ResolveResource(args.Get("cases")), profile))
       presses.push_back(FromCalibrationPress(p));
   }
-  std::printf("fidelity: %zu presses, model %s, building the leader's compliance ...\n", presses.size(),
-              args.Get("model").c_str());
-  FidelityBenchmark bench(args.Get("model"), profile, display::LoadNamedDisplayProfile(args.Get("display")),
-                          args.Get("cache-dir"), !args.GetFlag("node-contact"));
+  std::printf("fidelity: %zu presses, model %s, bridge config %s (fe.contact_tolerance %g), building the leader's "
+              "compliance ...\n",
+              presses.size(), model.c_str(), args.Get("config").c_str(), config.contact_tolerance);
+  FidelityBenchmark bench(model, profile, display::LoadNamedDisplayProfile(args.Get("display")), config);
   std::ofstream csv(out + "/fidelity.csv");
   csv << "case,label,shape,x_mm,y_mm,radius_mm,yaw_deg,force_N,recon_ok,recon_shape,recon_x_mm,recon_y_mm,recon_radius_mm,"
          "recon_yaw_deg,recon_force_N,recon_shear_x_N,recon_shear_y_N,recon_rms_sigma,truth_max_sed_Pa,map_max_sed_Pa,"

@@ -68,15 +68,35 @@ bool WithinTargets(const MethodError& e, const FidelityTargets& t, bool by_peak_
          offset_mm <= t.max_peak_offset_mm;
 }
 
+namespace {
+
+// The default bridge config with the given cache and face contact.
+BridgeConfig DefaultConfigWith(const std::string& cache_dir, bool face_contact) {
+  BridgeConfig config = LoadBridgeConfig(DefaultBridgeConfigPath());
+  config.compliance_cache_dir = cache_dir;
+  config.face_contact = face_contact;
+  return config;
+}
+
+}  // namespace
+
 FidelityBenchmark::FidelityBenchmark(const std::string& model_name, const sensors::SensorProfile& profile,
                                      const display::DisplayProfile& display, const std::string& cache_dir,
                                      bool face_contact)
-    : profile_(profile) {
+    : FidelityBenchmark(model_name, profile, display, DefaultConfigWith(cache_dir, face_contact)) {}
+
+FidelityBenchmark::FidelityBenchmark(const std::string& model_name, const sensors::SensorProfile& profile,
+                                     const display::DisplayProfile& display, const BridgeConfig& config)
+    : profile_(profile), press_(ReconstructedPressOptions()) {
+  // The reconstruction and its press as the bridge (MakeFeStep, fe.step contact) runs them.
+  reconstruction_.fit_pairs = config.two_contacts;
+  reconstruction_.fit_finite_rods = config.finite_rods;
+  press_.contact_relative_tolerance = config.contact_tolerance;
   model_ = std::make_unique<model::FingertipModel>(model::LoadFingertipModel(model_name));
-  leader_ = std::make_unique<scene::FingertipCompliance>(*model_, LeaderComplianceOptions(cache_dir, face_contact));
-  // The pressure-map bridge exactly as the default config runs it.
-  const BridgeConfig config = LoadBridgeConfig(DefaultBridgeConfigPath());
-  const PadRegistration registration(profile.taxels);
+  leader_ = std::make_unique<scene::FingertipCompliance>(
+      *model_, LeaderComplianceOptions(config.compliance_cache_dir, config.face_contact));
+  // The pressure-map bridge as the config runs it.
+  const PadRegistration registration(profile.taxels, config.registration);
   map_step_ = std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(model_name, "fast"), profile, registration,
                                                     config.traction);
   conditioner_ = std::make_unique<ScanConditioner>(profile, registration, config.conditioning);
@@ -112,7 +132,7 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
   }
 
   // Reconstruction through the press up to the peak, as the live bridge would run it.
-  ContactReconstructor recon(profile_);
+  ContactReconstructor recon(profile_, reconstruction_);
   std::vector<double> us;
   ContactEstimate at_peak;
   for (size_t i = 0; i <= peak; ++i) {
@@ -152,7 +172,7 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
   if (row.recon_ok) {
     leader_->ResetWarmStart();
     const auto r = leader_->PressToForce(ToRigidObjects(at_peak), at_peak.normal_force_N(),
-                                         ReconstructedPressOptions(), LeaderTangentialLoad_N(at_peak));
+                                         press_, LeaderTangentialLoad_N(at_peak));
     row.recon_press = PressAnswered(r, *leader_) ? "reached" : scene::ToString(r.status);
     maps->recon = leader_->sed_Pa();
   } else {

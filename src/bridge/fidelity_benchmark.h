@@ -20,9 +20,11 @@
 #include <string>
 #include <vector>
 
+#include "bridge/bridge_config.h"
 #include "bridge/contact_reconstruction.h"
 #include "bridge/fidelity_case.h"
 #include "display/display_profile.h"
+#include "scene/fingertip_compliance.h"
 
 namespace sedbridge::scene {
 class FingertipCompliance;
@@ -100,12 +102,21 @@ class FidelityBenchmark {
   ///                       the bridge's default (fe.face_contact); false: skin nodes only
   FidelityBenchmark(const std::string& model_name, const sensors::SensorProfile& profile,
                     const display::DisplayProfile& display, const std::string& cache_dir, bool face_contact = true);
+  /// The bridge a config describes (`sedbridge fidelity --config`): its compliance cache,
+  /// fe.face_contact, fe.contact_tolerance (the reconstructed press; the truth stays at the
+  /// method's own tolerance), fe.two_contacts, fe.finite_rods, registration, traction and
+  /// conditioning. Its sensor, display and fe.step are not used (the caller's profile and
+  /// display; both bridges are always run).
+  FidelityBenchmark(const std::string& model_name, const sensors::SensorProfile& profile,
+                    const display::DisplayProfile& display, const BridgeConfig& config);
   ~FidelityBenchmark();
 
   FidelityRow Run(const FidelityCase& c, FidelityMaps* maps);
 
  private:
   sensors::SensorProfile profile_;
+  ReconstructionOptions reconstruction_;
+  scene::PressToForceOptions press_;
   std::unique_ptr<model::FingertipModel> model_;
   std::unique_ptr<scene::FingertipCompliance> leader_;
   std::unique_ptr<FeStep> map_step_;

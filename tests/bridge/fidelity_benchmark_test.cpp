@@ -118,6 +118,30 @@ TEST(FidelityBenchmark, CaseWithoutAValidTruthIsFlaggedNotScored) {
   EXPECT_FALSE(WithinTargets(centre.map_error));
 }
 
+// `sedbridge fidelity --config`: the judged bridge's fe.contact_tolerance reaches the
+// reconstructed press (a loose 0.05 moves its SED), not the truth (the method's own
+// tolerance); fe.two_contacts: false leaves the synthetic pair to single primitives.
+TEST(FidelityBenchmark, BridgeConfigReachesTheReconstructedPress) {
+  const RigBench rig;
+  BridgeConfig loose = LoadBridgeConfig(DefaultBridgeConfigPath());
+  loose.compliance_cache_dir = "";
+  loose.contact_tolerance = 0.05;
+  loose.two_contacts = false;
+  FidelityBenchmark bench("B", rig.profile, display::LoadNamedDisplayProfile("suction_4x4"), loose);
+  FidelityMaps by_default, by_loose;
+  const FidelityRow a = rig.bench->Run(FromCalibrationPress(rig.presses[3]), &by_default);
+  const FidelityRow b = bench.Run(FromCalibrationPress(rig.presses[3]), &by_loose);
+  ASSERT_TRUE(a.recon_ok && b.recon_ok);
+  EXPECT_EQ((by_default.truth - by_loose.truth).cwiseAbs().maxCoeff(), 0.0);
+  const double moved = (by_default.recon - by_loose.recon).cwiseAbs().maxCoeff() / by_default.recon.maxCoeff();
+  EXPECT_GT(moved, 1e-4);
+  EXPECT_LT(moved, 0.1);
+  const std::vector<FidelityCase> cases = SyntheticFidelityCases(rig.profile);
+  const auto pair = std::find_if(cases.begin(), cases.end(), [](const FidelityCase& c) { return c.name == "two_spheres"; });
+  ASSERT_NE(pair, cases.end());
+  EXPECT_FALSE(bench.Run(*pair, &by_loose).recon_two_contacts);
+}
+
 // Two 3 mm spheres pressed at once on the simulated sensor (the synthetic set's two_spheres):
 // one primitive cannot explain them (the pressure map took over: peak ratio 0.03, L2 0.95);
 // the pair model finds both where they are, and the leader, pressed with both, gets most of
