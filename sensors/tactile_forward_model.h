@@ -109,6 +109,8 @@ class TactileForwardModel {
   double RodLengthOnPad_mm(const ContactPrimitive& contact) const;
   /// Load grid: cell_count() cells of cell_size_mm() side; centre of cell i [mm].
   int cell_count() const { return grid_n_ * grid_n_; }
+  /// Cells per grid row (cell i is in row i / grid_n(), column i % grid_n(); x along columns).
+  int grid_n() const { return grid_n_; }
   double cell_size_mm() const { return params_.grid_mm; }
   Eigen::Vector2d CellCentre_mm(int cell) const;
 

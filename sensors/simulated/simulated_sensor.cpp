@@ -24,6 +24,10 @@ Eigen::Vector3d Vec3(config::MapReader& r, const std::string& key) {
   return {v[0], v[1], v[2]};
 }
 
+// Most blocks the half-space pad solves for at once (one dense Cholesky of this size per
+// active-set round; blocks of k x k cells keep a contact under it).
+constexpr double kHalfSpaceMaxUnknowns = 400;
+
 }  // namespace
 
 double PenetrationAlong(const geometry::RigidObject& object, const Eigen::Vector3d& q_m,
@@ -45,7 +49,8 @@ double PenetrationAlong(const geometry::RigidObject& object, const Eigen::Vector
 
 const config::EnumNames<PadMechanics>& NamesOf(PadMechanics) {
   static const config::EnumNames<PadMechanics> names{{PadMechanics::kWinkler, "winkler"},
-                                                     {PadMechanics::kKernel, "kernel"}};
+                                                     {PadMechanics::kKernel, "kernel"},
+                                                     {PadMechanics::kHalfSpace, "halfspace"}};
   return names;
 }
 
@@ -78,9 +83,10 @@ SimulatedSensorConfig LoadSimulatedSensorScene(const std::string& path,
   sensor_archive.Visit(config::Field("pad", &c.pad));
   if (s.Has("pad")) {
     config::MapReader p(s.node()["pad"], s.file());  // keys checked by the archive
-    if (c.pad.mechanics == PadMechanics::kKernel && !c.profile.has_forward_model)
-      p.Fail(p.Node("model"), "'model: kernel' needs a sensor profile with a forward_model (profile '" +
-                                  c.profile.name + "' has none)");
+    if (c.pad.mechanics != PadMechanics::kWinkler && !c.profile.has_forward_model)
+      p.Fail(p.Node("model"), "'model: " + config::NameOf(c.pad.mechanics) +
+                                  "' needs a sensor profile with a forward_model (profile '" + c.profile.name +
+                                  "' has none)");
     c.pad.scene_from_pad.translation() = Vec3(p, "position_mm") * 1e-3;
     c.pad.scene_from_pad.linear() = geometry::RotationFromRpyDeg(Vec3(p, "rpy_deg"));
   }
@@ -101,8 +107,13 @@ SimulatedSensor::SimulatedSensor(SimulatedSensorConfig config)
     for (int j = 0; j < n; ++j)
       sub_offsets_m_.push_back({((i + 0.5) / n - 0.5) * p.taxel_width_mm * 1e-3,
                                 ((j + 0.5) / n - 0.5) * p.taxel_height_mm * 1e-3});
-  if (config_.pad.mechanics == PadMechanics::kKernel)
+  if (config_.pad.mechanics != PadMechanics::kWinkler) {
+    if (!p.has_forward_model)
+      throw std::invalid_argument("simulated sensor: pad model '" + config::NameOf(config_.pad.mechanics) +
+                                  "' needs a profile with a forward_model ('" + p.name + "' has none)");
     kernel_model_ = std::make_shared<const TactileForwardModel>(p, p.forward_model);
+  }
+
   if (config_.pad.smoothing_m > 0) {
     const int t = p.taxel_count;
     smoothing_.assign(static_cast<size_t>(t) * t, 0.0);
@@ -120,31 +131,97 @@ SimulatedSensor::SimulatedSensor(SimulatedSensorConfig config)
   }
 }
 
-Eigen::Vector3d SimulatedSensor::WinklerTraction_Pa(const Eigen::Vector3d& q_pad_m, double t_s) const {
+double SimulatedSensor::Penetration_m(const Eigen::Vector3d& q_pad_m, double t_s,
+                                      const geometry::RigidObject** deepest) const {
   const PadModel& pad = config_.pad;
   const Eigen::Vector3d q = pad.scene_from_pad * q_pad_m;
   const Eigen::Vector3d inward = -pad.scene_from_pad.linear().col(2);  // into the pad
   double depth = 0;
-  const geometry::RigidObject* deepest = nullptr;
+  *deepest = nullptr;
   for (const auto& obj : config_.objects) {
     const double d = PenetrationAlong(obj, q, inward, t_s);
-    if (d > depth) depth = d, deepest = &obj;
+    if (d > depth) depth = d, *deepest = &obj;
   }
+  return depth;
+}
+
+Eigen::Vector2d SimulatedSensor::FrictionTraction_Pa(const geometry::RigidObject& object, const Eigen::Vector3d& q_pad_m,
+                                                     double t_s, double pressure_Pa) const {
+  const PadModel& pad = config_.pad;
+  if (!(pad.friction_coefficient > 0)) return Eigen::Vector2d::Zero();
+  const Eigen::Vector3d q = pad.scene_from_pad * q_pad_m;
+  const Eigen::Vector3d v = pad.scene_from_pad.linear().transpose() * object.trajectory.PointVelocity(q, t_s);
+  const double speed = std::hypot(v.x(), v.y());
+  if (!(speed > 1e-6)) return Eigen::Vector2d::Zero();
+  return pad.friction_coefficient * pressure_Pa / speed * Eigen::Vector2d(v.x(), v.y());
+}
+
+Eigen::Vector3d SimulatedSensor::WinklerTraction_Pa(const Eigen::Vector3d& q_pad_m, double t_s) const {
+  const PadModel& pad = config_.pad;
+  const geometry::RigidObject* deepest = nullptr;
+  const double depth = Penetration_m(q_pad_m, t_s, &deepest);
   if (!deepest) return Eigen::Vector3d::Zero();
   const double pressure = pad.EffectiveModulus_Pa() / pad.thickness_m * depth;
-  Eigen::Vector3d out(0, 0, pressure);
-  if (pad.friction_coefficient > 0) {
-    const Eigen::Vector3d v = pad.scene_from_pad.linear().transpose() * deepest->trajectory.PointVelocity(q, t_s);
-    const double speed = std::hypot(v.x(), v.y());
-    if (speed > 1e-6) {
-      out.x() = pad.friction_coefficient * pressure * v.x() / speed;
-      out.y() = pad.friction_coefficient * pressure * v.y() / speed;
-    }
+  const Eigen::Vector2d shear = FrictionTraction_Pa(*deepest, q_pad_m, t_s, pressure);
+  return Eigen::Vector3d(shear.x(), shear.y(), pressure);
+}
+
+void SimulatedSensor::HalfSpaceLoads(double t_s, std::vector<SurfaceLoad>* loads) const {
+  const SensorProfile& p = config_.profile;
+  const TactileForwardModel& model = *kernel_model_;
+  const int nf = model.grid_n();
+  const double h_mm = model.cell_size_mm();
+  const double half_mm = 0.5 * p.forward_model.pad_size_mm;
+  const double cell_m2 = h_mm * h_mm * 1e-6;
+  auto on_pad = [&](const Eigen::Vector2d& xy) { return std::abs(xy.x()) <= half_mm && std::abs(xy.y()) <= half_mm; };
+  auto depth_at = [&](const Eigen::Vector2d& xy_mm, const geometry::RigidObject** deepest) {
+    return Penetration_m(Eigen::Vector3d(xy_mm.x() * 1e-3, xy_mm.y() * 1e-3, 0), t_s, deepest);
+  };
+  // The cells the objects overlap, then blocks of k x k cells, k as small as keeps the solve
+  // within kHalfSpaceMaxUnknowns (a thin rod on single cells, a flat on 5 x 5 blocks).
+  int overlapped = 0;
+  const geometry::RigidObject* unused = nullptr;
+  for (int cell = 0; cell < model.cell_count(); ++cell) {
+    const Eigen::Vector2d xy = model.CellCentre_mm(cell);
+    if (on_pad(xy) && depth_at(xy, &unused) > 0) ++overlapped;
   }
-  return out;
+  loads->clear();
+  if (overlapped == 0) return;
+  const int k = std::max(1, static_cast<int>(std::ceil(std::sqrt(double(overlapped) / kHalfSpaceMaxUnknowns))));
+  const int nc = (nf + k - 1) / k;
+  auto& solver = half_space_[k];
+  if (!solver) solver = std::make_shared<HalfSpaceContact>(k * h_mm * 1e-3, p.forward_model.contact_modulus_kPa * 1e3);
+  // Each block's penetration at its centre, and the object there (for the friction).
+  std::vector<double> depth_m(static_cast<size_t>(nc) * nc, 0.0);
+  std::vector<const geometry::RigidObject*> deepest(depth_m.size(), nullptr);
+  std::vector<Eigen::Vector2d> centre_mm(depth_m.size());
+  for (int I = 0; I < nc; ++I)
+    for (int J = 0; J < nc; ++J) {
+      const size_t b = static_cast<size_t>(I) * nc + J;
+      centre_mm[b] = model.CellCentre_mm(I * k * nf + J * k) + Eigen::Vector2d::Constant(0.5 * (k - 1) * h_mm);
+      if (on_pad(centre_mm[b])) depth_m[b] = depth_at(centre_mm[b], &deepest[b]);
+    }
+  std::vector<double> pressure_Pa;
+  solver->Solve(nc, depth_m, &pressure_Pa);
+  for (int cell = 0; cell < model.cell_count(); ++cell) {
+    const Eigen::Vector2d xy = model.CellCentre_mm(cell);
+    if (!on_pad(xy)) continue;
+    const size_t b = static_cast<size_t>((cell / nf) / k) * nc + (cell % nf) / k;
+    const double pressure = pressure_Pa[b];
+    if (!(pressure > 0) || !deepest[b]) continue;
+    const Eigen::Vector2d shear = FrictionTraction_Pa(
+        *deepest[b], Eigen::Vector3d(centre_mm[b].x() * 1e-3, centre_mm[b].y() * 1e-3, 0), t_s, pressure);
+    SurfaceLoad l;
+    l.cell = cell;
+    l.normal_N = pressure * cell_m2;
+    l.shear_x_N = shear.x() * cell_m2;
+    l.shear_y_N = shear.y() * cell_m2;
+    loads->push_back(l);
+  }
 }
 
 void SimulatedSensor::KernelLoads(double t_s, std::vector<SurfaceLoad>* loads) const {
+  if (config_.pad.mechanics == PadMechanics::kHalfSpace) return HalfSpaceLoads(t_s, loads);
   const SensorProfile& p = config_.profile;
   const TactileForwardModel& model = *kernel_model_;
   const double cell_m2 = model.cell_size_mm() * model.cell_size_mm() * 1e-6;

@@ -21,6 +21,7 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <random>
 #include <string>
@@ -32,6 +33,7 @@
 #include "sensors/can_frame.h"
 #include "sensors/frame_source.h"
 #include "sensors/sensor_profile.h"
+#include "sensors/simulated/half_space_contact.h"
 #include "sensors/tactile_forward_model.h"
 #include "sensors/taxel_codec.h"
 
@@ -44,12 +46,16 @@ enum class PadMechanics {
              ///< profile's calibrated kernels (sensors/tactile_forward_model.h): neighbours
              ///< respond, shear channels see normal presses, part of the load is lost, as in
              ///< a real elastomer. Needs a profile with `forward_model`.
+  kHalfSpace,  ///< as kKernel, but the pressure of an elastic half-space in contact with the
+               ///< objects (sensors/simulated/half_space_contact.h; E* = the forward model's
+               ///< contact_modulus_kPa, solved on cells of about 0.5 mm): Hertz's law, which
+               ///< the rig presses fit, for any shape. Needs a profile with `forward_model`.
 };
-/// "winkler", "kernel" (key sensor.pad.model).
+/// "winkler", "kernel", "halfspace" (key sensor.pad.model).
 const config::EnumNames<PadMechanics>& NamesOf(PadMechanics);
 
 struct PadModel {
-  PadMechanics mechanics = PadMechanics::kWinkler;  ///< key `model: winkler | kernel`
+  PadMechanics mechanics = PadMechanics::kWinkler;  ///< key `model: winkler | kernel | halfspace`
   double thickness_m = 3e-3;         ///< elastomer layer thickness h
   double youngs_modulus_Pa = 300e3;  ///< E of the elastomer
   double poisson_ratio = 0.0;        ///< nu, in [0, 0.5)
@@ -173,8 +179,17 @@ class SimulatedSensor {
   std::vector<Eigen::Vector2d> sub_offsets_m_;
   // Row-normalised Gaussian smoothing weights between taxels (empty = off).
   std::vector<double> smoothing_;
-  // PadMechanics::kKernel only.
+  // PadMechanics::kKernel and kHalfSpace.
   std::shared_ptr<const TactileForwardModel> kernel_model_;
+  // PadMechanics::kHalfSpace: a contact solve per block size k (k x k cells), held by
+  // pointer because its warm start changes from const evaluation.
+  mutable std::map<int, std::shared_ptr<HalfSpaceContact>> half_space_;
+  /// Depth [m] of the deepest object below pad point `q_pad_m` at time t (0: none), and it.
+  double Penetration_m(const Eigen::Vector3d& q_pad_m, double t_s, const geometry::RigidObject** deepest) const;
+  /// Sliding friction traction (x, y) [Pa] of `object` at pad point q under pressure p.
+  Eigen::Vector2d FrictionTraction_Pa(const geometry::RigidObject& object, const Eigen::Vector3d& q_pad_m, double t_s,
+                                      double pressure_Pa) const;
+  void HalfSpaceLoads(double t_s, std::vector<SurfaceLoad>* loads) const;
   TaxelTractions EvaluateKernel(double t_s) const;
   /// The Winkler layer's traction at pad point `q_pad_m` (pad frame, z = 0) at time t:
   /// (shear x, shear y, pressure) [Pa], pressure from the deepest object, sliding friction.

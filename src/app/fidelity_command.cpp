@@ -37,7 +37,11 @@ int RunFidelity(int argc, char** argv) {
       .Option("display", "PROFILE", "display profile for the command metric", "suction_4x4")
       .Option("out", "DIR", "output folder", "out/fidelity")
       .Option("cache-dir", "DIR", "compliance precompute cache (default: the config's fe.compliance_cache)")
-      .Flag("synthetic", "run the synthetic set instead (simulated sensor, kernel pad model: shapes the rig did not press)")
+      .Flag("synthetic", "run the synthetic set instead (simulated sensor: shapes the rig did not press)")
+      .Option("pad", "MODEL",
+              "the synthetic set's simulated pad: kernel (Winkler pressure through the calibrated kernels) or "
+              "halfspace (an elastic half-space's pressure, Hertz's law, through the same kernels)",
+              "kernel")
       .Flag("node-contact", "press on the leader's skin nodes only (bridge fe.face_contact: false), not its faces too")
       .Flag("no-plots", "skip the PNG plots");
   if (!args.Parse(argc, argv)) return 0;
@@ -50,8 +54,11 @@ int RunFidelity(int argc, char** argv) {
   const auto profile = sensors::LoadNamedSensorProfile(args.Get("profile"));
   std::vector<FidelityCase> presses;
   if (args.GetFlag("synthetic")) {
-    std::printf("fidelity: simulating the synthetic set ...\n");
-    presses = SyntheticFidelityCases(profile);
+    const auto pad = config::ParseEnum<sensors::PadMechanics>(args.Get("pad"), "--pad model");
+    if (pad == sensors::PadMechanics::kWinkler)
+      throw std::invalid_argument("--pad: the synthetic set needs the kernels (kernel or halfspace), not winkler");
+    std::printf("fidelity: simulating the synthetic set (pad model %s) ...\n", args.Get("pad").c_str());
+    presses = SyntheticFidelityCases(profile, 1, pad);
   } else {
     for (const auto& p : sensors::LoadCalibrationPresses(config::ResolveResource(args.Get("cases")), profile))
       presses.push_back(FromCalibrationPress(p));

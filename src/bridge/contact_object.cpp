@@ -13,7 +13,7 @@ constexpr double kRodHalfLength_m = 10e-3;
 geometry::RigidObject ToRigidObject(const sensors::ContactPrimitive& p) {
   geometry::RigidObject o;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  const double r_m = p.radius_mm * 1e-3;
+  const double r_m = std::max(p.radius_mm, kLeaderMinRadius_mm) * 1e-3;
   switch (p.shape) {
     case sensors::ContactShape::kSphere:
       o.name = "sphere";

@@ -12,9 +12,17 @@
 
 namespace sedbridge::bridge {
 
+/// Thinnest sphere or rod pressed on the leader [mm]. The leader's skin has contact points
+/// about 1.5 mm apart (nodes and face centroids, §11 of docs/bridge-fidelity.md): a thinner
+/// object slips between them (no contact, or a press that cannot reach its force inside the
+/// pad), and its SED on that mesh is a 0.5 mm object's. The reconstruction reads sharp
+/// features (a box edge, thin rods on an elastic half-space pad) down to its 0.3 mm bound.
+constexpr double kLeaderMinRadius_mm = 0.5;
+
 /// Sphere: SphereSdf centred R above (x, y); cylinder: a rod along (cos yaw, sin yaw, 0)
 /// resting on the pad plane, 20 mm long (across the pad) or, a finite rod, length_mm
-/// centred on (x, y); flat: the half-space above z = 0.
+/// centred on (x, y); flat: the half-space above z = 0. Radii below kLeaderMinRadius_mm are
+/// pressed as that.
 geometry::RigidObject ToRigidObject(const sensors::ContactPrimitive& primitive);
 /// The objects of an estimate: its primitive, and a pair's second sphere. Both rest on the
 /// pad plane at first touch and are pressed together, as one rigid pair, to the total force

@@ -127,12 +127,13 @@ FidelityCase FromCalibrationPress(const sensors::CalibrationPress& press) {
   return c;
 }
 
-std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& profile, uint64_t seed) {
+std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& profile, uint64_t seed,
+                                                 sensors::PadMechanics pad) {
   std::vector<FidelityCase> cases;
   for (const SyntheticSpec& spec : Specs()) {
     sensors::SimulatedSensorConfig config;
     config.profile = profile;
-    config.pad.mechanics = sensors::PadMechanics::kKernel;
+    config.pad.mechanics = pad;
     config.pad.friction_coefficient = spec.friction;
     config.noise.seed = seed;
     config.noise.stddev_counts = 2;

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "common/geometry/rigid_object.h"
+#include "sensors/simulated/simulated_sensor.h"
 #include "sensors/calibration_press.h"
 #include "sensors/scan.h"
 #include "sensors/sensor_profile.h"
@@ -44,7 +45,10 @@ struct FidelityCase {
 /// A calibration-rig press as a case.
 FidelityCase FromCalibrationPress(const sensors::CalibrationPress& press);
 
-/// The synthetic set (see the file comment), simulated with `profile` (needs forward_model).
-std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& profile, uint64_t seed = 1);
+/// The synthetic set (see the file comment), simulated with `profile` (needs forward_model)
+/// and the pad mechanics `pad` (kKernel: Winkler pressure, a contact law the rig presses do
+/// not fit; kHalfSpace: the elastic half-space's, Hertz's for a sphere).
+std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& profile, uint64_t seed = 1,
+                                                 sensors::PadMechanics pad = sensors::PadMechanics::kKernel);
 
 }  // namespace sedbridge::bridge

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "model/fingertip_model.h"
@@ -76,6 +77,34 @@ TEST(ContactObject, ShearWithinCrosstalkDoesNotReachTheLeader) {
   // A non-finite estimate is passed on as it is, for the press to reject.
   p.shear_x_N = std::nan("");
   EXPECT_FALSE(LeaderTangentialLoad_N(p).allFinite());
+}
+
+}  // namespace
+}  // namespace sedbridge::bridge
+
+namespace sedbridge::bridge {
+namespace {
+
+// Spheres and rods thinner than kLeaderMinRadius_mm are pressed as that radius (the leader's
+// contact points are too far apart to hold them: on the half-space pad's synthetic set a
+// 0.5 mm rod and a box edge, read at the reconstruction's 0.3 mm bound, gave a press that
+// could not reach its force and one with no contact); thicker ones keep theirs.
+TEST(ContactObject, ThinnerThanTheLeaderHoldsIsPressedAtItsMinimum) {
+  for (const auto shape : {sensors::ContactShape::kSphere, sensors::ContactShape::kCylinder}) {
+    sensors::ContactPrimitive p;
+    p.shape = shape;
+    p.x_mm = 1;
+    p.y_mm = -2;
+    for (const double r_mm : {0.3, kLeaderMinRadius_mm, 2.0}) {
+      p.radius_mm = r_mm;
+      const geometry::RigidObject o = ToRigidObject(p);
+      const double pressed_mm = std::max(r_mm, kLeaderMinRadius_mm);
+      // Resting on the pad plane: centre (axis) one pressed radius up, touching at (x, y, 0).
+      EXPECT_NEAR(o.trajectory.Pose(0).translation().z(), pressed_mm * 1e-3, 1e-12) << r_mm;
+      EXPECT_NEAR(o.Evaluate(Eigen::Vector3d(1e-3, -2e-3, 0), 0).distance_m, 0.0, 1e-12) << r_mm;
+      EXPECT_LT(o.Evaluate(Eigen::Vector3d(1e-3, -2e-3, 0.5 * pressed_mm * 1e-3), 0).distance_m, 0.0) << r_mm;
+    }
+  }
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 #include "tests/common/scratch_dir.h"
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 
@@ -61,6 +62,37 @@ TEST(SimulatedSensorTest, SpherePressIsSymmetricAndPeaksInTheMiddle) {
   EXPECT_NEAR(t.pressure_Pa[0], t.pressure_Pa[15], 1e-6 * t.pressure_Pa[5] + 1e-9);
   EXPECT_GT(t.pressure_Pa[5], t.pressure_Pa[0]);
   for (double s : t.shear_x_Pa) EXPECT_EQ(s, 0.0);  // no sliding, no friction
+}
+
+// `pad: {model: halfspace}`: a sphere pressed d deep carries Hertz's force 4/3 E* sqrt(R)
+// d^1.5 (E* the profile's forward_model contact modulus), where the Winkler-pressure kernel
+// pad carries E_eff / h * pi R d^2; both spread through the same kernels.
+TEST(SimulatedSensorTest, HalfSpacePadCarriesHertzForce) {
+  SimulatedSensorConfig c;
+  c.profile = Shipped("uskin_4x4");
+  ASSERT_TRUE(c.profile.has_forward_model);
+  c.pad.mechanics = PadMechanics::kHalfSpace;
+  const double R = 5e-3, depth = 0.3e-3;
+  c.objects.push_back(Parse("- shape: sphere\n  radius_mm: 5\n  position_mm: [1, -1, 4.7]\n"));
+  const SimulatedSensor sim(c);
+  const double e_star = c.profile.forward_model.contact_modulus_kPa * 1e3;
+  const double hertz_N = 4.0 / 3.0 * e_star * std::sqrt(R) * std::pow(depth, 1.5);
+  const Eigen::Vector3d load = sim.TotalLoad_N(0);
+  EXPECT_NEAR(load.z() / hertz_N, 1.0, 0.05);
+  EXPECT_EQ(load.x(), 0.0);
+  // The readings respond (the kernels), nearest taxels most.
+  const TaxelTractions t = sim.Evaluate(0);
+  double most = 0;
+  for (double v : t.pressure_Pa) most = std::max(most, v);
+  EXPECT_GT(most, 0);
+  c.pad.mechanics = PadMechanics::kKernel;
+  const double winkler_N = SimulatedSensor(c).TotalLoad_N(0).z();
+  EXPECT_NEAR(winkler_N / (c.pad.EffectiveModulus_Pa() / c.pad.thickness_m * 3.14159265358979 * R * depth * depth), 1.0, 0.1);
+  // Without a forward_model the scene is refused, naming the key.
+  SimulatedSensorConfig bare = c;
+  bare.pad.mechanics = PadMechanics::kHalfSpace;
+  bare.profile.has_forward_model = false;
+  EXPECT_THROW(SimulatedSensor{bare}, std::invalid_argument);
 }
 
 TEST(SimulatedSensorTest, SlidingWithFrictionGivesShearAlongTheMotion) {

@@ -1,0 +1,68 @@
+// The simulated pad's elastic half-space against closed forms: Love's uniformly loaded
+// square, Hertz's sphere.
+#include "sensors/simulated/half_space_contact.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+namespace sedbridge::sensors {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+TEST(HalfSpaceContact, SquareCentreDeflectionIsLoves) {
+  // A square of side 2c under pressure p sinks 8 ln(1 + sqrt 2) / pi * c p / E* at its
+  // centre (Johnson, Contact Mechanics §3.9: 2.24 c p / E*); far away, as a point load
+  // P / (pi E* r).
+  const double cell_m = 0.2e-3, e_star = 313e3, c = 0.5 * cell_m;
+  const HalfSpaceContact h(cell_m, e_star);
+  EXPECT_NEAR(h.Influence(0, 0), 8 * std::log(1 + std::sqrt(2.0)) / kPi * c / e_star, 1e-12 * c / e_star);
+  EXPECT_NEAR(h.Influence(0, 0) * e_star / c, 2.244, 1e-3);
+  const double far = h.Influence(30, 40);
+  const double point = cell_m * cell_m / (kPi * e_star * 50 * cell_m);
+  EXPECT_NEAR(far / point, 1.0, 1e-3);
+  EXPECT_DOUBLE_EQ(h.Influence(3, 4), h.Influence(4, 3));
+}
+
+TEST(HalfSpaceContact, SpherePressIsHertz) {
+  // R = 5 mm, 0.2 mm deep into E* = 313 kPa: F = 4/3 E* sqrt(R) d^1.5 = 0.0834 N, contact
+  // radius a = sqrt(R d) = 1 mm, centre pressure 3 F / (2 pi a^2). The geometric overlap
+  // (radius sqrt(2 R d) = 1.41 mm) is wider than the contact: the pivoting must find a.
+  const double cell_m = 0.125e-3, e_star = 313e3, R = 5e-3, depth = 0.2e-3;
+  const int n = 25, centre = 12;
+  std::vector<double> penetration(n * n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double r2 = (std::pow(i - centre, 2) + std::pow(j - centre, 2)) * cell_m * cell_m;
+      penetration[size_t(i * n + j)] = depth - r2 / (2 * R);
+    }
+  HalfSpaceContact h(cell_m, e_star);
+  std::vector<double> p;
+  ASSERT_TRUE(h.Solve(n, penetration, &p));
+  double force = 0, outer_m = 0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const double pij = p[size_t(i * n + j)];
+      EXPECT_GE(pij, 0.0);
+      force += pij * cell_m * cell_m;
+      if (pij > 0) outer_m = std::max(outer_m, std::hypot(i - centre, j - centre) * cell_m);
+    }
+  const double hertz_N = 4.0 / 3.0 * e_star * std::sqrt(R) * std::pow(depth, 1.5);
+  const double a = std::sqrt(R * depth);
+  EXPECT_NEAR(force / hertz_N, 1.0, 0.03);
+  EXPECT_NEAR(outer_m, a, 1.0 * cell_m);
+  EXPECT_NEAR(p[size_t(centre * n + centre)] / (3 * hertz_N / (2 * kPi * a * a)), 1.0, 0.05);
+  // Warm-started again: the same answer; nothing touching: no pressure.
+  std::vector<double> again;
+  ASSERT_TRUE(h.Solve(n, penetration, &again));
+  for (size_t k = 0; k < p.size(); ++k) EXPECT_NEAR(again[k], p[k], 1e-9 * p[size_t(centre * n + centre)]);
+  std::vector<double> apart(penetration.size(), -1e-4);
+  ASSERT_TRUE(h.Solve(n, apart, &again));
+  for (double v : again) EXPECT_EQ(v, 0.0);
+  EXPECT_EQ(h.failures(), 0);
+}
+
+}  // namespace
+}  // namespace sedbridge::sensors
