@@ -148,6 +148,7 @@ LinearSolveReport PcgSolver::Solve(const SystemMatrix& A, const Eigen::VectorXd&
     r_ = b - q_;
   }
   ApplyPreconditioner(A, r_, z_);
+  ++report.preconditioner_applications;
   p_ = z_;
   double rz = r_.dot(z_);
   const double target = settings_.relative_tolerance * b_norm;
@@ -162,8 +163,11 @@ LinearSolveReport PcgSolver::Solve(const SystemMatrix& A, const Eigen::VectorXd&
     r_ -= alpha * q_;
     r_norm = r_.norm();
     ++it;
-    if (r_norm <= target) break;
+    // At the cap too: the next direction would need a preconditioner application that no
+    // iteration uses (a capped step paid for two where it used one).
+    if (r_norm <= target || it >= settings_.max_iterations) break;
     ApplyPreconditioner(A, r_, z_);
+    ++report.preconditioner_applications;
     const double rz_new = r_.dot(z_);
     p_ = z_ + (rz_new / rz) * p_;
     rz = rz_new;

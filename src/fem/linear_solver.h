@@ -28,6 +28,7 @@ struct LinearSolveReport {
   double relative_residual = 0;  ///< |b - A x| / |b| where computed
   bool converged = true;
   bool used_fallback = false;    ///< PCG gave up and the direct solver answered
+  int preconditioner_applications = 0;  ///< PCG: one per iteration it used, none wasted at a cap
 };
 
 class LinearSolver {

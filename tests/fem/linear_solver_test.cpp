@@ -88,6 +88,46 @@ TEST(LinearSolver, PcgThatCannotConvergeFallsBackAndCountsIt) {
   EXPECT_EQ(pcg.fallbacks(), 1);
 }
 
+// A PCG stopped by its cap (the capped backward-Euler steps, fallback off) applies the
+// preconditioner once per iteration it takes: the application that would start the next
+// direction is not paid for (it was, a second factor solve per one-iteration step); a
+// converged solve likewise stops before preconditioning its final residual. The iterate is
+// the same either way.
+TEST(LinearSolver, CappedPcgPreconditionsOncePerIteration) {
+  const TetMesh mesh = MakeBoxMesh({0.01, 0.01, 0.01}, {3, 3, 3}, testing::Skin(1e5, 0.49));
+  ElasticTetForce elastic(mesh, ElasticFormulation::kLinear);
+  const Eigen::VectorXd x = RestPositions(mesh);
+  SystemMatrix A;
+  BuildStepMatrix(mesh, elastic, x, A);
+  const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(x.size(), -1.0, 1.0);
+  Eigen::VectorXd previous;
+  for (const int cap : {1, 2, 3, 500}) {
+    PcgSolver pcg(PcgSettings{1e-12, cap, PreconditionerKind::kBlockJacobi, false});
+    pcg.Prepare(A);
+    Eigen::VectorXd y = Eigen::VectorXd::Zero(b.size());
+    const LinearSolveReport r = pcg.Solve(A, b, y);
+    EXPECT_FALSE(r.used_fallback);
+    if (cap < 500) {
+      EXPECT_EQ(r.iterations, cap);
+      EXPECT_FALSE(r.converged);
+    } else {
+      EXPECT_TRUE(r.converged);
+    }
+    EXPECT_EQ(r.preconditioner_applications, r.iterations) << "cap " << cap;
+    // Each iterate lowers the energy x.Ax/2 - b.x (CG), so the capped ones are descent steps.
+    Eigen::VectorXd Ay;
+    A.Multiply(y, Ay);
+    const double energy = 0.5 * y.dot(Ay) - b.dot(y);
+    EXPECT_LT(energy, 0.0);
+    if (previous.size()) {
+      Eigen::VectorXd Ap;
+      A.Multiply(previous, Ap);
+      EXPECT_LE(energy, 0.5 * previous.dot(Ap) - b.dot(previous));
+    }
+    previous = y;
+  }
+}
+
 TEST(LinearSolver, UnknownNameIsAnError) { EXPECT_THROW(MakeLinearSolver("umfpack", {}), std::invalid_argument); }
 
 // The supernodal Cholesky answers what the LDL^T answers, for every ordering, also after
