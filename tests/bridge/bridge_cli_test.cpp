@@ -65,6 +65,27 @@ TEST(BridgeCli, RunOnARecordingStopsAfterItsDurationWithTheDisplayAtZero) {
   std::filesystem::remove_all(dir);
 }
 
+// `fidelity` refuses what it cannot run before building anything: a pad model without the
+// kernels, an unknown one (the choices listed), and a config with a key out of range (file,
+// line and column).
+TEST(BridgeCli, FidelityRefusesABadPadOrConfigSayingWhere) {
+  const std::string dir = TempDir("fidelity");
+  const std::string fidelity = std::string(SEDBRIDGE_BINARY) + " fidelity --no-plots --out " + dir;
+  int status = -1;
+  std::string out = RunCommand(fidelity + " --synthetic --pad winkler", &status);
+  EXPECT_NE(status, 0) << out;
+  EXPECT_NE(out.find("--pad"), std::string::npos) << out;
+  out = RunCommand(fidelity + " --synthetic --pad bogus", &status);
+  EXPECT_NE(status, 0) << out;
+  EXPECT_NE(out.find("winkler, kernel, halfspace"), std::string::npos) << out;
+  const std::string config = dir + "/bad.yaml";
+  std::ofstream(config) << "fe:\n  contact_tolerance: 5\n";
+  out = RunCommand(fidelity + " --config " + config, &status);
+  EXPECT_NE(status, 0) << out;
+  EXPECT_NE(out.find(config + ":2:22"), std::string::npos) << out;
+  std::filesystem::remove_all(dir);
+}
+
 TEST(BridgeCli, RunWithoutSocketCanSaysWhy) {
   int status = -1;
   const std::string out =
