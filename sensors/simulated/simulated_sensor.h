@@ -18,6 +18,13 @@
 // zero when the object does not slide. The model ignores lateral coupling in the layer
 // and large-deformation effects; it is a plausible, documented signal source, not a
 // replacement for the FE model.
+//
+// `model: kernel` puts the same Winkler pressure on the forward model's cell grid and lets
+// the profile's calibrated kernels carry it to the taxels (neighbours and shear channels
+// respond, as on the rig). `model: halfspace` keeps the kernels but takes the pressure of an
+// elastic half-space (E* = forward_model.contact_modulus_kPa) in contact with the objects
+// (half_space_contact.h): Hertz's law for curved objects, which the rig presses fit;
+// Winkler's is wider for the same object. Friction as above, from either pressure.
 
 #include <Eigen/Geometry>
 #include <cstdint>
