@@ -180,10 +180,13 @@ void SimulatedSensor::HalfSpaceLoads(double t_s, std::vector<SurfaceLoad>* loads
   // The cells the objects overlap, then blocks of k x k cells, k as small as keeps the solve
   // within kHalfSpaceMaxUnknowns (a thin rod on single cells, a flat on 5 x 5 blocks).
   int overlapped = 0;
-  const geometry::RigidObject* unused = nullptr;
+  std::vector<double> cell_depth_m(static_cast<size_t>(model.cell_count()), 0.0);
+  std::vector<const geometry::RigidObject*> cell_deepest(cell_depth_m.size(), nullptr);
   for (int cell = 0; cell < model.cell_count(); ++cell) {
     const Eigen::Vector2d xy = model.CellCentre_mm(cell);
-    if (on_pad(xy) && depth_at(xy, &unused) > 0) ++overlapped;
+    if (!on_pad(xy)) continue;
+    cell_depth_m[static_cast<size_t>(cell)] = depth_at(xy, &cell_deepest[static_cast<size_t>(cell)]);
+    if (cell_depth_m[static_cast<size_t>(cell)] > 0) ++overlapped;
   }
   loads->clear();
   if (overlapped == 0) return;
@@ -191,15 +194,17 @@ void SimulatedSensor::HalfSpaceLoads(double t_s, std::vector<SurfaceLoad>* loads
   const int nc = (nf + k - 1) / k;
   auto& solver = half_space_[k];
   if (!solver) solver = std::make_shared<HalfSpaceContact>(k * h_mm * 1e-3, p.forward_model.contact_modulus_kPa * 1e3);
-  // Each block's penetration at its centre, and the object there (for the friction).
-  std::vector<double> depth_m(static_cast<size_t>(nc) * nc, 0.0);
-  std::vector<const geometry::RigidObject*> deepest(depth_m.size(), nullptr);
+  // Each block's penetration at its centre, and the object there (for the friction); single
+  // cells have theirs already.
+  std::vector<double> depth_m = k == 1 ? cell_depth_m : std::vector<double>(static_cast<size_t>(nc) * nc, 0.0);
+  std::vector<const geometry::RigidObject*> deepest =
+      k == 1 ? cell_deepest : std::vector<const geometry::RigidObject*>(depth_m.size(), nullptr);
   std::vector<Eigen::Vector2d> centre_mm(depth_m.size());
   for (int I = 0; I < nc; ++I)
     for (int J = 0; J < nc; ++J) {
       const size_t b = static_cast<size_t>(I) * nc + J;
       centre_mm[b] = model.CellCentre_mm(I * k * nf + J * k) + Eigen::Vector2d::Constant(0.5 * (k - 1) * h_mm);
-      if (on_pad(centre_mm[b])) depth_m[b] = depth_at(centre_mm[b], &deepest[b]);
+      if (k > 1 && on_pad(centre_mm[b])) depth_m[b] = depth_at(centre_mm[b], &deepest[b]);
     }
   std::vector<double> pressure_Pa;
   solver->Solve(nc, depth_m, &pressure_Pa);

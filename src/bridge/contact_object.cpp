@@ -81,4 +81,17 @@ scene::PressToForceOptions ReconstructedPressOptions() {
   return options;
 }
 
+scene::PressToForceOptions ReconstructedPressOptions(const BridgeConfig& config) {
+  scene::PressToForceOptions options = ReconstructedPressOptions();
+  options.contact_relative_tolerance = config.contact_tolerance;
+  return options;
+}
+
+ReconstructionOptions ReconstructionOptionsOf(const BridgeConfig& config) {
+  ReconstructionOptions options;
+  options.fit_pairs = config.two_contacts;
+  options.fit_finite_rods = config.finite_rods;
+  return options;
+}
+
 }  // namespace sedbridge::bridge

@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "bridge/bridge_config.h"
 #include "bridge/contact_reconstruction.h"
 #include "common/geometry/rigid_object.h"
 #include "scene/fingertip_compliance.h"
@@ -35,6 +36,11 @@ std::vector<geometry::RigidObject> ToRigidObjects(const ContactEstimate& estimat
 /// taxels), so the last digits cost contact solves (a third of them at hold) and buy
 /// nothing; the SED then differs from the 1e-6 answer by about 1e-3 relative.
 scene::PressToForceOptions ReconstructedPressOptions();
+/// The same with the config's fe.contact_tolerance as its contact tolerance.
+scene::PressToForceOptions ReconstructedPressOptions(const BridgeConfig& config);
+/// The reconstruction of fe.step contact as a config sets it (fe.two_contacts,
+/// fe.finite_rods): one place for the bridge (MakeFeStep) and the fidelity benchmark.
+ReconstructionOptions ReconstructionOptionsOf(const BridgeConfig& config);
 
 /// The leader's fingertip for reconstructed contacts (bridge and fidelity benchmark), its
 /// precompute cached in `cache_dir` ("" = none). face_contact (bridge key fe.face_contact,

@@ -87,11 +87,7 @@ FidelityBenchmark::FidelityBenchmark(const std::string& model_name, const sensor
 
 FidelityBenchmark::FidelityBenchmark(const std::string& model_name, const sensors::SensorProfile& profile,
                                      const display::DisplayProfile& display, const BridgeConfig& config)
-    : profile_(profile), press_(ReconstructedPressOptions()) {
-  // The reconstruction and its press as the bridge (MakeFeStep, fe.step contact) runs them.
-  reconstruction_.fit_pairs = config.two_contacts;
-  reconstruction_.fit_finite_rods = config.finite_rods;
-  press_.contact_relative_tolerance = config.contact_tolerance;
+    : profile_(profile), reconstruction_(ReconstructionOptionsOf(config)), press_(ReconstructedPressOptions(config)) {
   model_ = std::make_unique<model::FingertipModel>(model::LoadFingertipModel(model_name));
   leader_ = std::make_unique<scene::FingertipCompliance>(
       *model_, LeaderComplianceOptions(config.compliance_cache_dir, config.face_contact));

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "bridge/contact_fe_step.h"
+#include "bridge/contact_object.h"
 #include "bridge/reduced_linear_fe_step.h"
 #include "bridge/scene_fe_step.h"
 #include "common/wall_clock.h"
@@ -43,13 +44,9 @@ std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::Se
     map.fe_step = FeStepKind::kReduced;
     scene::FingertipComplianceOptions leader = LeaderComplianceOptions(config.compliance_cache_dir, config.face_contact);
     leader.contact.full_field = full_field;
-    ReconstructionOptions reconstruction;
-    reconstruction.fit_pairs = config.two_contacts;
-    reconstruction.fit_finite_rods = config.finite_rods;
-    scene::PressToForceOptions press = ReconstructedPressOptions();
-    press.contact_relative_tolerance = config.contact_tolerance;
     return std::make_unique<ContactFeStep>(config.model, profile, PadRegistration(profile.taxels, config.registration),
-                                           MakeFeStep(map, profile), std::move(leader), reconstruction, press);
+                                           MakeFeStep(map, profile), std::move(leader), ReconstructionOptionsOf(config),
+                                           ReconstructedPressOptions(config));
   }
   if (config.fe_step == FeStepKind::kReduced)
     return std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, config.preset), profile,

@@ -232,44 +232,44 @@ int ElasticTetForce::AccumulateElement(int t, const SystemState& state, bool for
   const int twists =
       corotational && tangent_ == CorotationalTangent::kConsistent && !definite_ && !inverted ? CorotationalTwistTerms(e, R, F, true, 0.0, twist, twist_sign)
                                                                                           : 0;
-  if (twists == 0) {
-    // D = beta K: each block in one pass over the matrix's values.
-    const double scale = sink->stiffness_scale + (damping ? beta_s_ * sink->damping_scale : 0.0);
-    for (int a = 0; a < 4; ++a) {
-      for (int b = a; b < 4; ++b) {
-        const Eigen::Matrix3d K = StiffnessBlock(e, h[a], h[b], e.shape_gradients.row(a).dot(e.shape_gradients.row(b)));
-        sink->matrix->AddBlockTo(values, slots_[size_t(t)][size_t(4 * a + b)], K, scale);
-        if (b != a) sink->matrix->AddBlockTo(values, slots_[size_t(t)][size_t(4 * b + a)], K.transpose(), scale);
-      }
-    }
-    if (sink->velocity) {
-      // K v in stress form, as the force: (K v)_a = V R sigma(sym(R^T dv Dm^-1)) g_a, the
-      // strain of the velocity in the element's rotated frame (16 block products otherwise).
-      const Eigen::VectorXd& v = *sink->velocity;
-      const Eigen::Vector3d v0 = v.segment<3>(3 * n[0]);
-      Eigen::Matrix3d dv;
-      dv << v.segment<3>(3 * n[1]) - v0, v.segment<3>(3 * n[2]) - v0, v.segment<3>(3 * n[3]) - v0;
-      const Eigen::Matrix3d L = R.transpose() * dv * e.rest_inverse;
-      Eigen::Matrix3d sigma = e.mu_Pa * (L + L.transpose());
-      sigma.diagonal().array() += e.lambda_Pa * L.trace();
-      const Eigen::Matrix3d P = e.volume_m3 * (R * sigma);
-      for (int a = 0; a < 4; ++a) k_times_v->segment<3>(3 * n[size_t(a)]) += P * e.shape_gradients.row(a).transpose();
-    }
-    return inverted;
-  }
+  // Damping stays the warped stiffness's (D = beta R K0 R^T), the twists are stiffness only:
+  // without twists, each block and its damping in one pass over the matrix's values.
+  const double damping_scale = damping ? beta_s_ * sink->damping_scale : 0.0;
   for (int a = 0; a < 4; ++a) {
     for (int b = a; b < 4; ++b) {
       Eigen::Matrix3d K = StiffnessBlock(e, h[a], h[b], e.shape_gradients.row(a).dot(e.shape_gradients.row(b)));
-      const Eigen::Matrix3d D = beta_s_ * K;  // damping stays the warped stiffness's
-      for (int k = 0; k < twists; ++k) K.noalias() += twist_sign[size_t(k)] * twist[size_t(k)][size_t(a)] * twist[size_t(k)][size_t(b)].transpose();
-      sink->AddTo(values, k_times_v, slots_[size_t(t)][size_t(4 * a + b)], n[size_t(a)], n[size_t(b)], K,
-                  damping ? &D : nullptr);
-      if (b != a) {
-        const Eigen::Matrix3d Kt = K.transpose();
-        const Eigen::Matrix3d Dt = beta_s_ * Kt;
-        sink->AddTo(values, k_times_v, slots_[size_t(t)][size_t(4 * b + a)], n[size_t(b)], n[size_t(a)], Kt,
-                    damping ? &Dt : nullptr);
+      const int ab = slots_[size_t(t)][size_t(4 * a + b)], ba = slots_[size_t(t)][size_t(4 * b + a)];
+      double scale = sink->stiffness_scale + damping_scale;
+      if (twists > 0) {
+        if (damping) {
+          sink->matrix->AddBlockTo(values, ab, K, damping_scale);
+          if (b != a) sink->matrix->AddBlockTo(values, ba, K.transpose(), damping_scale);
+        }
+        for (int k = 0; k < twists; ++k)
+          K.noalias() += twist_sign[size_t(k)] * twist[size_t(k)][size_t(a)] * twist[size_t(k)][size_t(b)].transpose();
+        scale = sink->stiffness_scale;
       }
+      sink->matrix->AddBlockTo(values, ab, K, scale);
+      if (b != a) sink->matrix->AddBlockTo(values, ba, K.transpose(), scale);
+    }
+  }
+  if (sink->velocity) {
+    // K v in stress form, as the force: (K v)_a = V R sigma(sym(R^T dv Dm^-1)) g_a, the
+    // strain of the velocity in the element's rotated frame (16 block products otherwise);
+    // each twist's rank-one part adds sign t_a (t . v).
+    const Eigen::VectorXd& v = *sink->velocity;
+    const Eigen::Vector3d v0 = v.segment<3>(3 * n[0]);
+    Eigen::Matrix3d dv;
+    dv << v.segment<3>(3 * n[1]) - v0, v.segment<3>(3 * n[2]) - v0, v.segment<3>(3 * n[3]) - v0;
+    const Eigen::Matrix3d L = R.transpose() * dv * e.rest_inverse;
+    Eigen::Matrix3d sigma = e.mu_Pa * (L + L.transpose());
+    sigma.diagonal().array() += e.lambda_Pa * L.trace();
+    const Eigen::Matrix3d P = e.volume_m3 * (R * sigma);
+    for (int a = 0; a < 4; ++a) k_times_v->segment<3>(3 * n[size_t(a)]) += P * e.shape_gradients.row(a).transpose();
+    for (int k = 0; k < twists; ++k) {
+      double tv = 0;
+      for (int b = 0; b < 4; ++b) tv += twist[size_t(k)][size_t(b)].dot(v.segment<3>(3 * n[size_t(b)]));
+      for (int a = 0; a < 4; ++a) k_times_v->segment<3>(3 * n[size_t(a)]) += (twist_sign[size_t(k)] * tv) * twist[size_t(k)][size_t(a)];
     }
   }
   return inverted;

@@ -41,12 +41,24 @@ Eigen::VectorXd RestPositions(const TetMesh& mesh) {
   return x;
 }
 
-TEST(LinearSolver, AllSolversAgreeAndWarpIsNearlyExactForLinearFem) {
-  const TetMesh mesh = MakeBoxMesh({0.01, 0.01, 0.01}, {4, 4, 4}, testing::Skin(1e5, 0.48));
-  ElasticTetForce elastic(mesh, ElasticFormulation::kLinear);
-  const Eigen::VectorXd x = RestPositions(mesh);
+// A linear 1 cm box's step matrix, with the pieces it was built from.
+struct BoxStepSystem {
+  BoxStepSystem(int cells, double poisson_ratio)
+      : mesh(MakeBoxMesh({0.01, 0.01, 0.01}, {cells, cells, cells}, testing::Skin(1e5, poisson_ratio))),
+        elastic(mesh, ElasticFormulation::kLinear),
+        x(RestPositions(mesh)) {
+    BuildStepMatrix(mesh, elastic, x, A);
+  }
+  const TetMesh mesh;
+  ElasticTetForce elastic;  // holds a reference to mesh (declared before it)
+  const Eigen::VectorXd x;
   SystemMatrix A;
-  BuildStepMatrix(mesh, elastic, x, A);
+};
+
+TEST(LinearSolver, AllSolversAgreeAndWarpIsNearlyExactForLinearFem) {
+  const BoxStepSystem box(4, 0.48);
+  const SystemMatrix& A = box.A;
+  const Eigen::VectorXd& x = box.x;
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(x.size(), -1.0, 1.0);
 
   Eigen::VectorXd reference = Eigen::VectorXd::Zero(b.size());
@@ -72,11 +84,9 @@ TEST(LinearSolver, AllSolversAgreeAndWarpIsNearlyExactForLinearFem) {
 }
 
 TEST(LinearSolver, PcgThatCannotConvergeFallsBackAndCountsIt) {
-  const TetMesh mesh = MakeBoxMesh({0.01, 0.01, 0.01}, {3, 3, 3}, testing::Skin(1e5, 0.49));
-  ElasticTetForce elastic(mesh, ElasticFormulation::kLinear);
-  const Eigen::VectorXd x = RestPositions(mesh);
-  SystemMatrix A;
-  BuildStepMatrix(mesh, elastic, x, A);
+  const BoxStepSystem box(3, 0.49);
+  const SystemMatrix& A = box.A;
+  const Eigen::VectorXd& x = box.x;
   PcgSolver pcg(PcgSettings{1e-12, 2, PreconditionerKind::kBlockJacobi, true});
   pcg.Prepare(A);
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(x.size(), -1.0, 1.0);
@@ -94,11 +104,9 @@ TEST(LinearSolver, PcgThatCannotConvergeFallsBackAndCountsIt) {
 // converged solve likewise stops before preconditioning its final residual. The iterate is
 // the same either way.
 TEST(LinearSolver, CappedPcgPreconditionsOncePerIteration) {
-  const TetMesh mesh = MakeBoxMesh({0.01, 0.01, 0.01}, {3, 3, 3}, testing::Skin(1e5, 0.49));
-  ElasticTetForce elastic(mesh, ElasticFormulation::kLinear);
-  const Eigen::VectorXd x = RestPositions(mesh);
-  SystemMatrix A;
-  BuildStepMatrix(mesh, elastic, x, A);
+  const BoxStepSystem box(3, 0.49);
+  const SystemMatrix& A = box.A;
+  const Eigen::VectorXd& x = box.x;
   const Eigen::VectorXd b = Eigen::VectorXd::LinSpaced(x.size(), -1.0, 1.0);
   Eigen::VectorXd previous;
   for (const int cap : {1, 2, 3, 500}) {

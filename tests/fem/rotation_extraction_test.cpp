@@ -17,13 +17,26 @@ Eigen::Matrix3d RandomRotation(std::mt19937& rng) {
   return q.toRotationMatrix();
 }
 
+// A symmetric stretch Q diag(s1, s2, s3) Q^T, Q random, each s drawn from `s`.
+Eigen::Matrix3d RandomStretch(std::mt19937& rng, std::uniform_real_distribution<double>& s) {
+  const Eigen::Matrix3d Q = RandomRotation(rng);
+  return Q * Eigen::Vector3d(s(rng), s(rng), s(rng)).asDiagonal() * Q.transpose();
+}
+
+// R turned by a small random rotation (each quaternion component drawn from `n`), as a
+// warm start.
+Eigen::Quaterniond Perturbed(const Eigen::Matrix3d& R, std::mt19937& rng, std::normal_distribution<double>& n) {
+  Eigen::Quaterniond q(R);
+  q = q * Eigen::Quaterniond(1.0, n(rng), n(rng), n(rng));
+  return q.normalized();
+}
+
 TEST(RotationExtraction, MatchesPolarDecompositionForStretchedRotations) {
   std::mt19937 rng(1);
   std::uniform_real_distribution<double> s(0.5, 1.5);
   for (int trial = 0; trial < 200; ++trial) {
     const Eigen::Matrix3d R = RandomRotation(rng);
-    const Eigen::Matrix3d Q = RandomRotation(rng);
-    const Eigen::Matrix3d S = Q * Eigen::Vector3d(s(rng), s(rng), s(rng)).asDiagonal() * Q.transpose();
+    const Eigen::Matrix3d S = RandomStretch(rng, s);
     Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
     const Eigen::Matrix3d got = ExtractRotation(R * S, q, 100);
     EXPECT_LT((got - R).norm(), 1e-6) << "trial " << trial;
@@ -39,13 +52,10 @@ TEST(RotationExtraction, ConvergesQuadraticallyToRoundOff) {
   std::normal_distribution<double> n(0.0, 1e-3);
   for (int trial = 0; trial < 200; ++trial) {
     const Eigen::Matrix3d R = RandomRotation(rng);
-    const Eigen::Matrix3d Q = RandomRotation(rng);
-    const Eigen::Matrix3d S = Q * Eigen::Vector3d(s(rng), s(rng), s(rng)).asDiagonal() * Q.transpose();
+    const Eigen::Matrix3d S = RandomStretch(rng, s);
     Eigen::Quaterniond cold = Eigen::Quaterniond::Identity();
     EXPECT_LT((ExtractRotation(R * S, cold, 12) - R).norm(), 1e-11) << "trial " << trial;
-    Eigen::Quaterniond warm(R);
-    warm = warm * Eigen::Quaterniond(1.0, n(rng), n(rng), n(rng));
-    warm.normalize();
+    Eigen::Quaterniond warm = Perturbed(R, rng, n);
     EXPECT_LT((ExtractRotation(R * S, warm, 3) - R).norm(), 1e-11) << "trial " << trial;
   }
 }
@@ -59,11 +69,8 @@ TEST(RotationExtraction, StopsAfterANewtonStepBelowItsBound) {
   std::normal_distribution<double> n(0.0, 1e-3);
   for (int trial = 0; trial < 50; ++trial) {
     const Eigen::Matrix3d R = RandomRotation(rng);
-    const Eigen::Matrix3d Q = RandomRotation(rng);
-    const Eigen::Matrix3d F = R * Q * Eigen::Vector3d(s(rng), s(rng), s(rng)).asDiagonal() * Q.transpose();
-    Eigen::Quaterniond start(R);
-    start = start * Eigen::Quaterniond(1.0, n(rng), n(rng), n(rng));
-    start.normalize();
+    const Eigen::Matrix3d F = R * RandomStretch(rng, s);
+    const Eigen::Quaterniond start = Perturbed(R, rng, n);
     Eigen::Quaterniond q1 = start, q2 = start, q20 = start, loose = start;
     const Eigen::Matrix3d r1 = ExtractRotation(F, q1, 1);
     const Eigen::Matrix3d r2 = ExtractRotation(F, q2, 2);
