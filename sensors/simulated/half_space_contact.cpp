@@ -6,6 +6,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "sensors/simulated/bessel.h"
+
 namespace sedbridge::sensors {
 
 namespace {
@@ -19,12 +21,85 @@ double Term(double x, double y_hi, double y_lo) {
   return x * std::log((y_hi + std::hypot(x, y_hi)) / (y_lo + std::hypot(x, y_lo)));
 }
 
+// The layer's reach [thicknesses]: a bonded layer's deflection under a load decays
+// exponentially beyond a few h; past this, the influence is taken as zero.
+constexpr double kLayerReach = 25;
+// Correction table entries per thickness: its transform lives below k ~ 10 / h, so the
+// correction is smooth on h / 10 and linear interpolation on h / 20 is well inside 1e-3.
+constexpr double kLayerTablePerThickness = 20;
+// Hankel integration: up to t = kh = 20 (C - 1 ~ t^2 e^-2t is below 1e-14 there), at least
+// 30 Simpson points per period of the Bessel functions' oscillation.
+constexpr double kLayerTMax = 20;
+constexpr double kPointsPerPeriod = 30;
+
+// C(t) - 1 for the bonded layer (header), in a form that neither overflows nor cancels.
+double LayerCMinusOne(double t, double nu) {
+  const double a = 3 - 4 * nu, s = 5 - 12 * nu + 8 * nu * nu;
+  const double e = std::exp(-2 * t);
+  const double den = 0.5 * a * (1 / e + e) + 2 * t * t + s;
+  return (-a * e - 2 * t - 2 * t * t - s) / den;
+}
+
+// Simpson nodes and weights on [0, kLayerTMax] fine enough for offsets up to r_max.
+void HankelGrid(double r_max_over_h, std::vector<double>* t, std::vector<double>* w) {
+  int n = static_cast<int>(std::ceil(kLayerTMax * kPointsPerPeriod * (r_max_over_h + 1) / (2 * kPi)));
+  n = std::max(64, n + (n & 1));
+  const double dt = kLayerTMax / n;
+  t->resize(static_cast<size_t>(n) + 1);
+  w->resize(t->size());
+  for (int i = 0; i <= n; ++i) {
+    (*t)[static_cast<size_t>(i)] = i * dt;
+    (*w)[static_cast<size_t>(i)] = dt / 3 * (i == 0 || i == n ? 1 : (i % 2 ? 4 : 2));
+  }
+}
+
+// The r-independent part of the layer's Hankel sum: w_i J1(t_i c / h) / t_i (C(t_i) - 1),
+// with J1(tc/h) / t = (c / h) J1(x) / x.
+std::vector<double> LayerWeights(const std::vector<double>& t, const std::vector<double>& w, double disk_m,
+                                 const ElasticLayer& layer) {
+  const double c_over_h = disk_m / layer.thickness_m;
+  std::vector<double> out(t.size());
+  for (size_t i = 0; i < t.size(); ++i)
+    out[i] = w[i] * c_over_h * BesselJ1OverX(t[i] * c_over_h) * LayerCMinusOne(t[i], layer.poisson_ratio);
+  return out;
+}
+
+// (2 c / E*) sum_i weight_i J0(t_i r / h).
+double LayerCorrectionOn(const std::vector<double>& t, const std::vector<double>& weight, double r_m, double disk_m,
+                         double contact_modulus_Pa, const ElasticLayer& layer) {
+  const double r_over_h = r_m / layer.thickness_m;
+  double sum = 0;
+  for (size_t i = 0; i < t.size(); ++i) sum += weight[i] * BesselJ0(t[i] * r_over_h);
+  return 2 * disk_m / contact_modulus_Pa * sum;
+}
+
 }  // namespace
 
-HalfSpaceContact::HalfSpaceContact(double cell_m, double contact_modulus_Pa)
-    : cell_m_(cell_m), contact_modulus_Pa_(contact_modulus_Pa) {
+double LayerCorrection_m_per_Pa(double r_m, double disk_m, double contact_modulus_Pa, const ElasticLayer& layer) {
+  if (!(layer.thickness_m > 0)) return 0;
+  std::vector<double> t, w;
+  HankelGrid(r_m / layer.thickness_m + disk_m / layer.thickness_m, &t, &w);
+  return LayerCorrectionOn(t, LayerWeights(t, w, disk_m, layer), r_m, disk_m, contact_modulus_Pa, layer);
+}
+
+HalfSpaceContact::HalfSpaceContact(double cell_m, double contact_modulus_Pa, ElasticLayer layer)
+    : cell_m_(cell_m), contact_modulus_Pa_(contact_modulus_Pa), layer_(layer) {
   if (!(cell_m > 0) || !(contact_modulus_Pa > 0))
     throw std::invalid_argument("HalfSpaceContact: cell size and contact modulus must be positive");
+  if (!(layer.thickness_m >= 0) || !(layer.poisson_ratio >= 0 && layer.poisson_ratio <= 0.5))
+    throw std::invalid_argument("HalfSpaceContact: layer thickness must be >= 0 and Poisson's ratio in [0, 0.5]");
+  if (layer.thickness_m > 0) {
+    const double h = layer.thickness_m, disk_m = cell_m / std::sqrt(kPi);  // the cell's area
+    const int entries = static_cast<int>(kLayerReach * kLayerTablePerThickness) + 1;
+    correction_step_m_ = h / kLayerTablePerThickness;
+    std::vector<double> t, w;
+    HankelGrid(kLayerReach + disk_m / h, &t, &w);
+    const std::vector<double> weight = LayerWeights(t, w, disk_m, layer);
+    correction_.resize(static_cast<size_t>(entries));
+    for (int k = 0; k < entries; ++k)
+      correction_[static_cast<size_t>(k)] =
+          LayerCorrectionOn(t, weight, k * correction_step_m_, disk_m, contact_modulus_Pa, layer);
+  }
 }
 
 double HalfSpaceContact::Influence(int di, int dj) const {
@@ -35,7 +110,13 @@ double HalfSpaceContact::Influence(int di, int dj) const {
   const double x = di * cell_m_, y = dj * cell_m_;
   const double sum = Term(x + c, y + c, y - c) + Term(y + c, x + c, x - c) + Term(x - c, y - c, y + c) +
                      Term(y - c, x - c, x + c);
-  return sum / (kPi * contact_modulus_Pa_);
+  const double love = sum / (kPi * contact_modulus_Pa_);
+  if (correction_.empty()) return love;
+  const double at = std::hypot(x, y) / correction_step_m_;
+  const size_t k = static_cast<size_t>(at);
+  if (k + 1 >= correction_.size()) return 0;  // beyond the layer's reach
+  const double f = at - static_cast<double>(k);
+  return love + (1 - f) * correction_[k] + f * correction_[k + 1];
 }
 
 bool HalfSpaceContact::Solve(int n, const std::vector<double>& penetration_m, std::vector<double>* pressure_Pa) {

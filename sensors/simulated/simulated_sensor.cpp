@@ -50,7 +50,8 @@ double PenetrationAlong(const geometry::RigidObject& object, const Eigen::Vector
 const config::EnumNames<PadMechanics>& NamesOf(PadMechanics) {
   static const config::EnumNames<PadMechanics> names{{PadMechanics::kWinkler, "winkler"},
                                                      {PadMechanics::kKernel, "kernel"},
-                                                     {PadMechanics::kHalfSpace, "halfspace"}};
+                                                     {PadMechanics::kHalfSpace, "halfspace"},
+                                                     {PadMechanics::kLayer, "layer"}};
   return names;
 }
 
@@ -193,7 +194,17 @@ void SimulatedSensor::HalfSpaceLoads(double t_s, std::vector<SurfaceLoad>* loads
   const int k = std::max(1, static_cast<int>(std::ceil(std::sqrt(double(overlapped) / kHalfSpaceMaxUnknowns))));
   const int nc = (nf + k - 1) / k;
   auto& solver = half_space_[k];
-  if (!solver) solver = std::make_shared<HalfSpaceContact>(k * h_mm * 1e-3, p.forward_model.contact_modulus_kPa * 1e3);
+  if (!solver) {
+    // kHalfSpace: the forward model's E*, infinitely thick; kLayer: the pad's own elastomer.
+    ElasticLayer layer;
+    double e_star_Pa = p.forward_model.contact_modulus_kPa * 1e3;
+    if (config_.pad.mechanics == PadMechanics::kLayer) {
+      const PadModel& pad = config_.pad;
+      layer = {pad.thickness_m, pad.poisson_ratio};
+      e_star_Pa = pad.youngs_modulus_Pa / (1 - pad.poisson_ratio * pad.poisson_ratio);
+    }
+    solver = std::make_shared<HalfSpaceContact>(k * h_mm * 1e-3, e_star_Pa, layer);
+  }
   // Each block's penetration at its centre, and the object there (for the friction); single
   // cells have theirs already.
   std::vector<double> depth_m = k == 1 ? cell_depth_m : std::vector<double>(static_cast<size_t>(nc) * nc, 0.0);
@@ -226,7 +237,8 @@ void SimulatedSensor::HalfSpaceLoads(double t_s, std::vector<SurfaceLoad>* loads
 }
 
 void SimulatedSensor::KernelLoads(double t_s, std::vector<SurfaceLoad>* loads) const {
-  if (config_.pad.mechanics == PadMechanics::kHalfSpace) return HalfSpaceLoads(t_s, loads);
+  if (config_.pad.mechanics == PadMechanics::kHalfSpace || config_.pad.mechanics == PadMechanics::kLayer)
+    return HalfSpaceLoads(t_s, loads);
   const SensorProfile& p = config_.profile;
   const TactileForwardModel& model = *kernel_model_;
   const double cell_m2 = model.cell_size_mm() * model.cell_size_mm() * 1e-6;

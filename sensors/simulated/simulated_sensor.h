@@ -24,7 +24,10 @@
 // respond, as on the rig). `model: halfspace` keeps the kernels but takes the pressure of an
 // elastic half-space (E* = forward_model.contact_modulus_kPa) in contact with the objects
 // (half_space_contact.h): Hertz's law for curved objects, which the rig presses fit;
-// Winkler's is wider for the same object. Friction as above, from either pressure.
+// Winkler's is wider for the same object. `model: layer` is that elastomer as a layer of
+// thickness_mm (poisson_ratio) on a rigid base: Hertz's law for contacts small against
+// the layer, the confined columns of Winkler's law for contacts much wider (a flat).
+// Friction as above, from any of these pressures.
 
 #include <Eigen/Geometry>
 #include <cstdint>
@@ -57,15 +60,19 @@ enum class PadMechanics {
                ///< objects (sensors/simulated/half_space_contact.h; E* = the forward model's
                ///< contact_modulus_kPa, solved on cells of about 0.5 mm): Hertz's law, which
                ///< the rig presses fit, for any shape. Needs a profile with `forward_model`.
+  kLayer,      ///< as kHalfSpace, for the pad's elastomer (youngs_modulus_kPa, poisson_ratio)
+               ///< as a layer of thickness_mm bonded to a rigid base: Hertz's law while a
+               ///< contact is small against the layer, nearly uniform pressure under a flat
+               ///< much wider than it (the layer's columns), as the rig presses show both.
 };
-/// "winkler", "kernel", "halfspace" (key sensor.pad.model).
+/// "winkler", "kernel", "halfspace", "layer" (key sensor.pad.model).
 const config::EnumNames<PadMechanics>& NamesOf(PadMechanics);
 
 struct PadModel {
-  PadMechanics mechanics = PadMechanics::kWinkler;  ///< key `model: winkler | kernel | halfspace`
-  double thickness_m = 3e-3;         ///< elastomer layer thickness h
-  double youngs_modulus_Pa = 300e3;  ///< E of the elastomer
-  double poisson_ratio = 0.0;        ///< nu, in [0, 0.5)
+  PadMechanics mechanics = PadMechanics::kWinkler;  ///< key `model: winkler | kernel | halfspace | layer`
+  double thickness_m = 3e-3;         ///< elastomer layer thickness h (winkler, kernel, layer)
+  double youngs_modulus_Pa = 300e3;  ///< E of the elastomer (winkler, kernel, layer)
+  double poisson_ratio = 0.0;        ///< nu, in [0, 0.5) (winkler, kernel, layer)
   double friction_coefficient = 0;   ///< mu for shear (3-axis profiles)
   int subsamples = 3;                ///< per taxel edge, for area averaging
   double smoothing_m = 0;            ///< Gaussian sigma over taxel centres (0 = off)
@@ -159,8 +166,17 @@ class SimulatedSensor {
   /// Taxel tractions at time t (no noise).
   TaxelTractions Evaluate(double t_s) const;
   /// Total load the objects put on the pad at time t, pad frame [N] (the ground truth a
-  /// load cell would read): x, y tangential, z pressing. Kernel pad model only (zero else).
+  /// load cell would read): x, y tangential, z pressing. Kernel, halfspace and layer pad
+  /// models (zero for winkler).
   Eigen::Vector3d TotalLoad_N(double t_s) const;
+  /// The pad's surface loads on the forward model's grid at time t (kernel, halfspace and
+  /// layer pad models; empty for winkler): what the kernels carry to the taxels.
+  void PadLoads(double t_s, std::vector<SurfaceLoad>* loads) const {
+    if (kernel_model_) return KernelLoads(t_s, loads);
+    loads->clear();
+  }
+  /// The profile's forward model the pad's loads go through (null for the winkler pad).
+  const TactileForwardModel* forward_model() const { return kernel_model_.get(); }
   /// Ideal raw readings for `tractions` (inverse of the profile calibration, rounded).
   std::vector<int32_t> ToRawCounts(const TaxelTractions& tractions) const;
 

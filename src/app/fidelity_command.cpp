@@ -39,9 +39,12 @@ int RunFidelity(int argc, char** argv) {
       .Option("cache-dir", "DIR", "compliance precompute cache (default: the config's fe.compliance_cache)")
       .Flag("synthetic", "run the synthetic set instead (simulated sensor: shapes the rig did not press)")
       .Option("pad", "MODEL",
-              "the synthetic set's simulated pad: kernel (Winkler pressure through the calibrated kernels) or "
-              "halfspace (an elastic half-space's pressure, Hertz's law, through the same kernels)",
-              "kernel")
+              "the synthetic set's simulated pad: kernel (Winkler pressure through the calibrated kernels), "
+              "halfspace (an elastic half-space's pressure, Hertz's law, through the same kernels) or layer (the "
+              "rig's elastomer as a 2.5 mm layer on a rigid base, fitted to the rig presses: fit-sensor --evaluate-pad)",
+              "layer")
+      .Option("random", "N", "--synthetic: N rig-like presses drawn at random instead of the fixed set", "0")
+      .Option("seed", "S", "--synthetic: seed of the noise (and of --random's draws)", "1")
       .Flag("node-contact", "press on the leader's skin nodes only (bridge fe.face_contact: false), not its faces too")
       .Flag("no-plots", "skip the PNG plots");
   if (!args.Parse(argc, argv)) return 0;
@@ -56,9 +59,11 @@ int RunFidelity(int argc, char** argv) {
   if (args.GetFlag("synthetic")) {
     const auto pad = config::ParseEnum<sensors::PadMechanics>(args.Get("pad"), "--pad model");
     if (pad == sensors::PadMechanics::kWinkler)
-      throw std::invalid_argument("--pad: the synthetic set needs the kernels (kernel or halfspace), not winkler");
+      throw std::invalid_argument("--pad: the synthetic set needs the kernels (kernel, halfspace or layer), not winkler");
     std::printf("fidelity: simulating the synthetic set (pad model %s) ...\n", args.Get("pad").c_str());
-    presses = SyntheticFidelityCases(profile, 1, pad);
+    const long random = args.GetInt("random");
+    if (random < 0 || random > 1000) throw UsageError("--random must be in 0..1000");
+    presses = SyntheticFidelityCases(profile, static_cast<uint64_t>(args.GetInt("seed")), pad, static_cast<int>(random));
   } else {
     for (const auto& p : sensors::LoadCalibrationPresses(config::ResolveResource(args.Get("cases")), profile))
       presses.push_back(FromCalibrationPress(p));

@@ -2,6 +2,7 @@
 // presses (a cases.json plus candump logs) and prints the `forward_model:` block for the
 // sensor profile, with how well each press is reproduced.
 
+#include <algorithm>
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -11,6 +12,7 @@
 #include "app/command.h"
 #include "common/resource_path.h"
 #include "sensors/calibration_press.h"
+#include "sensors/simulated/pad_rig_check.h"
 #include "sensors/tactile_model_fit.h"
 
 namespace sedbridge::app {
@@ -23,6 +25,37 @@ void PrintReport(const std::vector<PressFitReport>& presses) {
   for (const auto& p : presses)
     std::printf("%-14s %8.2f %8.2f %8.2f %10.4f %10.4f\n", p.name.c_str(), p.rms_sigma[0], p.rms_sigma[1],
                 p.rms_sigma[2], p.measured_sum_z_N, p.predicted_sum_z_N);
+}
+
+// The simulated pad beside the forward model, press by press, and the medians.
+void PrintPadReport(const std::vector<PressFitReport>& model, const std::vector<PadPressReport>& pad,
+                    const std::string& pad_name) {
+  std::printf("%-14s %26s   %26s %9s\n", "", "forward model rms x/y/z", (pad_name + " pad rms x/y/z").c_str(),
+              "depth_mm");
+  std::vector<double> worst_model, worst_pad;
+  for (size_t i = 0; i < pad.size(); ++i) {
+    const auto& m = model[i].rms_sigma;
+    const auto& p = pad[i].rms_sigma;
+    if (!pad[i].reached) {
+      std::printf("%-14s %8.2f %8.2f %8.2f   %26s\n", pad[i].name.c_str(), m[0], m[1], m[2],
+                  "force not reached");
+      continue;
+    }
+    std::printf("%-14s %8.2f %8.2f %8.2f   %8.2f %8.2f %8.2f %9.3f\n", pad[i].name.c_str(), m[0], m[1], m[2], p[0],
+                p[1], p[2], pad[i].depth_mm);
+    worst_model.push_back(std::max({m[0], m[1], m[2]}));
+    worst_pad.push_back(std::max({p[0], p[1], p[2]}));
+  }
+  auto median = [](std::vector<double> v) {
+    if (v.empty()) return 0.0;
+    std::sort(v.begin(), v.end());
+    return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
+  };
+  auto within = [](const std::vector<double>& v) { return std::count_if(v.begin(), v.end(), [](double x) { return x < 1; }); };
+  std::printf("worst axis per press: median %.2f (forward model) vs %.2f (%s pad); within 1 sigma on every axis: "
+              "%ld vs %ld of %zu\n",
+              median(worst_model), median(worst_pad), pad_name.c_str(), long(within(worst_model)), long(within(worst_pad)),
+              pad.size());
 }
 
 int RunFitSensor(int argc, char** argv) {
@@ -38,8 +71,15 @@ int RunFitSensor(int argc, char** argv) {
       .Option("out", "YAML", "also write the forward_model block to this file")
       .Option("hold-out", "LOGS", "comma-separated logs left out of the fit and reported after it (validation)")
       .Flag("evaluate", "only report how well the profile's current forward_model reproduces the presses")
-      .Epilog("example:\n"
-              "  sedbridge fit-sensor --out fitted.yaml    # then paste into config/sensors/uskin_4x4.yaml");
+      .Option("evaluate-pad", "MODEL",
+              "report how well a simulated pad (kernel, halfspace or layer: sensors/simulated/simulated_sensor.h) "
+              "reproduces the presses, each pressed to its hold force, beside the forward model")
+      .Option("pad-thickness-mm", "MM", "--evaluate-pad: the layer's (or the kernel pad's Winkler layer's) thickness", "3")
+      .Option("pad-poisson", "NU", "--evaluate-pad: the elastomer's Poisson ratio, in [0, 0.5)", "0")
+      .Option("pad-youngs-kPa", "E", "--evaluate-pad: the elastomer's Young's modulus (kernel and layer pads)", "300")
+      .Epilog("examples:\n"
+              "  sedbridge fit-sensor --out fitted.yaml    # then paste into config/sensors/uskin_4x4.yaml\n"
+              "  sedbridge fit-sensor --evaluate-pad layer --pad-thickness-mm 2 --pad-poisson 0.45");
   if (!args.Parse(argc, argv)) return 0;
   const SensorProfile profile = LoadNamedSensorProfile(args.Get("profile"));
   const std::string cases = config::ResolveResource(args.Get("cases"));
@@ -59,6 +99,26 @@ int RunFitSensor(int argc, char** argv) {
   }
   FitOptions options;
   options.noise_counts = args.GetDouble("noise-counts");
+  if (auto model = args.GetOptional("evaluate-pad")) {
+    if (!profile.has_forward_model) throw UsageError("profile '" + profile.name + "' has no forward_model");
+    PadModel pad;
+    try {
+      pad.mechanics = config::ParseEnum<PadMechanics>(*model, "--evaluate-pad");
+    } catch (const std::invalid_argument& e) {
+      throw UsageError(e.what());
+    }
+    if (pad.mechanics == PadMechanics::kWinkler)
+      throw UsageError("--evaluate-pad: winkler does not use the kernels; give kernel, halfspace or layer");
+    pad.thickness_m = args.GetDouble("pad-thickness-mm") * 1e-3;
+    pad.poisson_ratio = args.GetDouble("pad-poisson");
+    pad.youngs_modulus_Pa = args.GetDouble("pad-youngs-kPa") * 1e3;
+    if (!(pad.youngs_modulus_Pa > 0)) throw UsageError("--pad-youngs-kPa must be > 0");
+    if (!(pad.thickness_m > 0)) throw UsageError("--pad-thickness-mm must be > 0");
+    if (!(pad.poisson_ratio >= 0 && pad.poisson_ratio < 0.5)) throw UsageError("--pad-poisson must be in [0, 0.5)");
+    PrintPadReport(EvaluateTactileModel(presses, profile, profile.forward_model, options),
+                   EvaluatePadOnPresses(presses, profile, pad, options.noise_counts), *model);
+    return 0;
+  }
   if (args.GetFlag("evaluate")) {
     if (!profile.has_forward_model) throw UsageError("profile '" + profile.name + "' has no forward_model");
     PrintReport(EvaluateTactileModel(presses, profile, profile.forward_model, options));

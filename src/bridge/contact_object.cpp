@@ -4,6 +4,8 @@
 #include <cmath>
 #include <memory>
 
+#include "sensors/simulated/primitive_object.h"
+
 namespace sedbridge::bridge {
 namespace {
 // A rod long enough to cross the sensor pad (20 mm), not the whole finger.
@@ -11,29 +13,7 @@ constexpr double kRodHalfLength_m = 10e-3;
 }  // namespace
 
 geometry::RigidObject ToRigidObject(const sensors::ContactPrimitive& p) {
-  geometry::RigidObject o;
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  const double r_m = std::max(p.radius_mm, kLeaderMinRadius_mm) * 1e-3;
-  switch (p.shape) {
-    case sensors::ContactShape::kSphere:
-      o.name = "sphere";
-      o.shape = std::make_shared<geometry::SphereSdf>(r_m);
-      pose.translation() = Eigen::Vector3d(p.x_mm * 1e-3, p.y_mm * 1e-3, r_m);
-      break;
-    case sensors::ContactShape::kCylinder:
-      o.name = "cylinder";
-      o.shape = std::make_shared<geometry::CylinderSdf>(r_m, p.length_mm > 0 ? 0.5e-3 * p.length_mm : kRodHalfLength_m);
-      pose.linear() = geometry::RotationFromRpyDeg(Eigen::Vector3d(0, 0, p.yaw_deg));
-      pose.translation() = Eigen::Vector3d(p.x_mm * 1e-3, p.y_mm * 1e-3, r_m);
-      break;
-    case sensors::ContactShape::kFlat:
-      o.name = "flat";
-      o.shape = std::make_shared<geometry::PlaneSdf>();
-      pose.linear() = geometry::RotationFromRpyDeg(Eigen::Vector3d(180, 0, 0));  // solid above z = 0
-      break;
-  }
-  o.trajectory = geometry::Trajectory(pose);
-  return o;
+  return sensors::RigidObjectOf(p, kRodHalfLength_m, kLeaderMinRadius_mm);
 }
 
 std::vector<geometry::RigidObject> ToRigidObjects(const ContactEstimate& estimate) {

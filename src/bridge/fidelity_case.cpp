@@ -2,10 +2,12 @@
 
 #include <cmath>
 #include <cstdio>
+#include <random>
 
 #include "bridge/contact_object.h"
 #include "common/yaml_reader.h"
 #include "sensors/scan_assembler.h"
+#include "sensors/simulated/pad_rig_check.h"
 #include "sensors/simulated/simulated_sensor.h"
 
 namespace sedbridge::bridge {
@@ -44,24 +46,39 @@ sensors::ContactPrimitive Primitive(sensors::ContactShape s, double x, double y,
   return p;
 }
 
+SyntheticSpec SphereSpec(const std::string& name, double r, double x, double y, double d) {
+  char label[64], yaml[256];
+  std::snprintf(label, sizeof label, "sphere R%g (%g, %g)", r, x, y);
+  std::snprintf(yaml, sizeof yaml, "{shape: sphere, radius_mm: %g, position_mm: [%g, %g, %g]", r, x, y, r + kLift_mm);
+  return {name, label, yaml, d, 0, 0, true, Primitive(sensors::ContactShape::kSphere, x, y, r)};
+}
+
+SyntheticSpec RodSpec(const std::string& name, double r, double yaw, double x, double y, double d) {
+  char label[64], yaml[256];
+  std::snprintf(label, sizeof label, "rod R%g yaw %g (%g, %g)", r, yaw, x, y);
+  std::snprintf(yaml, sizeof yaml,
+                "{shape: cylinder, radius_mm: %g, length_mm: 40, position_mm: [%g, %g, %g], rpy_deg: [0, 0, %g]", r, x,
+                y, r + kLift_mm, yaw);
+  return {name, label, yaml, d, 0, 0, true, Primitive(sensors::ContactShape::kCylinder, x, y, r, yaw)};
+}
+
+SyntheticSpec FlatSpec(const std::string& name, double d) {
+  return {name, "flat", "{shape: plane, rpy_deg: [180, 0, 0], position_mm: [0, 0, 0.3]", d, 0, 0, true,
+          Primitive(sensors::ContactShape::kFlat, 0, 0, 0)};
+}
+
 std::vector<SyntheticSpec> Specs() {
   using sensors::ContactShape;
   std::vector<SyntheticSpec> s;
   auto sphere = [&](double r, double x, double y, double d) {
-    char name[64], label[64], yaml[256];
+    char name[64];
     std::snprintf(name, sizeof name, "sphere_r%g_%g_%g", r, x, y);
-    std::snprintf(label, sizeof label, "sphere R%g (%g, %g)", r, x, y);
-    std::snprintf(yaml, sizeof yaml, "{shape: sphere, radius_mm: %g, position_mm: [%g, %g, %g]", r, x, y, r + kLift_mm);
-    s.push_back({name, label, yaml, d, 0, 0, true, Primitive(ContactShape::kSphere, x, y, r)});
+    s.push_back(SphereSpec(name, r, x, y, d));
   };
   auto rod = [&](double r, double yaw, double x, double y, double d) {
-    char name[64], label[64], yaml[256];
+    char name[64];
     std::snprintf(name, sizeof name, "rod_r%g_yaw%g", r, yaw);
-    std::snprintf(label, sizeof label, "rod R%g yaw %g (%g, %g)", r, yaw, x, y);
-    std::snprintf(yaml, sizeof yaml,
-                  "{shape: cylinder, radius_mm: %g, length_mm: 40, position_mm: [%g, %g, %g], rpy_deg: [0, 0, %g]", r,
-                  x, y, r + kLift_mm, yaw);
-    s.push_back({name, label, yaml, d, 0, 0, true, Primitive(ContactShape::kCylinder, x, y, r, yaw)});
+    s.push_back(RodSpec(name, r, yaw, x, y, d));
   };
   sphere(2, 3, -2, 0.8);
   sphere(5, -1, 1, 0.5);
@@ -71,8 +88,7 @@ std::vector<SyntheticSpec> Specs() {
   rod(0.5, 0, 0, 1, 0.3);
   rod(1, 30, 1, -1, 0.25);
   rod(3, 75, -1, 0, 0.2);
-  s.push_back({"flat", "flat", "{shape: plane, rpy_deg: [180, 0, 0], position_mm: [0, 0, 0.3]", 0.025, 0, 0, true,
-               Primitive(ContactShape::kFlat, 0, 0, 0)});
+  s.push_back(FlatSpec("flat", 0.025));
   // A 10 mm cube with an edge (along x) or a corner pointing into the pad.
   s.push_back({"box_edge", "box edge along x (0, 0)",
                "{shape: box, size_mm: [10, 10, 10], rpy_deg: [45, 0, 0], position_mm: [0, 0, 7.371]", 0.3, 0, 0, false, {}});
@@ -86,6 +102,43 @@ std::vector<SyntheticSpec> Specs() {
   s.push_back({"sliding_sphere", "sphere R5 sliding +x 4 mm (mu 0.4)",
                "{shape: sphere, radius_mm: 5, position_mm: [-2, 0, 5.3]", 0.5, 4.0, 0.4, true,
                Primitive(ContactShape::kSphere, 0, 0, 5)});
+  return s;
+}
+
+// Rig-like presses drawn at random: spheres, rods, flats and strokes like the rig's, at
+// sizes, places, yaws and depths it did not use (depths giving about the rig's 0.3-1.5 N on
+// the rig-fitted layer pad).
+std::vector<SyntheticSpec> RandomSpecs(int count, uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  auto uniform = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
+  auto round2 = [](double v) { return std::round(v * 100) / 100; };  // names and labels stay short
+  std::vector<SyntheticSpec> s;
+  for (int i = 0; i < count; ++i) {
+    char name[64];
+    const double kind = uniform(0, 1);
+    if (kind < 0.45) {
+      const double r = round2(std::exp(uniform(std::log(2.0), std::log(15.0))));
+      std::snprintf(name, sizeof name, "random_%02d_sphere", i);
+      s.push_back(SphereSpec(name, r, round2(uniform(-6, 6)), round2(uniform(-6, 6)), round2(uniform(0.3, 0.8))));
+    } else if (kind < 0.8) {
+      const double r = round2(std::exp(uniform(std::log(0.5), std::log(3.0))));
+      std::snprintf(name, sizeof name, "random_%02d_rod", i);
+      s.push_back(RodSpec(name, r, std::round(uniform(0, 180)), round2(uniform(-4, 4)), round2(uniform(-4, 4)),
+                          round2(uniform(0.1, 0.3))));
+    } else if (kind < 0.88) {
+      std::snprintf(name, sizeof name, "random_%02d_flat", i);
+      s.push_back(FlatSpec(name, round2(uniform(0.02, 0.05) * 1e3) * 1e-3));
+    } else {
+      std::snprintf(name, sizeof name, "random_%02d_stroke", i);
+      SyntheticSpec spec = SphereSpec(name, round2(uniform(4, 10)), round2(uniform(-4, 0)), round2(uniform(-4, 4)),
+                                      round2(uniform(0.4, 0.7)));
+      spec.slide_x_mm = 3;
+      spec.friction = 0.3;
+      spec.label += " sliding +x 3 mm (mu 0.3)";
+      spec.truth.x_mm += 1.5;  // mid-slide, as sliding_sphere's (the table's position error)
+      s.push_back(spec);
+    }
+  }
   return s;
 }
 
@@ -128,11 +181,12 @@ FidelityCase FromCalibrationPress(const sensors::CalibrationPress& press) {
 }
 
 std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& profile, uint64_t seed,
-                                                 sensors::PadMechanics pad) {
+                                                 sensors::PadMechanics pad, int random_count) {
   std::vector<FidelityCase> cases;
-  for (const SyntheticSpec& spec : Specs()) {
+  for (const SyntheticSpec& spec : random_count > 0 ? RandomSpecs(random_count, seed) : Specs()) {
     sensors::SimulatedSensorConfig config;
     config.profile = profile;
+    if (pad == sensors::PadMechanics::kLayer) config.pad = sensors::RigFittedLayerPad();
     config.pad.mechanics = pad;
     config.pad.friction_coefficient = spec.friction;
     config.noise.seed = seed;

@@ -5,12 +5,13 @@
 // Two sources:
 //  - calibration-rig presses (config/sensors/rig_uskin_4x4/): recorded scans, the object
 //    and force from cases.json, the load over time from the rig's protocol;
-//  - a synthetic set: the simulated sensor with the kernel pad model (Winkler contact
-//    pressure spread by the calibrated kernels, 2-count noise) pressed by shapes the rig did
-//    not use — spheres 2-15 mm, rods 0.5-3 mm at several yaws, a flat, a box edge and a box
-//    corner, two spheres at once, and a sphere sliding with friction. Its contact pressure
-//    is Winkler's, not the Hertz patch the reconstruction assumes: a model mismatch, on
-//    purpose.
+//  - a synthetic set: the simulated sensor pressed by shapes the rig did not use — spheres
+//    2-15 mm, rods 0.5-3 mm at several yaws, a flat, a box edge and a box corner, two
+//    spheres at once, and a sphere sliding with friction — with 2-count noise. Its pad is by
+//    default the rig-fitted elastomer layer (sensors::RigFittedLayerPad: the simulated pad
+//    that reproduces the rig's presses best), whose pressure goes through the calibrated
+//    kernels; the reconstruction's Hertz patches and uniform flats are only approximations
+//    of it. The kernel pad (Winkler pressure) and the half-space pad are the other choices.
 
 #include <Eigen/Core>
 #include <string>
@@ -47,8 +48,13 @@ FidelityCase FromCalibrationPress(const sensors::CalibrationPress& press);
 
 /// The synthetic set (see the file comment), simulated with `profile` (needs forward_model)
 /// and the pad mechanics `pad` (kKernel: Winkler pressure, a contact law the rig presses do
-/// not fit; kHalfSpace: the elastic half-space's, Hertz's for a sphere).
+/// not fit; kHalfSpace: the elastic half-space's, Hertz's for a sphere; kLayer: the rig's
+/// elastomer as a layer on a rigid base, sensors::RigFittedLayerPad()).
+/// random_count > 0: instead of the fixed set, that many rig-like presses drawn with `seed`
+/// (spheres 2-15 mm, rods 0.5-3 mm at any yaw, flats, strokes; places, sizes and depths the
+/// rig did not use): the closest thing here to presses of this sensor not seen before.
 std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& profile, uint64_t seed = 1,
-                                                 sensors::PadMechanics pad = sensors::PadMechanics::kKernel);
+                                                 sensors::PadMechanics pad = sensors::PadMechanics::kLayer,
+                                                 int random_count = 0);
 
 }  // namespace sedbridge::bridge

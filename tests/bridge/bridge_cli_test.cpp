@@ -66,7 +66,7 @@ TEST(BridgeCli, RunOnARecordingStopsAfterItsDurationWithTheDisplayAtZero) {
 }
 
 // `fidelity` refuses what it cannot run before building anything: a pad model without the
-// kernels, an unknown one (the choices listed), and a config with a key out of range (file,
+// kernels, an unknown one (the choices listed), a negative --random, and a config with a key out of range (file,
 // line and column).
 TEST(BridgeCli, FidelityRefusesABadPadOrConfigSayingWhere) {
   const std::string dir = TempDir("fidelity");
@@ -77,7 +77,10 @@ TEST(BridgeCli, FidelityRefusesABadPadOrConfigSayingWhere) {
   EXPECT_NE(out.find("--pad"), std::string::npos) << out;
   out = RunCommand(fidelity + " --synthetic --pad bogus", &status);
   EXPECT_NE(status, 0) << out;
-  EXPECT_NE(out.find("winkler, kernel, halfspace"), std::string::npos) << out;
+  EXPECT_NE(out.find("winkler, kernel, halfspace, layer"), std::string::npos) << out;
+  out = RunCommand(fidelity + " --synthetic --random -3", &status);
+  EXPECT_NE(status, 0) << out;
+  EXPECT_NE(out.find("--random"), std::string::npos) << out;
   const std::string config = dir + "/bad.yaml";
   std::ofstream(config) << "fe:\n  contact_tolerance: 5\n";
   out = RunCommand(fidelity + " --config " + config, &status);

@@ -207,7 +207,9 @@ TEST(ContactFeStep, TwoSpheresArePressedTogether) {
   EXPECT_GT(reusing->counters().press_reused, 0);
   EXPECT_EQ(at_peak.shape, 4);
   EXPECT_EQ(at_peak.fallback, 0);
-  EXPECT_NEAR(at_peak.normal_force_N + at_peak.normal_force2_N, 0.46, 0.03);
+  double true_peak_N = 0;  // the load the simulated pad carried at its deepest
+  for (const Eigen::Vector3d& load : it->load_N) true_peak_N = std::max(true_peak_N, load.z());
+  EXPECT_NEAR(at_peak.normal_force_N + at_peak.normal_force2_N, true_peak_N, 0.05 * true_peak_N);
   EXPECT_GT(std::hypot(at_peak.x_mm - at_peak.x2_mm, at_peak.y_mm - at_peak.y2_mm), 9.0);  // 10 mm apart
   EXPECT_GT(at_peak.radius2_mm, 0);
 }

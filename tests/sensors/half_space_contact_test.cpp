@@ -1,6 +1,7 @@
 // The simulated pad's elastic half-space against closed forms: Love's uniformly loaded
 // square, Hertz's sphere.
 #include "sensors/simulated/half_space_contact.h"
+#include "sensors/simulated/bessel.h"
 
 #include <gtest/gtest.h>
 
@@ -62,6 +63,78 @@ TEST(HalfSpaceContact, SpherePressIsHertz) {
   ASSERT_TRUE(h.Solve(n, apart, &again));
   for (double v : again) EXPECT_EQ(v, 0.0);
   EXPECT_EQ(h.failures(), 0);
+}
+
+TEST(Bessel, ApproximationsMatchTheLibraryTo1e7) {
+  for (double x = 0; x < 200; x += 0.01) {
+    ASSERT_NEAR(BesselJ0(x), std::cyl_bessel_j(0.0, x), 1e-7) << x;
+    const double j1_over_x = x > 0 ? std::cyl_bessel_j(1.0, x) / x : 0.5;
+    ASSERT_NEAR(BesselJ1OverX(x), j1_over_x, 1e-7) << x;
+  }
+  EXPECT_EQ(BesselJ0(-2.5), BesselJ0(2.5));
+}
+
+// Deflection at the centre of a (2 half + 1)^2-cell square under unit pressure.
+double CentreDeflection(const HalfSpaceContact& h, int half) {
+  double w = 0;
+  for (int i = -half; i <= half; ++i)
+    for (int j = -half; j <= half; ++j) w += h.Influence(i, j);
+  return w;
+}
+
+TEST(HalfSpaceContact, ThinLayerUnderAWideLoadIsAConfinedColumn) {
+  // A layer 1 mm thick under pressure 40 mm wide: away from the edges each column is
+  // compressed with its sides held, w = p h / E_oed, E_oed = E (1 - nu) / ((1 + nu)(1 - 2 nu))
+  // = E* (1 - nu)^2 / (1 - 2 nu) (Winkler's foundation, the thin limit of the layer).
+  const double cell_m = 0.25e-3, e_star = 313e3, h_m = 1e-3;
+  for (double nu : {0.0, 0.3, 0.45}) {
+    const HalfSpaceContact layer(cell_m, e_star, {h_m, nu});
+    const double e_oed = e_star * (1 - nu) * (1 - nu) / (1 - 2 * nu);
+    EXPECT_NEAR(CentreDeflection(layer, 80) / (h_m / e_oed), 1.0, 0.01) << "nu " << nu;
+    EXPECT_EQ(layer.Influence(0, 101), 0.0);  // beyond 25 h: the layer's reach
+  }
+}
+
+TEST(HalfSpaceContact, ThickLayerIsTheHalfSpace) {
+  const double cell_m = 0.25e-3, e_star = 313e3;
+  // 100 m thick: within r of a load, a layer deflects as the half-space less a shift of
+  // order r / h relative (the base's), here < 1e-4.
+  const HalfSpaceContact half_space(cell_m, e_star), thick(cell_m, e_star, {100.0, 0.45});
+  for (int i : {0, 1, 7, 40}) EXPECT_NEAR(thick.Influence(i, 3) / half_space.Influence(i, 3), 1.0, 1e-3) << i;
+  EXPECT_NEAR(LayerCorrection_m_per_Pa(0, 1e-4, e_star, {}), 0.0, 0.0);  // no layer, no correction
+}
+
+TEST(HalfSpaceContact, LayerSphereTendsToTheHalfSpacesAndStiffensAsTheLayerThins) {
+  // A sphere pressed 0.2 mm (Hertz contact radius a = 1 mm): a 1 m layer carries the
+  // half-space's force; thinner layers, propped by the base, carry more at the same depth
+  // (a / h = 0.1 already +12 % for nu = 0.45), and a 1 mm layer several times Hertz's.
+  const double cell_m = 0.125e-3, e_star = 313e3, R = 5e-3, depth = 0.2e-3;
+  const int n = 25, centre = 12;
+  std::vector<double> penetration(n * n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      penetration[size_t(i * n + j)] =
+          depth - (std::pow(i - centre, 2) + std::pow(j - centre, 2)) * cell_m * cell_m / (2 * R);
+  auto force_N = [&](HalfSpaceContact& contact) {
+    std::vector<double> p;
+    EXPECT_TRUE(contact.Solve(n, penetration, &p));
+    double f = 0;
+    for (double v : p) f += v * cell_m * cell_m;
+    return f;
+  };
+  HalfSpaceContact half_space(cell_m, e_star);
+  const double half_space_N = force_N(half_space);
+  double last_N = 0;
+  for (double h_mm : {1000.0, 30.0, 10.0, 3.0, 1.0}) {
+    HalfSpaceContact layer(cell_m, e_star, {h_mm * 1e-3, 0.45});
+    const double f = force_N(layer);
+    if (h_mm == 1000.0) {
+      EXPECT_NEAR(f / half_space_N, 1.0, 0.005);
+    }
+    EXPECT_GT(f, last_N * 1.02) << h_mm;
+    last_N = f;
+  }
+  EXPECT_GT(last_N, 3 * half_space_N);
 }
 
 }  // namespace

@@ -95,6 +95,49 @@ TEST(SimulatedSensorTest, HalfSpacePadCarriesHertzForce) {
   EXPECT_THROW(SimulatedSensor{bare}, std::invalid_argument);
 }
 
+// `pad: {model: layer}`: under a flat much wider than the layer each column is compressed
+// with its sides held (p = E_oed d / h away from the pad's edges, Winkler's law, as the
+// rig's flats read), where the half-space pad loads the pad's edges most; a sphere whose
+// contact is small against the layer carries nearly the half-space's (Hertz's) force.
+TEST(SimulatedSensorTest, LayerPadIsAConfinedColumnUnderAFlatAndHertzUnderASmallSphere) {
+  SimulatedSensorConfig c;
+  c.profile = Shipped("uskin_4x4");
+  c.pad.mechanics = PadMechanics::kLayer;
+  c.pad.thickness_m = 2.5e-3;
+  c.pad.youngs_modulus_Pa = 230e3;
+  c.pad.poisson_ratio = 0.2;
+  const double depth = 0.03e-3, nu = 0.2, e = 230e3;
+  c.objects.push_back(Parse("- shape: plane\n  rpy_deg: [180, 0, 0]\n  position_mm: [0, 0, -0.03]\n"));
+  auto pressure_at = [](const SimulatedSensor& sim, double x_mm, double y_mm) {
+    std::vector<SurfaceLoad> loads;
+    sim.PadLoads(0, &loads);
+    const TactileForwardModel& model = *sim.forward_model();
+    const double cell_m2 = std::pow(model.cell_size_mm() * 1e-3, 2);
+    for (const SurfaceLoad& l : loads)
+      if ((model.CellCentre_mm(l.cell) - Eigen::Vector2d(x_mm, y_mm)).norm() < 0.6 * model.cell_size_mm())
+        return l.normal_N / cell_m2;
+    return 0.0;
+  };
+  const SimulatedSensor layer(c);
+  const double e_oed = e * (1 - nu) / ((1 + nu) * (1 - 2 * nu));
+  EXPECT_NEAR(pressure_at(layer, 0, 0) / (e_oed * depth / c.pad.thickness_m), 1.0, 0.05);
+  EXPECT_NEAR(pressure_at(layer, 5, 0) / pressure_at(layer, 0, 0), 1.0, 0.05);
+  c.pad.mechanics = PadMechanics::kHalfSpace;  // E* = the forward model's
+  const SimulatedSensor half_space(c);
+  EXPECT_GT(pressure_at(half_space, 9.5, 0), 2 * pressure_at(half_space, 0, 0));
+  // A 5 mm sphere 0.05 mm deep (Hertz contact radius 0.5 mm, a fifth of the layer): a bit
+  // more force than the half-space of the same E* on the same grid (the base props it up;
+  // HalfSpaceContact's tests check the limits), far from the flat's confined columns.
+  c.pad.mechanics = PadMechanics::kLayer;
+  c.objects = {Parse("- shape: sphere\n  radius_mm: 5\n  position_mm: [0, 0, 4.95]\n")};
+  const double layer_N = SimulatedSensor(c).TotalLoad_N(0).z();
+  c.pad.mechanics = PadMechanics::kHalfSpace;
+  c.profile.forward_model.contact_modulus_kPa = e / (1 - nu * nu) * 1e-3;
+  const double half_space_N = SimulatedSensor(c).TotalLoad_N(0).z();
+  EXPECT_GT(layer_N, 1.05 * half_space_N);
+  EXPECT_LT(layer_N, 1.4 * half_space_N);
+}
+
 TEST(SimulatedSensorTest, SlidingWithFrictionGivesShearAlongTheMotion) {
   SimulatedSensorConfig c;
   c.profile = Shipped("uskin_4x4");
