@@ -16,6 +16,9 @@ constexpr double kMaxTravel_m = 3e-3;
 constexpr double kRodHalfLength_m = 30e-3;
 constexpr int kBisections = 40;
 constexpr double kForceTolerance = 1e-4;  // relative
+// The light-load window: on the ramp at 0.29 of the hold force (fit-sensor's first ramp
+// window), where a small object's patch is smallest against the layer.
+constexpr double kRampWindow_s = 0.5, kRampHalf_s = 0.02;
 
 double Travel_m(const ContactPrimitive& object) {
   return object.shape == ContactShape::kFlat ? kMaxTravel_m : std::min(kMaxTravel_m, object.radius_mm * 1e-3);
@@ -70,43 +73,47 @@ std::vector<PadPressReport> EvaluatePadOnPresses(const std::vector<CalibrationPr
     config.pad.scene_from_pad = Eigen::Isometry3d::Identity();
     config.objects = {Lowered(press.object)};
     const SimulatedSensor sensor(config);
-    const double target_N = press.object.normal_force_N;
     auto force_at = [&](double t) { return sensor.TotalLoad_N(t).z(); };
-    double lo = 0, hi = 1;
-    rep.reached = target_N > 0 && force_at(hi) >= target_N;
-    if (!rep.reached) {
-      out.push_back(rep);
-      continue;
-    }
-    for (int i = 0; i < kBisections && hi - lo > 1e-9; ++i) {
-      const double mid = 0.5 * (lo + hi);
-      const double f = force_at(mid);
-      if (std::abs(f - target_N) <= kForceTolerance * target_N) {
-        lo = hi = mid;
-        break;
+    // RMS per axis [sigma] of the pad's readings against the window's mean, the object at
+    // `object`'s force; false if the pad cannot carry it.
+    auto window = [&](const ContactPrimitive& object, double t0_s, double t1_s, double rms[3], double* depth_mm) {
+      const double target_N = object.normal_force_N;
+      double lo = 0, hi = 1;
+      if (!(target_N > 0) || force_at(hi) < target_N) return false;
+      for (int i = 0; i < kBisections && hi - lo > 1e-9; ++i) {
+        const double mid = 0.5 * (lo + hi);
+        const double f = force_at(mid);
+        if (std::abs(f - target_N) <= kForceTolerance * target_N) {
+          lo = hi = mid;
+          break;
+        }
+        (f < target_N ? lo : hi) = mid;
       }
-      (f < target_N ? lo : hi) = mid;
-    }
-    const double t = 0.5 * (lo + hi);
-    rep.depth_mm = t * Travel_m(press.object) * 1e3;
-    std::vector<SurfaceLoad> loads;
-    sensor.PadLoads(t, &loads);
-    double total_N = 0;
-    for (const SurfaceLoad& l : loads) total_N += l.normal_N;
-    for (SurfaceLoad& l : loads) {  // the tangential force over the pressure, scaled to the hold force
-      const double share = l.normal_N / total_N;
-      l.normal_N = share * target_N;
-      l.shear_x_N = share * press.object.shear_x_N;
-      l.shear_y_N = share * press.object.shear_y_N;
-    }
-    Eigen::VectorXd predicted;
-    sensor.forward_model()->Respond(loads, &predicted);
-    const Eigen::VectorXd r = (predicted - press.MeanReadings(hold - half, hold + half)).cwiseProduct(inv_sigma);
-    for (int a = 0; a < 3; ++a) {
-      double s = 0;
-      for (int k = a; k < 3 * n; k += 3) s += r[k] * r[k];
-      rep.rms_sigma[a] = std::sqrt(s / n);
-    }
+      const double t = 0.5 * (lo + hi);
+      if (depth_mm) *depth_mm = t * Travel_m(object) * 1e3;
+      std::vector<SurfaceLoad> loads;
+      sensor.PadLoads(t, &loads);
+      double total_N = 0;
+      for (const SurfaceLoad& l : loads) total_N += l.normal_N;
+      for (SurfaceLoad& l : loads) {  // the tangential force over the pressure, scaled to the force
+        const double share = l.normal_N / total_N;
+        l.normal_N = share * target_N;
+        l.shear_x_N = share * object.shear_x_N;
+        l.shear_y_N = share * object.shear_y_N;
+      }
+      Eigen::VectorXd predicted;
+      sensor.forward_model()->Respond(loads, &predicted);
+      const Eigen::VectorXd r = (predicted - press.MeanReadings(t0_s, t1_s)).cwiseProduct(inv_sigma);
+      for (int a = 0; a < 3; ++a) {
+        double sum = 0;
+        for (int k = a; k < 3 * n; k += 3) sum += r[k] * r[k];
+        rms[a] = std::sqrt(sum / n);
+      }
+      return true;
+    };
+    rep.reached = window(press.object, hold - half, hold + half, rep.rms_sigma, &rep.depth_mm) &&
+                  window(press.ObjectAt(kRampWindow_s, protocol), kRampWindow_s - kRampHalf_s,
+                         kRampWindow_s + kRampHalf_s, rep.ramp_rms_sigma, nullptr);
     out.push_back(rep);
   }
   return out;

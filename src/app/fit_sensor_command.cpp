@@ -27,35 +27,40 @@ void PrintReport(const std::vector<PressFitReport>& presses) {
                 p.rms_sigma[2], p.measured_sum_z_N, p.predicted_sum_z_N);
 }
 
-// The simulated pad beside the forward model, press by press, and the medians.
+// The simulated pad beside the forward model, press by press (hold; the pad also on the
+// ramp at light load), and the medians.
 void PrintPadReport(const std::vector<PressFitReport>& model, const std::vector<PadPressReport>& pad,
                     const std::string& pad_name) {
-  std::printf("%-14s %26s   %26s %9s\n", "", "forward model rms x/y/z", (pad_name + " pad rms x/y/z").c_str(),
-              "depth_mm");
-  std::vector<double> worst_model, worst_pad;
+  std::printf("%-14s %26s   %26s   %26s %9s\n", "", "forward model hold x/y/z", (pad_name + " pad hold x/y/z").c_str(),
+              (pad_name + " pad ramp x/y/z").c_str(), "depth_mm");
+  std::vector<double> worst_model, worst_pad, worst_ramp;
+  auto worst = [](const double* r) { return std::max({r[0], r[1], r[2]}); };
   for (size_t i = 0; i < pad.size(); ++i) {
-    const auto& m = model[i].rms_sigma;
-    const auto& p = pad[i].rms_sigma;
+    const double* m = model[i].rms_sigma;
+    const double* p = pad[i].rms_sigma;
+    const double* q = pad[i].ramp_rms_sigma;
+    worst_model.push_back(worst(m));
     if (!pad[i].reached) {
-      std::printf("%-14s %8.2f %8.2f %8.2f   %26s\n", pad[i].name.c_str(), m[0], m[1], m[2],
-                  "force not reached");
+      std::printf("%-14s %8.2f %8.2f %8.2f   %26s\n", pad[i].name.c_str(), m[0], m[1], m[2], "force not reached");
       continue;
     }
-    std::printf("%-14s %8.2f %8.2f %8.2f   %8.2f %8.2f %8.2f %9.3f\n", pad[i].name.c_str(), m[0], m[1], m[2], p[0],
-                p[1], p[2], pad[i].depth_mm);
-    worst_model.push_back(std::max({m[0], m[1], m[2]}));
-    worst_pad.push_back(std::max({p[0], p[1], p[2]}));
+    std::printf("%-14s %8.2f %8.2f %8.2f   %8.2f %8.2f %8.2f   %8.2f %8.2f %8.2f %9.3f\n", pad[i].name.c_str(), m[0],
+                m[1], m[2], p[0], p[1], p[2], q[0], q[1], q[2], pad[i].depth_mm);
+    worst_pad.push_back(worst(p));
+    worst_ramp.push_back(worst(q));
   }
   auto median = [](std::vector<double> v) {
     if (v.empty()) return 0.0;
     std::sort(v.begin(), v.end());
     return v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
   };
-  auto within = [](const std::vector<double>& v) { return std::count_if(v.begin(), v.end(), [](double x) { return x < 1; }); };
-  std::printf("worst axis per press: median %.2f (forward model) vs %.2f (%s pad); within 1 sigma on every axis: "
-              "%ld vs %ld of %zu\n",
-              median(worst_model), median(worst_pad), pad_name.c_str(), long(within(worst_model)), long(within(worst_pad)),
-              pad.size());
+  auto within = [](const std::vector<double>& v) {
+    return long(std::count_if(v.begin(), v.end(), [](double x) { return x < 1; }));
+  };
+  std::printf("worst axis per press, median: forward model %.2f, %s pad %.2f (hold) %.2f (ramp); within 1 sigma on "
+              "every axis: %ld, %ld and %ld of %zu\n",
+              median(worst_model), pad_name.c_str(), median(worst_pad), median(worst_ramp), within(worst_model),
+              within(worst_pad), within(worst_ramp), pad.size());
 }
 
 int RunFitSensor(int argc, char** argv) {
