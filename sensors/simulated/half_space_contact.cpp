@@ -83,7 +83,7 @@ double LayerCorrection_m_per_Pa(double r_m, double disk_m, double contact_modulu
 }
 
 HalfSpaceContact::HalfSpaceContact(double cell_m, double contact_modulus_Pa, ElasticLayer layer)
-    : cell_m_(cell_m), contact_modulus_Pa_(contact_modulus_Pa), layer_(layer) {
+    : cell_m_(cell_m), contact_modulus_Pa_(contact_modulus_Pa) {
   if (!(cell_m > 0) || !(contact_modulus_Pa > 0))
     throw std::invalid_argument("HalfSpaceContact: cell size and contact modulus must be positive");
   if (!(layer.thickness_m >= 0) || !(layer.poisson_ratio >= 0 && layer.poisson_ratio <= 0.5))

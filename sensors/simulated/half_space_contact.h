@@ -59,7 +59,6 @@ class HalfSpaceContact {
 
  private:
   double cell_m_, contact_modulus_Pa_;
-  ElasticLayer layer_;
   // A finite layer: its correction to Love's influence at r = k * correction_step_m_
   // (linear between), and zero influence beyond the last entry (the layer's reach).
   std::vector<double> correction_;

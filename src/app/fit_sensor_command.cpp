@@ -78,13 +78,14 @@ int RunFitSensor(int argc, char** argv) {
       .Flag("evaluate", "only report how well the profile's current forward_model reproduces the presses")
       .Option("evaluate-pad", "MODEL",
               "report how well a simulated pad (kernel, halfspace or layer: sensors/simulated/simulated_sensor.h) "
-              "reproduces the presses, each pressed to its hold force, beside the forward model")
+              "reproduces the presses, each pressed to its hold force (and its ramp at 0.29 of it), beside the "
+              "forward model")
       .Option("pad-thickness-mm", "MM", "--evaluate-pad: the layer's (or the kernel pad's Winkler layer's) thickness", "3")
       .Option("pad-poisson", "NU", "--evaluate-pad: the elastomer's Poisson ratio, in [0, 0.5)", "0")
       .Option("pad-youngs-kPa", "E", "--evaluate-pad: the elastomer's Young's modulus (kernel and layer pads)", "300")
       .Epilog("examples:\n"
               "  sedbridge fit-sensor --out fitted.yaml    # then paste into config/sensors/uskin_4x4.yaml\n"
-              "  sedbridge fit-sensor --evaluate-pad layer --pad-thickness-mm 2 --pad-poisson 0.45");
+              "  sedbridge fit-sensor --evaluate-pad layer --pad-thickness-mm 2.5 --pad-youngs-kPa 230 --pad-poisson 0.2");
   if (!args.Parse(argc, argv)) return 0;
   const SensorProfile profile = LoadNamedSensorProfile(args.Get("profile"));
   const std::string cases = config::ResolveResource(args.Get("cases"));

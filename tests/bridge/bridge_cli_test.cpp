@@ -89,6 +89,24 @@ TEST(BridgeCli, FidelityRefusesABadPadOrConfigSayingWhere) {
   std::filesystem::remove_all(dir);
 }
 
+// `fit-sensor --evaluate-pad`: the rig-fitted layer beside the forward model, press by press
+// and summed up; a pad without kernels and a Poisson ratio out of range are refused.
+TEST(BridgeCli, FitSensorEvaluatesASimulatedPadAgainstTheRig) {
+  const std::string fit = std::string(SEDBRIDGE_BINARY) + " fit-sensor --cases " + SEDBRIDGE_SOURCE_DIR +
+                          "/config/sensors/rig_uskin_4x4/cases.json --evaluate-pad";
+  int status = -1;
+  std::string out = RunCommand(fit + " layer --pad-thickness-mm 2.5 --pad-youngs-kPa 230 --pad-poisson 0.2", &status);
+  ASSERT_EQ(status, 0) << out;
+  EXPECT_NE(out.find("press_17.log"), std::string::npos) << out;
+  EXPECT_NE(out.find("within 1 sigma on every axis: 21, 19 and 21 of 21"), std::string::npos) << out;
+  out = RunCommand(fit + " winkler", &status);
+  EXPECT_NE(status, 0) << out;
+  EXPECT_NE(out.find("winkler"), std::string::npos) << out;
+  out = RunCommand(fit + " layer --pad-poisson 0.5", &status);
+  EXPECT_NE(status, 0) << out;
+  EXPECT_NE(out.find("--pad-poisson"), std::string::npos) << out;
+}
+
 TEST(BridgeCli, RunWithoutSocketCanSaysWhy) {
   int status = -1;
   const std::string out =
