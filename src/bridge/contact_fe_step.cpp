@@ -55,14 +55,14 @@ std::string ContactFeStep::CountersLine() const {
                 "contact: %lld scans pressed on the leader (%lld reusing the last press; %lld fits of two contacts), "
                 "%lld no contact, "
                 "%lld fit fallbacks, %lld press fallbacks "
-                "(pressure map); %lld presses by one force-controlled solve, %lld contact solves; "
+                "(pressure map), %lld pressed thicker (too thin for the leader); %lld presses by one force-controlled solve, %lld contact solves; "
                 "%lld of %lld fits warm-started, %lld forward-model "
                 "evaluations; reconstruction median %.3f / p99 %.3f ms, "
                 "leader press median %.3f / p99 %.3f ms; CPU per scan median %.3f / p99 %.3f ms",
                 static_cast<long long>(counters_.pressed), static_cast<long long>(counters_.press_reused),
                 static_cast<long long>(r.two_contacts), static_cast<long long>(counters_.no_contact),
                 static_cast<long long>(counters_.fit_fallbacks), static_cast<long long>(counters_.press_fallbacks),
-                static_cast<long long>(counters_.force_controlled), static_cast<long long>(counters_.press_solves),
+                static_cast<long long>(counters_.press_thickened), static_cast<long long>(counters_.force_controlled), static_cast<long long>(counters_.press_solves),
                 static_cast<long long>(r.warm_fits), static_cast<long long>(r.fits),
                 static_cast<long long>(r.evaluations), rt.p50_ms, rt.p99_ms, pt.p50_ms,
                 pt.p99_ms, ct.p50_ms, ct.p99_ms);
@@ -204,9 +204,10 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
     return result_;
   }
   StageTimer press_timer(times, Stage::kPress);
-  const auto press = leader_->PressToForce(ToRigidObjects(estimate_), estimate_.normal_force_N(),
-                                           press_options_, LeaderTangentialLoad_N(estimate_));
+  const LeaderPress pressed = PressReconstructed(*leader_, estimate_, press_options_, LeaderTangentialLoad_N(estimate_));
+  const scene::PressToForceResult& press = pressed.result;
   press_timer.Stop();
+  if (pressed.thickened_radius_mm > 0) ++counters_.press_thickened;
   press_time_.AddMs(times[Stage::kPress]);
   counters_.press_solves += press.iterations;
   if (press.force_controlled) ++counters_.force_controlled;

@@ -36,6 +36,8 @@ struct ContactStepCounters {
   int64_t press_reused = 0;        ///< of those, answered by the last press (same contact)
   int64_t fit_fallbacks = 0;       ///< reconstruction not trusted -> pressure map
   int64_t press_fallbacks = 0;     ///< force not reachable on the leader -> pressure map
+  int64_t press_thickened = 0;     ///< presses of a sphere or rod too thin for the leader at its force,
+                                   ///< answered thicker (PressReconstructed)
   int64_t press_solves = 0;        ///< contact solves of the presses that were not reused
   int64_t force_controlled = 0;    ///< presses answered by one force-controlled solve
 };

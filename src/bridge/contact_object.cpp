@@ -13,13 +13,37 @@ constexpr double kRodHalfLength_m = 10e-3;
 }  // namespace
 
 geometry::RigidObject ToRigidObject(const sensors::ContactPrimitive& p) {
-  return sensors::RigidObjectOf(p, kRodHalfLength_m, kLeaderMinRadius_mm);
+  const double floor_mm = p.shape == sensors::ContactShape::kSphere ? kLeaderMinSphereRadius_mm : kLeaderMinRodRadius_mm;
+  return sensors::RigidObjectOf(p, kRodHalfLength_m, floor_mm);
 }
 
 std::vector<geometry::RigidObject> ToRigidObjects(const ContactEstimate& estimate) {
   std::vector<geometry::RigidObject> objects = {ToRigidObject(estimate.primitive)};
   if (estimate.two_contacts) objects.push_back(ToRigidObject(estimate.second));
   return objects;
+}
+
+LeaderPress PressReconstructed(scene::FingertipCompliance& leader, const ContactEstimate& estimate,
+                               const scene::PressToForceOptions& options, const Eigen::Vector2d& tangential_N) {
+  LeaderPress out;
+  out.result = leader.PressToForce(ToRigidObjects(estimate), estimate.normal_force_N(), options, tangential_N);
+  const bool thin_shape = estimate.primitive.shape != sensors::ContactShape::kFlat;
+  ContactEstimate thicker = estimate;
+  for (int k = 0; k < kThickenTries && thin_shape; ++k) {
+    const scene::PressStatus s = out.result.status;
+    if (s != scene::PressStatus::kNoContact && s != scene::PressStatus::kPatchEdge) break;
+    const double pressed_mm = std::max(thicker.primitive.radius_mm, estimate.primitive.shape == sensors::ContactShape::kSphere
+                                                                         ? kLeaderMinSphereRadius_mm
+                                                                         : kLeaderMinRodRadius_mm);
+    if (!(pressed_mm < kThickenBelow_mm)) break;
+    thicker.primitive.radius_mm = kThickenFactor * pressed_mm;
+    if (thicker.two_contacts) thicker.second.radius_mm = std::max(thicker.second.radius_mm, kLeaderMinSphereRadius_mm) * kThickenFactor;
+    out.thickened_radius_mm = thicker.primitive.radius_mm;
+    leader.ResetWarmStart();
+    out.result = leader.PressToForce(ToRigidObjects(thicker), estimate.normal_force_N(), options, tangential_N);
+    ++out.presses;
+  }
+  return out;
 }
 
 bool PressAnswered(const scene::PressToForceResult& press, const scene::FingertipCompliance& leader,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "bridge/bridge_config.h"
@@ -167,9 +168,14 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
   // Reconstructed contact.
   if (row.recon_ok) {
     leader_->ResetWarmStart();
-    const auto r = leader_->PressToForce(ToRigidObjects(at_peak), at_peak.normal_force_N(),
-                                         press_, LeaderTangentialLoad_N(at_peak));
+    const LeaderPress pressed = PressReconstructed(*leader_, at_peak, press_, LeaderTangentialLoad_N(at_peak));
+    const scene::PressToForceResult& r = pressed.result;
     row.recon_press = PressAnswered(r, *leader_) ? "reached" : scene::ToString(r.status);
+    if (pressed.thickened_radius_mm > 0) {
+      char why[64];
+      std::snprintf(why, sizeof why, " (as R%.2f: thinner slips)", pressed.thickened_radius_mm);
+      row.recon_press += why;
+    }
     maps->recon = leader_->sed_Pa();
   } else {
     row.recon_press = "fallback: " + at_peak.problem;

@@ -5,9 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 #include "model/fingertip_model.h"
+#include "sensors/simulated/primitive_object.h"
 
 namespace sedbridge::bridge {
 namespace {
@@ -85,26 +87,94 @@ TEST(ContactObject, ShearWithinCrosstalkDoesNotReachTheLeader) {
 namespace sedbridge::bridge {
 namespace {
 
-// Spheres and rods thinner than kLeaderMinRadius_mm are pressed as that radius (the leader's
-// contact points are too far apart to hold them: on the half-space pad's synthetic set a
-// 0.5 mm rod and a box edge, read at the reconstruction's 0.3 mm bound, gave a press that
-// could not reach its force and one with no contact); thicker ones keep theirs.
+// Rods and spheres thinner than the leader's minimum radii are pressed at that radius;
+// thicker ones keep theirs.
 TEST(ContactObject, ThinnerThanTheLeaderHoldsIsPressedAtItsMinimum) {
   for (const auto shape : {sensors::ContactShape::kSphere, sensors::ContactShape::kCylinder}) {
     sensors::ContactPrimitive p;
     p.shape = shape;
     p.x_mm = 1;
     p.y_mm = -2;
-    for (const double r_mm : {0.3, kLeaderMinRadius_mm, 2.0}) {
+    const double floor_mm = shape == sensors::ContactShape::kSphere ? kLeaderMinSphereRadius_mm : kLeaderMinRodRadius_mm;
+    for (const double r_mm : {0.3, floor_mm, 2.0}) {
       p.radius_mm = r_mm;
       const geometry::RigidObject o = ToRigidObject(p);
-      const double pressed_mm = std::max(r_mm, kLeaderMinRadius_mm);
+      const double pressed_mm = std::max(r_mm, floor_mm);
       // Resting on the pad plane: centre (axis) one pressed radius up, touching at (x, y, 0).
       EXPECT_NEAR(o.trajectory.Pose(0).translation().z(), pressed_mm * 1e-3, 1e-12) << r_mm;
       EXPECT_NEAR(o.Evaluate(Eigen::Vector3d(1e-3, -2e-3, 0), 0).distance_m, 0.0, 1e-12) << r_mm;
       EXPECT_LT(o.Evaluate(Eigen::Vector3d(1e-3, -2e-3, 0.5 * pressed_mm * 1e-3), 0).distance_m, 0.0) << r_mm;
     }
   }
+}
+
+// Where the minimum radii come from (model B, the leader's face contact): a sphere of
+// kLeaderMinSphereRadius_mm pressed to 0.2 N is held by the skin's contact points at every
+// place tried, 0.1 mm thinner it slips between them somewhere (no contact). A rod of
+// kLeaderMinRodRadius_mm pressed to 1.2 N slips at some yaws and places (0.15 mm thicker it
+// does not), and PressReconstructed answers every one of those presses by pressing it
+// thicker.
+TEST(ContactObject, TheLeaderHoldsWhatItsMinimumRadiiPress) {
+  const model::FingertipModel model = model::LoadFingertipModel("B");
+  scene::FingertipCompliance leader(model, LeaderComplianceOptions(""));
+  auto slips = [&](sensors::ContactShape shape, double r_mm, double force_N, bool thicken = false) {
+    std::vector<std::array<double, 3>> poses;  // x, y, yaw
+    if (shape == sensors::ContactShape::kCylinder) {
+      for (double yaw = 0; yaw < 180; yaw += 15)
+        for (const auto& xy : {std::array<double, 2>{0, 0}, {1.0, 0.7}, {-1.5, 1.2}}) poses.push_back({xy[0], xy[1], yaw});
+    } else {
+      for (double x = -2; x <= 2; x += 1)
+        for (double y = -1.5; y <= 1.5; y += 1.5) poses.push_back({x, y, 0});
+    }
+    int slipped = 0;
+    for (const auto& pose : poses) {
+      sensors::ContactPrimitive p;
+      p.shape = shape;
+      p.x_mm = pose[0], p.y_mm = pose[1], p.yaw_deg = pose[2], p.radius_mm = r_mm;
+      leader.ResetWarmStart();
+      if (thicken) {
+        ContactEstimate e;
+        e.ok = e.contact = true;
+        e.primitive = p;
+        e.primitive.normal_force_N = force_N;
+        slipped += !PressAnswered(PressReconstructed(leader, e, ReconstructedPressOptions(), Eigen::Vector2d::Zero()).result,
+                                  leader);
+        continue;
+      }
+      // Below the minimum radii on purpose: the primitive's own radius, not ToRigidObject's.
+      const auto r = leader.PressToForce({sensors::RigidObjectOf(p, 10e-3)}, force_N, ReconstructedPressOptions());
+      slipped += !PressAnswered(r, leader);
+    }
+    return slipped;
+  };
+  EXPECT_GT(slips(sensors::ContactShape::kCylinder, kLeaderMinRodRadius_mm, 1.2), 5);
+  EXPECT_EQ(slips(sensors::ContactShape::kCylinder, kLeaderMinRodRadius_mm + 0.15, 1.2), 0);
+  EXPECT_EQ(slips(sensors::ContactShape::kCylinder, kLeaderMinRodRadius_mm, 1.2, /*thicken=*/true), 0);
+  EXPECT_EQ(slips(sensors::ContactShape::kSphere, kLeaderMinSphereRadius_mm, 0.2), 0);
+  EXPECT_GT(slips(sensors::ContactShape::kSphere, kLeaderMinSphereRadius_mm - 0.1, 0.2), 0);
+}
+
+// A sphere too thin for the leader at its force (1 mm at 1 N slips between the skin's
+// contact points everywhere) is pressed thicker, not handed to the pressure map; one the
+// leader holds is pressed as it is, once.
+TEST(ContactObject, TooThinForTheLeaderIsPressedThicker) {
+  const model::FingertipModel model = model::LoadFingertipModel("B");
+  scene::FingertipCompliance leader(model, LeaderComplianceOptions(""));
+  ContactEstimate e;
+  e.ok = e.contact = true;
+  e.primitive.shape = sensors::ContactShape::kSphere;
+  e.primitive.radius_mm = 1.0;
+  e.primitive.normal_force_N = 1.0;
+  const LeaderPress thin = PressReconstructed(leader, e, ReconstructedPressOptions(), Eigen::Vector2d::Zero());
+  EXPECT_TRUE(PressAnswered(thin.result, leader)) << scene::ToString(thin.result.status);
+  EXPECT_GT(thin.thickened_radius_mm, 1.0);
+  EXPECT_GT(thin.presses, 1);
+  e.primitive.radius_mm = 5.0;
+  leader.ResetWarmStart();
+  const LeaderPress held = PressReconstructed(leader, e, ReconstructedPressOptions(), Eigen::Vector2d::Zero());
+  EXPECT_TRUE(PressAnswered(held.result, leader)) << scene::ToString(held.result.status);
+  EXPECT_EQ(held.thickened_radius_mm, 0.0);
+  EXPECT_EQ(held.presses, 1);
 }
 
 }  // namespace
