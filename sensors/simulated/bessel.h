@@ -1,7 +1,7 @@
 #pragma once
 // Bessel functions J0 and J1 by the rational approximations of Abramowitz & Stegun 9.4.1-
 // 9.4.6 (absolute error below 1e-7 everywhere): the layer's Hankel transforms
-// (half_space_contact.cpp) need a few million of them, and std::cyl_bessel_j costs about
+// (elastic_pad_contact.cpp) need a few million of them, and std::cyl_bessel_j costs about
 // ten times as much for digits a deflection table does not use.
 
 #include <cmath>

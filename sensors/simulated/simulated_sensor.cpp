@@ -26,7 +26,7 @@ Eigen::Vector3d Vec3(config::MapReader& r, const std::string& key) {
 
 // Most blocks the half-space pad solves for at once (one dense Cholesky of this size per
 // active-set round; blocks of k x k cells keep a contact under it).
-constexpr double kHalfSpaceMaxUnknowns = 400;
+constexpr double kElasticPadMaxUnknowns = 400;
 
 }  // namespace
 
@@ -167,7 +167,7 @@ Eigen::Vector3d SimulatedSensor::WinklerTraction_Pa(const Eigen::Vector3d& q_pad
   return Eigen::Vector3d(shear.x(), shear.y(), pressure);
 }
 
-void SimulatedSensor::HalfSpaceLoads(double t_s, std::vector<SurfaceLoad>* loads) const {
+void SimulatedSensor::ElasticPadLoads(double t_s, std::vector<SurfaceLoad>* loads) const {
   const SensorProfile& p = config_.profile;
   const TactileForwardModel& model = *kernel_model_;
   const int nf = model.grid_n();
@@ -179,7 +179,7 @@ void SimulatedSensor::HalfSpaceLoads(double t_s, std::vector<SurfaceLoad>* loads
     return Penetration_m(Eigen::Vector3d(xy_mm.x() * 1e-3, xy_mm.y() * 1e-3, 0), t_s, deepest);
   };
   // The cells the objects overlap, then blocks of k x k cells, k as small as keeps the solve
-  // within kHalfSpaceMaxUnknowns (a thin rod on single cells, a flat on 5 x 5 blocks).
+  // within kElasticPadMaxUnknowns (a thin rod on single cells, a flat on 5 x 5 blocks).
   int overlapped = 0;
   std::vector<double> cell_depth_m(static_cast<size_t>(model.cell_count()), 0.0);
   std::vector<const geometry::RigidObject*> cell_deepest(cell_depth_m.size(), nullptr);
@@ -191,9 +191,9 @@ void SimulatedSensor::HalfSpaceLoads(double t_s, std::vector<SurfaceLoad>* loads
   }
   loads->clear();
   if (overlapped == 0) return;
-  const int k = std::max(1, static_cast<int>(std::ceil(std::sqrt(double(overlapped) / kHalfSpaceMaxUnknowns))));
+  const int k = std::max(1, static_cast<int>(std::ceil(std::sqrt(double(overlapped) / kElasticPadMaxUnknowns))));
   const int nc = (nf + k - 1) / k;
-  auto& solver = half_space_[k];
+  auto& solver = pad_contact_[k];
   if (!solver) {
     // kHalfSpace: the forward model's E*, infinitely thick; kLayer: the pad's own elastomer.
     ElasticLayer layer;
@@ -203,7 +203,7 @@ void SimulatedSensor::HalfSpaceLoads(double t_s, std::vector<SurfaceLoad>* loads
       layer = {pad.thickness_m, pad.poisson_ratio};
       e_star_Pa = pad.youngs_modulus_Pa / (1 - pad.poisson_ratio * pad.poisson_ratio);
     }
-    solver = std::make_shared<HalfSpaceContact>(k * h_mm * 1e-3, e_star_Pa, layer);
+    solver = std::make_shared<ElasticPadContact>(k * h_mm * 1e-3, e_star_Pa, layer);
   }
   // Each block's penetration at its centre, and the object there (for the friction); single
   // cells have theirs already.
@@ -238,7 +238,7 @@ void SimulatedSensor::HalfSpaceLoads(double t_s, std::vector<SurfaceLoad>* loads
 
 void SimulatedSensor::KernelLoads(double t_s, std::vector<SurfaceLoad>* loads) const {
   if (config_.pad.mechanics == PadMechanics::kHalfSpace || config_.pad.mechanics == PadMechanics::kLayer)
-    return HalfSpaceLoads(t_s, loads);
+    return ElasticPadLoads(t_s, loads);
   const SensorProfile& p = config_.profile;
   const TactileForwardModel& model = *kernel_model_;
   const double cell_m2 = model.cell_size_mm() * model.cell_size_mm() * 1e-6;

@@ -23,7 +23,7 @@
 // the profile's calibrated kernels carry it to the taxels (neighbours and shear channels
 // respond, as on the rig). `model: halfspace` keeps the kernels but takes the pressure of an
 // elastic half-space (E* = forward_model.contact_modulus_kPa) in contact with the objects
-// (half_space_contact.h): Hertz's law for curved objects, which the rig presses fit;
+// (elastic_pad_contact.h): Hertz's law for curved objects, which the rig presses fit;
 // Winkler's is wider for the same object. `model: layer` is that elastomer as a layer of
 // thickness_mm (poisson_ratio) on a rigid base: Hertz's law for contacts small against
 // the layer, the confined columns of Winkler's law for contacts much wider (a flat).
@@ -43,7 +43,7 @@
 #include "sensors/can_frame.h"
 #include "sensors/frame_source.h"
 #include "sensors/sensor_profile.h"
-#include "sensors/simulated/half_space_contact.h"
+#include "sensors/simulated/elastic_pad_contact.h"
 #include "sensors/tactile_forward_model.h"
 #include "sensors/taxel_codec.h"
 
@@ -57,7 +57,7 @@ enum class PadMechanics {
              ///< respond, shear channels see normal presses, part of the load is lost, as in
              ///< a real elastomer. Needs a profile with `forward_model`.
   kHalfSpace,  ///< as kKernel, but the pressure of an elastic half-space in contact with the
-               ///< objects (sensors/simulated/half_space_contact.h; E* = the forward model's
+               ///< objects (sensors/simulated/elastic_pad_contact.h; E* = the forward model's
                ///< contact_modulus_kPa, solved on cells of about 0.5 mm): Hertz's law, which
                ///< the rig presses fit, for any shape. Needs a profile with `forward_model`.
   kLayer,      ///< as kHalfSpace, for the pad's elastomer (youngs_modulus_kPa, poisson_ratio)
@@ -202,17 +202,17 @@ class SimulatedSensor {
   std::vector<Eigen::Vector2d> sub_offsets_m_;
   // Row-normalised Gaussian smoothing weights between taxels (empty = off).
   std::vector<double> smoothing_;
-  // PadMechanics::kKernel and kHalfSpace.
+  // PadMechanics::kKernel, kHalfSpace and kLayer.
   std::shared_ptr<const TactileForwardModel> kernel_model_;
-  // PadMechanics::kHalfSpace: a contact solve per block size k (k x k cells), held by
+  // PadMechanics::kHalfSpace and kLayer: a contact solve per block size k (k x k cells), held by
   // pointer because its warm start changes from const evaluation.
-  mutable std::map<int, std::shared_ptr<HalfSpaceContact>> half_space_;
+  mutable std::map<int, std::shared_ptr<ElasticPadContact>> pad_contact_;
   /// Depth [m] of the deepest object below pad point `q_pad_m` at time t (0: none), and it.
   double Penetration_m(const Eigen::Vector3d& q_pad_m, double t_s, const geometry::RigidObject** deepest) const;
   /// Sliding friction traction (x, y) [Pa] of `object` at pad point q under pressure p.
   Eigen::Vector2d FrictionTraction_Pa(const geometry::RigidObject& object, const Eigen::Vector3d& q_pad_m, double t_s,
                                       double pressure_Pa) const;
-  void HalfSpaceLoads(double t_s, std::vector<SurfaceLoad>* loads) const;
+  void ElasticPadLoads(double t_s, std::vector<SurfaceLoad>* loads) const;
   TaxelTractions EvaluateKernel(double t_s) const;
   /// The Winkler layer's traction at pad point `q_pad_m` (pad frame, z = 0) at time t:
   /// (shear x, shear y, pressure) [Pa], pressure from the deepest object, sliding friction.

@@ -127,7 +127,7 @@ TEST(SimulatedSensorTest, LayerPadIsAConfinedColumnUnderAFlatAndHertzUnderASmall
   EXPECT_GT(pressure_at(half_space, 9.5, 0), 2 * pressure_at(half_space, 0, 0));
   // A 5 mm sphere 0.05 mm deep (Hertz contact radius 0.5 mm, a fifth of the layer): a bit
   // more force than the half-space of the same E* on the same grid (the base props it up;
-  // HalfSpaceContact's tests check the limits), far from the flat's confined columns.
+  // ElasticPadContact's tests check the limits), far from the flat's confined columns.
   c.pad.mechanics = PadMechanics::kLayer;
   c.objects = {Parse("- shape: sphere\n  radius_mm: 5\n  position_mm: [0, 0, 4.95]\n")};
   const double layer_N = SimulatedSensor(c).TotalLoad_N(0).z();
@@ -244,6 +244,31 @@ TEST(SimulatedSensorTest, ShippedScenesLoadAndUnknownKeysAreErrors) {
 
 namespace sedbridge::sensors {
 namespace {
+
+// `pad: {model: layer}` from a scene file: the rig's elastomer keys, a sphere pressing, and
+// a profile without a forward_model refused naming the key.
+TEST(SimulatedSensorScene, LayerPadLoadsAndPresses) {
+  const std::string path = sedbridge::testing::ScratchDir() + "/layer_scene.yaml";
+  std::ofstream(path) << "sensor:\n  profile: uskin_4x4\n  duration_s: 0.1\n"
+                         "  pad: {model: layer, thickness_mm: 2.5, youngs_modulus_kPa: 230, poisson_ratio: 0.2}\n"
+                         "objects:\n  - {shape: sphere, radius_mm: 5, position_mm: [0, 0, 4.6]}\n";
+  const SimulatedSensorConfig c = LoadSimulatedSensorScene(path);
+  EXPECT_EQ(c.pad.mechanics, PadMechanics::kLayer);
+  EXPECT_DOUBLE_EQ(c.pad.thickness_m, 2.5e-3);
+  const SimulatedSensor sim(c);
+  EXPECT_GT(sim.TotalLoad_N(0).z(), 0.1);
+  const TaxelTractions t = sim.Evaluate(0);
+  EXPECT_GT(*std::max_element(t.pressure_Pa.begin(), t.pressure_Pa.end()), 0.0);
+  const std::string bare = sedbridge::testing::ScratchDir() + "/layer_scene_bare.yaml";
+  std::ofstream(bare) << "sensor:\n  profile: cyskin_16\n  pad: {model: layer}\nobjects: []\n";
+  try {
+    LoadSimulatedSensorScene(bare);
+    FAIL() << "a layer pad without a forward model was accepted";
+  } catch (const config::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("model: layer"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find(":3:"), std::string::npos) << e.what();
+  }
+}
 
 TEST(SimulatedSensorScene, DurationIsBounded) {
   const std::string path = sedbridge::testing::ScratchDir() + "/long_scene.yaml";

@@ -1,6 +1,6 @@
-// The simulated pad's elastic half-space against closed forms: Love's uniformly loaded
-// square, Hertz's sphere.
-#include "sensors/simulated/half_space_contact.h"
+// The simulated pad's elastic half-space and layer against closed forms: Love's uniformly
+// loaded square, Hertz's sphere, the thin layer's confined columns, the thick layer's half-space.
+#include "sensors/simulated/elastic_pad_contact.h"
 #include "sensors/simulated/bessel.h"
 
 #include <gtest/gtest.h>
@@ -13,12 +13,12 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-TEST(HalfSpaceContact, SquareCentreDeflectionIsLoves) {
+TEST(ElasticPadContact, SquareCentreDeflectionIsLoves) {
   // A square of side 2c under pressure p sinks 8 ln(1 + sqrt 2) / pi * c p / E* at its
   // centre (Johnson, Contact Mechanics §3.9: 2.24 c p / E*); far away, as a point load
   // P / (pi E* r).
   const double cell_m = 0.2e-3, e_star = 313e3, c = 0.5 * cell_m;
-  const HalfSpaceContact h(cell_m, e_star);
+  const ElasticPadContact h(cell_m, e_star);
   EXPECT_NEAR(h.Influence(0, 0), 8 * std::log(1 + std::sqrt(2.0)) / kPi * c / e_star, 1e-12 * c / e_star);
   EXPECT_NEAR(h.Influence(0, 0) * e_star / c, 2.244, 1e-3);
   const double far = h.Influence(30, 40);
@@ -27,7 +27,7 @@ TEST(HalfSpaceContact, SquareCentreDeflectionIsLoves) {
   EXPECT_DOUBLE_EQ(h.Influence(3, 4), h.Influence(4, 3));
 }
 
-TEST(HalfSpaceContact, SpherePressIsHertz) {
+TEST(ElasticPadContact, SpherePressIsHertz) {
   // R = 5 mm, 0.2 mm deep into E* = 313 kPa: F = 4/3 E* sqrt(R) d^1.5 = 0.0834 N, contact
   // radius a = sqrt(R d) = 1 mm, centre pressure 3 F / (2 pi a^2). The geometric overlap
   // (radius sqrt(2 R d) = 1.41 mm) is wider than the contact: the pivoting must find a.
@@ -39,7 +39,7 @@ TEST(HalfSpaceContact, SpherePressIsHertz) {
       const double r2 = (std::pow(i - centre, 2) + std::pow(j - centre, 2)) * cell_m * cell_m;
       penetration[size_t(i * n + j)] = depth - r2 / (2 * R);
     }
-  HalfSpaceContact h(cell_m, e_star);
+  ElasticPadContact h(cell_m, e_star);
   std::vector<double> p;
   ASSERT_TRUE(h.Solve(n, penetration, &p));
   double force = 0, outer_m = 0;
@@ -75,36 +75,36 @@ TEST(Bessel, ApproximationsMatchTheLibraryTo1e7) {
 }
 
 // Deflection at the centre of a (2 half + 1)^2-cell square under unit pressure.
-double CentreDeflection(const HalfSpaceContact& h, int half) {
+double CentreDeflection(const ElasticPadContact& h, int half) {
   double w = 0;
   for (int i = -half; i <= half; ++i)
     for (int j = -half; j <= half; ++j) w += h.Influence(i, j);
   return w;
 }
 
-TEST(HalfSpaceContact, ThinLayerUnderAWideLoadIsAConfinedColumn) {
+TEST(ElasticPadContact, ThinLayerUnderAWideLoadIsAConfinedColumn) {
   // A layer 1 mm thick under pressure 40 mm wide: away from the edges each column is
   // compressed with its sides held, w = p h / E_oed, E_oed = E (1 - nu) / ((1 + nu)(1 - 2 nu))
   // = E* (1 - nu)^2 / (1 - 2 nu) (Winkler's foundation, the thin limit of the layer).
   const double cell_m = 0.25e-3, e_star = 313e3, h_m = 1e-3;
   for (double nu : {0.0, 0.3, 0.45}) {
-    const HalfSpaceContact layer(cell_m, e_star, {h_m, nu});
+    const ElasticPadContact layer(cell_m, e_star, {h_m, nu});
     const double e_oed = e_star * (1 - nu) * (1 - nu) / (1 - 2 * nu);
     EXPECT_NEAR(CentreDeflection(layer, 80) / (h_m / e_oed), 1.0, 0.01) << "nu " << nu;
     EXPECT_EQ(layer.Influence(0, 101), 0.0);  // beyond 25 h: the layer's reach
   }
 }
 
-TEST(HalfSpaceContact, ThickLayerIsTheHalfSpace) {
+TEST(ElasticPadContact, ThickLayerIsTheHalfSpace) {
   const double cell_m = 0.25e-3, e_star = 313e3;
   // 100 m thick: within r of a load, a layer deflects as the half-space less a shift of
   // order r / h relative (the base's), here < 1e-4.
-  const HalfSpaceContact half_space(cell_m, e_star), thick(cell_m, e_star, {100.0, 0.45});
+  const ElasticPadContact half_space(cell_m, e_star), thick(cell_m, e_star, {100.0, 0.45});
   for (int i : {0, 1, 7, 40}) EXPECT_NEAR(thick.Influence(i, 3) / half_space.Influence(i, 3), 1.0, 1e-3) << i;
   EXPECT_NEAR(LayerCorrection_m_per_Pa(0, 1e-4, e_star, {}), 0.0, 0.0);  // no layer, no correction
 }
 
-TEST(HalfSpaceContact, LayerSphereTendsToTheHalfSpacesAndStiffensAsTheLayerThins) {
+TEST(ElasticPadContact, LayerSphereTendsToTheHalfSpacesAndStiffensAsTheLayerThins) {
   // A sphere pressed 0.2 mm (Hertz contact radius a = 1 mm): a 1 m layer carries the
   // half-space's force; thinner layers, propped by the base, carry more at the same depth
   // (a / h = 0.1 already +12 % for nu = 0.45), and a 1 mm layer several times Hertz's.
@@ -115,18 +115,18 @@ TEST(HalfSpaceContact, LayerSphereTendsToTheHalfSpacesAndStiffensAsTheLayerThins
     for (int j = 0; j < n; ++j)
       penetration[size_t(i * n + j)] =
           depth - (std::pow(i - centre, 2) + std::pow(j - centre, 2)) * cell_m * cell_m / (2 * R);
-  auto force_N = [&](HalfSpaceContact& contact) {
+  auto force_N = [&](ElasticPadContact& contact) {
     std::vector<double> p;
     EXPECT_TRUE(contact.Solve(n, penetration, &p));
     double f = 0;
     for (double v : p) f += v * cell_m * cell_m;
     return f;
   };
-  HalfSpaceContact half_space(cell_m, e_star);
+  ElasticPadContact half_space(cell_m, e_star);
   const double half_space_N = force_N(half_space);
   double last_N = 0;
   for (double h_mm : {1000.0, 30.0, 10.0, 3.0, 1.0}) {
-    HalfSpaceContact layer(cell_m, e_star, {h_mm * 1e-3, 0.45});
+    ElasticPadContact layer(cell_m, e_star, {h_mm * 1e-3, 0.45});
     const double f = force_N(layer);
     if (h_mm == 1000.0) {
       EXPECT_NEAR(f / half_space_N, 1.0, 0.005);

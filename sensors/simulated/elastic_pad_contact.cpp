@@ -1,4 +1,4 @@
-#include "sensors/simulated/half_space_contact.h"
+#include "sensors/simulated/elastic_pad_contact.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
@@ -82,12 +82,12 @@ double LayerCorrection_m_per_Pa(double r_m, double disk_m, double contact_modulu
   return LayerCorrectionOn(t, LayerWeights(t, w, disk_m, layer), r_m, disk_m, contact_modulus_Pa, layer);
 }
 
-HalfSpaceContact::HalfSpaceContact(double cell_m, double contact_modulus_Pa, ElasticLayer layer)
+ElasticPadContact::ElasticPadContact(double cell_m, double contact_modulus_Pa, ElasticLayer layer)
     : cell_m_(cell_m), contact_modulus_Pa_(contact_modulus_Pa) {
   if (!(cell_m > 0) || !(contact_modulus_Pa > 0))
-    throw std::invalid_argument("HalfSpaceContact: cell size and contact modulus must be positive");
+    throw std::invalid_argument("ElasticPadContact: cell size and contact modulus must be positive");
   if (!(layer.thickness_m >= 0) || !(layer.poisson_ratio >= 0 && layer.poisson_ratio <= 0.5))
-    throw std::invalid_argument("HalfSpaceContact: layer thickness must be >= 0 and Poisson's ratio in [0, 0.5]");
+    throw std::invalid_argument("ElasticPadContact: layer thickness must be >= 0 and Poisson's ratio in [0, 0.5]");
   if (layer.thickness_m > 0) {
     const double h = layer.thickness_m, disk_m = cell_m / std::sqrt(kPi);  // the cell's area
     const int entries = static_cast<int>(kLayerReach * kLayerTablePerThickness) + 1;
@@ -102,7 +102,7 @@ HalfSpaceContact::HalfSpaceContact(double cell_m, double contact_modulus_Pa, Ela
   }
 }
 
-double HalfSpaceContact::Influence(int di, int dj) const {
+double ElasticPadContact::Influence(int di, int dj) const {
   // Deflection at (x, y) under unit pressure on |xi| <= c, |eta| <= c (Love 1929):
   // u = 1 / (pi E*) [ (x+c) ln(..) + (y+c) ln(..) + (x-c) ln(..) + (y-c) ln(..) ].
   // Cell centres sit at whole multiples of 2c, so no x +- c or y +- c is zero.
@@ -119,7 +119,7 @@ double HalfSpaceContact::Influence(int di, int dj) const {
   return love + (1 - f) * correction_[k] + f * correction_[k + 1];
 }
 
-bool HalfSpaceContact::Solve(int n, const std::vector<double>& penetration_m, std::vector<double>* pressure_Pa) {
+bool ElasticPadContact::Solve(int n, const std::vector<double>& penetration_m, std::vector<double>* pressure_Pa) {
   const int cells = n * n;
   pressure_Pa->assign(static_cast<size_t>(cells), 0.0);
   std::vector<int> candidates;

@@ -1,11 +1,11 @@
 #pragma once
-// Frictionless contact of rigid objects with an elastic half-space, on a square grid of
-// cells carrying uniform pressure (Boussinesq; the cell's influence is Love's closed form
-// for a uniformly loaded rectangle, Johnson "Contact Mechanics" §3.9). It gives Hertz's
-// patch for a sphere and the right pressure for shapes no closed form covers (edges, box
-// corners, two objects at once): the simulated pad's `model: halfspace`
-// (sensors/simulated/simulated_sensor.h), the contact law the calibration rig's presses fit
-// (docs/bridge-fidelity.md §1).
+// Frictionless contact of rigid objects with an elastic pad — a half-space, or a layer of
+// it on a rigid base — on a square grid of cells carrying uniform pressure (Boussinesq; the
+// cell's influence is Love's closed form for a uniformly loaded rectangle, Johnson "Contact
+// Mechanics" §3.9). The half-space gives Hertz's patch for a sphere and the right pressure
+// for shapes no closed form covers (edges, box corners, two objects at once): the simulated
+// pad's `model: halfspace` (sensors/simulated/simulated_sensor.h); the layer is `model:
+// layer`, the pad that reproduces the calibration rig's presses best (docs/bridge-fidelity.md §1).
 //
 // A layer: the same elastomer as a layer of thickness h bonded to a rigid base (a real
 // sensor's skin over its circuit board). Its surface deflection under a pressure of
@@ -39,12 +39,12 @@ struct ElasticLayer {
 /// the layer's correction, by a Hankel transform of C(kh) - 1 (header comment).
 double LayerCorrection_m_per_Pa(double r_m, double disk_m, double contact_modulus_Pa, const ElasticLayer& layer);
 
-class HalfSpaceContact {
+class ElasticPadContact {
  public:
   /// @param cell_m             cell side [m]
   /// @param contact_modulus_Pa E* = E / (1 - nu^2) of the elastomer
   /// @param layer              its thickness on a rigid base (default: a half-space)
-  HalfSpaceContact(double cell_m, double contact_modulus_Pa, ElasticLayer layer = {});
+  ElasticPadContact(double cell_m, double contact_modulus_Pa, ElasticLayer layer = {});
 
   /// Surface deflection at a cell centre (di, dj) cells away from a cell under unit
   /// pressure [m / Pa].
