@@ -8,6 +8,8 @@
 3. B_coarse press, 3 increments of 0.2 mm through run_reference.py: force > 0 and
    growing, contact area growing, the Merkel map covers every Merkel vertex, the path is
    normalized by the map maximum.
+4. The elastic layer under a disk load (layer_reference.py): a thin layer's centre
+   deflection near the confined columns', the one the C++ test records for h/c = 1.
 
 usage: test_ccx_press.py [--work DIR]
 """
@@ -25,6 +27,7 @@ import export_deck  # noqa: E402
 import fingertip  # noqa: E402
 import read_results  # noqa: E402
 import run_reference  # noqa: E402
+import layer_reference  # noqa: E402
 
 FAILURES = []
 
@@ -126,6 +129,15 @@ def b_coarse_press(work):
     check(0 < first["max_sed"] < mx, f"SED at 0.2 mm ({first['max_sed']:.1f} Pa) below the 0.6 mm one ({mx:.1f} Pa)")
 
 
+def elastic_layer(work):
+    # ElasticPadContact.LayerMatchesCalculixUnderADiskLoad records 0.92450 for h/c = 1, nu 0.2.
+    w = layer_reference.run(1.0, 0.2, os.path.join(work, "layer_h1"))
+    check(abs(w - 0.92450) < 2e-4, f"layer h/c 1, nu 0.2: centre deflection {w:.5f} p c / E* (recorded 0.92450)")
+    thin = layer_reference.run(0.5, 0.2, os.path.join(work, "layer_h0.5"))
+    columns = 0.5 * (1 - 2 * 0.2) / (1 - 0.2) ** 2  # confined columns, w E* / (p c)
+    check(columns < thin < 1.05 * columns, f"thin layer {thin:.5f} just above the confined columns' {columns:.5f}")
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--work", default=None)
@@ -141,6 +153,7 @@ def main():
     uniaxial_block(work, "C3D10")
     failing_deck(work)
     b_coarse_press(work)
+    elastic_layer(work)
     print(f"{len(FAILURES)} failure(s)")
     return 1 if FAILURES else 0
 

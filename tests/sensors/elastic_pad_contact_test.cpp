@@ -95,6 +95,29 @@ TEST(ElasticPadContact, ThinLayerUnderAWideLoadIsAConfinedColumn) {
   }
 }
 
+// Against CalculiX: a layer of thickness h bonded to a rigid base under a uniform pressure
+// p on a disk of radius c, centre deflection w in units of p c / E*, by axisymmetric
+// quadratic elements out to 40 h (tools/ccx/layer_reference.py; ccx 2.20, the same to 5
+// digits with the mesh refined twice, 2026-11-26). The layer's table sums over a pixelated
+// disk of cells c / 25 wide; measured within 0.01-0.6 % of ccx (the half-space's exact 2
+// less 0.6 % is the pixelated disk's).
+TEST(ElasticPadContact, LayerMatchesCalculixUnderADiskLoad) {
+  struct Case {
+    double h_over_c, nu, ccx;
+  };
+  const Case cases[] = {{0.5, 0.2, 0.47480}, {1, 0.2, 0.92450}, {2, 0.2, 1.38605}, {4, 0.2, 1.68110},
+                        {1, 0.45, 0.69607}, {2, 0.45, 1.23592}, {100, 0.2, 1.98707}};
+  const double c = 1e-3, e_star = 313e3, cell = c / 25;
+  for (const Case& k : cases) {
+    const ElasticPadContact layer(cell, e_star, {k.h_over_c * c, k.nu});
+    double w = 0;
+    for (int i = -25; i <= 25; ++i)
+      for (int j = -25; j <= 25; ++j)
+        if (std::hypot(i, j) * cell < c) w += layer.Influence(i, j);
+    EXPECT_NEAR(w * e_star / c / k.ccx, 1.0, 0.01) << "h/c " << k.h_over_c << " nu " << k.nu;
+  }
+}
+
 TEST(ElasticPadContact, ThickLayerIsTheHalfSpace) {
   const double cell_m = 0.25e-3, e_star = 313e3;
   // 100 m thick: within r of a load, a layer deflects as the half-space less a shift of
