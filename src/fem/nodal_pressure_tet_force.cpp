@@ -1,10 +1,17 @@
 #include "fem/nodal_pressure_tet_force.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <map>
+#include <numeric>
 #include <stdexcept>
 
 namespace sedbridge::fem {
+namespace {
+// Fewer elements than this: one thread (a team costs more than it brings).
+constexpr int kParallelMinTets = 256;
+}  // namespace
 
 NodalPressureTetForce::NodalPressureTetForce(const ElasticTetForce& elastic, double rayleigh_beta_s)
     : elastic_(elastic), beta_s_(rayleigh_beta_s) {
@@ -85,7 +92,8 @@ void NodalPressureTetForce::BindMatrix(const SystemMatrix& matrix) {
       for (int j = begin; j < end; ++j) slots_.push_back(matrix.Slot(patch_nodes_[size_t(i)], patch_nodes_[size_t(j)]));
     slot_offsets_.push_back(int(slots_.size()));
   }
-  b_.resize(widest);
+  widest_patch_ = widest;
+  partition_threads_ = 0;  // lists rebuilt for the team size at the next assembly
   // The element blocks for the twist terms of the consistent tangent.
   element_slots_.clear();
   if (elastic_.formulation() == ElasticFormulation::kCorotational) {
@@ -109,11 +117,73 @@ bool NodalPressureTetForce::UseDefiniteJacobian(bool definite) {
 void NodalPressureTetForce::PatchStrains(const Eigen::VectorXd& element_theta, Eigen::VectorXd& patch_theta) const {
   const auto& elements = elastic_.elements();
   patch_theta.setZero(num_patches());
+#pragma omp parallel for schedule(static) if (num_patches() >= kParallelMinTets)
   for (int p = 0; p < num_patches(); ++p) {
     double sum = 0;
     for (int k = patch_offsets_[size_t(p)]; k < patch_offsets_[size_t(p) + 1]; ++k)
       sum += elements[size_t(patch_elements_[size_t(k)])].volume_m3 * element_theta[patch_elements_[size_t(k)]];
     patch_theta[p] = sum / (4.0 * patch_volume_[size_t(p)]);
+  }
+}
+
+void NodalPressureTetForce::PartitionPatches(int threads) {
+  const TetMesh& mesh = elastic_.mesh();
+  const Eigen::Matrix3Xd& x = mesh.rest_positions_m;
+  const int nodes = mesh.num_nodes();
+  Eigen::Index axis = 0;
+  (x.rowwise().maxCoeff() - x.rowwise().minCoeff()).maxCoeff(&axis);
+  std::vector<int> order(static_cast<size_t>(nodes)), slab(static_cast<size_t>(nodes));
+  std::iota(order.begin(), order.end(), 0);
+  std::sort(order.begin(), order.end(), [&](int a, int b) { return x(axis, a) < x(axis, b); });
+  for (int r = 0; r < nodes; ++r) slab[size_t(order[size_t(r)])] = int(int64_t(r) * threads / nodes);
+  slab_patches_.assign(size_t(threads), {});
+  boundary_patches_.assign(size_t(std::max(0, threads - 1)), {});
+  rest_patches_.clear();
+  for (int p = 0; p < num_patches(); ++p) {
+    int smin = threads, smax = -1;
+    for (int i = node_offsets_[size_t(p)]; i < node_offsets_[size_t(p) + 1]; ++i)
+      smin = std::min(smin, slab[size_t(patch_nodes_[size_t(i)])]), smax = std::max(smax, slab[size_t(patch_nodes_[size_t(i)])]);
+    if (smin == smax) slab_patches_[size_t(smin)].push_back(p);
+    else if (smax == smin + 1) boundary_patches_[size_t(smin)].push_back(p);
+    else rest_patches_.push_back(p);
+  }
+  thread_b_.assign(size_t(threads), std::vector<Eigen::Vector3d>(widest_patch_));
+  partition_threads_ = threads;
+}
+
+void NodalPressureTetForce::AddPatchJacobian(int p, bool damping, JacobianSink* sink, std::vector<Eigen::Vector3d>& b) {
+  const auto& elements = elastic_.elements();
+  const auto& rotations = elastic_.rotations();
+  double* values = sink->matrix->values();
+  const int n0 = node_offsets_[size_t(p)], np = node_offsets_[size_t(p) + 1] - n0;
+  for (int i = 0; i < np; ++i) b[size_t(i)].setZero();
+  for (int k = patch_offsets_[size_t(p)]; k < patch_offsets_[size_t(p) + 1]; ++k) {
+    const int t = patch_elements_[size_t(k)];
+    const TetElement& e = elements[size_t(t)];
+    const double w = e.volume_m3 / (4.0 * patch_volume_[size_t(p)]);
+    const Eigen::Matrix3d& R = rotations[size_t(t)];
+    for (int a = 0; a < 4; ++a) b[size_t(entry_local_[size_t(k)][size_t(a)])] += w * (R * e.shape_gradients.row(a).transpose());
+  }
+  const double c = patch_volume_[size_t(p)] * patch_bulk_[size_t(p)];
+  const int* slots = slots_.data() + slot_offsets_[size_t(p)];
+  // Symmetric: each off-diagonal outer product once, written to (i, j) and (j, i), with its
+  // stiffness-proportional damping (D = beta K) in the same pass.
+  const double scale = sink->stiffness_scale + (damping ? beta_s_ * sink->damping_scale : 0.0);
+  for (int i = 0; i < np; ++i) {
+    const Eigen::Vector3d bi = c * b[size_t(i)];
+    for (int j = i; j < np; ++j) {
+      const Eigen::Matrix3d K = bi * b[size_t(j)].transpose();
+      sink->matrix->AddBlockTo(values, slots[i * np + j], K, scale);
+      if (j != i) sink->matrix->AddBlockTo(values, slots[j * np + i], K.transpose(), scale);
+    }
+  }
+  if (sink->velocity) {
+    // The patch's K is c b b^T: K v = c b (b . v), one dot product instead of np^2 blocks.
+    const Eigen::VectorXd& v = *sink->velocity;
+    double bv = 0;
+    for (int j = 0; j < np; ++j) bv += b[size_t(j)].dot(v.segment<3>(3 * patch_nodes_[size_t(n0 + j)]));
+    for (int i = 0; i < np; ++i)
+      sink->stiffness_times_velocity->segment<3>(3 * patch_nodes_[size_t(n0 + i)]) += (c * bv) * b[size_t(i)];
   }
 }
 
@@ -126,6 +196,7 @@ void NodalPressureTetForce::AddForce(const SystemState& state, Eigen::VectorXd& 
   const bool damping = state.dynamic && beta_s_ > 0;
   const int num_tets = mesh.num_tets();
   // Element volumetric strain (+ beta times its rate: stiffness-proportional damping).
+#pragma omp parallel for schedule(static) if (num_tets >= kParallelMinTets)
   for (int t = 0; t < num_tets; ++t) {
     const Tet& n = mesh.tets[size_t(t)];
     const TetElement& e = elements[size_t(t)];
@@ -154,40 +225,37 @@ void NodalPressureTetForce::AddForce(const SystemState& state, Eigen::VectorXd& 
           e.volume_m3 * pbar * (R * e.shape_gradients.row(a).transpose());
   }
   if (!sink) return;
-  // K = sum_P V_P kappa_P b_P b_P^T, b_P[node] = sum_{e in P} V_e / (4 V_P) R_e g_{e,node}.
-  double* values = sink->matrix->values();
-  for (int p = 0; p < num_patches(); ++p) {
-    const int n0 = node_offsets_[size_t(p)], np = node_offsets_[size_t(p) + 1] - n0;
-    for (int i = 0; i < np; ++i) b_[size_t(i)].setZero();
-    for (int k = patch_offsets_[size_t(p)]; k < patch_offsets_[size_t(p) + 1]; ++k) {
-      const int t = patch_elements_[size_t(k)];
-      const TetElement& e = elements[size_t(t)];
-      const double w = e.volume_m3 / (4.0 * patch_volume_[size_t(p)]);
-      const Eigen::Matrix3d& R = rotations[size_t(t)];
-      for (int a = 0; a < 4; ++a) b_[size_t(entry_local_[size_t(k)][size_t(a)])] += w * (R * e.shape_gradients.row(a).transpose());
-    }
-    const double c = patch_volume_[size_t(p)] * patch_bulk_[size_t(p)];
-    const int* slots = slots_.data() + slot_offsets_[size_t(p)];
-    // Symmetric: each off-diagonal outer product once, written to (i, j) and (j, i), with its
-    // stiffness-proportional damping (D = beta K) in the same pass.
-    const double scale = sink->stiffness_scale + (damping ? beta_s_ * sink->damping_scale : 0.0);
-    for (int i = 0; i < np; ++i) {
-      const Eigen::Vector3d bi = c * b_[size_t(i)];
-      for (int j = i; j < np; ++j) {
-        const Eigen::Matrix3d K = bi * b_[size_t(j)].transpose();
-        sink->matrix->AddBlockTo(values, slots[i * np + j], K, scale);
-        if (j != i) sink->matrix->AddBlockTo(values, slots[j * np + i], K.transpose(), scale);
+  // K = sum_P V_P kappa_P b_P b_P^T, b_P[node] = sum_{e in P} V_e / (4 V_P) R_e g_{e,node}:
+  // most of this term's time. Patches of different slabs write different rows, so the
+  // threads write straight into the matrix: no per-thread copies of the 2-ring matrix to
+  // clear and sum (tens of MB a step), three barriers.
+  const int threads = num_tets < kParallelMinTets ? 1 : omp_get_max_threads();
+  if (partition_threads_ != threads) PartitionPatches(threads);
+  if (threads == 1) {
+    for (int p = 0; p < num_patches(); ++p) AddPatchJacobian(p, damping, sink, thread_b_[0]);
+  } else {
+#pragma omp parallel num_threads(threads)
+    {
+      const int tid = omp_get_thread_num();
+      std::vector<Eigen::Vector3d>& b = thread_b_[size_t(tid)];
+      const int team = omp_get_num_threads();
+      if (tid < int(slab_patches_.size()))
+        for (int p : slab_patches_[size_t(tid)]) AddPatchJacobian(p, damping, sink, b);
+#pragma omp barrier
+      // A smaller team than asked for (OMP_DYNAMIC): its missing slabs, by one thread.
+#pragma omp single
+      for (int k = team; k < int(slab_patches_.size()); ++k)
+        for (int p : slab_patches_[size_t(k)]) AddPatchJacobian(p, damping, sink, b);
+      for (int parity = 0; parity < 2; ++parity) {
+#pragma omp for schedule(static, 1)
+        for (int k = parity; k < int(boundary_patches_.size()); k += 2)
+          for (int p : boundary_patches_[size_t(k)]) AddPatchJacobian(p, damping, sink, b);
       }
-    }
-    if (sink->velocity) {
-      // The patch's K is c b b^T: K v = c b (b . v), one dot product instead of np^2 blocks.
-      const Eigen::VectorXd& v = *sink->velocity;
-      double bv = 0;
-      for (int j = 0; j < np; ++j) bv += b_[size_t(j)].dot(v.segment<3>(3 * patch_nodes_[size_t(n0 + j)]));
-      for (int i = 0; i < np; ++i)
-        sink->stiffness_times_velocity->segment<3>(3 * patch_nodes_[size_t(n0 + i)]) += (c * bv) * b_[size_t(i)];
+#pragma omp single
+      for (int p : rest_patches_) AddPatchJacobian(p, damping, sink, b);
     }
   }
+  double* values = sink->matrix->values();
   if (elastic_.corotational_tangent() != CorotationalTangent::kConsistent || definite_ || element_slots_.empty()) return;
   // Consistent tangent: -V pbar R g_a turns with R too. For an isotropic stress pbar that is
   // the twist stiffness V 2 pbar / (s_i + s_j) of each principal plane (the elastic term's

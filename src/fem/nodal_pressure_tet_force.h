@@ -69,6 +69,15 @@ class NodalPressureTetForce final : public ForceTerm {
   const Eigen::VectorXd& patch_theta() const { return patch_theta_; }
 
  private:
+  /// This patch's K (and D, and K v) into the sink, b scratch of its node count.
+  void AddPatchJacobian(int p, bool damping, JacobianSink* sink, std::vector<Eigen::Vector3d>& b);
+  /// Splits the patches for `threads` threads: the nodes into slabs of equal count along
+  /// the mesh's longest axis, a patch into its slab's list when all its nodes lie in it
+  /// (patches of different slabs write disjoint matrix rows), into boundary list k when it
+  /// spans slabs k and k + 1 (even boundaries are disjoint from each other, odd ones too),
+  /// the rest (patches spanning more, thin slabs) into one serial list.
+  void PartitionPatches(int threads);
+
   const ElasticTetForce& elastic_;
   double beta_s_;
   std::vector<std::array<int, 4>> element_patch_;
@@ -78,7 +87,11 @@ class NodalPressureTetForce final : public ForceTerm {
   std::vector<double> patch_volume_, patch_bulk_;
   std::vector<int> slot_offsets_, slots_;             // per patch: n_P x n_P slots, row-major
   Eigen::VectorXd element_theta_, patch_theta_, patch_pressure_;
-  std::vector<Eigen::Vector3d> b_;                    // scratch: b_P per local node
+  std::vector<std::vector<Eigen::Vector3d>> thread_b_;  // scratch per thread: b_P per local node
+  size_t widest_patch_ = 0;
+  int partition_threads_ = 0;                           // the threads the lists below are for
+  std::vector<std::vector<int>> slab_patches_, boundary_patches_;
+  std::vector<int> rest_patches_;
   std::vector<std::array<int, 16>> element_slots_;    // corotational: element node-pair slots
   bool definite_ = false;
 };
