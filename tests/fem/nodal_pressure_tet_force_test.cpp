@@ -3,6 +3,8 @@
 
 #include "fem/nodal_pressure_tet_force.h"
 
+#include <omp.h>
+
 #include <gtest/gtest.h>
 
 #include "fem/box_mesh.h"
@@ -131,6 +133,56 @@ TEST(NodalPressureTetForce, StiffnessIsTheForceDerivative) {
   EXPECT_LT((ku + (f1 - f0)).norm(), 1e-9 * ku.norm());
   // The interface patches really are separate: more patches than nodes.
   EXPECT_GT(nodal.num_patches(), mesh.num_nodes());
+}
+
+// The patch loop split over threads by slabs (boundary patches after a barrier, thin slabs'
+// patches spanning three of them in a serial list) gives the one-thread matrix, K v and
+// force: 1, 2, 3 and 7 threads on a corotational, damped, two-material box of 6 x 5 x 8
+// cells (1440 elements, above the parallel threshold).
+TEST(NodalPressureTetForce, ThreadsGiveTheOneThreadMatrix) {
+  TetMesh mesh = MakeBoxMesh({0.006, 0.005, 0.008}, {6, 5, 8}, testing::Skin(1e5, 0.48));
+  mesh.materials.push_back(testing::Skin(3e5, 0.45));
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    double zc = 0;
+    for (int n : mesh.tets[size_t(t)]) zc += mesh.rest_positions_m(2, n) / 4;
+    if (zc > 0.004) mesh.tet_material[size_t(t)] = 1;
+  }
+  ElasticTetForce elastic(mesh, ElasticFormulation::kCorotational, 0.01, true);
+  NodalPressureTetForce nodal(elastic, 0.01);
+  std::vector<std::pair<int, int>> pairs;
+  elastic.AppendCoupledNodes(pairs);
+  nodal.AppendCoupledNodes(pairs);
+  SystemMatrix matrix;
+  matrix.Build(mesh.num_nodes(), pairs);
+  elastic.BindMatrix(matrix);
+  nodal.BindMatrix(matrix);
+  Eigen::VectorXd x(3 * mesh.num_nodes());
+  for (int i = 0; i < mesh.num_nodes(); ++i) x.segment<3>(3 * i) = mesh.rest_positions_m.col(i);
+  x += 2e-4 * Eigen::VectorXd::Random(x.size());
+  const Eigen::VectorXd v = 1e-2 * Eigen::VectorXd::Random(x.size());
+  const int saved = omp_get_max_threads();
+  std::vector<double> reference_values;
+  Eigen::VectorXd reference_kv, reference_f;
+  for (int threads : {1, 2, 3, 7}) {
+    omp_set_num_threads(threads);
+    matrix.SetZero();
+    Eigen::VectorXd kv = Eigen::VectorXd::Zero(x.size()), f = Eigen::VectorXd::Zero(x.size());
+    JacobianSink sink{&matrix, 1e-6, 1e-3, &v, &kv};
+    elastic.AddForce({x, v, 0.0, true}, f, &sink);
+    nodal.AddForce({x, v, 0.0, true}, f, &sink);
+    std::vector<double> values(matrix.values(), matrix.values() + matrix.num_values());
+    if (threads == 1) {
+      reference_values = values, reference_kv = kv, reference_f = f;
+      continue;
+    }
+    double worst = 0, largest = 0;
+    for (size_t k = 0; k < values.size(); ++k)
+      worst = std::max(worst, std::abs(values[k] - reference_values[k])), largest = std::max(largest, std::abs(values[k]));
+    EXPECT_LT(worst, 1e-12 * largest) << threads << " threads";
+    EXPECT_LT((kv - reference_kv).norm(), 1e-12 * reference_kv.norm()) << threads << " threads";
+    EXPECT_LT((f - reference_f).norm(), 1e-12 * reference_f.norm()) << threads << " threads";
+  }
+  omp_set_num_threads(saved);
 }
 
 TEST(NodalPressureTetForce, ConsistentCorotationalStiffnessIsTheForceDerivative) {
