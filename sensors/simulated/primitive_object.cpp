@@ -7,8 +7,7 @@
 
 namespace sedbridge::sensors {
 
-geometry::RigidObject RigidObjectOf(const ContactPrimitive& p, double rod_half_length_m, double min_radius_mm,
-                                    double depth_m) {
+geometry::RigidObject RigidObjectOf(const ContactPrimitive& p, double rod_half_length_m, double min_radius_mm) {
   geometry::RigidObject o;
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
   const double r_m = std::max(p.radius_mm, min_radius_mm) * 1e-3;
@@ -16,19 +15,18 @@ geometry::RigidObject RigidObjectOf(const ContactPrimitive& p, double rod_half_l
     case ContactShape::kSphere:
       o.name = "sphere";
       o.shape = std::make_shared<geometry::SphereSdf>(r_m);
-      pose.translation() = Eigen::Vector3d(p.x_mm * 1e-3, p.y_mm * 1e-3, r_m - depth_m);
+      pose.translation() = Eigen::Vector3d(p.x_mm * 1e-3, p.y_mm * 1e-3, r_m);
       break;
     case ContactShape::kCylinder:
       o.name = "cylinder";
       o.shape = std::make_shared<geometry::CylinderSdf>(r_m, p.length_mm > 0 ? 0.5e-3 * p.length_mm : rod_half_length_m);
       pose.linear() = geometry::RotationFromRpyDeg(Eigen::Vector3d(0, 0, p.yaw_deg));
-      pose.translation() = Eigen::Vector3d(p.x_mm * 1e-3, p.y_mm * 1e-3, r_m - depth_m);
+      pose.translation() = Eigen::Vector3d(p.x_mm * 1e-3, p.y_mm * 1e-3, r_m);
       break;
     case ContactShape::kFlat:
       o.name = "flat";
       o.shape = std::make_shared<geometry::PlaneSdf>();
       pose.linear() = geometry::RotationFromRpyDeg(Eigen::Vector3d(180, 0, 0));  // solid above z = 0
-      pose.translation() = Eigen::Vector3d(0, 0, -depth_m);
       break;
   }
   o.trajectory = geometry::Trajectory(pose);

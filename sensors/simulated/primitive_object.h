@@ -11,8 +11,7 @@ namespace sedbridge::sensors {
 /// Sphere: SphereSdf centred R above (x, y); cylinder: a rod along (cos yaw, sin yaw, 0)
 /// resting on the pad plane, 2 rod_half_length_m long or, a finite rod, length_mm centred
 /// on (x, y); flat: the half-space above z = 0. Radii below min_radius_mm are taken as it.
-/// @param depth_m  how far the object is lowered into the pad from first touch [m]
 geometry::RigidObject RigidObjectOf(const ContactPrimitive& primitive, double rod_half_length_m,
-                                    double min_radius_mm = 0, double depth_m = 0);
+                                    double min_radius_mm = 0);
 
 }  // namespace sedbridge::sensors

@@ -10,11 +10,14 @@ namespace sedbridge::bridge {
 namespace {
 // A rod long enough to cross the sensor pad (20 mm), not the whole finger.
 constexpr double kRodHalfLength_m = 10e-3;
+
+double LeaderMinRadius_mm(sensors::ContactShape shape) {
+  return shape == sensors::ContactShape::kSphere ? kLeaderMinSphereRadius_mm : kLeaderMinRodRadius_mm;
+}
 }  // namespace
 
 geometry::RigidObject ToRigidObject(const sensors::ContactPrimitive& p) {
-  const double floor_mm = p.shape == sensors::ContactShape::kSphere ? kLeaderMinSphereRadius_mm : kLeaderMinRodRadius_mm;
-  return sensors::RigidObjectOf(p, kRodHalfLength_m, floor_mm);
+  return sensors::RigidObjectOf(p, kRodHalfLength_m, LeaderMinRadius_mm(p.shape));
 }
 
 std::vector<geometry::RigidObject> ToRigidObjects(const ContactEstimate& estimate) {
@@ -32,12 +35,11 @@ LeaderPress PressReconstructed(scene::FingertipCompliance& leader, const Contact
   for (int k = 0; k < kThickenTries && thin_shape; ++k) {
     const scene::PressStatus s = out.result.status;
     if (s != scene::PressStatus::kNoContact && s != scene::PressStatus::kPatchEdge) break;
-    const double pressed_mm = std::max(thicker.primitive.radius_mm, estimate.primitive.shape == sensors::ContactShape::kSphere
-                                                                         ? kLeaderMinSphereRadius_mm
-                                                                         : kLeaderMinRodRadius_mm);
+    const double pressed_mm = std::max(thicker.primitive.radius_mm, LeaderMinRadius_mm(thicker.primitive.shape));
     if (!(pressed_mm < kThickenBelow_mm)) break;
     thicker.primitive.radius_mm = kThickenFactor * pressed_mm;
-    if (thicker.two_contacts) thicker.second.radius_mm = std::max(thicker.second.radius_mm, kLeaderMinSphereRadius_mm) * kThickenFactor;
+    if (thicker.two_contacts)
+      thicker.second.radius_mm = kThickenFactor * std::max(thicker.second.radius_mm, LeaderMinRadius_mm(thicker.second.shape));
     out.thickened_radius_mm = thicker.primitive.radius_mm;
     leader.ResetWarmStart();
     out.result = leader.PressToForce(ToRigidObjects(thicker), estimate.normal_force_N(), options, tangential_N);
