@@ -18,6 +18,9 @@ constexpr size_t kParallelInversionCheckMinTets = 100000;
 // Tets below which assembly runs on one thread [elements]: below this the per-thread
 // partial sums and their reduction cost more than the element work they split.
 constexpr size_t kParallelAssemblyMinTets = 256;
+// Parallel assembly by slabs instead of per-thread partial sums when the matrix has this
+// many times the values of the elements' own blocks (see AddForce).
+constexpr double kSlabsAbovePatternRatio = 1.5;
 // Twist stiffness (sigma_i + sigma_j) / (s_i + s_j) is only used where the element is not
 // near inversion in that plane (s_i + s_j above this) [-]: near 0 the quotient is
 // ill-conditioned, and the warped stiffness is the safe choice there.
@@ -100,9 +103,15 @@ void ElasticTetForce::AppendCoupledNodes(std::vector<std::pair<int, int>>& pairs
 
 void ElasticTetForce::BindMatrix(const SystemMatrix& matrix) {
   slots_.resize(elements_.size());
+  std::vector<char> used(size_t(matrix.num_values()) / 9 + 1, 0);
+  own_values_ = 0;
   for (size_t t = 0; t < elements_.size(); ++t)
     for (int a = 0; a < 4; ++a)
-      for (int b = 0; b < 4; ++b) slots_[t][size_t(4 * a + b)] = matrix.Slot(mesh_.tets[t][size_t(a)], mesh_.tets[t][size_t(b)]);
+      for (int b = 0; b < 4; ++b) {
+        const int slot = matrix.Slot(mesh_.tets[t][size_t(a)], mesh_.tets[t][size_t(b)]);
+        slots_[t][size_t(4 * a + b)] = slot;
+        if (!used[size_t(slot)]) used[size_t(slot)] = 1, own_values_ += 9;
+      }
 }
 
 void ElasticTetForce::AddForce(const SystemState& state, Eigen::VectorXd& force_N, JacobianSink* sink) {
@@ -128,9 +137,14 @@ void ElasticTetForce::AddForce(const SystemState& state, Eigen::VectorXd& force_
     if (!sink) return;
   }
 
-  // Parallel assembly with one partial sum per thread and a single reduction: two
-  // synchronisation points a step instead of one per element colour, which matters on a
-  // loaded 2-core machine where every barrier can cost a scheduler time slice.
+  // Two ways to run in parallel. With one partial sum per thread and a single reduction:
+  // two synchronisation points a step instead of one per element colour, which matters on a
+  // loaded 2-core machine where every barrier can cost a scheduler time slice; but every
+  // thread clears and sums a copy of the whole matrix. By slabs (fem/slab_partition.h):
+  // elements of different slabs write different rows, straight into the matrix, and the
+  // slab boundaries' elements run after a barrier. When other terms widen the pattern well
+  // beyond the elements' own blocks (the nodal-pressure term's 2-ring: about 3x), the copies
+  // cost more than the boundaries: slabs. Measured on B, docs/validation.md (session 18).
   const bool force = corotational;
   const int threads = omp_get_max_threads();
   int inverted = 0;
@@ -138,6 +152,20 @@ void ElasticTetForce::AddForce(const SystemState& state, Eigen::VectorXd& force_
     for (int t = 0; t < int(elements_.size()); ++t)
       inverted += AccumulateElement(t, state, force, force_N, sink, sink ? sink->matrix->values() : nullptr,
                                     sink ? sink->stiffness_times_velocity : nullptr);
+  } else if (sink && sink->matrix->num_values() > kSlabsAbovePatternRatio * own_values_) {
+    if (partition_.threads != threads)
+      partition_ = PartitionBySlabs(mesh_.rest_positions_m, threads, int(elements_.size()),
+                                    [&](int t, std::vector<int>& nodes) {
+                                      for (int n : mesh_.tets[size_t(t)]) nodes.push_back(n);
+                                    });
+    double* values = sink->matrix->values();
+    std::vector<int> counts(size_t(threads), 0);
+    ForEachBySlabs(partition_, [&](int t, int tid) {
+      // Written only for an inverted element: the counters share a cache line.
+      if (const int c = AccumulateElement(t, state, force, force_N, sink, values, sink->stiffness_times_velocity))
+        counts[size_t(tid)] += c;
+    });
+    for (int c : counts) inverted += c;
   } else {
     thread_values_.resize(size_t(threads));
     thread_force_.resize(size_t(threads));

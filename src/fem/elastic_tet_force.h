@@ -8,6 +8,7 @@
 
 #include "common/no_copy_no_move.h"
 #include "fem/force_term.h"
+#include "fem/slab_partition.h"
 #include "fem/node_rotation_source.h"
 #include "fem/system_matrix.h"
 #include "fem/tet_element.h"
@@ -102,6 +103,8 @@ class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
   // Threads > 1: per-thread partial sums (thread 0 writes the real buffers), reduced once.
   std::vector<std::vector<double>> thread_values_;
   std::vector<Eigen::VectorXd> thread_force_, thread_k_times_v_;
+  SlabPartition partition_;  // elements by slab for the team size (threads = 0: to build)
+  double own_values_ = 0;    // values of the matrix the elements' blocks occupy
   // Linear FEM: K0 assembled once; the force is then one sparse product a step.
   SystemMatrix rest_stiffness_;
   Eigen::VectorXd rest_positions_, work_, k_times_work_;

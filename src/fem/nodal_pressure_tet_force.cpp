@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <map>
-#include <numeric>
 #include <stdexcept>
 
 namespace sedbridge::fem {
@@ -93,7 +92,8 @@ void NodalPressureTetForce::BindMatrix(const SystemMatrix& matrix) {
     slot_offsets_.push_back(int(slots_.size()));
   }
   widest_patch_ = widest;
-  partition_threads_ = 0;  // lists rebuilt for the team size at the next assembly
+  partition_ = {};  // rebuilt for the team size at the next assembly
+  thread_b_.clear();
   // The element blocks for the twist terms of the consistent tangent.
   element_slots_.clear();
   if (elastic_.formulation() == ElasticFormulation::kCorotational) {
@@ -124,31 +124,6 @@ void NodalPressureTetForce::PatchStrains(const Eigen::VectorXd& element_theta, E
       sum += elements[size_t(patch_elements_[size_t(k)])].volume_m3 * element_theta[patch_elements_[size_t(k)]];
     patch_theta[p] = sum / (4.0 * patch_volume_[size_t(p)]);
   }
-}
-
-void NodalPressureTetForce::PartitionPatches(int threads) {
-  const TetMesh& mesh = elastic_.mesh();
-  const Eigen::Matrix3Xd& x = mesh.rest_positions_m;
-  const int nodes = mesh.num_nodes();
-  Eigen::Index axis = 0;
-  (x.rowwise().maxCoeff() - x.rowwise().minCoeff()).maxCoeff(&axis);
-  std::vector<int> order(static_cast<size_t>(nodes)), slab(static_cast<size_t>(nodes));
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return x(axis, a) < x(axis, b); });
-  for (int r = 0; r < nodes; ++r) slab[size_t(order[size_t(r)])] = int(int64_t(r) * threads / nodes);
-  slab_patches_.assign(size_t(threads), {});
-  boundary_patches_.assign(size_t(std::max(0, threads - 1)), {});
-  rest_patches_.clear();
-  for (int p = 0; p < num_patches(); ++p) {
-    int smin = threads, smax = -1;
-    for (int i = node_offsets_[size_t(p)]; i < node_offsets_[size_t(p) + 1]; ++i)
-      smin = std::min(smin, slab[size_t(patch_nodes_[size_t(i)])]), smax = std::max(smax, slab[size_t(patch_nodes_[size_t(i)])]);
-    if (smin == smax) slab_patches_[size_t(smin)].push_back(p);
-    else if (smax == smin + 1) boundary_patches_[size_t(smin)].push_back(p);
-    else rest_patches_.push_back(p);
-  }
-  thread_b_.assign(size_t(threads), std::vector<Eigen::Vector3d>(widest_patch_));
-  partition_threads_ = threads;
 }
 
 void NodalPressureTetForce::AddPatchJacobian(int p, bool damping, JacobianSink* sink, std::vector<Eigen::Vector3d>& b) {
@@ -230,30 +205,18 @@ void NodalPressureTetForce::AddForce(const SystemState& state, Eigen::VectorXd& 
   // threads write straight into the matrix: no per-thread copies of the 2-ring matrix to
   // clear and sum (tens of MB a step), three barriers.
   const int threads = num_tets < kParallelMinTets ? 1 : omp_get_max_threads();
-  if (partition_threads_ != threads) PartitionPatches(threads);
   if (threads == 1) {
+    if (thread_b_.empty()) thread_b_.assign(1, std::vector<Eigen::Vector3d>(widest_patch_));
     for (int p = 0; p < num_patches(); ++p) AddPatchJacobian(p, damping, sink, thread_b_[0]);
   } else {
-#pragma omp parallel num_threads(threads)
-    {
-      const int tid = omp_get_thread_num();
-      std::vector<Eigen::Vector3d>& b = thread_b_[size_t(tid)];
-      const int team = omp_get_num_threads();
-      if (tid < int(slab_patches_.size()))
-        for (int p : slab_patches_[size_t(tid)]) AddPatchJacobian(p, damping, sink, b);
-#pragma omp barrier
-      // A smaller team than asked for (OMP_DYNAMIC): its missing slabs, by one thread.
-#pragma omp single
-      for (int k = team; k < int(slab_patches_.size()); ++k)
-        for (int p : slab_patches_[size_t(k)]) AddPatchJacobian(p, damping, sink, b);
-      for (int parity = 0; parity < 2; ++parity) {
-#pragma omp for schedule(static, 1)
-        for (int k = parity; k < int(boundary_patches_.size()); k += 2)
-          for (int p : boundary_patches_[size_t(k)]) AddPatchJacobian(p, damping, sink, b);
-      }
-#pragma omp single
-      for (int p : rest_patches_) AddPatchJacobian(p, damping, sink, b);
+    if (partition_.threads != threads) {
+      partition_ = PartitionBySlabs(mesh.rest_positions_m, threads, num_patches(), [&](int p, std::vector<int>& nodes) {
+        nodes.insert(nodes.end(), patch_nodes_.begin() + node_offsets_[size_t(p)],
+                     patch_nodes_.begin() + node_offsets_[size_t(p) + 1]);
+      });
+      thread_b_.assign(size_t(threads), std::vector<Eigen::Vector3d>(widest_patch_));
     }
+    ForEachBySlabs(partition_, [&](int p, int tid) { AddPatchJacobian(p, damping, sink, thread_b_[size_t(tid)]); });
   }
   double* values = sink->matrix->values();
   if (elastic_.corotational_tangent() != CorotationalTangent::kConsistent || definite_ || element_slots_.empty()) return;

@@ -28,6 +28,7 @@
 
 #include "fem/elastic_tet_force.h"
 #include "fem/force_term.h"
+#include "fem/slab_partition.h"
 
 namespace sedbridge::fem {
 
@@ -71,12 +72,6 @@ class NodalPressureTetForce final : public ForceTerm {
  private:
   /// This patch's K (and D, and K v) into the sink, b scratch of its node count.
   void AddPatchJacobian(int p, bool damping, JacobianSink* sink, std::vector<Eigen::Vector3d>& b);
-  /// Splits the patches for `threads` threads: the nodes into slabs of equal count along
-  /// the mesh's longest axis, a patch into its slab's list when all its nodes lie in it
-  /// (patches of different slabs write disjoint matrix rows), into boundary list k when it
-  /// spans slabs k and k + 1 (even boundaries are disjoint from each other, odd ones too),
-  /// the rest (patches spanning more, thin slabs) into one serial list.
-  void PartitionPatches(int threads);
 
   const ElasticTetForce& elastic_;
   double beta_s_;
@@ -89,9 +84,7 @@ class NodalPressureTetForce final : public ForceTerm {
   Eigen::VectorXd element_theta_, patch_theta_, patch_pressure_;
   std::vector<std::vector<Eigen::Vector3d>> thread_b_;  // scratch per thread: b_P per local node
   size_t widest_patch_ = 0;
-  int partition_threads_ = 0;                           // the threads the lists below are for
-  std::vector<std::vector<int>> slab_patches_, boundary_patches_;
-  std::vector<int> rest_patches_;
+  SlabPartition partition_;                             // patches by slab (threads = 0: to build)
   std::vector<std::array<int, 16>> element_slots_;    // corotational: element node-pair slots
   bool definite_ = false;
 };

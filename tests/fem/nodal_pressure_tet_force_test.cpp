@@ -3,8 +3,6 @@
 
 #include "fem/nodal_pressure_tet_force.h"
 
-#include <omp.h>
-
 #include <gtest/gtest.h>
 
 #include "fem/box_mesh.h"
@@ -160,29 +158,11 @@ TEST(NodalPressureTetForce, ThreadsGiveTheOneThreadMatrix) {
   for (int i = 0; i < mesh.num_nodes(); ++i) x.segment<3>(3 * i) = mesh.rest_positions_m.col(i);
   x += 2e-4 * Eigen::VectorXd::Random(x.size());
   const Eigen::VectorXd v = 1e-2 * Eigen::VectorXd::Random(x.size());
-  const int saved = omp_get_max_threads();
-  std::vector<double> reference_values;
-  Eigen::VectorXd reference_kv, reference_f;
-  for (int threads : {1, 2, 3, 7}) {
-    omp_set_num_threads(threads);
-    matrix.SetZero();
-    Eigen::VectorXd kv = Eigen::VectorXd::Zero(x.size()), f = Eigen::VectorXd::Zero(x.size());
+  testing::ExpectThreadsGiveTheOneThreadAssembly(matrix, int(x.size()), [&](Eigen::VectorXd& f, Eigen::VectorXd& kv, int) {
     JacobianSink sink{&matrix, 1e-6, 1e-3, &v, &kv};
     elastic.AddForce({x, v, 0.0, true}, f, &sink);
     nodal.AddForce({x, v, 0.0, true}, f, &sink);
-    std::vector<double> values(matrix.values(), matrix.values() + matrix.num_values());
-    if (threads == 1) {
-      reference_values = values, reference_kv = kv, reference_f = f;
-      continue;
-    }
-    double worst = 0, largest = 0;
-    for (size_t k = 0; k < values.size(); ++k)
-      worst = std::max(worst, std::abs(values[k] - reference_values[k])), largest = std::max(largest, std::abs(values[k]));
-    EXPECT_LT(worst, 1e-12 * largest) << threads << " threads";
-    EXPECT_LT((kv - reference_kv).norm(), 1e-12 * reference_kv.norm()) << threads << " threads";
-    EXPECT_LT((f - reference_f).norm(), 1e-12 * reference_f.norm()) << threads << " threads";
-  }
-  omp_set_num_threads(saved);
+  });
 }
 
 TEST(NodalPressureTetForce, ConsistentCorotationalStiffnessIsTheForceDerivative) {
