@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include "fem/box_mesh.h"
 #include "fem/mesh_topology.h"
 #include "fem/simulation.h"
@@ -14,6 +16,29 @@
 
 namespace sedbridge::fem {
 namespace {
+
+// A box of soft skin with the elements above z_split stiffer (a second material: patches are
+// per material).
+TetMesh TwoMaterialBox(const Eigen::Vector3d& size_m, const Eigen::Vector3i& cells, double z_split_m) {
+  TetMesh mesh = MakeBoxMesh(size_m, cells, testing::Skin(1e5, 0.48));
+  mesh.materials.push_back(testing::Skin(3e5, 0.45));
+  for (int t = 0; t < mesh.num_tets(); ++t) {
+    double zc = 0;
+    for (int n : mesh.tets[size_t(t)]) zc += mesh.rest_positions_m(2, n) / 4;
+    if (zc > z_split_m) mesh.tet_material[size_t(t)] = 1;
+  }
+  return mesh;
+}
+
+// The pattern both terms write, built and bound to both.
+void BuildAndBind(const TetMesh& mesh, ElasticTetForce& elastic, NodalPressureTetForce& nodal, SystemMatrix& matrix) {
+  std::vector<std::pair<int, int>> pairs;
+  elastic.AppendCoupledNodes(pairs);
+  nodal.AppendCoupledNodes(pairs);
+  matrix.Build(mesh.num_nodes(), pairs);
+  elastic.BindMatrix(matrix);
+  nodal.BindMatrix(matrix);
+}
 
 std::vector<int> AllNodes(const TetMesh& mesh) {
   std::vector<int> all(size_t(mesh.num_nodes()));
@@ -98,23 +123,12 @@ INSTANTIATE_TEST_SUITE_P(Formulations, NodalPressurePatch,
 
 // Linear FEM: the assembled K must be exactly -df/dx (checked along a random direction).
 TEST(NodalPressureTetForce, StiffnessIsTheForceDerivative) {
-  TetMesh mesh = MakeBoxMesh({0.004, 0.004, 0.006}, {3, 3, 4}, testing::Skin(1e5, 0.48));
   // Two materials: patches are per material.
-  mesh.materials.push_back(testing::Skin(3e5, 0.45));
-  for (int t = 0; t < mesh.num_tets(); ++t) {
-    double zc = 0;
-    for (int n : mesh.tets[size_t(t)]) zc += mesh.rest_positions_m(2, n) / 4;
-    if (zc > 0.003) mesh.tet_material[size_t(t)] = 1;
-  }
+  const TetMesh mesh = TwoMaterialBox({0.004, 0.004, 0.006}, {3, 3, 4}, 0.003);
   ElasticTetForce elastic(mesh, ElasticFormulation::kLinear, 0.0, true);
   NodalPressureTetForce nodal(elastic);
-  std::vector<std::pair<int, int>> pairs;
-  elastic.AppendCoupledNodes(pairs);
-  nodal.AppendCoupledNodes(pairs);
   SystemMatrix matrix;
-  matrix.Build(mesh.num_nodes(), pairs);
-  elastic.BindMatrix(matrix);
-  nodal.BindMatrix(matrix);
+  BuildAndBind(mesh, elastic, nodal, matrix);
   Eigen::VectorXd x(3 * mesh.num_nodes()), v = Eigen::VectorXd::Zero(3 * mesh.num_nodes());
   for (int i = 0; i < mesh.num_nodes(); ++i) x.segment<3>(3 * i) = mesh.rest_positions_m.col(i);
   const Eigen::VectorXd u = 1e-4 * Eigen::VectorXd::Random(x.size());
@@ -138,22 +152,11 @@ TEST(NodalPressureTetForce, StiffnessIsTheForceDerivative) {
 // force: 1, 2, 3 and 7 threads on a corotational, damped, two-material box of 6 x 5 x 8
 // cells (1440 elements, above the parallel threshold).
 TEST(NodalPressureTetForce, ThreadsGiveTheOneThreadMatrix) {
-  TetMesh mesh = MakeBoxMesh({0.006, 0.005, 0.008}, {6, 5, 8}, testing::Skin(1e5, 0.48));
-  mesh.materials.push_back(testing::Skin(3e5, 0.45));
-  for (int t = 0; t < mesh.num_tets(); ++t) {
-    double zc = 0;
-    for (int n : mesh.tets[size_t(t)]) zc += mesh.rest_positions_m(2, n) / 4;
-    if (zc > 0.004) mesh.tet_material[size_t(t)] = 1;
-  }
+  const TetMesh mesh = TwoMaterialBox({0.006, 0.005, 0.008}, {6, 5, 8}, 0.004);
   ElasticTetForce elastic(mesh, ElasticFormulation::kCorotational, 0.01, true);
   NodalPressureTetForce nodal(elastic, 0.01);
-  std::vector<std::pair<int, int>> pairs;
-  elastic.AppendCoupledNodes(pairs);
-  nodal.AppendCoupledNodes(pairs);
   SystemMatrix matrix;
-  matrix.Build(mesh.num_nodes(), pairs);
-  elastic.BindMatrix(matrix);
-  nodal.BindMatrix(matrix);
+  BuildAndBind(mesh, elastic, nodal, matrix);
   Eigen::VectorXd x(3 * mesh.num_nodes());
   for (int i = 0; i < mesh.num_nodes(); ++i) x.segment<3>(3 * i) = mesh.rest_positions_m.col(i);
   x += 2e-4 * Eigen::VectorXd::Random(x.size());
@@ -180,13 +183,8 @@ TEST(NodalPressureTetForce, ConsistentCorotationalStiffnessIsTheForceDerivative)
     ElasticTetForce elastic(mesh, ElasticFormulation::kCorotational, 0.0, true);
     elastic.set_corotational_tangent(tangent);
     NodalPressureTetForce nodal(elastic);
-    std::vector<std::pair<int, int>> pairs;
-    elastic.AppendCoupledNodes(pairs);
-    nodal.AppendCoupledNodes(pairs);
     SystemMatrix matrix;
-    matrix.Build(mesh.num_nodes(), pairs);
-    elastic.BindMatrix(matrix);
-    nodal.BindMatrix(matrix);
+    BuildAndBind(mesh, elastic, nodal, matrix);
     auto force = [&](const Eigen::VectorXd& at, JacobianSink* sink) {
       Eigen::VectorXd f = Eigen::VectorXd::Zero(at.size());
       for (int pass = 0; pass < 2; ++pass) {  // the second pass starts from converged rotations
