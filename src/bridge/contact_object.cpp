@@ -30,11 +30,14 @@ LeaderPress PressReconstructed(scene::FingertipCompliance& leader, const Contact
                                const scene::PressToForceOptions& options, const Eigen::Vector2d& tangential_N) {
   LeaderPress out;
   out.result = leader.PressToForce(ToRigidObjects(estimate), estimate.normal_force_N(), options, tangential_N);
-  const bool thin_shape = estimate.primitive.shape != sensors::ContactShape::kFlat;
-  ContactEstimate thicker = estimate;
-  for (int k = 0; k < kThickenTries && thin_shape; ++k) {
+  const auto slipped = [&] {
     const scene::PressStatus s = out.result.status;
-    if (s != scene::PressStatus::kNoContact && s != scene::PressStatus::kPatchEdge) break;
+    return estimate.primitive.shape != sensors::ContactShape::kFlat &&
+           (s == scene::PressStatus::kNoContact || s == scene::PressStatus::kPatchEdge);
+  };
+  if (!slipped()) return out;  // the bridge's every scan: no copy of the estimate
+  ContactEstimate thicker = estimate;
+  for (int k = 0; k < kThickenTries && slipped(); ++k) {
     const double pressed_mm = std::max(thicker.primitive.radius_mm, LeaderMinRadius_mm(thicker.primitive.shape));
     if (!(pressed_mm < kThickenBelow_mm)) break;
     thicker.primitive.radius_mm = kThickenFactor * pressed_mm;
