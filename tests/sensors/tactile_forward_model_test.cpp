@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include "tests/common/scratch_dir.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -281,6 +282,49 @@ namespace {
 // the patch depends on F and R only through its Hertz half-width (a^3 ~ F R, b^2 ~ F R / L)
 // and the normal part is F times a function of it. Checked by central differences on both
 // sides, tangential force included (it spreads over the same patch).
+// Each cell of a rod's patch carries the Hertz line-contact profile sqrt(1 - t^2) averaged
+// over the cell's width across the axis (t in units of the half-width b): checked against
+// the profile's antiderivative, (t sqrt(1 - t^2) + asin t) / 2, on every cell inside the pad,
+// whatever route (scalar or vector arcsine) the model takes to it.
+TEST(TactileForwardModel, RodPatchIsTheHertzProfileAveragedOverEachCell) {
+  const SensorProfile p = Uskin();
+  TactileForwardModel m(p, p.forward_model);
+  const double kPi = 3.14159265358979323846;
+  const double h = m.cell_size_mm(), half = 0.5 * m.params().pad_size_mm;
+  const double E_N_mm2 = m.params().contact_modulus_kPa * 1e-3;
+  auto antiderivative = [](double u) { return 0.5 * (u * std::sqrt(1 - u * u) + std::asin(u)); };
+  for (double yaw_deg : {0.0, 30.0, 70.0}) {
+    for (double radius_mm : {0.5, 1.5, 4.0}) {
+      ContactPrimitive c;
+      c.shape = ContactShape::kCylinder, c.radius_mm = radius_mm, c.yaw_deg = yaw_deg, c.normal_force_N = 0.8;
+      const double yaw = yaw_deg * kPi / 180, dx = std::cos(yaw), dy = std::sin(yaw);
+      const double L = 2 * half / std::max(std::abs(dx), std::abs(dy));  // through the centre
+      const double b = std::hypot(std::sqrt(4 * (c.normal_force_N / L) * radius_mm / (kPi * E_N_mm2)), h);
+      std::vector<SurfaceLoad> loads;
+      m.Patch(c, &loads);
+      ASSERT_GT(loads.size(), 20u);
+      std::vector<std::pair<double, double>> load_and_strip;  // cells inside the pad
+      for (const SurfaceLoad& l : loads) {
+        const Eigen::Vector2d x = m.CellCentre_mm(l.cell);
+        if (std::abs(x.x()) + 0.5 * h > half || std::abs(x.y()) + 0.5 * h > half) continue;  // the pad's edge
+        const double t = (-x.x() * dy + x.y() * dx) / b, t_half = 0.5 * h / b;
+        const double strip = antiderivative(std::min(1.0, t + t_half)) - antiderivative(std::max(-1.0, t - t_half));
+        ASSERT_GT(strip, 0) << "a loaded cell outside the contact strip";
+        load_and_strip.emplace_back(l.normal_N, strip);
+      }
+      const int inside = static_cast<int>(load_and_strip.size());
+      // Load per unit of the profile's integral, from the cell that carries the most (the
+      // antiderivative's difference loses digits on a sliver at the strip's edge).
+      const auto fullest = *std::max_element(load_and_strip.begin(), load_and_strip.end(),
+                                             [](const auto& a, const auto& z) { return a.second < z.second; });
+      const double scale = fullest.first / fullest.second;
+      for (const auto& [load, strip] : load_and_strip)
+        EXPECT_NEAR(load, scale * strip, 1e-13 * scale) << "yaw " << yaw_deg << ", R " << radius_mm << ", strip " << strip;
+      EXPECT_GT(inside, 20);
+    }
+  }
+}
+
 TEST(TactileForwardModel, ForceAndRadiusEnterThroughTheHertzWidthOnly) {
   const SensorProfile p = Uskin();
   TactileForwardModel m(p, p.forward_model);
