@@ -110,10 +110,11 @@ void ReconstructPressJacobian(benchmark::State& state) {
   options.jacobian_refresh = static_cast<int>(state.range(1));
   RunPress(state, Rig()[static_cast<size_t>(state.range(0))], options);
 }
-// press_03: 5 mm sphere, press_14: 2.5 mm rod, press_17: flat, press_19: a stroke.
+// press_03: 5 mm sphere, press_14: 2.5 mm rod, press_17: flat, press_19: a stroke,
+// press_09: a 15 mm sphere (its ramp's rod candidate asked for 400 mm rods: the max_ms row).
 BENCHMARK(ReconstructPress)
     ->ArgNames({"press", "models", "force_step"})
-    ->ArgsProduct({{3, 14, 17, 19}, {0, 3}, {0, 1}})
+    ->ArgsProduct({{3, 9, 14, 17, 19}, {0, 3}, {0, 1}})
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(ReconstructPressExplainedBudget)
     ->ArgNames({"press", "budget"})
