@@ -55,14 +55,14 @@ std::string ContactFeStep::CountersLine() const {
                 "contact: %lld scans pressed on the leader (%lld reusing the last press; %lld fits of two contacts), "
                 "%lld no contact, "
                 "%lld fit fallbacks, %lld press fallbacks "
-                "(pressure map), %lld pressed thicker (too thin for the leader); %lld presses by one force-controlled solve, %lld contact solves; "
+                "(pressure map; %lld not tried again), %lld pressed thicker (too thin for the leader); %lld presses by one force-controlled solve, %lld contact solves; "
                 "%lld of %lld fits warm-started, %lld forward-model "
                 "evaluations; reconstruction median %.3f / p99 %.3f ms, "
                 "leader press median %.3f / p99 %.3f ms; CPU per scan median %.3f / p99 %.3f ms",
                 static_cast<long long>(counters_.pressed), static_cast<long long>(counters_.press_reused),
                 static_cast<long long>(r.two_contacts), static_cast<long long>(counters_.no_contact),
                 static_cast<long long>(counters_.fit_fallbacks), static_cast<long long>(counters_.press_fallbacks),
-                static_cast<long long>(counters_.press_thickened), static_cast<long long>(counters_.force_controlled), static_cast<long long>(counters_.press_solves),
+                static_cast<long long>(counters_.press_known_unreachable), static_cast<long long>(counters_.press_thickened), static_cast<long long>(counters_.force_controlled), static_cast<long long>(counters_.press_solves),
                 static_cast<long long>(r.warm_fits), static_cast<long long>(r.fits),
                 static_cast<long long>(r.evaluations), rt.p50_ms, rt.p99_ms, pt.p50_ms,
                 pt.p99_ms, ct.p50_ms, ct.p99_ms);
@@ -105,11 +105,28 @@ const MerkelSedResult& ContactFeStep::Fallback(const TaxelValues& values, const 
   return result_;
 }
 
+namespace {
+// The same pose to 5 um, 0.2 % in radius and length, 0.05 deg in yaw (any flat is the flat).
+bool SamePose(const sensors::ContactPrimitive& a, const sensors::ContactPrimitive& b) {
+  if (a.shape != b.shape) return false;
+  if (a.shape == sensors::ContactShape::kFlat) return true;
+  if ((a.length_mm > 0) != (b.length_mm > 0)) return false;
+  if (a.length_mm > 0 && !(std::abs(std::log(a.length_mm / b.length_mm)) <= 2e-3)) return false;
+  return std::abs(a.x_mm - b.x_mm) <= 5e-3 && std::abs(a.y_mm - b.y_mm) <= 5e-3 &&
+         std::abs(std::log(a.radius_mm / b.radius_mm)) <= 2e-3 &&
+         std::abs(std::remainder(a.yaw_deg - b.yaw_deg, 180.0)) <= 0.05;
+}
+
+bool SamePoses(const ContactEstimate& a, const ContactEstimate& b) {
+  // A pair shares its force between the spheres by where they sit (the leader's mechanics):
+  // the same pose of both presses the same.
+  return a.two_contacts == b.two_contacts && SamePose(a.primitive, b.primitive) &&
+         (!a.two_contacts || SamePose(a.second, b.second));
+}
+}  // namespace
+
 bool ContactFeStep::SameAsLastPress(const ContactEstimate& e) const {
   const ContactEstimate& last = last_pressed_;
-  if (e.two_contacts != last.two_contacts) return false;
-  const sensors::ContactPrimitive& p = e.primitive;
-  const sensors::ContactPrimitive& q = last.primitive;
   // Half the press's own force tolerance (the last answer is within the tolerance of its
   // target), 5 um, 0.2 % in radius, 0.05 deg: the reused SED stays within 3e-3 (L2) of a
   // fresh press (test HoldScansReuseTheLastPressWithTheSameAnswer), about the press's own
@@ -117,20 +134,24 @@ bool ContactFeStep::SameAsLastPress(const ContactEstimate& e) const {
   const double force_tol_N = 0.5 * press_options_.relative_tolerance * last.normal_force_N();
   // The tangential load the leader was pressed with, not the raw estimate.
   const Eigen::Vector2d dt = LeaderTangentialLoad_N(e) - LeaderTangentialLoad_N(last);
-  if (p.shape != q.shape || !(std::abs(e.normal_force_N() - last.normal_force_N()) <= force_tol_N) ||
-      !(std::abs(dt.x()) <= force_tol_N) || !(std::abs(dt.y()) <= force_tol_N))
+  if (!(std::abs(e.normal_force_N() - last.normal_force_N()) <= force_tol_N) || !(std::abs(dt.x()) <= force_tol_N) ||
+      !(std::abs(dt.y()) <= force_tol_N))
     return false;
-  auto same_pose = [](const sensors::ContactPrimitive& a, const sensors::ContactPrimitive& b) {
-    if (a.shape == sensors::ContactShape::kFlat) return true;
-    if ((a.length_mm > 0) != (b.length_mm > 0)) return false;
-    if (a.length_mm > 0 && !(std::abs(std::log(a.length_mm / b.length_mm)) <= 2e-3)) return false;
-    return std::abs(a.x_mm - b.x_mm) <= 5e-3 && std::abs(a.y_mm - b.y_mm) <= 5e-3 &&
-           std::abs(std::log(a.radius_mm / b.radius_mm)) <= 2e-3 &&
-           std::abs(std::remainder(a.yaw_deg - b.yaw_deg, 180.0)) <= 0.05;
-  };
-  // A pair shares its force between the spheres by where they sit (the leader's mechanics):
-  // the same pose of both and the same total press the same.
-  return same_pose(p, q) && (!e.two_contacts || same_pose(e.second, last.second));
+  return SamePoses(e, last);
+}
+
+bool ContactFeStep::KnownUnreachable(const ContactEstimate& e) const {
+  if (!have_unreachable_ || !SamePoses(e, last_unreachable_)) return false;
+  switch (last_unreachable_status_) {
+    // Nothing touches the leader where the object is: at any force.
+    case scene::PressStatus::kNoContact: return true;
+    // The press ran into the patch's edge or the maximum depth below its force: a force no
+    // lower needs an indentation no smaller, which runs into them too. (The tangential load
+    // is not compared: the edge and the depth are reached by the normal indentation.)
+    case scene::PressStatus::kPatchEdge:
+    case scene::PressStatus::kMaxDepth: return e.normal_force_N() >= last_unreachable_.normal_force_N();
+    default: return false;
+  }
 }
 
 const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
@@ -175,6 +196,7 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
                           estimate_.normal_force_N() < 0.1 * reconstructor_->options().min_force_N;
   if (estimate_.ok && (!estimate_.contact || negligible)) {
     ++counters_.no_contact;
+    have_unreachable_ = false;
     leader_->ResetWarmStart();
     result_ = MerkelSedResult{};
     result_.ok = true;
@@ -203,6 +225,15 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
     result_.report.stage_ms = times;
     return result_;
   }
+  if (skip_known_unreachable_ && KnownUnreachable(estimate_)) {
+    ++counters_.press_fallbacks;
+    ++counters_.press_known_unreachable;
+    estimate_.ok = false;
+    estimate_.problem = last_unreachable_problem_ + " (not pressed again: the same object, no less force)";
+    FillMessage(values, true, 0);
+    last_ = LastStep::kFallback;
+    return Fallback(values, times);
+  }
   StageTimer press_timer(times, Stage::kPress);
   const LeaderPress pressed = PressReconstructed(*leader_, estimate_, press_options_, LeaderTangentialLoad_N(estimate_));
   const scene::PressToForceResult& press = pressed.result;
@@ -211,10 +242,19 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
   press_time_.AddMs(times[Stage::kPress]);
   counters_.press_solves += press.iterations;
   if (press.force_controlled) ++counters_.force_controlled;
+  have_unreachable_ = false;
   if (!PressAnswered(press, *leader_)) {
     ++counters_.press_fallbacks;
+    const bool unreachable = press.status == scene::PressStatus::kNoContact ||
+                             press.status == scene::PressStatus::kPatchEdge || press.status == scene::PressStatus::kMaxDepth;
+    if (unreachable) {
+      have_unreachable_ = true;
+      last_unreachable_ = estimate_;
+      last_unreachable_status_ = press.status;
+    }
     estimate_.ok = false;
     estimate_.problem = std::string("leader press: ") + scene::ToString(press.status) + ": " + press.message;
+    if (unreachable) last_unreachable_problem_ = estimate_.problem;
     FillMessage(values, true, 0);
     last_ = LastStep::kFallback;
     return Fallback(values, times);

@@ -162,6 +162,48 @@ TEST(ContactFeStep, HoldScansReuseTheLastPressWithTheSameAnswer) {
   }
 }
 
+// The rig's pad-corner sphere (press_11) is beyond what the leader's pad can take: its
+// presses end at the patch's edge or touch nothing. A scan whose object stays where such a
+// press left it, at no less force, falls back without pressing again, with the same answer
+// (the pressure map) as pressing every scan, and the same counts.
+TEST(ContactFeStep, APressThatCannotReachItsForceIsNotTriedAgainForTheSameObject) {
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
+  const auto presses = sensors::LoadCalibrationPresses(
+      config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), profile);
+  const BridgeConfig config = ContactConfig();
+  const PadRegistration registration(profile.taxels, config.registration);
+  const auto& press = presses[11];
+  auto skipping = MakeContactStep(config, profile, registration), pressing = MakeContactStep(config, profile, registration);
+  skipping->set_reuse_press(false);
+  pressing->set_reuse_press(false);
+  pressing->set_skip_known_unreachable(false);
+  ScanConditioner conditioner(profile, registration, config.conditioning);
+  TaxelValues values;
+  int skipped_with_a_problem = 0;
+  for (size_t k = 0; k < press.scans.size(); ++k) {
+    ASSERT_TRUE(conditioner.Condition(press.scans[k], &values).usable);
+    const int64_t before = skipping->counters().press_known_unreachable;
+    const Eigen::VectorXd a = *skipping->Step(values).sed_Pa;
+    const Eigen::VectorXd b = *pressing->Step(values).sed_Pa;
+    ASSERT_EQ(a.size(), b.size());
+    EXPECT_EQ(a, b) << "scan " << k;
+    if (skipping->counters().press_known_unreachable > before) {
+      EXPECT_FALSE(skipping->last_estimate().ok);
+      if (skipping->last_estimate().problem.find("not pressed again") != std::string::npos) ++skipped_with_a_problem;
+    }
+  }
+  const ContactStepCounters& s = skipping->counters();
+  const ContactStepCounters& p = pressing->counters();
+  EXPECT_EQ(s.press_fallbacks, p.press_fallbacks);
+  EXPECT_EQ(s.pressed, p.pressed);
+  EXPECT_EQ(p.press_known_unreachable, 0);
+  // Measured on B_coarse: 63 of 141 fallbacks not pressed again (the fit's pose moves
+  // between the force steps' runs of scans).
+  EXPECT_GT(p.press_fallbacks, 50);
+  EXPECT_GT(3 * s.press_known_unreachable, p.press_fallbacks);
+  EXPECT_EQ(skipped_with_a_problem, s.press_known_unreachable);
+}
+
 // Two spheres at once (the synthetic set's two_spheres on the simulated sensor) through the
 // step: the estimate is a pair, both spheres are pressed on the leader together to the
 // measured total, CONTACT_ESTIMATE says shape 4 with the second sphere, and a hold reuses the
