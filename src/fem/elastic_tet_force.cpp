@@ -10,7 +10,17 @@
 #include "fem/rotation_extraction.h"
 
 namespace sedbridge::fem {
+
 namespace {
+// An element's rotation off by d rad turns its force by ~d (relative; R is the force's
+// prefactor, and the strain in the rotated frame moves by d times the strain only). Newton
+// leaves ~theta^2 after a step of theta (rotation_extraction.h), so stopping after a step
+// below 1e-4 rad leaves ~1e-8: under the linear solves' own tolerances, and in a dynamic
+// step (rotations change by ~1e-5 rad a millisecond) one polar step an element instead of
+// a second that only confirms it.
+constexpr double kElementLastNewtonStep_rad = 1e-4;
+// The node rotations only warp the preconditioner's rest factor: 1e-3 rad (~1e-6 left).
+constexpr double kNodeLastNewtonStep_rad = 1e-3;
 
 // Tets below which the linear path's inversion check runs on one thread [elements]: the check
 // is a few flops a tet, so forking a team costs more than it saves until the mesh is large.
@@ -230,7 +240,7 @@ int ElasticTetForce::AccumulateElement(int t, const SystemState& state, bool for
     F = DeformationGradient(e, x0, state.x_m.segment<3>(3 * n[1]),
                                                   state.x_m.segment<3>(3 * n[2]), state.x_m.segment<3>(3 * n[3]));
     if (F.determinant() <= 0) inverted = 1;
-    R = ExtractRotation(F, quaternions_[size_t(t)]);
+    R = ExtractRotation(F, quaternions_[size_t(t)], 20, kElementLastNewtonStep_rad);
     rotations_[size_t(t)] = R;
     if (force) {
       // Stress form of f = -R K0 (R^T x - X): f_a = -V R sigma(eps) g_a with
@@ -334,7 +344,7 @@ void ElasticTetForce::ComputeNodeRotations(std::vector<Eigen::Matrix3d>& node_ro
   for (int i = 0; i < int(node_elements_.size()); ++i) {
     Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
     for (int t : node_elements_[size_t(i)]) sum += rotations_[size_t(t)];
-    node_rotations[size_t(i)] = ExtractRotation(sum, node_quaternions_[size_t(i)]);
+    node_rotations[size_t(i)] = ExtractRotation(sum, node_quaternions_[size_t(i)], 20, kNodeLastNewtonStep_rad);
   }
 }
 
