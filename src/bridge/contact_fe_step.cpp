@@ -246,7 +246,8 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
   if (!PressAnswered(press, *leader_)) {
     ++counters_.press_fallbacks;
     const bool unreachable = press.status == scene::PressStatus::kNoContact ||
-                             press.status == scene::PressStatus::kPatchEdge || press.status == scene::PressStatus::kMaxDepth;
+                             press.status == scene::PressStatus::kPatchEdge ||
+                             press.status == scene::PressStatus::kMaxDepth;
     if (unreachable) {
       have_unreachable_ = true;
       last_unreachable_ = estimate_;

@@ -43,6 +43,15 @@ std::unique_ptr<ContactFeStep> MakeContactStep(const BridgeConfig& config, const
                                          LeaderComplianceOptions(""));
 }
 
+// The uskin_4x4 profile and its calibration-rig presses, in the step's bridge config.
+struct RigSetup {
+  sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
+  std::vector<sensors::CalibrationPress> presses =
+      sensors::LoadCalibrationPresses(config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), profile);
+  BridgeConfig config = ContactConfig();
+  PadRegistration registration{profile.taxels, config.registration};
+};
+
 // fe.contact_tolerance reaches the leader press the bridge builds (MakeFeStep).
 TEST(ContactFeStep, ContactToleranceKeyReachesTheLeaderPress) {
   BridgeConfig config = ContactConfig();
@@ -93,17 +102,14 @@ TEST(ContactFeStep, ExampleLogPublishesContactEstimates) {
 }
 
 TEST(ContactFeStep, RigSphereFarSharperThanThePressureMap) {
-  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
-  const auto presses = sensors::LoadCalibrationPresses(
-      config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), profile);
-  const auto& press = presses[3];  // sphere R 5 mm, centred, 0.8 N
-  const BridgeConfig config = ContactConfig();
-  const PadRegistration registration(profile.taxels, config.registration);
-  auto map = std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, "fast"), profile,
-                                                   registration, config.traction);
-  ReducedLinearFeStep map_only(BridgeSceneDescription(config.model, "fast"), profile, registration, config.traction);
-  ContactFeStep step(config.model, profile, registration, std::move(map), LeaderComplianceOptions(""));
-  ScanConditioner conditioner(profile, registration, config.conditioning);
+  const RigSetup rig;
+  const auto& press = rig.presses[3];  // sphere R 5 mm, centred, 0.8 N
+  auto map = std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(rig.config.model, "fast"), rig.profile,
+                                                   rig.registration, rig.config.traction);
+  ReducedLinearFeStep map_only(BridgeSceneDescription(rig.config.model, "fast"), rig.profile, rig.registration,
+                               rig.config.traction);
+  ContactFeStep step(rig.config.model, rig.profile, rig.registration, std::move(map), LeaderComplianceOptions(""));
+  ScanConditioner conditioner(rig.profile, rig.registration, rig.config.conditioning);
   TaxelValues values;
   double contact_max = 0, map_max = 0;
   for (size_t i = 0; i < press.scans.size(); ++i) {
@@ -130,17 +136,13 @@ TEST(ContactFeStep, RigSphereFarSharperThanThePressureMap) {
 // step reuses its last press: same SED as solving every scan (within the press's 1e-3 force
 // tolerance), 4-25 % of the contact scans without a contact solve.
 TEST(ContactFeStep, HoldScansReuseTheLastPressWithTheSameAnswer) {
-  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
-  const auto presses = sensors::LoadCalibrationPresses(
-      config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), profile);
-  const BridgeConfig config = ContactConfig();
-  const PadRegistration registration(profile.taxels, config.registration);
-  auto make = [&] { return MakeContactStep(config, profile, registration); };
+  const RigSetup rig;
+  auto make = [&] { return MakeContactStep(rig.config, rig.profile, rig.registration); };
   for (int i : {3, 14, 17}) {  // sphere 5 mm, rod 2.5 mm, flat
-    const auto& press = presses[size_t(i)];
+    const auto& press = rig.presses[size_t(i)];
     auto reusing = make(), solving = make();
     solving->set_reuse_press(false);
-    ScanConditioner conditioner(profile, registration, config.conditioning);
+    ScanConditioner conditioner(rig.profile, rig.registration, rig.config.conditioning);
     TaxelValues values;
     for (size_t k = 0; k < press.scans.size(); ++k) {
       ASSERT_TRUE(conditioner.Condition(press.scans[k], &values).usable);
@@ -167,17 +169,14 @@ TEST(ContactFeStep, HoldScansReuseTheLastPressWithTheSameAnswer) {
 // press left it, at no less force, falls back without pressing again, with the same answer
 // (the pressure map) as pressing every scan, and the same counts.
 TEST(ContactFeStep, APressThatCannotReachItsForceIsNotTriedAgainForTheSameObject) {
-  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
-  const auto presses = sensors::LoadCalibrationPresses(
-      config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), profile);
-  const BridgeConfig config = ContactConfig();
-  const PadRegistration registration(profile.taxels, config.registration);
-  const auto& press = presses[11];
-  auto skipping = MakeContactStep(config, profile, registration), pressing = MakeContactStep(config, profile, registration);
+  const RigSetup rig;
+  const auto& press = rig.presses[11];
+  auto skipping = MakeContactStep(rig.config, rig.profile, rig.registration);
+  auto pressing = MakeContactStep(rig.config, rig.profile, rig.registration);
   skipping->set_reuse_press(false);
   pressing->set_reuse_press(false);
   pressing->set_skip_known_unreachable(false);
-  ScanConditioner conditioner(profile, registration, config.conditioning);
+  ScanConditioner conditioner(rig.profile, rig.registration, rig.config.conditioning);
   TaxelValues values;
   int skipped_with_a_problem = 0;
   for (size_t k = 0; k < press.scans.size(); ++k) {
