@@ -1,4 +1,5 @@
-// The elastic term: its parallel assembly (by slabs, fem/slab_partition.h) against one thread, and its warm-started element rotations against converged ones.
+// The elastic term: its parallel assembly (by slabs, fem/slab_partition.h) against one
+// thread, and its warm-started element rotations against converged ones.
 #include "fem/elastic_tet_force.h"
 
 #include <gtest/gtest.h>
