@@ -10,7 +10,6 @@
 #include "fem/rotation_extraction.h"
 
 namespace sedbridge::fem {
-
 namespace {
 // An element's rotation off by d rad turns its force by ~d (relative; R is the force's
 // prefactor, and the strain in the rotated frame moves by d times the strain only). Newton

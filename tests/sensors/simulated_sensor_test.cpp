@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <initializer_list>
 
 #include "common/config_error.h"
 #include "common/resource_path.h"
@@ -22,6 +23,20 @@ geometry::RigidObject Parse(const std::string& list_yaml) {
   auto doc = config::LoadYamlString("objects:\n" + list_yaml, "objects.yaml");
   config::MapReader owner(doc.root, doc.file);
   return geometry::ParseRigidObjects(owner, "objects").at(0);
+}
+
+// A scene file `name` with `yaml` must be refused with a ConfigError that mentions each of
+// `mentions` (the key, the file:line); `what` says what would have been accepted.
+void ExpectSceneRefused(const std::string& name, const std::string& yaml, const std::string& what,
+                        std::initializer_list<const char*> mentions) {
+  const std::string path = sedbridge::testing::ScratchDir() + "/" + name;
+  std::ofstream(path) << yaml;
+  try {
+    LoadSimulatedSensorScene(path);
+    FAIL() << what << " accepted";
+  } catch (const config::ConfigError& e) {
+    for (const char* m : mentions) EXPECT_NE(std::string(e.what()).find(m), std::string::npos) << e.what();
+  }
 }
 
 // A flat plate 0.5 mm into the pad everywhere: every taxel reads E_eff * d / h.
@@ -229,21 +244,9 @@ TEST(SimulatedSensorTest, ShippedScenesLoadAndUnknownKeysAreErrors) {
     EXPECT_FALSE(c.objects.empty()) << scene;
     EXPECT_GT(SimulatedSensor(c).scan_count(), 10) << scene;
   }
-  const std::string path = sedbridge::testing::ScratchDir() + "/bad_sensor_scene.yaml";
-  std::ofstream(path) << "sensor:\n  profile: cyskin_16\n  pad: {thicknes_mm: 2}\nobjects: []\n";
-  try {
-    LoadSimulatedSensorScene(path);
-    FAIL() << "typo accepted";
-  } catch (const config::ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("thicknes_mm"), std::string::npos) << e.what();
-  }
+  ExpectSceneRefused("bad_sensor_scene.yaml", "sensor:\n  profile: cyskin_16\n  pad: {thicknes_mm: 2}\nobjects: []\n",
+                     "a typo", {"thicknes_mm"});
 }
-
-}  // namespace
-}  // namespace sedbridge::sensors
-
-namespace sedbridge::sensors {
-namespace {
 
 // `pad: {model: layer}` from a scene file: the rig's elastomer keys, a sphere pressing, and
 // a profile without a forward_model refused naming the key.
@@ -259,30 +262,13 @@ TEST(SimulatedSensorScene, LayerPadLoadsAndPresses) {
   EXPECT_GT(sim.TotalLoad_N(0).z(), 0.1);
   const TaxelTractions t = sim.Evaluate(0);
   EXPECT_GT(*std::max_element(t.pressure_Pa.begin(), t.pressure_Pa.end()), 0.0);
-  const std::string bare = sedbridge::testing::ScratchDir() + "/layer_scene_bare.yaml";
-  std::ofstream(bare) << "sensor:\n  profile: cyskin_16\n  pad: {model: layer}\nobjects: []\n";
-  try {
-    LoadSimulatedSensorScene(bare);
-    FAIL() << "a layer pad without a forward model was accepted";
-  } catch (const config::ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("model: layer"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find(":3:"), std::string::npos) << e.what();
-  }
+  ExpectSceneRefused("layer_scene_bare.yaml", "sensor:\n  profile: cyskin_16\n  pad: {model: layer}\nobjects: []\n",
+                     "a layer pad without a forward model", {"model: layer", ":3:"});
 }
 
 TEST(SimulatedSensorScene, DurationIsBounded) {
-  const std::string path = sedbridge::testing::ScratchDir() + "/long_scene.yaml";
-  {
-    std::ofstream f(path);
-    f << "sensor: {profile: uskin_4x4, duration_s: 2.0e9}\nobjects: []\n";
-  }
-  try {
-    LoadSimulatedSensorScene(path);
-    FAIL() << "a 2e9 s scene was accepted";
-  } catch (const config::ConfigError& e) {
-    EXPECT_NE(std::string(e.what()).find("duration_s"), std::string::npos) << e.what();
-    EXPECT_NE(std::string(e.what()).find(":1:"), std::string::npos) << e.what();
-  }
+  ExpectSceneRefused("long_scene.yaml", "sensor: {profile: uskin_4x4, duration_s: 2.0e9}\nobjects: []\n",
+                     "a 2e9 s scene", {"duration_s", ":1:"});
 }
 
 }  // namespace
