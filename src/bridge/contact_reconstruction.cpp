@@ -252,21 +252,11 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
     int inputs() const { return UnknownCount(shape, pair, finite, shear); }
     int prior_rows() const { return prior_weight > 0 ? (pair ? 2 : 1) : 0; }
     int values() const { return static_cast<int>(self->obs_.size()) + prior_rows(); }
-    // The shape the forward model evaluates: a radius outside the plausible range is read
-    // at its bound (the answer is clamped there too, and a candidate that stays there is
-    // given up). An LM trial step of a rod candidate asked for 400 mm (the unknowns' own
-    // clamp), whose patch covers the pad: 5200-5700 cells, 0.45-1.0 ms for one evaluation,
-    // against 2200-2400 cells and about 0.2 ms at the 60 mm bound (rig press_09's ramp).
-    ContactPrimitive Evaluated(ContactPrimitive c) const {
-      if (c.shape != ContactShape::kFlat)
-        c.radius_mm = std::clamp(c.radius_mm, std::exp(self->log_r_lo_), std::exp(self->log_r_hi_));
-      return c;
-    }
     void EvaluateSphere(int s, const Eigen::VectorXd& u) const {
       ++*evaluations;
       int cells = 0;
       Part& p = parts[s];
-      const ContactPrimitive c = Evaluated(ShapeFromUnknowns(ContactShape::kSphere, false, u.data() + s * kSphereUnknowns));
+      const ContactPrimitive c = ShapeFromUnknowns(ContactShape::kSphere, false, u.data() + s * kSphereUnknowns);
       self->model_.PredictLinearInShear(c, &p.normal, &p.per_x, &p.per_y, &cells);
       p.force_N = c.normal_force_N;
       *budget_used += std::max(1, cells / std::max(1, self->options_.cells_per_evaluation));
@@ -285,8 +275,7 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
       } else {
         ++*evaluations;
         int cells = 0;
-        self->model_.PredictLinearInShear(Evaluated(ShapeFromUnknowns(shape, finite, u.data())), &normal, &per_x, &per_y,
-                                          &cells);
+        self->model_.PredictLinearInShear(ShapeFromUnknowns(shape, finite, u.data()), &normal, &per_x, &per_y, &cells);
         *budget_used += std::max(1, cells / std::max(1, self->options_.cells_per_evaluation));
       }
       at = u;
