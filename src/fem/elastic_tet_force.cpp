@@ -1,6 +1,7 @@
 #include "fem/elastic_tet_force.h"
 
 #include <Eigen/Dense>
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdint>
@@ -127,6 +128,7 @@ void ElasticTetForce::AddForce(const SystemState& state, Eigen::VectorXd& force_
   if (sink && slots_.empty()) throw std::logic_error("ElasticTetForce: BindMatrix not called");
   const bool corotational = formulation_ == ElasticFormulation::kCorotational;
   const bool damping = state.dynamic && beta_s_ > 0;
+  last_dynamic_ = state.dynamic;
 
   if (!corotational) {
     // f = -K0 (x - X) - beta K0 v
@@ -295,14 +297,7 @@ int ElasticTetForce::AccumulateElement(int t, const SystemState& state, bool for
     // strain of the velocity in the element's rotated frame (16 block products otherwise);
     // each twist's rank-one part adds sign t_a (t . v).
     const Eigen::VectorXd& v = *sink->velocity;
-    const Eigen::Vector3d v0 = v.segment<3>(3 * n[0]);
-    Eigen::Matrix3d dv;
-    dv << v.segment<3>(3 * n[1]) - v0, v.segment<3>(3 * n[2]) - v0, v.segment<3>(3 * n[3]) - v0;
-    const Eigen::Matrix3d L = R.transpose() * dv * e.rest_inverse;
-    Eigen::Matrix3d sigma = e.mu_Pa * (L + L.transpose());
-    sigma.diagonal().array() += e.lambda_Pa * L.trace();
-    const Eigen::Matrix3d P = e.volume_m3 * (R * sigma);
-    for (int a = 0; a < 4; ++a) k_times_v->segment<3>(3 * n[size_t(a)]) += P * e.shape_gradients.row(a).transpose();
+    AddElementStiffnessTimes(t, R, 1.0, v, *k_times_v);
     for (int k = 0; k < twists; ++k) {
       double tv = 0;
       for (int b = 0; b < 4; ++b) tv += twist[size_t(k)][size_t(b)].dot(v.segment<3>(3 * n[size_t(b)]));
@@ -310,6 +305,72 @@ int ElasticTetForce::AccumulateElement(int t, const SystemState& state, bool for
     }
   }
   return inverted;
+}
+
+void ElasticTetForce::AddElementStiffnessTimes(int t, const Eigen::Matrix3d& R, double scale, const Eigen::VectorXd& v,
+                                               Eigen::VectorXd& out) const {
+  const TetElement& e = elements_[size_t(t)];
+  const Tet& n = mesh_.tets[size_t(t)];
+  const Eigen::Vector3d v0 = v.segment<3>(3 * n[0]);
+  Eigen::Matrix3d dv;
+  dv << v.segment<3>(3 * n[1]) - v0, v.segment<3>(3 * n[2]) - v0, v.segment<3>(3 * n[3]) - v0;
+  const Eigen::Matrix3d L = R.transpose() * dv * e.rest_inverse;
+  Eigen::Matrix3d sigma = e.mu_Pa * (L + L.transpose());
+  sigma.diagonal().array() += e.lambda_Pa * L.trace();
+  const Eigen::Matrix3d P = (scale * e.volume_m3) * (R * sigma);
+  for (int a = 0; a < 4; ++a) out.segment<3>(3 * n[size_t(a)]) += P * e.shape_gradients.row(a).transpose();
+}
+
+bool ElasticTetForce::AppliesJacobian() const {
+  return formulation_ == ElasticFormulation::kLinear || tangent_ == CorotationalTangent::kWarped || definite_;
+}
+
+void ElasticTetForce::AddJacobianTimes(double stiffness_scale, double damping_scale, const Eigen::VectorXd& v,
+                                       Eigen::VectorXd& out) {
+  const double scale = stiffness_scale + (last_dynamic_ && beta_s_ > 0 ? beta_s_ * damping_scale : 0.0);
+  if (scale == 0) return;
+  if (formulation_ == ElasticFormulation::kLinear) {
+    rest_stiffness_.Multiply(v, product_);
+    out += scale * product_;
+    return;
+  }
+  const int threads = omp_get_max_threads();
+  if (threads == 1 || elements_.size() < kParallelAssemblyMinTets) {
+    for (int t = 0; t < int(elements_.size()); ++t) AddElementStiffnessTimes(t, rotations_[size_t(t)], scale, v, out);
+    return;
+  }
+  // Per-thread partial sums, as AddForce's: one reduction, no per-element synchronisation.
+  thread_product_.resize(size_t(threads));
+  const int dofs = int(out.size());
+#pragma omp parallel
+  {
+    const int tid = omp_get_thread_num();
+    Eigen::VectorXd* y = &out;
+    if (tid > 0) {
+      thread_product_[size_t(tid)].setZero(dofs);
+      y = &thread_product_[size_t(tid)];
+    }
+#pragma omp for schedule(static)
+    for (int t = 0; t < int(elements_.size()); ++t) AddElementStiffnessTimes(t, rotations_[size_t(t)], scale, v, *y);
+    const int active = omp_get_num_threads();
+#pragma omp for schedule(static)
+    for (int k = 0; k < dofs; ++k)
+      for (int p = 1; p < active; ++p) out[k] += thread_product_[size_t(p)][k];
+  }
+}
+
+Eigen::Matrix3d ElasticTetForce::JacobianDiagonalBlock(int node, double stiffness_scale, double damping_scale) const {
+  const double scale = stiffness_scale + (last_dynamic_ && beta_s_ > 0 ? beta_s_ * damping_scale : 0.0);
+  Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
+  for (int t : node_elements_[size_t(node)]) {
+    const Tet& n = mesh_.tets[size_t(t)];
+    const int a = int(std::find(n.begin(), n.end(), node) - n.begin());
+    const TetElement& e = elements_[size_t(t)];
+    const Eigen::Vector3d g = e.shape_gradients.row(a).transpose();
+    const Eigen::Vector3d h = rotations_[size_t(t)] * g;
+    sum += StiffnessBlock(e, h, h, g.dot(g));
+  }
+  return scale * sum;
 }
 
 bool ElasticTetForce::UseDefiniteJacobian(bool definite) {

@@ -64,6 +64,14 @@ class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
   bool JacobianIsConstant() const override { return formulation_ == ElasticFormulation::kLinear; }
   double PotentialEnergy(const SystemState& state) const override;
   bool UseDefiniteJacobian(bool definite) override;
+  /// Linear, or corotational with the warped tangent (R K0 R^T): the consistent tangent's
+  /// twist terms are assembled.
+  bool AppliesJacobian() const override;
+  /// (stiffness_scale + damping_scale beta) R K0 R^T v, element by element in stress form
+  /// (the rotations of the last AddForce; beta only if that state was dynamic).
+  void AddJacobianTimes(double stiffness_scale, double damping_scale, const Eigen::VectorXd& v,
+                        Eigen::VectorXd& out) override;
+  Eigen::Matrix3d JacobianDiagonalBlock(int node, double stiffness_scale, double damping_scale) const override;
 
   /// Rotation of each element at the last AddForce (identity for linear FEM).
   const std::vector<Eigen::Matrix3d>& rotations() const { return rotations_; }
@@ -100,6 +108,12 @@ class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
   /// out like sink's matrix). Returns 1 if the element is inverted.
   int AccumulateElement(int t, const SystemState& state, bool force, Eigen::VectorXd& force_N, JacobianSink* sink,
                         double* values, Eigen::VectorXd* k_times_v);
+  /// out += scale R K0 R^T v over element t's nodes, in stress form.
+  void AddElementStiffnessTimes(int t, const Eigen::Matrix3d& R, double scale, const Eigen::VectorXd& v,
+                                Eigen::VectorXd& out) const;
+  bool last_dynamic_ = false;  // the last AddForce's state was dynamic (its damping applies)
+  std::vector<Eigen::VectorXd> thread_product_;  // AddJacobianTimes' per-thread partial sums
+  Eigen::VectorXd product_;
   // Threads > 1: per-thread partial sums (thread 0 writes the real buffers), reduced once.
   std::vector<std::vector<double>> thread_values_;
   std::vector<Eigen::VectorXd> thread_force_, thread_k_times_v_;

@@ -60,6 +60,19 @@ class ForceTerm {
   /// non-null, its Jacobian blocks.
   virtual void AddForce(const SystemState& state, Eigen::VectorXd& force_N, JacobianSink* sink) = 0;
 
+  /// Matrix-free steps (fem/step_operator.h): true when this term can apply the Jacobian
+  /// of its last AddForce to a vector (AddJacobianTimes, JacobianDiagonalBlock), so that its
+  /// blocks need not be assembled. Asked before each assembly (it may depend on the tangent).
+  virtual bool AppliesJacobian() const { return false; }
+  /// out += (stiffness_scale K + damping_scale D) v [N], with K and D at the state of the
+  /// last AddForce (its velocity-dependent part only if that state was dynamic).
+  virtual void AddJacobianTimes(double stiffness_scale, double damping_scale, const Eigen::VectorXd& v,
+                                Eigen::VectorXd& out) {}
+  /// Block (node, node) of stiffness_scale K + damping_scale D at the last AddForce.
+  virtual Eigen::Matrix3d JacobianDiagonalBlock(int node, double stiffness_scale, double damping_scale) const {
+    return Eigen::Matrix3d::Zero();
+  }
+
   /// True when this term's K and D never change (linear elasticity, fixed springs, dead
   /// loads): if every term says so, the integrator assembles and factorizes once.
   virtual bool JacobianIsConstant() const { return false; }

@@ -88,13 +88,13 @@ void PcgSolver::Prepare(const SystemMatrix& A) {
       settings_.stiff_node_update) {
     stiff_nodes_.clear();
     stiff_source_->AppendStiffNodes(stiff_nodes_);
-    stiff_update_.Prepare(A, stiff_nodes_, rotations_,
+    stiff_update_.Prepare(A.num_nodes(), [&](int i) { return DiagonalBlock(A, i); }, stiff_nodes_, rotations_,
                           [&](const Eigen::VectorXd& b, Eigen::VectorXd& x) { rest_factor_->Solve(A, b, x); });
   }
   if (settings_.preconditioner == PreconditionerKind::kBlockJacobi || !has_rest_factor_) {  // also the fallback
     block_inverse_.resize(size_t(A.num_nodes()));
     for (int i = 0; i < A.num_nodes(); ++i) {
-      const Eigen::Matrix3d d = A.Block(A.DiagonalSlot(i));
+      const Eigen::Matrix3d d = DiagonalBlock(A, i);
       const Eigen::Matrix3d inv = d.inverse();
       block_inverse_[size_t(i)] = inv.allFinite() ? inv : Eigen::Matrix3d::Identity();
     }
@@ -136,7 +136,7 @@ LinearSolveReport PcgSolver::Solve(const SystemMatrix& A, const Eigen::VectorXd&
     x.setZero();
     return report;
   }
-  A.Multiply(x, q_);
+  Multiply(A, x, q_);
   // CG minimizes phi(x) = x.Ax/2 - b.x from the initial guess. A warm start worse than
   // x = 0 (phi > 0, e.g. last step's dv when the motion reverses) would make a capped,
   // accepted solve worse than no update at all and feed back step after step; starting
@@ -155,7 +155,7 @@ LinearSolveReport PcgSolver::Solve(const SystemMatrix& A, const Eigen::VectorXd&
   double r_norm = r_.norm();
   int it = 0;
   while (r_norm > target && it < settings_.max_iterations) {
-    A.Multiply(p_, q_);
+    Multiply(A, p_, q_);
     const double pq = p_.dot(q_);
     if (!(pq > 0)) break;  // not SPD along p (or NaN): let the fallback decide
     const double alpha = rz / pq;

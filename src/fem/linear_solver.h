@@ -18,6 +18,7 @@
 #include "common/no_copy_no_move.h"
 #include "fem/node_rotation_source.h"
 #include "fem/stiff_node_source.h"
+#include "fem/step_operator.h"
 #include "fem/stiff_node_update.h"
 #include "fem/system_matrix.h"
 
@@ -43,6 +44,12 @@ class LinearSolver {
   virtual void SetReferenceMatrix(const SystemMatrix& A0) {}
   /// True when SetReferenceMatrix should be called with the first assembled matrix.
   virtual bool wants_reference_matrix() const { return false; }
+  /// True when Solve needs only products with A and its diagonal blocks, which it then
+  /// takes from the operator given to SetOperator (fem/step_operator.h), not from the
+  /// SystemMatrix argument: the caller may leave blocks out of that matrix.
+  virtual bool accepts_operator() const { return false; }
+  /// The operator Prepare and Solve read A from (kept by pointer; null = the matrix).
+  virtual void SetOperator(const StepOperator* op) {}
 };
 
 /// Which direct factorization a solver uses (the PCG's rest factor and fallback too).
@@ -88,6 +95,10 @@ struct PcgSettings {
   /// needs no more digits (same PCG iterations on the contact press, docs/performance.md).
   /// The PCG's own vectors, and the fallback, stay double.
   bool single_precision_factor = true;
+  /// Without fallback_to_direct: the PCG takes its products with the step matrix from the
+  /// element terms (matrix-free, fem/step_operator.h), so their blocks are not assembled.
+  /// The same answer to round-off; a direct fallback needs the assembled matrix.
+  bool matrix_free = true;
 };
 
 class PcgSolver final : public LinearSolver {
@@ -106,15 +117,25 @@ class PcgSolver final : public LinearSolver {
   LinearSolveReport Solve(const SystemMatrix& A, const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
   void SetReferenceMatrix(const SystemMatrix& A0) override;
   bool wants_reference_matrix() const override { return warped(); }
+  bool accepts_operator() const override { return settings_.matrix_free && !settings_.fallback_to_direct; }
+  void SetOperator(const StepOperator* op) override { op_ = accepts_operator() ? op : nullptr; }
   int fallbacks() const { return fallbacks_; }
   /// Rank of the stiff-node update at the last Prepare (0 = none).
   int stiff_node_rank() const { return stiff_update_.rank(); }
 
  private:
   void ApplyPreconditioner(const SystemMatrix& A, const Eigen::VectorXd& r, Eigen::VectorXd& z);
+  void Multiply(const SystemMatrix& A, const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+    if (op_) op_->Multiply(x, y);
+    else A.Multiply(x, y);
+  }
+  Eigen::Matrix3d DiagonalBlock(const SystemMatrix& A, int node) const {
+    return op_ ? op_->DiagonalBlock(node) : A.Block(A.DiagonalSlot(node));
+  }
   bool warped() const { return settings_.preconditioner != PreconditionerKind::kBlockJacobi; }
 
   PcgSettings settings_;
+  const StepOperator* op_ = nullptr;
   const NodeRotationSource* rotation_source_ = nullptr;
   const StiffNodeSource* stiff_source_ = nullptr;
   StiffNodeUpdate stiff_update_;

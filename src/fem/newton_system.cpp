@@ -9,12 +9,34 @@ NewtonSystem::NewtonSystem(int num_nodes, const std::vector<std::unique_ptr<Forc
     : terms_(terms), solver_(std::move(solver)) {
   std::vector<std::pair<int, int>> pairs;
   for (const auto& term : terms_) {
+    const size_t before = pairs.size();
     term->AppendCoupledNodes(pairs);
+    if (pairs.size() > before) coupling_terms_.push_back(term.get());
     constant_matrix_ = constant_matrix_ && term->JacobianIsConstant();
   }
   matrix_.Build(num_nodes, pairs);
   for (const auto& term : terms_) term->BindMatrix(matrix_);
   force_ = Eigen::VectorXd::Zero(3 * num_nodes);
+  if (solver_->accepts_operator()) solver_->SetOperator(&operator_);
+}
+
+void NewtonSystem::Operator::Multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  const NewtonSystem& s = system_;
+  if (!s.matrix_free_) {
+    s.matrix_.Multiply(x, y);
+    return;
+  }
+  s.matrix_.MultiplyDiagonalBlocks(x, y);
+  for (ForceTerm* term : s.coupling_terms_) term->AddJacobianTimes(s.stiffness_scale_, s.damping_scale_, x, y);
+}
+
+Eigen::Matrix3d NewtonSystem::Operator::DiagonalBlock(int node) const {
+  const NewtonSystem& s = system_;
+  Eigen::Matrix3d block = s.matrix_.Block(s.matrix_.DiagonalSlot(node));
+  if (s.matrix_free_)
+    for (const ForceTerm* term : s.coupling_terms_)
+      block += term->JacobianDiagonalBlock(node, s.stiffness_scale_, s.damping_scale_);
+  return block;
 }
 
 void NewtonSystem::Assemble(const SystemState& s, double ks, double kd, bool with_matrix, bool k_times_v,
@@ -28,12 +50,35 @@ void NewtonSystem::Assemble(const SystemState& s, double ks, double kd, bool wit
     sink.velocity = &s.v_m_s;
     sink.stiffness_times_velocity = &k_times_v_;
   }
-  if (with_matrix) matrix_.SetZero();
+  bool matrix_free = false;
+  if (with_matrix) {
+    // The first matrix is assembled whole: it is the reference a warped solver factorizes.
+    matrix_free = matrix_ready_ && !constant_matrix_ && solver_->accepts_operator() &&
+                  std::all_of(coupling_terms_.begin(), coupling_terms_.end(),
+                              [](const ForceTerm* t) { return t->AppliesJacobian(); });
+    if (matrix_free && off_diagonal_zero_) {
+      matrix_.SetDiagonalZero();
+    } else {
+      matrix_.SetZero();
+      off_diagonal_zero_ = matrix_free;
+    }
+    matrix_free_ = matrix_free;
+    stiffness_scale_ = ks;
+    damping_scale_ = kd;
+  }
+  auto sink_for = [&](const ForceTerm* term) -> JacobianSink* {
+    if (!with_matrix) return nullptr;
+    if (matrix_free && std::find(coupling_terms_.begin(), coupling_terms_.end(), term) != coupling_terms_.end())
+      return nullptr;
+    return &sink;
+  };
   const bool split = with_matrix && !matrix_ready_ && solver_->wants_reference_matrix();
   // Terms in order, except that for the reference matrix those not in it come last (in
   // their own order) so that their values can be told apart.
   for (const auto& term : terms_)
-    if (!split || term->InRestMatrix()) term->AddForce(s, force_, with_matrix ? &sink : nullptr);
+    if (!split || term->InRestMatrix()) term->AddForce(s, force_, sink_for(term.get()));
+  if (matrix_free && k_times_v)
+    for (ForceTerm* term : coupling_terms_) term->AddJacobianTimes(1.0, 0.0, s.v_m_s, k_times_v_);
   if (!split) return;
   const double* values = matrix_.values();
   not_in_rest_values_.assign(values, values + matrix_.num_values());

@@ -12,6 +12,7 @@
 #include "fem/force_term.h"
 #include "fem/integrator.h"
 #include "fem/linear_solver.h"
+#include "fem/step_operator.h"
 #include "fem/system_matrix.h"
 
 namespace sedbridge::fem {
@@ -29,7 +30,10 @@ class NewtonSystem {
   /// Forces at `state` into force_N() and, with_matrix, the system matrix
   /// stiffness_scale K + damping_scale D; with k_times_v, also K v of the state's
   /// velocity into stiffness_times_velocity(). Its wall time goes to times[kAssembly]
-  /// when given.
+  /// when given. Matrix-free (the solver accepts an operator, the matrix is not constant
+  /// and was assembled once, and every term that couples nodes applies its own Jacobian):
+  /// the matrix then holds only the diagonal blocks of the other terms, and the solver
+  /// takes A from step_operator().
   void Assemble(const SystemState& state, double stiffness_scale, double damping_scale, bool with_matrix,
                 bool k_times_v = false, StageTimes* times = nullptr);
   /// After the matrix was assembled: hands the first one to the solver as its reference
@@ -57,11 +61,30 @@ class NewtonSystem {
   const Eigen::VectorXd& force_N() const { return force_; }
   const Eigen::VectorXd& stiffness_times_velocity() const { return k_times_v_; }
   const LinearSolver& solver() const { return *solver_; }
+  /// A = matrix() plus, in a matrix-free assembly, the coupling terms' Jacobians.
+  const StepOperator& step_operator() const { return operator_; }
+  /// True when the last assembly with a matrix was matrix-free.
+  bool matrix_free() const { return matrix_free_; }
 
  private:
   const std::vector<std::unique_ptr<ForceTerm>>& terms_;
+  class Operator final : public StepOperator {
+   public:
+    explicit Operator(NewtonSystem& system) : system_(system) {}
+    void Multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const override;
+    Eigen::Matrix3d DiagonalBlock(int node) const override;
+
+   private:
+    NewtonSystem& system_;
+  };
+
   std::unique_ptr<LinearSolver> solver_;
   SystemMatrix matrix_;
+  Operator operator_{*this};
+  std::vector<ForceTerm*> coupling_terms_;  // terms with off-diagonal blocks
+  bool matrix_free_ = false;                 // the last assembly with a matrix left them out
+  bool off_diagonal_zero_ = false;           // ... and the matrix's off-diagonal blocks are zero
+  double stiffness_scale_ = 1.0, damping_scale_ = 0.0;  // of that assembly
   Eigen::VectorXd force_, k_times_v_;
   bool constant_matrix_ = true;
   bool matrix_ready_ = false;

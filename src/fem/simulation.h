@@ -48,6 +48,8 @@ class Simulation {
   const Eigen::VectorXd& node_mass_kg() const { return mass_; }
   const IntegratorSettings& settings() const { return settings_; }
   const LinearSolver& solver() const { return system_->solver(); }
+  /// True when the last step's matrix left the element blocks out (NewtonSystem::matrix_free).
+  bool matrix_free() const { return system_->matrix_free(); }
 
   /// The elastic term if the scene has one.
   const ElasticTetForce* elastic() const { return elastic_; }

@@ -59,17 +59,22 @@ int StiffNodeUpdate::CachedColumns(int node, const RestSolve& rest_solve) {
 
 void StiffNodeUpdate::Prepare(const SystemMatrix& A, const std::vector<int>& nodes,
                               const std::vector<Eigen::Matrix3d>& rotations, const RestSolve& rest_solve) {
+  Prepare(A.num_nodes(), [&](int i) { return A.Block(A.DiagonalSlot(i)); }, nodes, rotations, rest_solve);
+}
+
+void StiffNodeUpdate::Prepare(int num_nodes, const DiagonalBlockOf& diagonal_block, const std::vector<int>& nodes,
+                              const std::vector<Eigen::Matrix3d>& rotations, const RestSolve& rest_solve) {
   ++stamp_;
   pairs_.clear();
-  if (rest_diagonal_.size() != size_t(A.num_nodes())) return;  // no rest matrix yet
+  if (rest_diagonal_.size() != size_t(num_nodes)) return;  // no rest matrix yet
   std::vector<int> unique = nodes;
   std::sort(unique.begin(), unique.end());
   unique.erase(std::unique(unique.begin(), unique.end()), unique.end());
   std::vector<Pair> wanted;
   for (int i : unique) {
-    if (i < 0 || i >= A.num_nodes()) continue;
+    if (i < 0 || i >= num_nodes) continue;
     const Eigen::Matrix3d& a0 = rest_diagonal_[size_t(i)];
-    Eigen::Matrix3d c = A.Block(A.DiagonalSlot(i));
+    Eigen::Matrix3d c = diagonal_block(i);
     if (!rotations.empty()) c = rotations[size_t(i)].transpose() * c * rotations[size_t(i)];
     c -= a0;
     c = 0.5 * (c + c.transpose()).eval();

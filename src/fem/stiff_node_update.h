@@ -38,6 +38,11 @@ class StiffNodeUpdate {
   /// @param rotations per-node rotations of the warped factor (empty = none)
   void Prepare(const SystemMatrix& A, const std::vector<int>& nodes, const std::vector<Eigen::Matrix3d>& rotations,
                const RestSolve& rest_solve);
+  /// Block (i, i) of this step's matrix.
+  using DiagonalBlockOf = std::function<Eigen::Matrix3d(int node)>;
+  /// Same with A given by its diagonal blocks (a matrix-free step, fem/step_operator.h).
+  void Prepare(int num_nodes, const DiagonalBlockOf& diagonal_block, const std::vector<int>& nodes,
+               const std::vector<Eigen::Matrix3d>& rotations, const RestSolve& rest_solve);
   /// y = A0^-1 r (rest frame) in, (A0 + U L U^T)^-1 r out.
   void Apply(Eigen::VectorXd& y) const;
 

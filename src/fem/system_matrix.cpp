@@ -73,6 +73,27 @@ Eigen::Matrix3d SystemMatrix::Block(int slot) const {
 
 void SystemMatrix::SetZero() { std::fill(values_, values_ + csr_.nonZeros(), 0.0); }
 
+void SystemMatrix::SetDiagonalZero() {
+  for (int i = 0; i < num_nodes_; ++i) {
+    const int slot = diagonal_slot_[size_t(i)];
+    double* base = values_ + slot_base_[size_t(slot)];
+    const int stride = slot_stride_[size_t(slot)];
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) base[a * stride + b] = 0.0;
+  }
+}
+
+void SystemMatrix::MultiplyDiagonalBlocks(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  y.resize(3 * num_nodes_);
+  for (int i = 0; i < num_nodes_; ++i) {
+    const int slot = diagonal_slot_[size_t(i)];
+    const double* base = values_ + slot_base_[size_t(slot)];
+    const int stride = slot_stride_[size_t(slot)];
+    for (int a = 0; a < 3; ++a)
+      y[3 * i + a] = base[a * stride] * x[3 * i] + base[a * stride + 1] * x[3 * i + 1] + base[a * stride + 2] * x[3 * i + 2];
+  }
+}
+
 void SystemMatrix::Multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
   const int rows = int(csr_.rows());
   y.resize(rows);

@@ -46,6 +46,8 @@ class SystemMatrix {
   Eigen::Matrix3d Block(int slot) const;
 
   void SetZero();
+  /// Zeroes the diagonal blocks only.
+  void SetDiagonalZero();
   int num_nodes() const { return num_nodes_; }
   double* values() { return values_; }
   int num_values() const { return int(csr_.nonZeros()); }
@@ -55,6 +57,8 @@ class SystemMatrix {
 
   /// y = A x (OpenMP over rows).
   void Multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+  /// y = D x with D the diagonal blocks of A (y resized).
+  void MultiplyDiagonalBlocks(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
 
  private:
   int num_nodes_ = 0;

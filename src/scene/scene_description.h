@@ -171,6 +171,7 @@ struct SceneDescription {
       so->Visit(Field("fallback_to_direct", &pcg.fallback_to_direct));
       so->Visit(Field("contact_update", &pcg.stiff_node_update));  // warped PCG: contact springs in the preconditioner
       so->Visit(Field("single_precision_factor", &pcg.single_precision_factor));  // pcg_warp: float copy of the rest factor
+      so->Visit(Field("matrix_free", &pcg.matrix_free));  // PCG without fallback: element products, no element blocks
     });
     a->Visit(Field("bone", &bone));        // absent: the soft tissue floats
     a->Visit(Field("contact", &contact));  // absent: no contact term

@@ -115,7 +115,8 @@ void TractionStep(benchmark::State& state, const std::string& elasticity, const 
 // ending in "/double" keeps the warped rest factor's solves in double precision
 // (solver.single_precision_factor: false), as before session 11; "/capN" accepts the PCG
 // iterate after N iterations (max_iterations: N, no direct fallback: the accuracy-cost
-// study's capped rows). `force_N` is the contact force after the timed steps, so rows can be
+// study's capped rows; matrix-free, fem/step_operator.h), "/capN/assembled" the same with
+// the element blocks assembled (solver.matrix_free: false). `force_N` is the contact force after the timed steps, so rows can be
 // compared for what they compute, not only for how fast.
 void ContactPressStep(benchmark::State& state, const std::string& elasticity, const std::string& solver_case) {
   SetThreads(state);
@@ -124,10 +125,13 @@ void ContactPressStep(benchmark::State& state, const std::string& elasticity, co
            solver_case.compare(solver_case.size() - suffix.size(), suffix.size(), suffix) == 0;
   };
   const bool rest_only = ends_with("/rest_only"), double_factor = ends_with("/double");
+  const bool assembled = ends_with("/assembled");
   const size_t cap_at = solver_case.find("/cap");
   const std::string iterations =
-      cap_at == std::string::npos ? "max_iterations: 200" : "max_iterations: " + solver_case.substr(cap_at + 4) +
-                                                                ", fallback_to_direct: false";
+      cap_at == std::string::npos
+          ? "max_iterations: 200"
+          : "max_iterations: " + std::to_string(std::atoi(solver_case.c_str() + cap_at + 4)) +
+                ", fallback_to_direct: false" + (assembled ? ", matrix_free: false" : "");
   const std::string solver = solver_case.substr(0, solver_case.find('/'));
   const std::string yaml = "model: " + ModelName() + "\nelasticity: " + elasticity + "\nsolver: {type: " + solver +
                            ", tolerance: 1.0e-6, " + iterations + (rest_only ? ", contact_update: false" : "") +
@@ -223,6 +227,7 @@ void Register() {
   for (auto [el, solver] : std::vector<std::pair<const char*, const char*>>{
            {"linear", "ldlt"}, {"linear", "cholmod"}, {"corotational", "pcg_warp"}, {"corotational", "pcg_warp/rest_only"},
            {"corotational", "pcg_warp/double"}, {"corotational", "pcg_warp/cap3"}, {"corotational", "pcg_warp/cap1"},
+           {"corotational", "pcg_warp/cap1/assembled"},
            {"corotational", "pcg_warp_ldlt"}, {"corotational", "pcg_warp_ichol"}, {"linear", "pcg_warp"},
            {"linear", "pcg_warp/rest_only"}, {"linear", "pcg_warp/double"}, {"linear", "pcg_warp_ldlt"},
            {"linear", "pcg_warp_ichol"}, {"nodal_pressure", "pcg_warp"}, {"nodal_pressure", "pcg_jacobi"}}) {

@@ -1,5 +1,6 @@
 // The elastic term: its parallel assembly (by slabs, fem/slab_partition.h) against one
-// thread, and its warm-started element rotations against converged ones.
+// thread, its warm-started element rotations against converged ones, and its Jacobian
+// applied without assembly (matrix-free steps) against the assembled one.
 #include "fem/elastic_tet_force.h"
 
 #include <gtest/gtest.h>
@@ -81,6 +82,53 @@ TEST(ElasticTetForce, WarmRotationsThroughATurnGiveTheConvergedForce) {
     ASSERT_GT(f_cold.norm(), 0);
     EXPECT_LT((f_warm - f_cold).norm(), 1e-10 * f_cold.norm()) << step_rad << " rad a step";
   }
+}
+
+// A matrix-free step (fem/step_operator.h) takes (s K + d D) v and the diagonal blocks from
+// the element kernel instead of the assembled matrix: the same numbers to 1e-12 of their
+// size, for the linear and the corotational element (rotated, strained, damped), on 1 and 2
+// threads; the consistent tangent's twists are assembled, so that term says it cannot.
+TEST(ElasticTetForce, JacobianTimesIsTheAssembledJacobianTimes) {
+  const TetMesh mesh = MakeBoxMesh({0.006, 0.005, 0.008}, {4, 3, 5}, testing::Skin(1e5, 0.45));
+  const int dofs = 3 * mesh.num_nodes();
+  Eigen::VectorXd x(dofs);
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(0.4, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  for (int i = 0; i < mesh.num_nodes(); ++i) x.segment<3>(3 * i) = turn * mesh.rest_positions_m.col(i);
+  x += 3e-4 * Eigen::VectorXd::Random(dofs);
+  const Eigen::VectorXd v = 1e-2 * Eigen::VectorXd::Random(dofs), w = Eigen::VectorXd::Random(dofs);
+  const double ks = 1e-6, kd = 1e-3;
+  const int saved = omp_get_max_threads();
+  for (ElasticFormulation formulation : {ElasticFormulation::kLinear, ElasticFormulation::kCorotational})
+    for (int threads : {1, 2}) {
+      omp_set_num_threads(threads);
+      ElasticTetForce elastic(mesh, formulation, 0.01);
+      std::vector<std::pair<int, int>> pairs;
+      elastic.AppendCoupledNodes(pairs);
+      SystemMatrix matrix;
+      matrix.Build(mesh.num_nodes(), pairs);
+      elastic.BindMatrix(matrix);
+      Eigen::VectorXd f = Eigen::VectorXd::Zero(dofs), kv = Eigen::VectorXd::Zero(dofs);
+      JacobianSink sink{&matrix, ks, kd, &v, &kv};
+      elastic.AddForce({x, v, 0.0, true}, f, &sink);
+      ASSERT_TRUE(elastic.AppliesJacobian());
+      Eigen::VectorXd assembled, product = Eigen::VectorXd::Zero(dofs), k_times_v = Eigen::VectorXd::Zero(dofs);
+      matrix.Multiply(w, assembled);
+      elastic.AddJacobianTimes(ks, kd, w, product);
+      elastic.AddJacobianTimes(1.0, 0.0, v, k_times_v);
+      ASSERT_GT(assembled.norm(), 0);
+      EXPECT_LT((product - assembled).norm(), 1e-12 * assembled.norm()) << threads << " threads";
+      EXPECT_LT((k_times_v - kv).norm(), 1e-12 * kv.norm()) << threads << " threads";
+      for (int i = 0; i < mesh.num_nodes(); ++i) {
+        const Eigen::Matrix3d block = matrix.Block(matrix.DiagonalSlot(i));
+        EXPECT_LT((elastic.JacobianDiagonalBlock(i, ks, kd) - block).norm(), 1e-12 * block.norm()) << "node " << i;
+      }
+    }
+  omp_set_num_threads(saved);
+  ElasticTetForce consistent(mesh, ElasticFormulation::kCorotational);
+  consistent.set_corotational_tangent(CorotationalTangent::kConsistent);
+  EXPECT_FALSE(consistent.AppliesJacobian());
+  consistent.UseDefiniteJacobian(true);
+  EXPECT_TRUE(consistent.AppliesJacobian());
 }
 
 }  // namespace
