@@ -15,6 +15,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "common/hot_clones.h"
 #include "fem/elastic_tet_force.h"
 #include "fem/linear_solver.h"
 #include "fem/system_matrix.h"
@@ -60,14 +61,7 @@ struct Fnv {
 };
 
 // The two hot loops of a step (the dense column products and the Merkel layer's linear
-// SED) as raw-pointer functions with an x86-64-v3 (AVX2, FMA) clone beside the baseline
-// build; the loader picks the clone the CPU runs. (Per-file -mavx2 would mix Eigen's
-// alignment ABI across translation units: never.)
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-#define SEDBRIDGE_HOT_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
-#else
-#define SEDBRIDGE_HOT_CLONES
-#endif
+// SED) as raw-pointer functions with an AVX2 clone (common/hot_clones.h).
 
 // Calls f(p, a, b) for every pair index in either sorted list, with a pointer to its vector
 // in each (null where the list lacks it), in increasing order.

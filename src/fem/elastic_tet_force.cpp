@@ -8,6 +8,7 @@
 #include <omp.h>
 #include <stdexcept>
 
+#include "common/hot_clones.h"
 #include "fem/rotation_extraction.h"
 
 namespace sedbridge::fem {
@@ -35,6 +36,53 @@ constexpr double kSlabsAbovePatternRatio = 1.5;
 // near inversion in that plane (s_i + s_j above this) [-]: near 0 the quotient is
 // ill-conditioned, and the warped stiffness is the safe choice there.
 constexpr double kMinTwistStretchSum = 0.5;
+
+// y = scale R K0 R^T v for elements [begin, end), structure of arrays with `count`
+// entries each (so the loop vectorizes across elements): element e's node a at
+// v + offset[a * count + e] (3 * node), rotation entry (i, j) at rotation[(3 i + j) * count + e],
+// Dm^-1 entry (i, j) at rest_inverse[(3 i + j) * count + e], V mu and V lambda per element;
+// node a's three components out at y[(3 a + k) * count + e]. In stress form: L = R^T dv Dm^-1,
+// sigma = mu (L + L^T) + lambda tr(L) I, nodes 1-3 get V R sigma Dm^-T, node 0 minus their
+// sum (the shape gradients sum to zero).
+SEDBRIDGE_HOT_CLONES
+void ElementStiffnessTimes(int begin, int end, int count, const int* offset, const double* rotation, const double* rest_inverse,
+                           const double* mu_volume, const double* lambda_volume, double scale, const double* v,
+                           double* y) {
+#pragma omp simd
+  for (int e = begin; e < end; ++e) {
+    double R[3][3], W[3][3], dv[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        R[i][j] = rotation[(3 * i + j) * count + e];
+        W[i][j] = rest_inverse[(3 * i + j) * count + e];
+      }
+    const double* v0 = v + offset[e];
+    for (int c = 0; c < 3; ++c) {
+      const double* vc = v + offset[(c + 1) * count + e];
+      for (int k = 0; k < 3; ++k) dv[k][c] = vc[k] - v0[k];
+    }
+    double T[3][3], L[3][3], P[3][3];
+    for (int i = 0; i < 3; ++i)  // T = R^T dv
+      for (int j = 0; j < 3; ++j) T[i][j] = R[0][i] * dv[0][j] + R[1][i] * dv[1][j] + R[2][i] * dv[2][j];
+    for (int i = 0; i < 3; ++i)  // L = T W
+      for (int j = 0; j < 3; ++j) L[i][j] = T[i][0] * W[0][j] + T[i][1] * W[1][j] + T[i][2] * W[2][j];
+    const double mu = scale * mu_volume[e], lambda_tr = scale * lambda_volume[e] * (L[0][0] + L[1][1] + L[2][2]);
+    double S[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) S[i][j] = mu * (L[i][j] + L[j][i]) + (i == j ? lambda_tr : 0.0);
+    for (int i = 0; i < 3; ++i)  // P = R S
+      for (int j = 0; j < 3; ++j) P[i][j] = R[i][0] * S[0][j] + R[i][1] * S[1][j] + R[i][2] * S[2][j];
+    for (int k = 0; k < 3; ++k) {
+      double sum = 0;
+      for (int a = 1; a < 4; ++a) {  // node a: P times row a-1 of Dm^-1 (its shape gradient)
+        const double ya = P[k][0] * W[a - 1][0] + P[k][1] * W[a - 1][1] + P[k][2] * W[a - 1][2];
+        y[(3 * a + k) * count + e] = ya;
+        sum += ya;
+      }
+      y[k * count + e] = -sum;
+    }
+  }
+}
 
 }  // namespace
 
@@ -129,6 +177,7 @@ void ElasticTetForce::AddForce(const SystemState& state, Eigen::VectorXd& force_
   const bool corotational = formulation_ == ElasticFormulation::kCorotational;
   const bool damping = state.dynamic && beta_s_ > 0;
   last_dynamic_ = state.dynamic;
+  product_.rotations_current = false;
 
   if (!corotational) {
     // f = -K0 (x - X) - beta K0 v
@@ -330,33 +379,69 @@ void ElasticTetForce::AddJacobianTimes(double stiffness_scale, double damping_sc
   const double scale = stiffness_scale + (last_dynamic_ && beta_s_ > 0 ? beta_s_ * damping_scale : 0.0);
   if (scale == 0) return;
   if (formulation_ == ElasticFormulation::kLinear) {
-    rest_stiffness_.Multiply(v, product_);
-    out += scale * product_;
+    rest_stiffness_.Multiply(v, rest_product_);
+    out += scale * rest_product_;
     return;
   }
-  const int threads = omp_get_max_threads();
-  if (threads == 1 || elements_.size() < kParallelAssemblyMinTets) {
-    for (int t = 0; t < int(elements_.size()); ++t) AddElementStiffnessTimes(t, rotations_[size_t(t)], scale, v, out);
-    return;
+  // Two passes, each free of write conflicts: every element's nodal products into its own
+  // slots (vectorized across elements), then every node sums its elements' slots.
+  const int count = int(elements_.size());
+  if (product_.rotation.size() != 9 * size_t(count)) product_.Build(mesh_, elements_);
+  if (!product_.rotations_current) {
+    for (int t = 0; t < count; ++t)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) product_.rotation[size_t((3 * i + j) * count + t)] = rotations_[size_t(t)](i, j);
+    product_.rotations_current = true;
   }
-  // Per-thread partial sums, as AddForce's: one reduction, no per-element synchronisation.
-  thread_product_.resize(size_t(threads));
-  const int dofs = int(out.size());
-#pragma omp parallel
+  const int nodes = mesh_.num_nodes();
+  const bool parallel = omp_get_max_threads() > 1 && size_t(count) >= kParallelAssemblyMinTets;
+  double* y = product_.element_out.data();
+#pragma omp parallel if (parallel)
   {
-    const int tid = omp_get_thread_num();
-    Eigen::VectorXd* y = &out;
-    if (tid > 0) {
-      thread_product_[size_t(tid)].setZero(dofs);
-      y = &thread_product_[size_t(tid)];
+    const int threads = omp_get_num_threads(), tid = omp_get_thread_num();
+    const int begin = int(long(count) * tid / threads), end = int(long(count) * (tid + 1) / threads);
+    ElementStiffnessTimes(begin, end, count, product_.offset.data(), product_.rotation.data(),
+                          product_.rest_inverse.data(), product_.mu_volume.data(), product_.lambda_volume.data(), scale,
+                          v.data(), y);
+#pragma omp barrier
+#pragma omp for schedule(static)
+    for (int i = 0; i < nodes; ++i) {
+      double s0 = 0, s1 = 0, s2 = 0;
+      for (int k = product_.node_start[size_t(i)]; k < product_.node_start[size_t(i) + 1]; ++k) {
+        const int slot = product_.node_slot[size_t(k)];
+        s0 += y[slot], s1 += y[slot + count], s2 += y[slot + 2 * count];
+      }
+      out[3 * i] += s0, out[3 * i + 1] += s1, out[3 * i + 2] += s2;
     }
-#pragma omp for schedule(static)
-    for (int t = 0; t < int(elements_.size()); ++t) AddElementStiffnessTimes(t, rotations_[size_t(t)], scale, v, *y);
-    const int active = omp_get_num_threads();
-#pragma omp for schedule(static)
-    for (int k = 0; k < dofs; ++k)
-      for (int p = 1; p < active; ++p) out[k] += thread_product_[size_t(p)][k];
   }
+}
+
+void ElasticTetForce::ElementProductArrays::Build(const TetMesh& mesh, const std::vector<TetElement>& elements) {
+  const int count = int(elements.size());
+  offset.resize(4 * size_t(count));
+  rotation.assign(9 * size_t(count), 0.0);
+  rest_inverse.resize(9 * size_t(count));
+  mu_volume.resize(size_t(count));
+  lambda_volume.resize(size_t(count));
+  element_out.assign(12 * size_t(count), 0.0);
+  node_start.assign(size_t(mesh.num_nodes()) + 1, 0);
+  for (int t = 0; t < count; ++t) {
+    const TetElement& e = elements[size_t(t)];
+    for (int a = 0; a < 4; ++a) {
+      offset[size_t(a * count + t)] = 3 * mesh.tets[size_t(t)][size_t(a)];
+      ++node_start[size_t(mesh.tets[size_t(t)][size_t(a)]) + 1];
+    }
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) rest_inverse[size_t((3 * i + j) * count + t)] = e.rest_inverse(i, j);
+    mu_volume[size_t(t)] = e.volume_m3 * e.mu_Pa;
+    lambda_volume[size_t(t)] = e.volume_m3 * e.lambda_Pa;
+  }
+  for (size_t i = 1; i < node_start.size(); ++i) node_start[i] += node_start[i - 1];
+  node_slot.resize(4 * size_t(count));
+  std::vector<int> fill(node_start.begin(), node_start.end() - 1);
+  for (int t = 0; t < count; ++t)
+    for (int a = 0; a < 4; ++a) node_slot[size_t(fill[size_t(mesh.tets[size_t(t)][size_t(a)])]++)] = 3 * a * count + t;
+  rotations_current = false;
 }
 
 Eigen::Matrix3d ElasticTetForce::JacobianDiagonalBlock(int node, double stiffness_scale, double damping_scale) const {

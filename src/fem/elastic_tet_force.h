@@ -112,8 +112,19 @@ class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
   void AddElementStiffnessTimes(int t, const Eigen::Matrix3d& R, double scale, const Eigen::VectorXd& v,
                                 Eigen::VectorXd& out) const;
   bool last_dynamic_ = false;  // the last AddForce's state was dynamic (its damping applies)
-  std::vector<Eigen::VectorXd> thread_product_;  // AddJacobianTimes' per-thread partial sums
-  Eigen::VectorXd product_;
+  // AddJacobianTimes' element data as structures of arrays (see ElementStiffnessTimes in
+  // the .cpp), built on first use; the rotations copied once after each AddForce.
+  struct ElementProductArrays {
+    std::vector<int> offset;                     // 3 * node, [a * count + e]
+    std::vector<double> rotation, rest_inverse;  // [(3 i + j) * count + e]
+    std::vector<double> mu_volume, lambda_volume;
+    std::vector<double> element_out;             // [(3 a + k) * count + e]
+    std::vector<int> node_start, node_slot;      // per node: its (3 a * count + e) slots
+    bool rotations_current = false;
+    void Build(const TetMesh& mesh, const std::vector<TetElement>& elements);
+  };
+  ElementProductArrays product_;
+  Eigen::VectorXd rest_product_;
   // Threads > 1: per-thread partial sums (thread 0 writes the real buffers), reduced once.
   std::vector<std::vector<double>> thread_values_;
   std::vector<Eigen::VectorXd> thread_force_, thread_k_times_v_;

@@ -177,11 +177,12 @@ LinearSolveReport PcgSolver::Solve(const SystemMatrix& A, const Eigen::VectorXd&
   report.converged = r_norm <= target && x.allFinite();
   if (!report.converged && settings_.fallback_to_direct) {
     ++fallbacks_;
-    fallback_->Prepare(A);
-    const LinearSolveReport direct = fallback_->Solve(A, b, x);
+    const SystemMatrix& full = op_ ? op_->AssembledMatrix() : A;
+    fallback_->Prepare(full);
+    const LinearSolveReport direct = fallback_->Solve(full, b, x);
     report.used_fallback = true;
     report.converged = direct.converged;
-    A.Multiply(x, q_);
+    full.Multiply(x, q_);
     report.relative_residual = (b - q_).norm() / b_norm;
   }
   if (!x.allFinite()) {

@@ -46,10 +46,11 @@ class LinearSolver {
   virtual bool wants_reference_matrix() const { return false; }
   /// True when Solve needs only products with A and its diagonal blocks, which it then
   /// takes from the operator given to SetOperator (fem/step_operator.h), not from the
-  /// SystemMatrix argument: the caller may leave blocks out of that matrix.
+  /// SystemMatrix argument: the caller may leave blocks out of that matrix (a fallback to
+  /// a direct solve asks the operator for them).
   virtual bool accepts_operator() const { return false; }
   /// The operator Prepare and Solve read A from (kept by pointer; null = the matrix).
-  virtual void SetOperator(const StepOperator* op) {}
+  virtual void SetOperator(StepOperator* op) {}
 };
 
 /// Which direct factorization a solver uses (the PCG's rest factor and fallback too).
@@ -95,9 +96,9 @@ struct PcgSettings {
   /// needs no more digits (same PCG iterations on the contact press, docs/performance.md).
   /// The PCG's own vectors, and the fallback, stay double.
   bool single_precision_factor = true;
-  /// Without fallback_to_direct: the PCG takes its products with the step matrix from the
-  /// element terms (matrix-free, fem/step_operator.h), so their blocks are not assembled.
-  /// The same answer to round-off; a direct fallback needs the assembled matrix.
+  /// The PCG takes its products with the step matrix from the element terms (matrix-free,
+  /// fem/step_operator.h), so their blocks are not assembled unless a direct fallback needs
+  /// them. The same answer to round-off.
   bool matrix_free = true;
 };
 
@@ -117,8 +118,8 @@ class PcgSolver final : public LinearSolver {
   LinearSolveReport Solve(const SystemMatrix& A, const Eigen::VectorXd& b, Eigen::VectorXd& x) override;
   void SetReferenceMatrix(const SystemMatrix& A0) override;
   bool wants_reference_matrix() const override { return warped(); }
-  bool accepts_operator() const override { return settings_.matrix_free && !settings_.fallback_to_direct; }
-  void SetOperator(const StepOperator* op) override { op_ = accepts_operator() ? op : nullptr; }
+  bool accepts_operator() const override { return settings_.matrix_free; }
+  void SetOperator(StepOperator* op) override { op_ = accepts_operator() ? op : nullptr; }
   int fallbacks() const { return fallbacks_; }
   /// Rank of the stiff-node update at the last Prepare (0 = none).
   int stiff_node_rank() const { return stiff_update_.rank(); }
@@ -135,7 +136,7 @@ class PcgSolver final : public LinearSolver {
   bool warped() const { return settings_.preconditioner != PreconditionerKind::kBlockJacobi; }
 
   PcgSettings settings_;
-  const StepOperator* op_ = nullptr;
+  StepOperator* op_ = nullptr;
   const NodeRotationSource* rotation_source_ = nullptr;
   const StiffNodeSource* stiff_source_ = nullptr;
   StiffNodeUpdate stiff_update_;

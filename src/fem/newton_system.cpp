@@ -30,6 +30,18 @@ void NewtonSystem::Operator::Multiply(const Eigen::VectorXd& x, Eigen::VectorXd&
   for (ForceTerm* term : s.coupling_terms_) term->AddJacobianTimes(s.stiffness_scale_, s.damping_scale_, x, y);
 }
 
+const SystemMatrix& NewtonSystem::Operator::AssembledMatrix() {
+  NewtonSystem& s = system_;
+  if (s.matrix_free_ && s.matrix_state_) {
+    JacobianSink sink{&s.matrix_, s.stiffness_scale_, s.damping_scale_};
+    s.scratch_force_.setZero(s.force_.size());
+    for (ForceTerm* term : s.coupling_terms_) term->AddForce(*s.matrix_state_, s.scratch_force_, &sink);
+    s.matrix_free_ = false;
+    s.off_diagonal_zero_ = false;
+  }
+  return s.matrix_;
+}
+
 Eigen::Matrix3d NewtonSystem::Operator::DiagonalBlock(int node) const {
   const NewtonSystem& s = system_;
   Eigen::Matrix3d block = s.matrix_.Block(s.matrix_.DiagonalSlot(node));
@@ -65,6 +77,7 @@ void NewtonSystem::Assemble(const SystemState& s, double ks, double kd, bool wit
     matrix_free_ = matrix_free;
     stiffness_scale_ = ks;
     damping_scale_ = kd;
+    matrix_state_.emplace(s);
   }
   auto sink_for = [&](const ForceTerm* term) -> JacobianSink* {
     if (!with_matrix) return nullptr;

@@ -6,6 +6,7 @@
 
 #include <Eigen/Core>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "common/no_copy_no_move.h"
@@ -33,7 +34,8 @@ class NewtonSystem {
   /// when given. Matrix-free (the solver accepts an operator, the matrix is not constant
   /// and was assembled once, and every term that couples nodes applies its own Jacobian):
   /// the matrix then holds only the diagonal blocks of the other terms, and the solver
-  /// takes A from step_operator().
+  /// takes A from step_operator(). `state`'s vectors must stay unchanged until the solve
+  /// is done (a direct fallback assembles the rest of the matrix at that state).
   void Assemble(const SystemState& state, double stiffness_scale, double damping_scale, bool with_matrix,
                 bool k_times_v = false, StageTimes* times = nullptr);
   /// After the matrix was assembled: hands the first one to the solver as its reference
@@ -73,6 +75,7 @@ class NewtonSystem {
     explicit Operator(NewtonSystem& system) : system_(system) {}
     void Multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const override;
     Eigen::Matrix3d DiagonalBlock(int node) const override;
+    const SystemMatrix& AssembledMatrix() override;
 
    private:
     NewtonSystem& system_;
@@ -85,6 +88,8 @@ class NewtonSystem {
   bool matrix_free_ = false;                 // the last assembly with a matrix left them out
   bool off_diagonal_zero_ = false;           // ... and the matrix's off-diagonal blocks are zero
   double stiffness_scale_ = 1.0, damping_scale_ = 0.0;  // of that assembly
+  std::optional<SystemState> matrix_state_;             // ... and its state (AssembledMatrix)
+  Eigen::VectorXd scratch_force_;
   Eigen::VectorXd force_, k_times_v_;
   bool constant_matrix_ = true;
   bool matrix_ready_ = false;

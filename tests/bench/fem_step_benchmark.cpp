@@ -20,6 +20,7 @@
 #include <memory>
 
 #include "fem/cholmod_solver.h"
+#include "fem/elastic_tet_force.h"
 #include "fem/thread_team.h"
 #include "scene/fingertip_scene.h"
 
@@ -198,6 +199,41 @@ void EffectCost(benchmark::State& state, const std::string& effect) {
   Report(state, ms);
 }
 
+// One product with the step matrix of the corotational term on B: from the assembled matrix
+// (arg 0: CSR product over the whole matrix) or from the element kernel (arg 1: the
+// matrix-free step's, fem/step_operator.h). Single thread.
+void StepProduct(benchmark::State& state) {
+  omp_set_num_threads(1);
+  const model::FingertipModel& m = SharedModel();
+  fem::ElasticTetForce elastic(m.soft, fem::ElasticFormulation::kCorotational, 0.01);
+  std::vector<std::pair<int, int>> pairs;
+  elastic.AppendCoupledNodes(pairs);
+  fem::SystemMatrix A;
+  A.Build(m.soft.num_nodes(), pairs);
+  elastic.BindMatrix(A);
+  const Eigen::Matrix3Xd& rest = m.soft.rest_positions_m;
+  Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(rest.data(), rest.size());
+  x += 1e-5 * Eigen::VectorXd::Random(x.size());
+  const Eigen::VectorXd v = Eigen::VectorXd::Random(x.size());
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(x.size()), y = Eigen::VectorXd::Zero(x.size());
+  fem::JacobianSink sink{&A, 1e-6, 1e-3};
+  elastic.AddForce({x, v, 0.0, true}, f, &sink);
+  const bool from_elements = state.range(0) != 0;
+  std::vector<double> ms;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    if (from_elements) {
+      y.setZero();
+      elastic.AddJacobianTimes(1e-6, 1e-3, v, y);
+    } else {
+      A.Multiply(v, y);
+    }
+    ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+    benchmark::DoNotOptimize(y.data());
+  }
+  Report(state, ms);
+}
+
 // Thread columns: 1, 2, 4, 8 where the machine has that many cores (more would only
 // measure oversubscription), then 0 = the step's own choice (ThreadTeamChooser).
 template <typename B>
@@ -235,6 +271,8 @@ void Register() {
     ThreadArgs(benchmark::RegisterBenchmark(name.c_str(), [=](benchmark::State& st) { ContactPressStep(st, el, solver); }))
         ->Iterations(200)->Unit(benchmark::kMillisecond)->UseRealTime();
   }
+  benchmark::RegisterBenchmark("StepProduct", StepProduct)->ArgName("from_elements")->Arg(0)->Arg(1)
+      ->Iterations(500)->Unit(benchmark::kMillisecond)->UseRealTime();
   for (const char* effect : {"elastic_corotational", "nodal_pressure", "bone_coupling", "penalty_contact", "pseudo_friction",
                              "surface_traction", "merkel_sed"}) {
     const std::string name = std::string("EffectCost/") + effect;

@@ -28,6 +28,7 @@ struct Press {
   int max_iterations_per_step = 0;
   int iterations = 0;
   bool matrix_free = false;  // the last step's
+  int fallbacks = 0;
 };
 
 // A sphere pushed in and sideways fast (from touching), or the benchmark's plane press.
@@ -41,10 +42,10 @@ const char* kPlane = "{shape: plane, rpy_deg: [180, 0, 0], position_mm: [0, 0, -
 // matrix_free = false: the element blocks assembled (solver.matrix_free).
 Press RunPress(const std::string& elasticity, const std::string& solver, bool contact_update,
                const std::string& tolerance = "1.0e-10", const char* object = kSphere, bool single = false,
-               int max_iterations = 500, bool matrix_free = true) {
+               int max_iterations = 500, bool matrix_free = true, bool fallback = false) {
   const std::string yaml = "model: B_coarse\nelasticity: " + elasticity + "\nsolver: {type: " + solver +
                            ", tolerance: " + tolerance + ", max_iterations: " + std::to_string(max_iterations) +
-                           ", fallback_to_direct: false, contact_update: " + (contact_update ? "true" : "false") +
+                           ", fallback_to_direct: " + (fallback ? "true" : "false") + ", contact_update: " + (contact_update ? "true" : "false") +
                            ", single_precision_factor: " + (single ? "true" : "false") +
                            ", matrix_free: " + (matrix_free ? "true" : "false") + "}\ndynamics: {integrator: backward_euler, dt_s: 0.001, newton_iterations: 1}\n"
                            "bone: {mode: fixed}\ncontact:\n  objects:\n    - " + object + "\n";
@@ -52,7 +53,8 @@ Press RunPress(const std::string& elasticity, const std::string& solver, bool co
   Press p;
   for (int k = 0; k < 20; ++k) {
     const fem::StepReport r = s.Step();
-    if (max_iterations >= 500) EXPECT_TRUE(r.converged) << solver << " step " << k;
+    if (max_iterations >= 500 || fallback) EXPECT_TRUE(r.converged) << solver << " step " << k;
+    p.fallbacks += r.solver_fallbacks;
     p.max_iterations_per_step = std::max(p.max_iterations_per_step, r.linear_iterations);
     p.iterations += r.linear_iterations;
     if (k == 0) EXPECT_GT(s.contact()->active_contacts().size(), 0u) << "the press starts in contact";
@@ -135,8 +137,20 @@ TEST(ContactPreconditioner, MatrixFreeStepsGiveTheAssembledSteps) {
                   cap, free.iterations, assembled.iterations, (free.x - assembled.x).norm() / u);
       EXPECT_LT((free.x - assembled.x).norm(), 1e-12 * u) << "cap " << cap;  // measured 2.5e-15 to 2.1e-14
     }
-  // With a direct fallback the matrix is needed whole.
+  // A direct solver needs the matrix whole.
   EXPECT_FALSE(RunPress("corotational", "cholmod", true).matrix_free);
+}
+
+// A matrix-free PCG that cannot converge (capped at 2 iterations to 1e-10) falls back to
+// the direct solver, which needs every block: the operator assembles the ones it left out
+// at the step's state first. Nearly every step falls back, so the press is the direct solver's.
+TEST(ContactPreconditioner, AMatrixFreeStepThatFallsBackAssemblesTheMatrixFirst) {
+  const Press direct = RunPress("corotational", "cholmod", true);
+  const Press free = RunPress("corotational", "pcg_warp", true, "1.0e-10", kSphere, false, 2, true, true);
+  EXPECT_GE(free.fallbacks, 15);  // measured 19 of 20
+  const double u = (direct.x - RestPositions()).norm();
+  ASSERT_GT(u, 0.0);
+  EXPECT_LT((free.x - direct.x).norm(), 1e-10 * u);
 }
 
 }  // namespace
