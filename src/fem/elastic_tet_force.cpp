@@ -84,6 +84,156 @@ void ElementStiffnessTimes(int begin, int end, int count, const int* offset, con
   }
 }
 
+// The corotational force of elements [begin, end) with one warm-started Newton step of
+// their rotations, four elements at a time in vector registers (arrays as
+// ElementStiffnessTimes; positions x, velocities v (kDamping), quaternions as Eigen stores
+// them, x y z w, four per element). ExtractRotation's step and stop, written out: an
+// element whose Newton step is safe and below last_step_rad (the error left is its square)
+// is done, with its new quaternion and rotation (rotation[(3 i + j) * count + e]) and node
+// a's force component k at minus_force[(3 a + k) * count + e] (f = -V R sigma(eps) g_a,
+// eps = sym(R^T F) - I plus beta sym(R^T dv Dm^-1)); status[e] = 0. Any other (a step
+// too long or unsafe, a quaternion off unit length, NaN, and the last (end - begin) % 4
+// elements) gets status 1, its quaternion untouched, for ExtractRotation.
+// inverted[e] = 1 where det F <= 0. (Explicit vectors: GCC did not vectorize this loop
+// written for one element, its selections turned into branches.)
+// (Vectors pass between the lambdas below by reference only: by value, the default clone
+// would pass 32-byte vectors without AVX, which GCC warns changes the ABI.)
+using Doubles4 = double __attribute__((vector_size(32)));
+using Mask4 = long long __attribute__((vector_size(32)));
+
+template <bool kDamping>
+inline __attribute__((always_inline)) void CorotationalForcesBody(
+    int begin, int end, int count, const int* offset, const double* rest_inverse, const double* mu_volume,
+    const double* lambda_volume, double beta, double last_step_rad, const double* x, const double* v,
+    double* quaternion, double* rotation, double* minus_force, double* status, double* inverted) {
+  using V = Doubles4;
+  auto load = [](V& r, const double* p) { __builtin_memcpy(&r, p, sizeof(r)); };  // four consecutive doubles
+  auto store = [](double* p, const V& r) { __builtin_memcpy(p, &r, sizeof(r)); };
+  const int vector_end = begin + (end - begin) / 4 * 4;
+  for (int e = vector_end; e < end; ++e) status[e] = 1.0, inverted[e] = 0.0;  // ExtractRotation's
+  const V zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
+  for (int e = begin; e < vector_end; e += 4) {
+    V W[3][3], d[3][3], F[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) load(W[i][j], rest_inverse + (3 * i + j) * count + e);
+    auto node_gather = [&](V& r, const double* base, int a, int k) {
+      const int* o = offset + a * count + e;
+      r = V{base[o[0] + k], base[o[1] + k], base[o[2] + k], base[o[3] + k]};
+    };
+    for (int k = 0; k < 3; ++k) {
+      V x0, xc;
+      node_gather(x0, x, 0, k);
+      for (int c = 0; c < 3; ++c) node_gather(xc, x, c + 1, k), d[k][c] = xc - x0;
+    }
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) F[i][j] = d[i][0] * W[0][j] + d[i][1] * W[1][j] + d[i][2] * W[2][j];
+    const V det = F[0][0] * (F[1][1] * F[2][2] - F[1][2] * F[2][1]) - F[0][1] * (F[1][0] * F[2][2] - F[1][2] * F[2][0]) +
+                  F[0][2] * (F[1][0] * F[2][1] - F[1][1] * F[2][0]);
+    store(inverted + e, det <= zero ? one : zero);
+    double* q = quaternion + 4 * e;
+    const V qx = {q[0], q[4], q[8], q[12]}, qy = {q[1], q[5], q[9], q[13]};
+    const V qz = {q[2], q[6], q[10], q[14]}, qw = {q[3], q[7], q[11], q[15]};
+    V R[3][3];
+    auto to_rotation = [&](const V& rx, const V& ry, const V& rz, const V& rw) {  // Eigen's Quaternion::toRotationMatrix
+      const V tx = 2 * rx, ty = 2 * ry, tz = 2 * rz;
+      const V twx = tx * rw, twy = ty * rw, twz = tz * rw, txx = tx * rx, txy = ty * rx, txz = tz * rx;
+      const V tyy = ty * ry, tyz = tz * ry, tzz = tz * rz;
+      R[0][0] = 1 - (tyy + tzz), R[0][1] = txy - twz, R[0][2] = txz + twy;
+      R[1][0] = txy + twz, R[1][1] = 1 - (txx + tzz), R[1][2] = tyz - twx;
+      R[2][0] = txz - twy, R[2][1] = tyz + twx, R[2][2] = 1 - (txx + tyy);
+    };
+    to_rotation(qx, qy, qz, qw);
+    V A[3][3];  // R^T F
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) A[i][j] = R[0][i] * F[0][j] + R[1][i] * F[1][j] + R[2][i] * F[2][j];
+    const V gx = A[2][1] - A[1][2], gy = A[0][2] - A[2][0], gz = A[1][0] - A[0][1];
+    const V trace = A[0][0] + A[1][1] + A[2][2];
+    const V h00 = trace - A[0][0], h11 = trace - A[1][1], h22 = trace - A[2][2];
+    const V h01 = -0.5 * (A[0][1] + A[1][0]), h02 = -0.5 * (A[0][2] + A[2][0]), h12 = -0.5 * (A[1][2] + A[2][1]);
+    const V c00 = h11 * h22 - h12 * h12, c01 = h02 * h12 - h01 * h22, c02 = h01 * h12 - h02 * h11;
+    const V c11 = h00 * h22 - h02 * h02, c12 = h01 * h02 - h00 * h12, c22 = h00 * h11 - h01 * h01;
+    const V margin = kRotationNewtonMargin * (trace < zero ? -trace : trace);
+    const V m3 = h00 * c00 + h01 * c01 + h02 * c02;
+    const Mask4 definite = (h00 > margin) & (c22 > margin * margin) & (m3 > margin * margin * margin);
+    const V inv_det = definite ? one / m3 : zero;
+    const V wx = inv_det * (c00 * gx + c01 * gy + c02 * gz), wy = inv_det * (c01 * gx + c11 * gy + c12 * gz),
+            wz = inv_det * (c02 * gx + c12 * gy + c22 * gz);
+    const V angle2 = wx * wx + wy * wy + wz * wz;
+    // q (x) (1, w / 2), normalized: the exponential of a step below 1e-4 rad to round-off.
+    // |q'|^2 = 1 + |h|^2 (to q's own round-off): one Newton step of 1/sqrt from 1 leaves
+    // 3/8 (|q'|^2 - 1)^2 < 1e-17. No update at all below kRotationConvergedAngle_rad.
+    const V hx = 0.5 * wx, hy = 0.5 * wy, hz = 0.5 * wz;
+    V nw = qw - (qx * hx + qy * hy + qz * hz);
+    V nx = qw * hx + qx + (qy * hz - qz * hy);
+    V ny = qw * hy + qy + (qz * hx - qx * hz);
+    V nz = qw * hz + qz + (qx * hy - qy * hx);
+    const V norm2 = nw * nw + nx * nx + ny * ny + nz * nz;
+    const V inv_norm = 1.5 - 0.5 * norm2;
+    const Mask4 update = angle2 > kRotationConvergedAngle_rad * kRotationConvergedAngle_rad;
+    nw = update ? nw * inv_norm : qw, nx = update ? nx * inv_norm : qx;
+    ny = update ? ny * inv_norm : qy, nz = update ? nz * inv_norm : qz;
+    const V off_unit = norm2 - 1.0;
+    const Mask4 done = definite & (angle2 < last_step_rad * last_step_rad) & (off_unit < 1e-6) & (off_unit > -1e-6);
+    store(status + e, done ? zero : one);
+    nx = done ? nx : qx, ny = done ? ny : qy, nz = done ? nz : qz, nw = done ? nw : qw;
+    for (int l = 0; l < 4; ++l) q[4 * l] = nx[l], q[4 * l + 1] = ny[l], q[4 * l + 2] = nz[l], q[4 * l + 3] = nw[l];
+    to_rotation(nx, ny, nz, nw);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) store(rotation + (3 * i + j) * count + e, R[i][j]);
+    V L[3][3];  // R^T F - I (+ beta R^T dv Dm^-1)
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) L[i][j] = R[0][i] * F[0][j] + R[1][i] * F[1][j] + R[2][i] * F[2][j];
+    for (int i = 0; i < 3; ++i) L[i][i] -= 1.0;
+    if (kDamping) {
+      for (int k = 0; k < 3; ++k) {
+        V v0, vc;
+        node_gather(v0, v, 0, k);
+        for (int c = 0; c < 3; ++c) node_gather(vc, v, c + 1, k), d[k][c] = vc - v0;
+      }
+      V T[3][3];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) T[i][j] = R[0][i] * d[0][j] + R[1][i] * d[1][j] + R[2][i] * d[2][j];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) L[i][j] += beta * (T[i][0] * W[0][j] + T[i][1] * W[1][j] + T[i][2] * W[2][j]);
+    }
+    V mu, lambda_volume_e;
+    load(mu, mu_volume + e), load(lambda_volume_e, lambda_volume + e);
+    const V lambda_tr = lambda_volume_e * (L[0][0] + L[1][1] + L[2][2]);
+    V S[3][3], P[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) S[i][j] = mu * (L[i][j] + L[j][i]) + (i == j ? lambda_tr : zero);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) P[i][j] = R[i][0] * S[0][j] + R[i][1] * S[1][j] + R[i][2] * S[2][j];
+    for (int k = 0; k < 3; ++k) {
+      V sum = zero;
+      for (int a = 1; a < 4; ++a) {
+        const V ya = P[k][0] * W[a - 1][0] + P[k][1] * W[a - 1][1] + P[k][2] * W[a - 1][2];
+        store(minus_force + (3 * a + k) * count + e, ya);
+        sum += ya;
+      }
+      store(minus_force + k * count + e, -sum);
+    }
+  }
+}
+
+SEDBRIDGE_HOT_CLONES
+void CorotationalForcesDamped(int begin, int end, int count, const int* offset, const double* rest_inverse,
+                              const double* mu_volume, const double* lambda_volume, double beta, double last_step_rad,
+                              const double* x, const double* v, double* quaternion, double* rotation,
+                              double* minus_force, double* status, double* inverted) {
+  CorotationalForcesBody<true>(begin, end, count, offset, rest_inverse, mu_volume, lambda_volume, beta, last_step_rad,
+                               x, v, quaternion, rotation, minus_force, status, inverted);
+}
+
+SEDBRIDGE_HOT_CLONES
+void CorotationalForcesUndamped(int begin, int end, int count, const int* offset, const double* rest_inverse,
+                                const double* mu_volume, const double* lambda_volume, double last_step_rad,
+                                const double* x, double* quaternion, double* rotation, double* minus_force,
+                                double* status, double* inverted) {
+  CorotationalForcesBody<false>(begin, end, count, offset, rest_inverse, mu_volume, lambda_volume, 0.0, last_step_rad,
+                                x, nullptr, quaternion, rotation, minus_force, status, inverted);
+}
+
 }  // namespace
 
 int CorotationalTwistTerms(const TetElement& e, const Eigen::Matrix3d& R, const Eigen::Matrix3d& F,
@@ -205,6 +355,10 @@ void ElasticTetForce::AddForce(const SystemState& state, Eigen::VectorXd& force_
   // slab boundaries' elements run after a barrier. When other terms widen the pattern well
   // beyond the elements' own blocks (the nodal-pressure term's 2-ring: about 3x), the copies
   // cost more than the boundaries: slabs. Measured on B, docs/validation.md (session 18).
+  if (corotational && !sink) {  // the force alone (matrix-free steps): vectorized
+    inverted_elements_ = AddCorotationalForceVectorized(state, force_N);
+    return;
+  }
   const bool force = corotational;
   const int threads = omp_get_max_threads();
   int inverted = 0;
@@ -293,22 +447,7 @@ int ElasticTetForce::AccumulateElement(int t, const SystemState& state, bool for
     R = ExtractRotation(F, quaternions_[size_t(t)], 20, kElementLastNewtonStep_rad);
     rotations_[size_t(t)] = R;
     if (force) {
-      // Stress form of f = -R K0 (R^T x - X): f_a = -V R sigma(eps) g_a with
-      // eps = sym(R^T F) - I (the small strain in the element's rotated frame).
-      Eigen::Matrix3d G = R.transpose() * F;
-      Eigen::Matrix3d eps = 0.5 * (G + G.transpose());
-      eps.diagonal().array() -= 1.0;
-      if (damping) {
-        Eigen::Matrix3d dv;
-        const Eigen::Vector3d v0 = state.v_m_s.segment<3>(3 * n[0]);
-        dv << state.v_m_s.segment<3>(3 * n[1]) - v0, state.v_m_s.segment<3>(3 * n[2]) - v0,
-            state.v_m_s.segment<3>(3 * n[3]) - v0;
-        const Eigen::Matrix3d Gd = R.transpose() * dv * e.rest_inverse;
-        eps += beta_s_ * 0.5 * (Gd + Gd.transpose());
-      }
-      Eigen::Matrix3d sigma = (2.0 * e.mu_Pa) * eps;
-      sigma.diagonal().array() += e.lambda_Pa * eps.trace();
-      const Eigen::Matrix3d P = e.volume_m3 * (R * sigma);
+      const Eigen::Matrix3d P = VolumeRotatedStress(t, R, F, state, damping);
       for (int a = 0; a < 4; ++a) force_N.segment<3>(3 * n[size_t(a)]) -= P * e.shape_gradients.row(a).transpose();
     }
   }
@@ -353,6 +492,91 @@ int ElasticTetForce::AccumulateElement(int t, const SystemState& state, bool for
       for (int a = 0; a < 4; ++a) k_times_v->segment<3>(3 * n[size_t(a)]) += (twist_sign[size_t(k)] * tv) * twist[size_t(k)][size_t(a)];
     }
   }
+  return inverted;
+}
+
+Eigen::Matrix3d ElasticTetForce::VolumeRotatedStress(int t, const Eigen::Matrix3d& R, const Eigen::Matrix3d& F,
+                                                     const SystemState& state, bool damping) const {
+  // Stress form of f = -R K0 (R^T x - X): f_a = -V R sigma(eps) g_a with
+  // eps = sym(R^T F) - I (the small strain in the element's rotated frame).
+  const TetElement& e = elements_[size_t(t)];
+  const Tet& n = mesh_.tets[size_t(t)];
+  Eigen::Matrix3d G = R.transpose() * F;
+  Eigen::Matrix3d eps = 0.5 * (G + G.transpose());
+  eps.diagonal().array() -= 1.0;
+  if (damping) {
+    Eigen::Matrix3d dv;
+    const Eigen::Vector3d v0 = state.v_m_s.segment<3>(3 * n[0]);
+    dv << state.v_m_s.segment<3>(3 * n[1]) - v0, state.v_m_s.segment<3>(3 * n[2]) - v0,
+        state.v_m_s.segment<3>(3 * n[3]) - v0;
+    const Eigen::Matrix3d Gd = R.transpose() * dv * e.rest_inverse;
+    eps += beta_s_ * 0.5 * (Gd + Gd.transpose());
+  }
+  Eigen::Matrix3d sigma = (2.0 * e.mu_Pa) * eps;
+  sigma.diagonal().array() += e.lambda_Pa * eps.trace();
+  return e.volume_m3 * (R * sigma);
+}
+
+int ElasticTetForce::AddCorotationalForceVectorized(const SystemState& state, Eigen::VectorXd& force_N) {
+  const int count = int(elements_.size());
+  if (product_.rotation.size() != 9 * size_t(count)) product_.Build(mesh_, elements_);
+  const bool damping = state.dynamic && beta_s_ > 0;
+  double* y = product_.element_force.data();
+  double* rotation = product_.rotation.data();
+  double* status = product_.status.data();
+  double* inverted_flag = product_.inverted.data();
+  const int nodes = mesh_.num_nodes();
+  const bool parallel = omp_get_max_threads() > 1 && size_t(count) >= kParallelAssemblyMinTets;
+  int inverted = 0, scalar = 0;
+#pragma omp parallel if (parallel) reduction(+ : inverted, scalar)
+  {
+    const int threads = omp_get_num_threads(), tid = omp_get_thread_num();
+    const int begin = int(long(count) * tid / threads), end = int(long(count) * (tid + 1) / threads);
+    double* quaternion = quaternions_[0].coeffs().data();
+    if (damping)
+      CorotationalForcesDamped(begin, end, count, product_.offset.data(), product_.rest_inverse.data(),
+                               product_.mu_volume.data(), product_.lambda_volume.data(), beta_s_,
+                               kElementLastNewtonStep_rad, state.x_m.data(), state.v_m_s.data(), quaternion, rotation,
+                               y, status, inverted_flag);
+    else
+      CorotationalForcesUndamped(begin, end, count, product_.offset.data(), product_.rest_inverse.data(),
+                                 product_.mu_volume.data(), product_.lambda_volume.data(), kElementLastNewtonStep_rad,
+                                 state.x_m.data(), quaternion, rotation, y, status, inverted_flag);
+    for (int t = begin; t < end; ++t) {
+      inverted += inverted_flag[t] != 0;
+      Eigen::Matrix3d& R = rotations_[size_t(t)];
+      if (status[t] != 0) {
+        ++scalar;  // more than one Newton step, or none safe: the scalar iteration
+        const TetElement& e = elements_[size_t(t)];
+        const Tet& n = mesh_.tets[size_t(t)];
+        const Eigen::Matrix3d F = DeformationGradient(e, state.x_m.segment<3>(3 * n[0]), state.x_m.segment<3>(3 * n[1]),
+                                                      state.x_m.segment<3>(3 * n[2]), state.x_m.segment<3>(3 * n[3]));
+        R = ExtractRotation(F, quaternions_[size_t(t)], 20, kElementLastNewtonStep_rad);
+        const Eigen::Matrix3d P = VolumeRotatedStress(t, R, F, state, damping);
+        for (int a = 0; a < 4; ++a) {
+          const Eigen::Vector3d ya = P * e.shape_gradients.row(a).transpose();
+          for (int k = 0; k < 3; ++k) y[(3 * a + k) * count + t] = ya[k];
+        }
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) rotation[(3 * i + j) * count + t] = R(i, j);
+      } else {
+        for (int i = 0; i < 3; ++i)
+          for (int j = 0; j < 3; ++j) R(i, j) = rotation[(3 * i + j) * count + t];
+      }
+    }
+#pragma omp barrier
+#pragma omp for schedule(static)
+    for (int i = 0; i < nodes; ++i) {
+      double s0 = 0, s1 = 0, s2 = 0;
+      for (int k = product_.node_start[size_t(i)]; k < product_.node_start[size_t(i) + 1]; ++k) {
+        const int slot = product_.node_slot[size_t(k)];
+        s0 += y[slot], s1 += y[slot + count], s2 += y[slot + 2 * count];
+      }
+      force_N[3 * i] -= s0, force_N[3 * i + 1] -= s1, force_N[3 * i + 2] -= s2;
+    }
+  }
+  product_.rotations_current = true;
+  scalar_rotations_ = scalar;
   return inverted;
 }
 
@@ -424,6 +648,9 @@ void ElasticTetForce::ElementProductArrays::Build(const TetMesh& mesh, const std
   mu_volume.resize(size_t(count));
   lambda_volume.resize(size_t(count));
   element_out.assign(12 * size_t(count), 0.0);
+  element_force.assign(12 * size_t(count), 0.0);
+  status.assign(size_t(count), 0);
+  inverted.assign(size_t(count), 0);
   node_start.assign(size_t(mesh.num_nodes()) + 1, 0);
   for (int t = 0; t < count; ++t) {
     const TetElement& e = elements[size_t(t)];

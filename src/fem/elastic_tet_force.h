@@ -80,6 +80,10 @@ class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
   void ComputeNodeRotations(std::vector<Eigen::Matrix3d>& node_rotations) const override;
   /// Elements with det F <= 0 at the last AddForce.
   int inverted_elements() const { return inverted_elements_; }
+  /// Corotational force without Jacobian (vectorized, four elements at a time, one warm
+  /// Newton step of each rotation): elements whose rotation took ExtractRotation's full
+  /// iteration instead at the last such AddForce.
+  int scalar_rotations() const { return scalar_rotations_; }
 
   const TetMesh& mesh() const { return mesh_; }
   const std::vector<TetElement>& elements() const { return elements_; }
@@ -108,9 +112,18 @@ class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
   /// out like sink's matrix). Returns 1 if the element is inverted.
   int AccumulateElement(int t, const SystemState& state, bool force, Eigen::VectorXd& force_N, JacobianSink* sink,
                         double* values, Eigen::VectorXd* k_times_v);
+  /// V R sigma of element t at rotation R and deformation gradient F (and the state's
+  /// velocity when `damping`): node a's force is minus this times its shape gradient.
+  Eigen::Matrix3d VolumeRotatedStress(int t, const Eigen::Matrix3d& R, const Eigen::Matrix3d& F,
+                                      const SystemState& state, bool damping) const;
+  /// The corotational force without Jacobian, vectorized across elements (one warm Newton
+  /// step of each rotation; ExtractRotation for the elements that need more). Returns the
+  /// number of inverted elements.
+  int AddCorotationalForceVectorized(const SystemState& state, Eigen::VectorXd& force_N);
   /// out += scale R K0 R^T v over element t's nodes, in stress form.
   void AddElementStiffnessTimes(int t, const Eigen::Matrix3d& R, double scale, const Eigen::VectorXd& v,
                                 Eigen::VectorXd& out) const;
+  int scalar_rotations_ = 0;
   bool last_dynamic_ = false;  // the last AddForce's state was dynamic (its damping applies)
   // AddJacobianTimes' element data as structures of arrays (see ElementStiffnessTimes in
   // the .cpp), built on first use; the rotations copied once after each AddForce.
@@ -119,6 +132,8 @@ class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
     std::vector<double> rotation, rest_inverse;  // [(3 i + j) * count + e]
     std::vector<double> mu_volume, lambda_volume;
     std::vector<double> element_out;             // [(3 a + k) * count + e]
+    std::vector<double> element_force;           // minus the force, laid out as element_out
+    std::vector<double> status, inverted;         // CorotationalForces' flags per element
     std::vector<int> node_start, node_slot;      // per node: its (3 a * count + e) slots
     bool rotations_current = false;
     void Build(const TetMesh& mesh, const std::vector<TetElement>& elements);

@@ -7,14 +7,10 @@ namespace sedbridge::fem {
 
 namespace {
 
-// Rotation update below which the iteration has converged [rad]: 1e-12 is round-off for a
-// unit quaternion in double precision.
-constexpr double kConvergedAngle_rad = 1e-12;
 // Keeps the update finite when R and F are orthogonal (alignment 0) [-].
 constexpr double kAlignmentFloor = 1e-9;
-// Newton's step is taken when H's leading minors exceed this fraction of tr(S) (to their
-// power) and the step is shorter than kMaxNewtonStep_rad; otherwise the robust step.
-constexpr double kNewtonMargin = 1e-3;
+// Newton's step is taken when H's leading minors exceed kRotationNewtonMargin times tr(S)
+// (to their power) and the step is shorter than kMaxNewtonStep_rad; otherwise the robust step.
 constexpr double kMaxNewtonStep_rad = 0.5;
 // Below this step the quaternion of exp(w) is (1, w/2) to within round-off [rad].
 constexpr double kSmallAngle_rad = 1e-4;
@@ -43,7 +39,7 @@ Eigen::Matrix3d ExtractRotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q,
     const double c00 = h11 * h22 - h12 * h12, c01 = h02 * h12 - h01 * h22, c02 = h01 * h12 - h02 * h11;
     const double c11 = h00 * h22 - h02 * h02, c12 = h01 * h02 - h00 * h12, c22 = h00 * h11 - h01 * h01;
     // Positive definite, by leading minors, with a margin against a nearly singular H.
-    const double margin = kNewtonMargin * std::abs(trace);
+    const double margin = kRotationNewtonMargin * std::abs(trace);
     const double m1 = h00, m2 = c22, m3 = h00 * c00 + h01 * c01 + h02 * c02;
     bool newton_step = false;
     if (m1 > margin && m2 > margin * margin && m3 > margin * margin * margin) {
@@ -54,7 +50,7 @@ Eigen::Matrix3d ExtractRotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q,
     }
     if (!newton_step) omega = g / (std::abs(trace) + kAlignmentFloor);
     const double angle = omega.norm();
-    if (!(angle > kConvergedAngle_rad)) break;  // also stops on NaN input
+    if (!(angle > kRotationConvergedAngle_rad)) break;  // also stops on NaN input
     if (angle < kSmallAngle_rad) {
       // exp of a small rotation to O(angle^3), below round-off in the converged result
       q = q * Eigen::Quaterniond(1.0, 0.5 * omega.x(), 0.5 * omega.y(), 0.5 * omega.z());

@@ -16,6 +16,12 @@ namespace sedbridge::fem {
 /// when F changes little between calls. Stops when the update is below 1e-12 rad, after a
 /// Newton step shorter than `last_newton_step_rad` (the error left is of the order of its
 /// square: the default leaves ~1e-12 rad), or after `max_iterations`. Returns R.
+/// Rotation update below which the iteration has converged [rad]: round-off for a unit
+/// quaternion in double precision.
+inline constexpr double kRotationConvergedAngle_rad = 1e-12;
+/// Newton's step needs H's leading minors above this fraction of tr(S) (to their power).
+inline constexpr double kRotationNewtonMargin = 1e-3;
+
 Eigen::Matrix3d ExtractRotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q, int max_iterations = 20,
                                 double last_newton_step_rad = 1e-6);
 

@@ -84,6 +84,61 @@ TEST(ElasticTetForce, WarmRotationsThroughATurnGiveTheConvergedForce) {
   }
 }
 
+// The force alone (matrix-free steps) runs four elements at a time with one warm Newton
+// step of each rotation, and ExtractRotation where that is not enough (a first call from
+// the identity, inverted elements, the last count % 4): the same force, rotations and
+// inverted count as the element loop of an assembly, a strained block turning 5e-5 rad a
+// call (a dynamic step's size), damped, on 1 and 2 threads.
+TEST(ElasticTetForce, VectorizedForceIsTheElementLoopsForce) {
+  const TetMesh mesh = MakeBoxMesh({0.006, 0.005, 0.008}, {3, 3, 3}, testing::Skin(1e5, 0.45));
+  ASSERT_NE(mesh.num_tets() % 4, 0);  // a remainder for ExtractRotation
+  const int dofs = 3 * mesh.num_nodes();
+  Eigen::VectorXd rest(dofs);
+  for (int i = 0; i < mesh.num_nodes(); ++i) rest.segment<3>(3 * i) = mesh.rest_positions_m.col(i);
+  const Eigen::VectorXd strain = 1e-4 * Eigen::VectorXd::Random(dofs), v = 1e-2 * Eigen::VectorXd::Random(dofs);
+  const Eigen::Vector3d axis = Eigen::Vector3d(1, 2, 3).normalized();
+  const int saved = omp_get_max_threads();
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    int remainder = 0;  // each thread's last (its elements % 4)
+    for (int tid = 0; tid < threads; ++tid)
+      remainder += (mesh.num_tets() * (tid + 1) / threads - mesh.num_tets() * tid / threads) % 4;
+    ElasticTetForce vectorized(mesh, ElasticFormulation::kCorotational, 0.01);
+    ElasticTetForce looped(mesh, ElasticFormulation::kCorotational, 0.01);
+    std::vector<std::pair<int, int>> pairs;
+    looped.AppendCoupledNodes(pairs);
+    SystemMatrix matrix;
+    matrix.Build(mesh.num_nodes(), pairs);
+    looped.BindMatrix(matrix);
+    for (int k = 1; k <= 20; ++k) {
+      const Eigen::Matrix3d R = Eigen::AngleAxisd(5e-5 * k, axis).toRotationMatrix();
+      Eigen::VectorXd x(dofs);
+      for (int i = 0; i < mesh.num_nodes(); ++i)
+        x.segment<3>(3 * i) = R * (rest.segment<3>(3 * i) + strain.segment<3>(3 * i));
+      if (k == 20) {  // invert element 0
+        const Tet& t0 = mesh.tets[0];
+        const Eigen::Vector3d c = (x.segment<3>(3 * t0[1]) + x.segment<3>(3 * t0[2]) + x.segment<3>(3 * t0[3])) / 3;
+        x.segment<3>(3 * t0[0]) = c + 0.5 * (c - x.segment<3>(3 * t0[0]));
+      }
+      Eigen::VectorXd f_vectorized = Eigen::VectorXd::Zero(dofs), f_looped = Eigen::VectorXd::Zero(dofs);
+      vectorized.AddForce({x, v, 0.0, true}, f_vectorized, nullptr);
+      JacobianSink sink{&matrix, 1e-6, 1e-3};
+      looped.AddForce({x, v, 0.0, true}, f_looped, &sink);
+      ASSERT_GT(f_looped.norm(), 0);
+      EXPECT_LT((f_vectorized - f_looped).norm(), 1e-12 * f_looped.norm()) << "call " << k << ", " << threads << " threads";
+      EXPECT_EQ(vectorized.inverted_elements(), looped.inverted_elements()) << "call " << k;
+      double worst = 0;
+      for (int t = 0; t < mesh.num_tets(); ++t)
+        worst = std::max(worst, (vectorized.rotations()[size_t(t)] - looped.rotations()[size_t(t)]).norm());
+      EXPECT_LT(worst, 1e-12) << "call " << k;
+      if (k == 1) EXPECT_EQ(vectorized.scalar_rotations(), mesh.num_tets());  // from the identity: far
+      if (k > 1 && k < 20) EXPECT_EQ(vectorized.scalar_rotations(), remainder) << "call " << k;
+    }
+    EXPECT_GE(vectorized.inverted_elements(), 1);
+  }
+  omp_set_num_threads(saved);
+}
+
 // A matrix-free step (fem/step_operator.h) takes (s K + d D) v and the diagonal blocks from
 // the element kernel instead of the assembled matrix: the same numbers to 1e-12 of their
 // size, for the linear and the corotational element (rotated, strained, damped), on 1 and 2
