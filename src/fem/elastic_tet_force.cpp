@@ -10,6 +10,7 @@
 
 #include "common/hot_clones.h"
 #include "fem/rotation_extraction.h"
+#include "fem/rotation_step4.h"
 
 namespace sedbridge::fem {
 namespace {
@@ -96,10 +97,9 @@ void ElementStiffnessTimes(int begin, int end, int count, const int* offset, con
 // elements) gets status 1, its quaternion untouched, for ExtractRotation.
 // inverted[e] = 1 where det F <= 0. (Explicit vectors: GCC did not vectorize this loop
 // written for one element, its selections turned into branches.)
-// (Vectors pass between the lambdas below by reference only: by value, the default clone
-// would pass 32-byte vectors without AVX, which GCC warns changes the ABI.)
-using Doubles4 = double __attribute__((vector_size(32)));
-using Mask4 = long long __attribute__((vector_size(32)));
+// (Vectors pass by reference only, fem/rotation_step4.h.)
+using rotation_step4::Doubles4;
+using rotation_step4::Mask4;
 
 template <bool kDamping>
 inline __attribute__((always_inline)) void CorotationalForcesBody(
@@ -131,53 +131,13 @@ inline __attribute__((always_inline)) void CorotationalForcesBody(
                   F[0][2] * (F[1][0] * F[2][1] - F[1][1] * F[2][0]);
     store(inverted + e, det <= zero ? one : zero);
     double* q = quaternion + 4 * e;
-    const V qx = {q[0], q[4], q[8], q[12]}, qy = {q[1], q[5], q[9], q[13]};
-    const V qz = {q[2], q[6], q[10], q[14]}, qw = {q[3], q[7], q[11], q[15]};
+    V qx = {q[0], q[4], q[8], q[12]}, qy = {q[1], q[5], q[9], q[13]};
+    V qz = {q[2], q[6], q[10], q[14]}, qw = {q[3], q[7], q[11], q[15]};
     V R[3][3];
-    auto to_rotation = [&](const V& rx, const V& ry, const V& rz, const V& rw) {  // Eigen's Quaternion::toRotationMatrix
-      const V tx = 2 * rx, ty = 2 * ry, tz = 2 * rz;
-      const V twx = tx * rw, twy = ty * rw, twz = tz * rw, txx = tx * rx, txy = ty * rx, txz = tz * rx;
-      const V tyy = ty * ry, tyz = tz * ry, tzz = tz * rz;
-      R[0][0] = 1 - (tyy + tzz), R[0][1] = txy - twz, R[0][2] = txz + twy;
-      R[1][0] = txy + twz, R[1][1] = 1 - (txx + tzz), R[1][2] = tyz - twx;
-      R[2][0] = txz - twy, R[2][1] = tyz + twx, R[2][2] = 1 - (txx + tyy);
-    };
-    to_rotation(qx, qy, qz, qw);
-    V A[3][3];  // R^T F
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) A[i][j] = R[0][i] * F[0][j] + R[1][i] * F[1][j] + R[2][i] * F[2][j];
-    const V gx = A[2][1] - A[1][2], gy = A[0][2] - A[2][0], gz = A[1][0] - A[0][1];
-    const V trace = A[0][0] + A[1][1] + A[2][2];
-    const V h00 = trace - A[0][0], h11 = trace - A[1][1], h22 = trace - A[2][2];
-    const V h01 = -0.5 * (A[0][1] + A[1][0]), h02 = -0.5 * (A[0][2] + A[2][0]), h12 = -0.5 * (A[1][2] + A[2][1]);
-    const V c00 = h11 * h22 - h12 * h12, c01 = h02 * h12 - h01 * h22, c02 = h01 * h12 - h02 * h11;
-    const V c11 = h00 * h22 - h02 * h02, c12 = h01 * h02 - h00 * h12, c22 = h00 * h11 - h01 * h01;
-    const V margin = kRotationNewtonMargin * (trace < zero ? -trace : trace);
-    const V m3 = h00 * c00 + h01 * c01 + h02 * c02;
-    const Mask4 definite = (h00 > margin) & (c22 > margin * margin) & (m3 > margin * margin * margin);
-    const V inv_det = definite ? one / m3 : zero;
-    const V wx = inv_det * (c00 * gx + c01 * gy + c02 * gz), wy = inv_det * (c01 * gx + c11 * gy + c12 * gz),
-            wz = inv_det * (c02 * gx + c12 * gy + c22 * gz);
-    const V angle2 = wx * wx + wy * wy + wz * wz;
-    // q (x) (1, w / 2), normalized: the exponential of a step below 1e-4 rad to round-off.
-    // |q'|^2 = 1 + |h|^2 (to q's own round-off): one Newton step of 1/sqrt from 1 leaves
-    // 3/8 (|q'|^2 - 1)^2 < 1e-17. No update at all below kRotationConvergedAngle_rad.
-    const V hx = 0.5 * wx, hy = 0.5 * wy, hz = 0.5 * wz;
-    V nw = qw - (qx * hx + qy * hy + qz * hz);
-    V nx = qw * hx + qx + (qy * hz - qz * hy);
-    V ny = qw * hy + qy + (qz * hx - qx * hz);
-    V nz = qw * hz + qz + (qx * hy - qy * hx);
-    const V norm2 = nw * nw + nx * nx + ny * ny + nz * nz;
-    const V inv_norm = 1.5 - 0.5 * norm2;
-    const Mask4 update = angle2 > kRotationConvergedAngle_rad * kRotationConvergedAngle_rad;
-    nw = update ? nw * inv_norm : qw, nx = update ? nx * inv_norm : qx;
-    ny = update ? ny * inv_norm : qy, nz = update ? nz * inv_norm : qz;
-    const V off_unit = norm2 - 1.0;
-    const Mask4 done = definite & (angle2 < last_step_rad * last_step_rad) & (off_unit < 1e-6) & (off_unit > -1e-6);
+    Mask4 done;
+    rotation_step4::NewtonStep(F, qx, qy, qz, qw, last_step_rad, R, done);
     store(status + e, done ? zero : one);
-    nx = done ? nx : qx, ny = done ? ny : qy, nz = done ? nz : qz, nw = done ? nw : qw;
-    for (int l = 0; l < 4; ++l) q[4 * l] = nx[l], q[4 * l + 1] = ny[l], q[4 * l + 2] = nz[l], q[4 * l + 3] = nw[l];
-    to_rotation(nx, ny, nz, nw);
+    for (int l = 0; l < 4; ++l) q[4 * l] = qx[l], q[4 * l + 1] = qy[l], q[4 * l + 2] = qz[l], q[4 * l + 3] = qw[l];
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) store(rotation + (3 * i + j) * count + e, R[i][j]);
     V L[3][3];  // R^T F - I (+ beta R^T dv Dm^-1)
@@ -712,12 +672,14 @@ void ElasticTetForce::ComputeNodeRotations(std::vector<Eigen::Matrix3d>& node_ro
   // From the last call's rotation: the nodes turn little between calls (1-2 Newton steps
   // instead of 3-4 from the identity).
   node_quaternions_.resize(node_elements_.size(), Eigen::Quaterniond::Identity());
-#pragma omp parallel for schedule(static) if (node_elements_.size() > 20000)
-  for (int i = 0; i < int(node_elements_.size()); ++i) {
+  node_rotation_sums_.resize(node_elements_.size());
+  for (size_t i = 0; i < node_elements_.size(); ++i) {
     Eigen::Matrix3d sum = Eigen::Matrix3d::Zero();
-    for (int t : node_elements_[size_t(i)]) sum += rotations_[size_t(t)];
-    node_rotations[size_t(i)] = ExtractRotation(sum, node_quaternions_[size_t(i)], 20, kNodeLastNewtonStep_rad);
+    for (int t : node_elements_[i]) sum += rotations_[size_t(t)];
+    node_rotation_sums_[i] = sum;
   }
+  ExtractRotations(int(node_elements_.size()), node_rotation_sums_.data(), node_quaternions_.data(),
+                   node_rotations.data(), kNodeLastNewtonStep_rad);
 }
 
 }  // namespace sedbridge::fem

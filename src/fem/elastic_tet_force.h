@@ -107,6 +107,7 @@ class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
   std::vector<std::vector<int>> node_elements_;
   // Warm starts of ComputeNodeRotations (a cache: the answer is the same to round-off).
   mutable std::vector<Eigen::Quaterniond> node_quaternions_;
+  mutable std::vector<Eigen::Matrix3d> node_rotation_sums_;
   int inverted_elements_ = 0;
   /// Element kernel: force into `force`, Jacobian blocks into `values`/`k_times_v` (laid
   /// out like sink's matrix). Returns 1 if the element is inverted.

@@ -2,6 +2,10 @@
 
 #include <Eigen/SVD>
 #include <cmath>
+#include <vector>
+
+#include "common/hot_clones.h"
+#include "fem/rotation_step4.h"
 
 namespace sedbridge::fem {
 
@@ -68,6 +72,54 @@ Eigen::Matrix3d ExtractRotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q,
     R.setIdentity();
   }
   return R;
+}
+
+namespace {
+
+// Four at a time from index `begin` while four are left; status[k] = 1 where ExtractRotation
+// must answer (including the last count % 4).
+SEDBRIDGE_HOT_CLONES
+void RotationStepsBy4(int count, const double* F, double* q, double* R, double last_step_rad, double* status) {
+  using rotation_step4::Doubles4;
+  using rotation_step4::Mask4;
+  const int vector_end = count / 4 * 4;
+  for (int k = vector_end; k < count; ++k) status[k] = 1.0;
+  for (int k = 0; k < vector_end; k += 4) {
+    // Eigen's matrices are column-major: F(i, j) at [9 k + 3 j + i]; quaternions x y z w.
+    Doubles4 f[3][3] = {}, r[3][3] = {};
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const double* p = F + 9 * k + 3 * j + i;
+        f[i][j] = Doubles4{p[0], p[9], p[18], p[27]};
+      }
+    double* w = q + 4 * k;
+    Doubles4 qx = {w[0], w[4], w[8], w[12]}, qy = {w[1], w[5], w[9], w[13]};
+    Doubles4 qz = {w[2], w[6], w[10], w[14]}, qw = {w[3], w[7], w[11], w[15]};
+    Mask4 done;
+    rotation_step4::NewtonStep(f, qx, qy, qz, qw, last_step_rad, r, done);
+    for (int l = 0; l < 4; ++l) {
+      status[k + l] = done[l] ? 0.0 : 1.0;
+      w[4 * l] = qx[l], w[4 * l + 1] = qy[l], w[4 * l + 2] = qz[l], w[4 * l + 3] = qw[l];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) R[9 * (k + l) + 3 * j + i] = r[i][j][l];
+    }
+  }
+}
+
+}  // namespace
+
+int ExtractRotations(int count, const Eigen::Matrix3d* F, Eigen::Quaterniond* q, Eigen::Matrix3d* R,
+                     double last_newton_step_rad) {
+  thread_local std::vector<double> status;
+  status.resize(size_t(count));
+  RotationStepsBy4(count, F[0].data(), q[0].coeffs().data(), R[0].data(), last_newton_step_rad, status.data());
+  int scalar = 0;
+  for (int k = 0; k < count; ++k)
+    if (status[size_t(k)] != 0) {
+      R[k] = ExtractRotation(F[k], q[k], 20, last_newton_step_rad);
+      ++scalar;
+    }
+  return scalar;
 }
 
 Eigen::Matrix3d PolarRotationSvd(const Eigen::Matrix3d& F) {

@@ -1,5 +1,7 @@
 #include "fem/strain_energy_density.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <map>
 #include <stdexcept>
@@ -92,16 +94,26 @@ void VertexSedEvaluator::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd& ver
     AverageToVertices(element_sed_, vertex_sed);
     return;
   }
-#pragma omp parallel for schedule(static) if (elements_.size() > kParallelMinElements)
-  for (int k = 0; k < int(elements_.size()); ++k) {
-    const int t = elements_[size_t(k)];
-    const Tet& n = mesh.tets[size_t(t)];
-    const TetElement& e = elastic_.elements()[size_t(t)];
-    const Eigen::Matrix3d F = DeformationGradient(e, x.segment<3>(3 * n[0]), x.segment<3>(3 * n[1]),
-                                                  x.segment<3>(3 * n[2]), x.segment<3>(3 * n[3]));
-    Eigen::Matrix3d R = Eigen::Matrix3d::Identity();
-    if (corotational) R = ExtractRotation(F, warm_[size_t(k)], 20, kSedLastNewtonStep_rad);
-    element_sed_[k] = ElementSed(e, F, R);
+  const int count = int(elements_.size());
+  element_F_.resize(size_t(count));
+  element_R_.assign(size_t(count), Eigen::Matrix3d::Identity());
+  // Deformation gradients, the rotations (in vector registers, four at a time, on each
+  // thread's share), the SED.
+#pragma omp parallel if (elements_.size() > kParallelMinElements)
+  {
+    const int threads = omp_get_num_threads(), tid = omp_get_thread_num();
+    const int begin = int(long(count) * tid / threads), end = int(long(count) * (tid + 1) / threads);
+    for (int k = begin; k < end; ++k) {
+      const Tet& n = mesh.tets[size_t(elements_[size_t(k)])];
+      element_F_[size_t(k)] = DeformationGradient(elastic_.elements()[size_t(elements_[size_t(k)])], x.segment<3>(3 * n[0]),
+                                                  x.segment<3>(3 * n[1]), x.segment<3>(3 * n[2]), x.segment<3>(3 * n[3]));
+    }
+    if (corotational && end > begin)
+      ExtractRotations(end - begin, &element_F_[size_t(begin)], &warm_[size_t(begin)], &element_R_[size_t(begin)],
+                       kSedLastNewtonStep_rad);
+    for (int k = begin; k < end; ++k)
+      element_sed_[k] = ElementSed(elastic_.elements()[size_t(elements_[size_t(k)])], element_F_[size_t(k)],
+                                   element_R_[size_t(k)]);
   }
   AverageToVertices(element_sed_, vertex_sed);
 }

@@ -53,6 +53,7 @@ class VertexSedEvaluator {
   std::vector<int> elements_;                  // union of elements around vertices_
   std::vector<std::vector<int>> vertex_local_; // per vertex: indices into elements_
   std::vector<Eigen::Quaterniond> warm_;
+  std::vector<Eigen::Matrix3d> element_F_, element_R_;  // Evaluate's, per element of elements_
   Eigen::VectorXd element_sed_;
   // Nodal pressure: the patches of elements_ and every element feeding them ("ring").
   const NodalPressureTetForce* nodal_ = nullptr;

@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <random>
+#include <vector>
 
 namespace sedbridge::fem {
 namespace {
@@ -139,6 +141,48 @@ TEST(RotationExtraction, NanInputFallsBackToIdentity) {
   F(0, 0) = std::nan("");
   Eigen::Quaterniond q = Eigen::Quaterniond::Identity();
   EXPECT_TRUE(ExtractRotation(F, q).allFinite());
+}
+
+// ExtractRotations (four at a time in vector registers, ExtractRotation for the rest) gives
+// ExtractRotation's rotations and warm starts to round-off, on a batch that mixes warm
+// starts a tiny step away (one vector step), a step between 1e-4 and the bound and far ones
+// (ExtractRotation), an inverted F, a NaN and a count that is not a multiple of four; and
+// takes ExtractRotation only where it must.
+TEST(RotationExtraction, BatchedEqualsOneByOne) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> s(0.9, 1.1);
+  std::normal_distribution<double> tiny(0.0, 5e-6), mid(0.0, 2e-4), far(0.0, 0.3);
+  const int count = 43;
+  std::vector<Eigen::Matrix3d> F(count), R(count);
+  std::vector<Eigen::Quaterniond> q(count), q_reference(count);
+  int expected_scalar = count % 4;
+  for (int k = 0; k < count; ++k) {
+    const Eigen::Matrix3d rotation = RandomRotation(rng);
+    F[size_t(k)] = rotation * RandomStretch(rng, s);
+    std::normal_distribution<double>& n = k % 7 == 3 ? far : (k % 7 == 5 ? mid : tiny);
+    // The polar rotation's quaternion, then the warm start a small turn away.
+    Eigen::Quaterniond polar = Eigen::Quaterniond::Identity();
+    ExtractRotation(F[size_t(k)], polar, 50, 1e-12);
+    q[size_t(k)] = Perturbed(polar.toRotationMatrix(), rng, n);
+  }
+  F[10] = -F[10];                                       // inverted
+  F[20](1, 1) = std::numeric_limits<double>::quiet_NaN();  // bad input
+  q_reference = q;
+  const int scalar = ExtractRotations(count, F.data(), q.data(), R.data(), 1e-3);
+  int vector_steps = 0;
+  for (int k = 0; k < count; ++k) {
+    const Eigen::Matrix3d expected = ExtractRotation(F[size_t(k)], q_reference[size_t(k)], 20, 1e-3);
+    if (k == 20) {
+      EXPECT_TRUE(R[size_t(k)].allFinite());
+      continue;
+    }
+    EXPECT_LT((R[size_t(k)] - expected).norm(), 1e-14) << k;
+    EXPECT_LT((q[size_t(k)].coeffs() - q_reference[size_t(k)].coeffs()).norm(), 1e-14) << k;
+    if (k < count / 4 * 4 && k % 7 != 3 && k % 7 != 5 && k != 10) ++vector_steps;
+  }
+  EXPECT_LE(scalar, count - vector_steps);
+  EXPECT_GE(scalar, expected_scalar + 1);  // the remainder, the far ones, the NaN
+  EXPECT_LT(scalar, count / 2);
 }
 
 }  // namespace
