@@ -479,6 +479,7 @@ Eigen::Matrix3d ElasticTetForce::VolumeRotatedStress(int t, const Eigen::Matrix3
 
 int ElasticTetForce::AddCorotationalForceVectorized(const SystemState& state, Eigen::VectorXd& force_N) {
   const int count = int(elements_.size());
+  if (count == 0) return 0;
   if (product_.rotation.size() != 9 * size_t(count)) product_.Build(mesh_, elements_);
   const bool damping = state.dynamic && beta_s_ > 0;
   double* y = product_.element_force.data();
