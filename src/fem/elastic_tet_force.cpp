@@ -486,7 +486,6 @@ int ElasticTetForce::AddCorotationalForceVectorized(const SystemState& state, Ei
   double* rotation = product_.rotation.data();
   double* status = product_.status.data();
   double* inverted_flag = product_.inverted.data();
-  const int nodes = mesh_.num_nodes();
   const bool parallel = omp_get_max_threads() > 1 && size_t(count) >= kParallelAssemblyMinTets;
   int inverted = 0, scalar = 0;
 #pragma omp parallel if (parallel) reduction(+ : inverted, scalar)
@@ -526,15 +525,7 @@ int ElasticTetForce::AddCorotationalForceVectorized(const SystemState& state, Ei
       }
     }
 #pragma omp barrier
-#pragma omp for schedule(static)
-    for (int i = 0; i < nodes; ++i) {
-      double s0 = 0, s1 = 0, s2 = 0;
-      for (int k = product_.node_start[size_t(i)]; k < product_.node_start[size_t(i) + 1]; ++k) {
-        const int slot = product_.node_slot[size_t(k)];
-        s0 += y[slot], s1 += y[slot + count], s2 += y[slot + 2 * count];
-      }
-      force_N[3 * i] -= s0, force_N[3 * i + 1] -= s1, force_N[3 * i + 2] -= s2;
-    }
+    product_.AddNodeSums(y, -1.0, force_N);
   }
   product_.rotations_current = true;
   scalar_rotations_ = scalar;
@@ -578,7 +569,6 @@ void ElasticTetForce::AddJacobianTimes(double stiffness_scale, double damping_sc
         for (int j = 0; j < 3; ++j) product_.rotation[size_t((3 * i + j) * count + t)] = rotations_[size_t(t)](i, j);
     product_.rotations_current = true;
   }
-  const int nodes = mesh_.num_nodes();
   const bool parallel = omp_get_max_threads() > 1 && size_t(count) >= kParallelAssemblyMinTets;
   double* y = product_.element_out.data();
 #pragma omp parallel if (parallel)
@@ -589,15 +579,20 @@ void ElasticTetForce::AddJacobianTimes(double stiffness_scale, double damping_sc
                           product_.rest_inverse.data(), product_.mu_volume.data(), product_.lambda_volume.data(), scale,
                           v.data(), y);
 #pragma omp barrier
+    product_.AddNodeSums(y, 1.0, out);
+  }
+}
+
+void ElasticTetForce::ElementProductArrays::AddNodeSums(const double* y, double sign, Eigen::VectorXd& out) const {
+  const int count = int(mu_volume.size()), nodes = int(node_start.size()) - 1;
 #pragma omp for schedule(static)
-    for (int i = 0; i < nodes; ++i) {
-      double s0 = 0, s1 = 0, s2 = 0;
-      for (int k = product_.node_start[size_t(i)]; k < product_.node_start[size_t(i) + 1]; ++k) {
-        const int slot = product_.node_slot[size_t(k)];
-        s0 += y[slot], s1 += y[slot + count], s2 += y[slot + 2 * count];
-      }
-      out[3 * i] += s0, out[3 * i + 1] += s1, out[3 * i + 2] += s2;
+  for (int i = 0; i < nodes; ++i) {
+    double s0 = 0, s1 = 0, s2 = 0;
+    for (int k = node_start[size_t(i)]; k < node_start[size_t(i) + 1]; ++k) {
+      const int slot = node_slot[size_t(k)];
+      s0 += y[slot], s1 += y[slot + count], s2 += y[slot + 2 * count];
     }
+    out[3 * i] += sign * s0, out[3 * i + 1] += sign * s1, out[3 * i + 2] += sign * s2;
   }
 }
 

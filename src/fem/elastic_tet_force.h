@@ -138,6 +138,9 @@ class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
     std::vector<int> node_start, node_slot;      // per node: its (3 a * count + e) slots
     bool rotations_current = false;
     void Build(const TetMesh& mesh, const std::vector<TetElement>& elements);
+    /// out[node] += sign * the sum of its slots of y (laid out as element_out). Inside a
+    /// parallel region its loop shares the nodes among the team (a worksharing loop).
+    void AddNodeSums(const double* y, double sign, Eigen::VectorXd& out) const;
   };
   ElementProductArrays product_;
   Eigen::VectorXd rest_product_;

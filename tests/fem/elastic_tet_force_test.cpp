@@ -17,16 +17,21 @@
 namespace sedbridge::fem {
 namespace {
 
+// `matrix` built on the term's own coupling pattern and bound to it.
+void BindToItsOwnMatrix(ElasticTetForce& elastic, const TetMesh& mesh, SystemMatrix& matrix) {
+  std::vector<std::pair<int, int>> pairs;
+  elastic.AppendCoupledNodes(pairs);
+  matrix.Build(mesh.num_nodes(), pairs);
+  elastic.BindMatrix(matrix);
+}
+
 // Corotational, damped, with K v and inverted elements: 1, 2, 3 and 7 threads give the
 // one-thread matrix, force and K v to 1e-12 and the same count of inverted elements.
 TEST(ElasticTetForce, ThreadsGiveTheOneThreadAssembly) {
   const TetMesh mesh = MakeBoxMesh({0.006, 0.005, 0.008}, {6, 5, 8}, testing::Skin(1e5, 0.45));
   ElasticTetForce elastic(mesh, ElasticFormulation::kCorotational, 0.01);
-  std::vector<std::pair<int, int>> pairs;
-  elastic.AppendCoupledNodes(pairs);
   SystemMatrix matrix;
-  matrix.Build(mesh.num_nodes(), pairs);
-  elastic.BindMatrix(matrix);
+  BindToItsOwnMatrix(elastic, mesh, matrix);
   Eigen::VectorXd x(3 * mesh.num_nodes());
   for (int i = 0; i < mesh.num_nodes(); ++i) x.segment<3>(3 * i) = mesh.rest_positions_m.col(i);
   x += 2e-4 * Eigen::VectorXd::Random(x.size());
@@ -105,11 +110,8 @@ TEST(ElasticTetForce, VectorizedForceIsTheElementLoopsForce) {
       remainder += (mesh.num_tets() * (tid + 1) / threads - mesh.num_tets() * tid / threads) % 4;
     ElasticTetForce vectorized(mesh, ElasticFormulation::kCorotational, 0.01);
     ElasticTetForce looped(mesh, ElasticFormulation::kCorotational, 0.01);
-    std::vector<std::pair<int, int>> pairs;
-    looped.AppendCoupledNodes(pairs);
     SystemMatrix matrix;
-    matrix.Build(mesh.num_nodes(), pairs);
-    looped.BindMatrix(matrix);
+    BindToItsOwnMatrix(looped, mesh, matrix);
     for (int k = 1; k <= 20; ++k) {
       const Eigen::Matrix3d R = Eigen::AngleAxisd(5e-5 * k, axis).toRotationMatrix();
       Eigen::VectorXd x(dofs);
@@ -157,11 +159,8 @@ TEST(ElasticTetForce, JacobianTimesIsTheAssembledJacobianTimes) {
     for (int threads : {1, 2}) {
       omp_set_num_threads(threads);
       ElasticTetForce elastic(mesh, formulation, 0.01);
-      std::vector<std::pair<int, int>> pairs;
-      elastic.AppendCoupledNodes(pairs);
       SystemMatrix matrix;
-      matrix.Build(mesh.num_nodes(), pairs);
-      elastic.BindMatrix(matrix);
+      BindToItsOwnMatrix(elastic, mesh, matrix);
       Eigen::VectorXd f = Eigen::VectorXd::Zero(dofs), kv = Eigen::VectorXd::Zero(dofs);
       JacobianSink sink{&matrix, ks, kd, &v, &kv};
       elastic.AddForce({x, v, 0.0, true}, f, &sink);
