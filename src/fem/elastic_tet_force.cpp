@@ -480,9 +480,9 @@ Eigen::Matrix3d ElasticTetForce::VolumeRotatedStress(int t, const Eigen::Matrix3
 int ElasticTetForce::AddCorotationalForceVectorized(const SystemState& state, Eigen::VectorXd& force_N) {
   const int count = int(elements_.size());
   if (count == 0) return 0;
-  if (product_.rotation.size() != 9 * size_t(count)) product_.Build(mesh_, elements_);
+  EnsureProductArrays();
   const bool damping = state.dynamic && beta_s_ > 0;
-  double* y = product_.element_force.data();
+  double* y = product_.element_out.data();
   double* rotation = product_.rotation.data();
   double* status = product_.status.data();
   double* inverted_flag = product_.inverted.data();
@@ -492,6 +492,7 @@ int ElasticTetForce::AddCorotationalForceVectorized(const SystemState& state, Ei
   {
     const int threads = omp_get_num_threads(), tid = omp_get_thread_num();
     const int begin = int(long(count) * tid / threads), end = int(long(count) * (tid + 1) / threads);
+    static_assert(sizeof(Eigen::Quaterniond) == 4 * sizeof(double), "quaternions are read as x y z w, four apart");
     double* quaternion = quaternions_[0].coeffs().data();
     if (damping)
       CorotationalForcesDamped(begin, end, count, product_.offset.data(), product_.rest_inverse.data(),
@@ -562,7 +563,7 @@ void ElasticTetForce::AddJacobianTimes(double stiffness_scale, double damping_sc
   // Two passes, each free of write conflicts: every element's nodal products into its own
   // slots (vectorized across elements), then every node sums its elements' slots.
   const int count = int(elements_.size());
-  if (product_.rotation.size() != 9 * size_t(count)) product_.Build(mesh_, elements_);
+  EnsureProductArrays();
   if (!product_.rotations_current) {
     for (int t = 0; t < count; ++t)
       for (int i = 0; i < 3; ++i)
@@ -581,6 +582,11 @@ void ElasticTetForce::AddJacobianTimes(double stiffness_scale, double damping_sc
 #pragma omp barrier
     product_.AddNodeSums(y, 1.0, out);
   }
+}
+
+void ElasticTetForce::EnsureProductArrays() {
+  // Built on first use: a scene whose steps assemble never pays for them.
+  if (product_.rotation.size() != 9 * elements_.size()) product_.Build(mesh_, elements_);
 }
 
 void ElasticTetForce::ElementProductArrays::AddNodeSums(const double* y, double sign, Eigen::VectorXd& out) const {
@@ -604,7 +610,6 @@ void ElasticTetForce::ElementProductArrays::Build(const TetMesh& mesh, const std
   mu_volume.resize(size_t(count));
   lambda_volume.resize(size_t(count));
   element_out.assign(12 * size_t(count), 0.0);
-  element_force.assign(12 * size_t(count), 0.0);
   status.assign(size_t(count), 0);
   inverted.assign(size_t(count), 0);
   node_start.assign(size_t(mesh.num_nodes()) + 1, 0);

@@ -132,8 +132,9 @@ class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
     std::vector<int> offset;                     // 3 * node, [a * count + e]
     std::vector<double> rotation, rest_inverse;  // [(3 i + j) * count + e]
     std::vector<double> mu_volume, lambda_volume;
-    std::vector<double> element_out;             // [(3 a + k) * count + e]
-    std::vector<double> element_force;           // minus the force, laid out as element_out
+    // Per-element nodal values of one pass (minus the force, or a product), summed to the
+    // nodes before the next pass starts: [(3 a + k) * count + e].
+    std::vector<double> element_out;
     std::vector<double> status, inverted;         // CorotationalForces' flags per element
     std::vector<int> node_start, node_slot;      // per node: its (3 a * count + e) slots
     bool rotations_current = false;
@@ -143,6 +144,7 @@ class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
     void AddNodeSums(const double* y, double sign, Eigen::VectorXd& out) const;
   };
   ElementProductArrays product_;
+  void EnsureProductArrays();
   Eigen::VectorXd rest_product_;
   // Threads > 1: per-thread partial sums (thread 0 writes the real buffers), reduced once.
   std::vector<std::vector<double>> thread_values_;

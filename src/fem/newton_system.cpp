@@ -37,7 +37,6 @@ const SystemMatrix& NewtonSystem::Operator::AssembledMatrix() {
     s.scratch_force_.setZero(s.force_.size());
     for (ForceTerm* term : s.coupling_terms_) term->AddForce(*s.matrix_state_, s.scratch_force_, &sink);
     s.matrix_free_ = false;
-    s.off_diagonal_zero_ = false;
   }
   return s.matrix_;
 }
@@ -68,12 +67,9 @@ void NewtonSystem::Assemble(const SystemState& s, double ks, double kd, bool wit
     matrix_free = matrix_ready_ && !constant_matrix_ && solver_->accepts_operator() &&
                   std::all_of(coupling_terms_.begin(), coupling_terms_.end(),
                               [](const ForceTerm* t) { return t->AppliesJacobian(); });
-    if (matrix_free && off_diagonal_zero_) {
-      matrix_.SetDiagonalZero();
-    } else {
-      matrix_.SetZero();
-      off_diagonal_zero_ = matrix_free;
-    }
+    // After a matrix-free assembly the off-diagonal blocks are still zero.
+    if (matrix_free && matrix_free_) matrix_.SetDiagonalZero();
+    else matrix_.SetZero();
     matrix_free_ = matrix_free;
     stiffness_scale_ = ks;
     damping_scale_ = kd;

@@ -85,8 +85,9 @@ class NewtonSystem {
   SystemMatrix matrix_;
   Operator operator_{*this};
   std::vector<ForceTerm*> coupling_terms_;  // terms with off-diagonal blocks
-  bool matrix_free_ = false;                 // the last assembly with a matrix left them out
-  bool off_diagonal_zero_ = false;           // ... and the matrix's off-diagonal blocks are zero
+  // The last assembly with a matrix left their blocks out (its off-diagonal blocks are then
+  // zero), and no fallback has added them since.
+  bool matrix_free_ = false;
   double stiffness_scale_ = 1.0, damping_scale_ = 0.0;  // of that assembly
   std::optional<SystemState> matrix_state_;             // ... and its state (AssembledMatrix)
   Eigen::VectorXd scratch_force_;

@@ -111,6 +111,8 @@ void RotationStepsBy4(int count, const double* F, double* q, double* R, double l
 int ExtractRotations(int count, const Eigen::Matrix3d* F, Eigen::Quaterniond* q, Eigen::Matrix3d* R,
                      double last_newton_step_rad) {
   if (count <= 0) return 0;
+  static_assert(sizeof(Eigen::Matrix3d) == 9 * sizeof(double) && sizeof(Eigen::Quaterniond) == 4 * sizeof(double),
+                "matrices and quaternions are read nine and four doubles apart");
   thread_local std::vector<double> status;
   status.resize(size_t(count));
   RotationStepsBy4(count, F[0].data(), q[0].coeffs().data(), R[0].data(), last_newton_step_rad, status.data());

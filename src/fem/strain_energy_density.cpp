@@ -96,7 +96,8 @@ void VertexSedEvaluator::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd& ver
   }
   const int count = int(elements_.size());
   element_F_.resize(size_t(count));
-  element_R_.assign(size_t(count), Eigen::Matrix3d::Identity());
+  // Linear FEM reads R = I; the corotational rotations are all written below.
+  if (!corotational || element_R_.size() != size_t(count)) element_R_.assign(size_t(count), Eigen::Matrix3d::Identity());
   // Deformation gradients, the rotations (in vector registers, four at a time, on each
   // thread's share), the SED.
 #pragma omp parallel if (elements_.size() > kParallelMinElements)
