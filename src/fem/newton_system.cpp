@@ -26,7 +26,8 @@ void NewtonSystem::Operator::Multiply(const Eigen::VectorXd& x, Eigen::VectorXd&
     s.matrix_.Multiply(x, y);
     return;
   }
-  s.matrix_.MultiplyDiagonalBlocks(x, y);
+  if (s.diagonal_packed_) SystemMatrix::MultiplyPackedBlocks(s.diagonal_blocks_, x, y);
+  else s.matrix_.MultiplyDiagonalBlocks(x, y);
   for (ForceTerm* term : s.coupling_terms_) term->AddJacobianTimes(s.stiffness_scale_, s.damping_scale_, x, y);
 }
 
@@ -37,13 +38,17 @@ const SystemMatrix& NewtonSystem::Operator::AssembledMatrix() {
     s.scratch_force_.setZero(s.force_.size());
     for (ForceTerm* term : s.coupling_terms_) term->AddForce(*s.matrix_state_, s.scratch_force_, &sink);
     s.matrix_free_ = false;
+    s.diagonal_packed_ = false;
   }
   return s.matrix_;
 }
 
 Eigen::Matrix3d NewtonSystem::Operator::DiagonalBlock(int node) const {
   const NewtonSystem& s = system_;
-  Eigen::Matrix3d block = s.matrix_.Block(s.matrix_.DiagonalSlot(node));
+  Eigen::Matrix3d block = s.diagonal_packed_
+                              ? Eigen::Matrix3d(Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(
+                                    s.diagonal_blocks_.data() + 9 * size_t(node)))
+                              : s.matrix_.Block(s.matrix_.DiagonalSlot(node));
   if (s.matrix_free_)
     for (const ForceTerm* term : s.coupling_terms_)
       block += term->JacobianDiagonalBlock(node, s.stiffness_scale_, s.damping_scale_);
@@ -71,6 +76,7 @@ void NewtonSystem::Assemble(const SystemState& s, double ks, double kd, bool wit
     if (matrix_free && matrix_free_) matrix_.SetDiagonalZero();
     else matrix_.SetZero();
     matrix_free_ = matrix_free;
+    diagonal_packed_ = false;
     stiffness_scale_ = ks;
     damping_scale_ = kd;
     matrix_state_.emplace(s);
@@ -107,6 +113,10 @@ void NewtonSystem::PrepareSolver(StageTimes& times) {
     if (split)
       for (size_t k = 0; k < not_in_rest_values_.size(); ++k) values[k] += not_in_rest_values_[k];
     not_in_rest_values_.clear();
+  }
+  if (matrix_free_) {
+    matrix_.GatherDiagonalBlocks(diagonal_blocks_);
+    diagonal_packed_ = true;
   }
   solver_->Prepare(matrix_);
   matrix_ready_ = true;

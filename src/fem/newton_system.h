@@ -90,6 +90,10 @@ class NewtonSystem {
   bool matrix_free_ = false;
   double stiffness_scale_ = 1.0, damping_scale_ = 0.0;  // of that assembly
   std::optional<SystemState> matrix_state_;             // ... and its state (AssembledMatrix)
+  // Of a matrix-free step's matrix once it is complete (PrepareSolver): its diagonal
+  // blocks packed, which the operator's products and diagonal blocks read.
+  std::vector<double> diagonal_blocks_;
+  bool diagonal_packed_ = false;
   Eigen::VectorXd scratch_force_;
   Eigen::VectorXd force_, k_times_v_;
   bool constant_matrix_ = true;

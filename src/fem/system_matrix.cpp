@@ -8,6 +8,9 @@ namespace sedbridge::fem {
 // more when the machine is loaded (each barrier may wait a scheduler time slice; the step's
 // ThreadTeamChooser then keeps one thread). B_fine's and B_x4's step matrices are above it.
 constexpr long kParallelMinNonZeros = 200'000;
+// Passes over the diagonal blocks only: a parallel region costs a few microseconds, one
+// thread's pass over B's 1793 nodes 30-60 (the blocks are scattered over the matrix).
+constexpr int kParallelMinNodes = 1000;
 
 void SystemMatrix::Build(int n, const std::vector<std::pair<int, int>>& pairs) {
   num_nodes_ = n;
@@ -74,6 +77,7 @@ Eigen::Matrix3d SystemMatrix::Block(int slot) const {
 void SystemMatrix::SetZero() { std::fill(values_, values_ + csr_.nonZeros(), 0.0); }
 
 void SystemMatrix::SetDiagonalZero() {
+#pragma omp parallel for schedule(static) if (num_nodes_ >= kParallelMinNodes)
   for (int i = 0; i < num_nodes_; ++i) {
     const int slot = diagonal_slot_[size_t(i)];
     double* base = values_ + slot_base_[size_t(slot)];
@@ -85,12 +89,37 @@ void SystemMatrix::SetDiagonalZero() {
 
 void SystemMatrix::MultiplyDiagonalBlocks(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
   y.resize(3 * num_nodes_);
+#pragma omp parallel for schedule(static) if (num_nodes_ >= kParallelMinNodes)
   for (int i = 0; i < num_nodes_; ++i) {
     const int slot = diagonal_slot_[size_t(i)];
     const double* base = values_ + slot_base_[size_t(slot)];
     const int stride = slot_stride_[size_t(slot)];
     for (int a = 0; a < 3; ++a)
       y[3 * i + a] = base[a * stride] * x[3 * i] + base[a * stride + 1] * x[3 * i + 1] + base[a * stride + 2] * x[3 * i + 2];
+  }
+}
+
+void SystemMatrix::GatherDiagonalBlocks(std::vector<double>& packed) const {
+  packed.resize(9 * size_t(num_nodes_));
+#pragma omp parallel for schedule(static) if (num_nodes_ >= kParallelMinNodes)
+  for (int i = 0; i < num_nodes_; ++i) {
+    const int slot = diagonal_slot_[size_t(i)];
+    const double* base = values_ + slot_base_[size_t(slot)];
+    const int stride = slot_stride_[size_t(slot)];
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) packed[9 * size_t(i) + size_t(3 * a + b)] = base[a * stride + b];
+  }
+}
+
+void SystemMatrix::MultiplyPackedBlocks(const std::vector<double>& packed, const Eigen::VectorXd& x,
+                                        Eigen::VectorXd& y) {
+  const int n = int(packed.size() / 9);
+  y.resize(3 * n);
+#pragma omp parallel for schedule(static) if (n >= kParallelMinNodes)
+  for (int i = 0; i < n; ++i) {
+    const double* d = packed.data() + 9 * size_t(i);
+    const double x0 = x[3 * i], x1 = x[3 * i + 1], x2 = x[3 * i + 2];
+    for (int a = 0; a < 3; ++a) y[3 * i + a] = d[3 * a] * x0 + d[3 * a + 1] * x1 + d[3 * a + 2] * x2;
   }
 }
 

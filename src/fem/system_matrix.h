@@ -59,6 +59,12 @@ class SystemMatrix {
   void Multiply(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
   /// y = D x with D the diagonal blocks of A (y resized).
   void MultiplyDiagonalBlocks(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+  /// The diagonal blocks, 9 values a node (row-major), into `packed` (resized). A block's
+  /// rows lie a whole block row apart here (three cache lines a node); packed they are
+  /// one, for solvers that read them several times a step.
+  void GatherDiagonalBlocks(std::vector<double>& packed) const;
+  /// y = D x with D given packed as by GatherDiagonalBlocks (y resized).
+  static void MultiplyPackedBlocks(const std::vector<double>& packed, const Eigen::VectorXd& x, Eigen::VectorXd& y);
 
  private:
   int num_nodes_ = 0;
