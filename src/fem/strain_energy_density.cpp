@@ -6,7 +6,9 @@
 #include <map>
 #include <stdexcept>
 
+#include "common/hot_clones.h"
 #include "fem/rotation_extraction.h"
+#include "fem/rotation_step4.h"
 
 namespace sedbridge::fem {
 
@@ -21,6 +23,63 @@ constexpr size_t kParallelMinElements = 1000;
 // iteration stops after a Newton step below 1e-3 rad (d ~ 1e-6 rad, ~1e-8 Pa) instead of
 // confirming 1e-12 rad: one polar step per element a step instead of two.
 constexpr double kSedLastNewtonStep_rad = 1e-3;
+
+namespace {
+
+using rotation_step4::Doubles4;
+using rotation_step4::Mask4;
+
+// Corotational SED of elements [begin, end) of a SedArrays layout (`count` entries), four at
+// a time in vector registers: F from x, one warm Newton step of the rotation from the
+// quaternions (x y z w, four per element, updated), sigma:eps/2. Elements whose step is not
+// enough (and the last (end - begin) % 4) get status 1 and no SED, for ExtractRotation.
+SEDBRIDGE_HOT_CLONES
+void CorotationalSedBy4(int begin, int end, int count, const int* offset, const double* rest_inverse,
+                        const double* mu, const double* lambda, const double* x, double* quaternion,
+                        double last_step_rad, double* sed, double* status) {
+  using V = Doubles4;
+  auto load = [](V& r, const double* p) { __builtin_memcpy(&r, p, sizeof(r)); };
+  auto store = [](double* p, const V& r) { __builtin_memcpy(p, &r, sizeof(r)); };
+  const int vector_end = begin + (end - begin) / 4 * 4;
+  for (int k = vector_end; k < end; ++k) status[k] = 1.0;
+  const V zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
+  for (int k = begin; k < vector_end; k += 4) {
+    V W[3][3], d[3][3], F[3][3], R[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) load(W[i][j], rest_inverse + (3 * i + j) * count + k);
+    for (int c = 0; c < 3; ++c) {
+      const int* o0 = offset + k;
+      const int* oc = offset + (c + 1) * count + k;
+      for (int r = 0; r < 3; ++r)
+        d[r][c] = V{x[oc[0] + r], x[oc[1] + r], x[oc[2] + r], x[oc[3] + r]} -
+                  V{x[o0[0] + r], x[o0[1] + r], x[o0[2] + r], x[o0[3] + r]};
+    }
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) F[i][j] = d[i][0] * W[0][j] + d[i][1] * W[1][j] + d[i][2] * W[2][j];
+    double* q = quaternion + 4 * k;
+    V qx = {q[0], q[4], q[8], q[12]}, qy = {q[1], q[5], q[9], q[13]};
+    V qz = {q[2], q[6], q[10], q[14]}, qw = {q[3], q[7], q[11], q[15]};
+    Mask4 done;
+    rotation_step4::NewtonStep(F, qx, qy, qz, qw, last_step_rad, R, done);
+    for (int l = 0; l < 4; ++l) q[4 * l] = qx[l], q[4 * l + 1] = qy[l], q[4 * l + 2] = qz[l], q[4 * l + 3] = qw[l];
+    V eps[3][3];  // sym(R^T F) - I
+    V G[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) G[i][j] = R[0][i] * F[0][j] + R[1][i] * F[1][j] + R[2][i] * F[2][j];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) eps[i][j] = 0.5 * (G[i][j] + G[j][i]) - (i == j ? one : zero);
+    const V tr = eps[0][0] + eps[1][1] + eps[2][2];
+    V mu_k, lambda_k;
+    load(mu_k, mu + k), load(lambda_k, lambda + k);
+    V eps2 = zero;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) eps2 += eps[i][j] * eps[i][j];
+    store(sed + k, 0.5 * (lambda_k * tr * tr) + mu_k * eps2);
+    store(status + k, done ? zero : one);
+  }
+}
+
+}  // namespace
 
 double ElementSed(const TetElement& e, const Eigen::Matrix3d& F, const Eigen::Matrix3d& R) {
   const Eigen::Matrix3d G = R.transpose() * F;
@@ -95,26 +154,48 @@ void VertexSedEvaluator::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd& ver
     return;
   }
   const int count = int(elements_.size());
-  element_F_.resize(size_t(count));
-  // Linear FEM reads R = I; the corotational rotations are all written below.
-  if (!corotational || element_R_.size() != size_t(count)) element_R_.assign(size_t(count), Eigen::Matrix3d::Identity());
-  // Deformation gradients, the rotations (in vector registers, four at a time, on each
-  // thread's share), the SED.
+  auto element_of = [&](int k) -> const TetElement& { return elastic_.elements()[size_t(elements_[size_t(k)])]; };
+  auto gradient_of = [&](int k) {
+    const Tet& n = mesh.tets[size_t(elements_[size_t(k)])];
+    return DeformationGradient(element_of(k), x.segment<3>(3 * n[0]), x.segment<3>(3 * n[1]), x.segment<3>(3 * n[2]),
+                               x.segment<3>(3 * n[3]));
+  };
+  if (!corotational || count == 0) {
+#pragma omp parallel for schedule(static) if (elements_.size() > kParallelMinElements)
+    for (int k = 0; k < count; ++k) element_sed_[k] = ElementSed(element_of(k), gradient_of(k), Eigen::Matrix3d::Identity());
+    AverageToVertices(element_sed_, vertex_sed);
+    return;
+  }
+  if (arrays_.mu.size() != size_t(count)) {
+    arrays_.offset.resize(4 * size_t(count));
+    arrays_.rest_inverse.resize(9 * size_t(count));
+    arrays_.mu.resize(size_t(count));
+    arrays_.lambda.resize(size_t(count));
+    arrays_.status.assign(size_t(count), 0.0);
+    for (int k = 0; k < count; ++k) {
+      const TetElement& e = element_of(k);
+      for (int a = 0; a < 4; ++a) arrays_.offset[size_t(a * count + k)] = 3 * mesh.tets[size_t(elements_[size_t(k)])][size_t(a)];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) arrays_.rest_inverse[size_t((3 * i + j) * count + k)] = e.rest_inverse(i, j);
+      arrays_.mu[size_t(k)] = e.mu_Pa;
+      arrays_.lambda[size_t(k)] = e.lambda_Pa;
+    }
+  }
+  static_assert(sizeof(Eigen::Quaterniond) == 4 * sizeof(double), "quaternions are read as x y z w, four apart");
+  // The SED four elements at a time on each thread's share (F, one warm polar step,
+  // sigma:eps/2 in vector registers); ExtractRotation where one step is not enough.
 #pragma omp parallel if (elements_.size() > kParallelMinElements)
   {
     const int threads = omp_get_num_threads(), tid = omp_get_thread_num();
     const int begin = int(long(count) * tid / threads), end = int(long(count) * (tid + 1) / threads);
-    for (int k = begin; k < end; ++k) {
-      const Tet& n = mesh.tets[size_t(elements_[size_t(k)])];
-      element_F_[size_t(k)] = DeformationGradient(elastic_.elements()[size_t(elements_[size_t(k)])], x.segment<3>(3 * n[0]),
-                                                  x.segment<3>(3 * n[1]), x.segment<3>(3 * n[2]), x.segment<3>(3 * n[3]));
-    }
-    if (corotational && end > begin)
-      ExtractRotations(end - begin, &element_F_[size_t(begin)], &warm_[size_t(begin)], &element_R_[size_t(begin)],
-                       kSedLastNewtonStep_rad);
+    CorotationalSedBy4(begin, end, count, arrays_.offset.data(), arrays_.rest_inverse.data(), arrays_.mu.data(),
+                       arrays_.lambda.data(), x.data(), warm_[0].coeffs().data(), kSedLastNewtonStep_rad,
+                       element_sed_.data(), arrays_.status.data());
     for (int k = begin; k < end; ++k)
-      element_sed_[k] = ElementSed(elastic_.elements()[size_t(elements_[size_t(k)])], element_F_[size_t(k)],
-                                   element_R_[size_t(k)]);
+      if (arrays_.status[size_t(k)] != 0) {
+        const Eigen::Matrix3d F = gradient_of(k);
+        element_sed_[k] = ElementSed(element_of(k), F, ExtractRotation(F, warm_[size_t(k)], 20, kSedLastNewtonStep_rad));
+      }
   }
   AverageToVertices(element_sed_, vertex_sed);
 }

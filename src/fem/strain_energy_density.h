@@ -53,7 +53,14 @@ class VertexSedEvaluator {
   std::vector<int> elements_;                  // union of elements around vertices_
   std::vector<std::vector<int>> vertex_local_; // per vertex: indices into elements_
   std::vector<Eigen::Quaterniond> warm_;
-  std::vector<Eigen::Matrix3d> element_F_, element_R_;  // Evaluate's, per element of elements_
+  // Corotational Evaluate's element data as structures of arrays (the SED four elements at
+  // a time), built on first use: node a's 3 * index at [a * count + k], Dm^-1 (i, j) at
+  // [(3 i + j) * count + k]; per element mu, lambda and the vector pass's status.
+  struct SedArrays {
+    std::vector<int> offset;
+    std::vector<double> rest_inverse, mu, lambda, status;
+  };
+  SedArrays arrays_;
   Eigen::VectorXd element_sed_;
   // Nodal pressure: the patches of elements_ and every element feeding them ("ring").
   const NodalPressureTetForce* nodal_ = nullptr;
