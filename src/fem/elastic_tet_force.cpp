@@ -87,16 +87,16 @@ void ElementStiffnessTimes(int begin, int end, int count, const int* offset, con
   }
 }
 
-// The corotational force of elements [begin, end) with one warm-started Newton step of
-// their rotations, four elements at a time in vector registers (arrays as
+// The corotational force of elements [begin, end) with warm-started Newton steps of their
+// rotations (rotation_step4::NewtonSteps), four elements at a time in vector registers (arrays as
 // ElementStiffnessTimes; positions x, velocities v (kDamping), quaternions as Eigen stores
 // them, x y z w, four per element). ExtractRotation's step and stop, written out: an
-// element whose Newton step is safe and below last_step_rad (the error left is its square)
-// is done, with its new quaternion and rotation (rotation[(3 i + j) * count + e]) and node
+// element whose last Newton step is safe and below last_step_rad (the error left is its
+// square) is done, with its new quaternion and rotation (rotation[(3 i + j) * count + e]) and node
 // a's force component k at minus_force[(3 a + k) * count + e] (f = -V R sigma(eps) g_a,
 // eps = sym(R^T F) - I plus beta sym(R^T dv Dm^-1)); status[e] = 0. Any other (a step
 // too long or unsafe, a quaternion off unit length, NaN, and the last (end - begin) % 4
-// elements) gets status 1, its quaternion untouched, for ExtractRotation.
+// elements) gets status 1, its quaternion where the steps left it, for ExtractRotation.
 // inverted[e] = 1 where det F <= 0. (Explicit vectors: GCC did not vectorize this loop
 // written for one element, its selections turned into branches.)
 // (Vectors pass by reference only, fem/rotation_step4.h.)
@@ -137,7 +137,7 @@ inline __attribute__((always_inline)) void CorotationalForcesBody(
     V qz = {q[2], q[6], q[10], q[14]}, qw = {q[3], q[7], q[11], q[15]};
     V R[3][3];
     Mask4 done;
-    rotation_step4::NewtonStep(F, qx, qy, qz, qw, last_step_rad, R, done);
+    rotation_step4::NewtonSteps(F, qx, qy, qz, qw, last_step_rad, rotation_step4::kMaxRotationSteps, R, done);
     store(status + e, done ? zero : one);
     for (int l = 0; l < 4; ++l) q[4 * l] = qx[l], q[4 * l + 1] = qy[l], q[4 * l + 2] = qz[l], q[4 * l + 3] = qw[l];
     for (int i = 0; i < 3; ++i)
@@ -509,7 +509,7 @@ int ElasticTetForce::AddCorotationalForceVectorized(const SystemState& state, Ei
       inverted += inverted_flag[t] != 0;
       Eigen::Matrix3d& R = rotations_[size_t(t)];
       if (status[t] != 0) {
-        ++scalar;  // more than one Newton step, or none safe: the scalar iteration
+        ++scalar;  // more Newton steps, or none safe: the scalar iteration
         const TetElement& e = elements_[size_t(t)];
         const Tet& n = mesh_.tets[size_t(t)];
         const Eigen::Matrix3d F = DeformationGradient(e, state.x_m.segment<3>(3 * n[0]), state.x_m.segment<3>(3 * n[1]),

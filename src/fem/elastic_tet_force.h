@@ -80,9 +80,9 @@ class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
   void ComputeNodeRotations(std::vector<Eigen::Matrix3d>& node_rotations) const override;
   /// Elements with det F <= 0 at the last AddForce.
   int inverted_elements() const { return inverted_elements_; }
-  /// Corotational force without Jacobian (vectorized, four elements at a time, one warm
-  /// Newton step of each rotation): elements whose rotation took ExtractRotation's full
-  /// iteration instead at the last such AddForce.
+  /// Corotational force without Jacobian (vectorized, four elements at a time, up to
+  /// rotation_step4::kMaxRotationSteps warm Newton steps of each rotation): elements whose
+  /// rotation took ExtractRotation's full iteration instead at the last such AddForce.
   int scalar_rotations() const { return scalar_rotations_; }
 
   const TetMesh& mesh() const { return mesh_; }
@@ -117,8 +117,8 @@ class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
   /// velocity when `damping`): node a's force is minus this times its shape gradient.
   Eigen::Matrix3d VolumeRotatedStress(int t, const Eigen::Matrix3d& R, const Eigen::Matrix3d& F,
                                       const SystemState& state, bool damping) const;
-  /// The corotational force without Jacobian, vectorized across elements (one warm Newton
-  /// step of each rotation; ExtractRotation for the elements that need more). Returns the
+  /// The corotational force without Jacobian, vectorized across elements (warm Newton steps
+  /// of each rotation; ExtractRotation for the elements they do not settle). Returns the
   /// number of inverted elements.
   int AddCorotationalForceVectorized(const SystemState& state, Eigen::VectorXd& force_N);
   /// out += scale R K0 R^T v over element t's nodes, in stress form.

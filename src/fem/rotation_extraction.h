@@ -25,9 +25,9 @@ inline constexpr double kRotationNewtonMargin = 1e-3;
 Eigen::Matrix3d ExtractRotation(const Eigen::Matrix3d& F, Eigen::Quaterniond& q, int max_iterations = 20,
                                 double last_newton_step_rad = 1e-6);
 
-/// ExtractRotation(F[k], q[k], 20, last_newton_step_rad) for k < count, the single warm
-/// Newton step most need taken four at a time in vector registers (fem/rotation_step4.h),
-/// ExtractRotation itself where that is not enough. The same rotations to round-off.
+/// ExtractRotation(F[k], q[k], 20, last_newton_step_rad) for k < count, the few warm
+/// Newton steps most need taken four at a time in vector registers (fem/rotation_step4.h),
+/// ExtractRotation itself where they are not enough. The same rotations to round-off.
 /// Returns how many took ExtractRotation.
 int ExtractRotations(int count, const Eigen::Matrix3d* F, Eigen::Quaterniond* q, Eigen::Matrix3d* R,
                      double last_newton_step_rad);

@@ -30,9 +30,10 @@ using rotation_step4::Doubles4;
 using rotation_step4::Mask4;
 
 // Corotational SED of elements [begin, end) of a SedArrays layout (`count` entries), four at
-// a time in vector registers: F from x, one warm Newton step of the rotation from the
-// quaternions (x y z w, four per element, updated), sigma:eps/2. Elements whose step is not
-// enough (and the last (end - begin) % 4) get status 1 and no SED, for ExtractRotation.
+// a time in vector registers: F from x, warm Newton steps of the rotation from the
+// quaternions (x y z w, four per element, updated; rotation_step4::NewtonSteps), sigma:eps/2.
+// Elements the steps do not settle (and the last (end - begin) % 4) get status 1 and no
+// SED, for ExtractRotation.
 SEDBRIDGE_HOT_CLONES
 void CorotationalSedBy4(int begin, int end, int count, const int* offset, const double* rest_inverse,
                         const double* mu, const double* lambda, const double* x, double* quaternion,
@@ -60,7 +61,7 @@ void CorotationalSedBy4(int begin, int end, int count, const int* offset, const 
     V qx = {q[0], q[4], q[8], q[12]}, qy = {q[1], q[5], q[9], q[13]};
     V qz = {q[2], q[6], q[10], q[14]}, qw = {q[3], q[7], q[11], q[15]};
     Mask4 done;
-    rotation_step4::NewtonStep(F, qx, qy, qz, qw, last_step_rad, R, done);
+    rotation_step4::NewtonSteps(F, qx, qy, qz, qw, last_step_rad, rotation_step4::kMaxRotationSteps, R, done);
     for (int l = 0; l < 4; ++l) q[4 * l] = qx[l], q[4 * l + 1] = qy[l], q[4 * l + 2] = qz[l], q[4 * l + 3] = qw[l];
     V eps[3][3];  // sym(R^T F) - I
     V G[3][3];
@@ -182,7 +183,7 @@ void VertexSedEvaluator::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd& ver
     }
   }
   static_assert(sizeof(Eigen::Quaterniond) == 4 * sizeof(double), "quaternions are read as x y z w, four apart");
-  // The SED four elements at a time on each thread's share (F, one warm polar step,
+  // The SED four elements at a time on each thread's share (F, warm polar steps,
   // sigma:eps/2 in vector registers); ExtractRotation where one step is not enough.
 #pragma omp parallel if (elements_.size() > kParallelMinElements)
   {
