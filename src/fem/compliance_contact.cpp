@@ -87,11 +87,19 @@ void AddThreeColumns(int rows, const double* a0, const double* a1, const double*
   for (int i = 0; i < rows; ++i) y[i] += a0[i] * f0 + a1[i] * f1 + a2[i] * f2;
 }
 
+// The same from single-precision columns (summed in double).
+SEDBRIDGE_HOT_CLONES
+void AddThreeColumns(int rows, const float* a0, const float* a1, const float* a2, double f0, double f1, double f2,
+                     double* y) {
+  for (int i = 0; i < rows; ++i) y[i] += double(a0[i]) * f0 + double(a1[i]) * f1 + double(a2[i]) * f2;
+}
+
 // y += A.middleCols<3>(3 j) * f as one fused pass over the rows (Eigen's generic 3-column
 // product path was the largest cost of a step with many contacts).
-void AddColumns3(const Eigen::MatrixXd& A, int j, const Eigen::Vector3d& f, Eigen::VectorXd& y) {
+template <typename Matrix>
+void AddColumns3(const Matrix& A, int j, const Eigen::Vector3d& f, Eigen::VectorXd& y) {
   const Eigen::Index rows = A.rows();
-  const double* a = A.data() + 3 * Eigen::Index(j) * rows;
+  const auto* a = A.data() + 3 * Eigen::Index(j) * rows;
   AddThreeColumns(int(rows), a, a + rows, a + 2 * rows, f[0], f[1], f[2], y.data());
 }
 
@@ -225,6 +233,10 @@ ComplianceContact::ComplianceContact(const TetMesh& mesh, std::vector<std::uniqu
   node_force_ = node_u_ = Eigen::VectorXd::Zero(3 * c);
   node_forced_.assign(size_t(c), 0);
   if (!options_.face_samples.empty()) AddFaceSamples();
+  // The SED's map in single precision: half the bytes a step reads (G is 20 MB on B, far
+  // larger than a core's L2 cache) for ~1e-7 relative in the SED nodes' displacements. (W
+  // stays double: the contact iteration compares its products with the QP's prediction.)
+  G_single_ = G_.cast<float>();
   f_c_ = u_c_ = u_t_ = Eigen::VectorXd::Zero(3 * num_samples());
   u_s_ = Eigen::VectorXd::Zero(Eigen::Index(3 * sed_nodes_.size()));
   ResetWarmStart();
@@ -281,7 +293,8 @@ void ComplianceContact::AddSampleForce(int j, const Eigen::Vector3d& f) const {
   for (int a = 0; a < 3; ++a) add(sample.candidate[size_t(a)], sample.weight[size_t(a)] * f);
 }
 
-void ComplianceContact::ApplyNodeForces(const Eigen::MatrixXd& A, Eigen::VectorXd& y) const {
+template <typename Matrix>
+void ComplianceContact::ApplyNodeForces(const Matrix& A, Eigen::VectorXd& y) const {
   for (int node : forced_nodes_) {
     AddColumns3(A, node, node_force_.segment<3>(3 * node), y);
     node_force_.segment<3>(3 * node).setZero();
@@ -813,10 +826,10 @@ void ComplianceContact::ComputeSed() {
   // contacts, so a root find over many steps asks for it only at its answer).
   u_s_.setZero();
   if (options_.face_samples.empty()) {
-    for (int j : loaded_) AddColumns3(G_, j, f_c_.segment<3>(3 * j), u_s_);
+    for (int j : loaded_) AddColumns3(G_single_, j, f_c_.segment<3>(3 * j), u_s_);
   } else {  // G_ is over the nodes
     for (int j : loaded_) AddSampleForce(j, f_c_.segment<3>(3 * j));
-    ApplyNodeForces(G_, u_s_);
+    ApplyNodeForces(G_single_, u_s_);
   }
   for (size_t a = 0; a < sed_nodes_.size(); ++a) {
     const int v = sed_nodes_[a];

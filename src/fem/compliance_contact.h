@@ -203,7 +203,8 @@ class ComplianceContact {
   void AddSampleForce(int sample, const Eigen::Vector3d& f) const;  // into node_force_
   /// y += A node_force_ over the nodes with a force (A: W_nodes_, G_ or F_), which are then
   /// cleared.
-  void ApplyNodeForces(const Eigen::MatrixXd& A, Eigen::VectorXd& y) const;
+  template <typename Matrix>
+  void ApplyNodeForces(const Matrix& A, Eigen::VectorXd& y) const;
   /// u_samples += B u_nodes.
   void AddToSamples(const Eigen::VectorXd& u_nodes, Eigen::VectorXd& u_samples) const;
   /// u_samples += W f, the forces force(item) at samples sample_of(item) over `items`.
@@ -234,6 +235,7 @@ class ComplianceContact {
   Eigen::MatrixXd W_, G_, F_;  // F_: K^-1 H^T for every dof (full_field only)
   // Face samples: W over the nodes only; G_ and F_ stay over the nodes.
   Eigen::MatrixXd W_nodes_;
+  Eigen::MatrixXf G_single_;  // G_ rounded to float: the SED's products read it
   // Scratch of the products through the nodes (B^T f); mutable: full_positions_m() is const.
   mutable Eigen::VectorXd node_force_;
   mutable std::vector<int> forced_nodes_;
