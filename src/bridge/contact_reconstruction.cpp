@@ -740,6 +740,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
   auto fit_start = [&](const Start& s) {
     const Fit fit = FitModel(start_hypothesis(s), options_.explore_evaluations);
     estimate_.evaluations += fit.evaluations;
+    estimate_.evaluation_cost += fit.budget_used;
     return fit;
   };
   auto better = [&](const Fit& a, const Fit& b) {  // a better than b
@@ -761,6 +762,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
         last_.first.shape != ContactShape::kFlat && options_.fit_shear && !saturated) {
       const Fit step = FitModel(last_, 0, 0, true, &last_prediction_);
       estimate_.evaluations += step.evaluations;
+      estimate_.evaluation_cost += step.budget_used;
       const double tolerance = 3 * std::sqrt(2 / dof);
       if (Plausible(step.model) && step.chi2 / dof <= last_chi2_per_dof_ + tolerance) {
         best = step;
@@ -774,6 +776,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
                                  : std::numeric_limits<double>::quiet_NaN();
       best = FitModel(last_, 0, amortized ? options_.warm_scan_evaluations : 0, false, &last_prediction_, tracked);
       estimate_.evaluations += best.evaluations;
+      estimate_.evaluation_cost += best.budget_used;
     }
     warm_won = Plausible(best.model);
     if (!warm_won) best = Fit{};
@@ -793,8 +796,9 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     // the candidates get the warm budget too, and the next start is tried while budget
     // is left and nothing explains the scan.
     int budget = options_.candidate_scan_evaluations + (warm_won ? 0 : options_.warm_scan_evaluations);
-    if (warm_won && options_.explained_candidate_evaluations > 0 && std::sqrt(best.chi2 / dof) <= options_.settle_rms_sigma)
-      budget = std::min(budget, options_.explained_candidate_evaluations);
+    const bool explained =
+        warm_won && options_.explained_candidate_evaluations > 0 && std::sqrt(best.chi2 / dof) <= options_.settle_rms_sigma;
+    if (explained) budget = std::min(budget, options_.explained_candidate_evaluations);
     // Two contacts are what no single shape explains: when the current model stops
     // explaining the scan, the pair gets a quick check (once an episode, its own candidate
     // budget, outside the rotation), so a two-point touch is found as its load grows
@@ -807,6 +811,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
       const Fit fit = FitModel(start_hypothesis(starts[pair_start]), options_.explore_evaluations,
                                options_.candidate_scan_evaluations);
       estimate_.evaluations += fit.evaluations;
+      estimate_.evaluation_cost += fit.budget_used;
       if (better(fit, best)) best = fit, warm_won = false;
     }
     for (int tried = 0; budget > 0 && tried < start_count; ++tried) {
@@ -816,14 +821,23 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
         candidate_ = start_hypothesis(starts[pick]);
         candidate_prediction_ = Prediction{};
         candidate_spent_ = 0;
+        candidate_cost_ = 0;
         have_candidate_ = true;
       }
+      // While the current model explains the scans, a candidate whose one LM iteration
+      // (a Jacobian and a trial: about 4 evaluations of its patch) costs more than the
+      // scan's check waits for a scan the model does not explain: such a candidate (a rod
+      // grown over the pad to explain a sphere's patch) took 20-26 budget units a scan
+      // against a budget of 6, 0.5-1 ms of reconstruction (rig press_10).
+      if (options_.defer_costly_candidates && explained && 4 * candidate_cost_ > budget) break;
       const Fit fit = FitModel(candidate_, options_.explore_evaluations, budget, false, &candidate_prediction_);
       estimate_.evaluations += fit.evaluations;
+      estimate_.evaluation_cost += fit.budget_used;
       budget -= fit.budget_used;
       candidate_ = fit.model;
       candidate_prediction_ = fit.prediction;
       candidate_spent_ += fit.budget_used;
+      candidate_cost_ = fit.evaluations > 0 ? double(fit.budget_used) / fit.evaluations : 0.0;
       // A candidate whose radius runs out of the plausible range is the wrong shape (a rod
       // or sphere growing without bound to explain a flat), and its huge patches are the
       // most expensive evaluations: given up.
@@ -845,6 +859,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
       flat_start.first.shape = ContactShape::kFlat;
       const Fit flat = FitModel(flat_start);
       estimate_.evaluations += flat.evaluations;
+      estimate_.evaluation_cost += flat.budget_used;
       if (better(flat, best)) best = flat;
     }
   }

@@ -108,6 +108,10 @@ struct ReconstructionOptions {
   /// candidate gets at most this many per scan (0 = candidate_scan_evaluations): exploring
   /// is then a check, spread thinner over more scans.
   int explained_candidate_evaluations = 6;
+  /// Amortized: while the current model explains the scan, a candidate whose one LM
+  /// iteration (about 4 of its evaluations at its last cost) exceeds the scan's budget
+  /// waits for a scan the model does not explain (false: it takes its iteration anyway).
+  bool defer_costly_candidates = true;
   /// Amortized budgets count an evaluation as max(1, patch cells / this): an evaluation
   /// costs in proportion to its patch, and a rod or sphere grown over the whole pad (a
   /// candidate explaining a flat) costs 5-10 of a 5 mm sphere's (about 400 cells at 0.8 N).
@@ -186,6 +190,7 @@ struct ContactEstimate {
   double rms_sigma = 0;       ///< RMS residual in single-scan noise units (about 1 = within noise)
   int averaged_scans = 1;     ///< scans in the hold mean that was fitted (1: this scan alone)
   int evaluations = 0;        ///< forward-model evaluations this scan
+  int evaluation_cost = 0;    ///< the same weighted by patch size, as the amortized budgets count them
   bool warm_started = false;  ///< the last scan's estimate was refined, no model selection
   std::string problem;        ///< why not ok
 
@@ -315,6 +320,7 @@ class ContactReconstructor {
   Hypothesis candidate_;
   Prediction candidate_prediction_;  // at candidate_ (when valid)
   int candidate_spent_ = 0;
+  double candidate_cost_ = 0;  // budget units per evaluation of the candidate's last fit (0: none yet)
   ReconstructionCounters counters_;
 };
 
