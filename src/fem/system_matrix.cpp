@@ -76,39 +76,36 @@ Eigen::Matrix3d SystemMatrix::Block(int slot) const {
 
 void SystemMatrix::SetZero() { std::fill(values_, values_ + csr_.nonZeros(), 0.0); }
 
-void SystemMatrix::SetDiagonalZero() {
+template <typename F>
+void SystemMatrix::ForEachDiagonalBlock(F&& f) const {
 #pragma omp parallel for schedule(static) if (num_nodes_ >= kParallelMinNodes)
   for (int i = 0; i < num_nodes_; ++i) {
     const int slot = diagonal_slot_[size_t(i)];
-    double* base = values_ + slot_base_[size_t(slot)];
-    const int stride = slot_stride_[size_t(slot)];
+    f(i, values_ + slot_base_[size_t(slot)], slot_stride_[size_t(slot)]);
+  }
+}
+
+void SystemMatrix::SetDiagonalZero() {
+  ForEachDiagonalBlock([](int, double* base, int stride) {
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) base[a * stride + b] = 0.0;
-  }
+  });
 }
 
 void SystemMatrix::MultiplyDiagonalBlocks(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
   y.resize(3 * num_nodes_);
-#pragma omp parallel for schedule(static) if (num_nodes_ >= kParallelMinNodes)
-  for (int i = 0; i < num_nodes_; ++i) {
-    const int slot = diagonal_slot_[size_t(i)];
-    const double* base = values_ + slot_base_[size_t(slot)];
-    const int stride = slot_stride_[size_t(slot)];
+  ForEachDiagonalBlock([&](int i, const double* base, int stride) {
     for (int a = 0; a < 3; ++a)
       y[3 * i + a] = base[a * stride] * x[3 * i] + base[a * stride + 1] * x[3 * i + 1] + base[a * stride + 2] * x[3 * i + 2];
-  }
+  });
 }
 
 void SystemMatrix::GatherDiagonalBlocks(std::vector<double>& packed) const {
   packed.resize(9 * size_t(num_nodes_));
-#pragma omp parallel for schedule(static) if (num_nodes_ >= kParallelMinNodes)
-  for (int i = 0; i < num_nodes_; ++i) {
-    const int slot = diagonal_slot_[size_t(i)];
-    const double* base = values_ + slot_base_[size_t(slot)];
-    const int stride = slot_stride_[size_t(slot)];
+  ForEachDiagonalBlock([&](int i, const double* base, int stride) {
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) packed[9 * size_t(i) + size_t(3 * a + b)] = base[a * stride + b];
-  }
+  });
 }
 
 void SystemMatrix::MultiplyPackedBlocks(const std::vector<double>& packed, const Eigen::VectorXd& x,

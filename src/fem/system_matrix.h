@@ -67,6 +67,11 @@ class SystemMatrix {
   static void MultiplyPackedBlocks(const std::vector<double>& packed, const Eigen::VectorXd& x, Eigen::VectorXd& y);
 
  private:
+  /// f(node, its diagonal block's first value, the offset between the block's rows) for
+  /// every node, on the OpenMP team from a thousand nodes.
+  template <typename F>
+  void ForEachDiagonalBlock(F&& f) const;
+
   int num_nodes_ = 0;
   Csr csr_;
   double* values_ = nullptr;
