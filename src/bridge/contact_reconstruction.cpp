@@ -737,10 +737,14 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     }
     return h;
   };
-  auto fit_start = [&](const Start& s) {
-    const Fit fit = FitModel(start_hypothesis(s), options_.explore_evaluations);
+  // A fit's cost into this scan's estimate (evaluations, and weighted as the budgets count).
+  auto tally = [&](const Fit& fit) {
     estimate_.evaluations += fit.evaluations;
     estimate_.evaluation_cost += fit.budget_used;
+  };
+  auto fit_start = [&](const Start& s) {
+    const Fit fit = FitModel(start_hypothesis(s), options_.explore_evaluations);
+    tally(fit);
     return fit;
   };
   auto better = [&](const Fit& a, const Fit& b) {  // a better than b
@@ -761,8 +765,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
         estimate_.averaged_scans <= options_.force_step_max_averaged_scans && !last_.pair &&
         last_.first.shape != ContactShape::kFlat && options_.fit_shear && !saturated) {
       const Fit step = FitModel(last_, 0, 0, true, &last_prediction_);
-      estimate_.evaluations += step.evaluations;
-      estimate_.evaluation_cost += step.budget_used;
+      tally(step);
       const double tolerance = 3 * std::sqrt(2 / dof);
       if (Plausible(step.model) && step.chi2 / dof <= last_chi2_per_dof_ + tolerance) {
         best = step;
@@ -775,8 +778,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
                                  ? std::log(last_.first.radius_mm)
                                  : std::numeric_limits<double>::quiet_NaN();
       best = FitModel(last_, 0, amortized ? options_.warm_scan_evaluations : 0, false, &last_prediction_, tracked);
-      estimate_.evaluations += best.evaluations;
-      estimate_.evaluation_cost += best.budget_used;
+      tally(best);
     }
     warm_won = Plausible(best.model);
     if (!warm_won) best = Fit{};
@@ -810,8 +812,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
       pair_checked_ = true;
       const Fit fit = FitModel(start_hypothesis(starts[pair_start]), options_.explore_evaluations,
                                options_.candidate_scan_evaluations);
-      estimate_.evaluations += fit.evaluations;
-      estimate_.evaluation_cost += fit.budget_used;
+      tally(fit);
       if (better(fit, best)) best = fit, warm_won = false;
     }
     for (int tried = 0; budget > 0 && tried < start_count; ++tried) {
@@ -831,8 +832,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
       // against a budget of 6, 0.5-1 ms of reconstruction (rig press_10).
       if (options_.defer_costly_candidates && explained && 4 * candidate_cost_ > budget) break;
       const Fit fit = FitModel(candidate_, options_.explore_evaluations, budget, false, &candidate_prediction_);
-      estimate_.evaluations += fit.evaluations;
-      estimate_.evaluation_cost += fit.budget_used;
+      tally(fit);
       budget -= fit.budget_used;
       candidate_ = fit.model;
       candidate_prediction_ = fit.prediction;
@@ -858,8 +858,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
       flat_start.first = guess;
       flat_start.first.shape = ContactShape::kFlat;
       const Fit flat = FitModel(flat_start);
-      estimate_.evaluations += flat.evaluations;
-      estimate_.evaluation_cost += flat.budget_used;
+      tally(flat);
       if (better(flat, best)) best = flat;
     }
   }

@@ -109,57 +109,40 @@ inline __attribute__((always_inline)) void CorotationalForcesBody(
     const double* lambda_volume, double beta, double last_step_rad, const double* x, const double* v,
     double* quaternion, double* rotation, double* minus_force, double* status, double* inverted) {
   using V = Doubles4;
-  auto load = [](V& r, const double* p) { __builtin_memcpy(&r, p, sizeof(r)); };  // four consecutive doubles
-  auto store = [](double* p, const V& r) { __builtin_memcpy(p, &r, sizeof(r)); };
+  using rotation_step4::Load4;
+  using rotation_step4::Store4;
   const int vector_end = begin + (end - begin) / 4 * 4;
   for (int e = vector_end; e < end; ++e) status[e] = 1.0, inverted[e] = 0.0;  // ExtractRotation's
   const V zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
   for (int e = begin; e < vector_end; e += 4) {
-    V W[3][3], d[3][3], F[3][3];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) load(W[i][j], rest_inverse + (3 * i + j) * count + e);
-    auto node_gather = [&](V& r, const double* base, int a, int k) {
-      const int* o = offset + a * count + e;
-      r = V{base[o[0] + k], base[o[1] + k], base[o[2] + k], base[o[3] + k]};
-    };
-    for (int k = 0; k < 3; ++k) {
-      V x0, xc;
-      node_gather(x0, x, 0, k);
-      for (int c = 0; c < 3; ++c) node_gather(xc, x, c + 1, k), d[k][c] = xc - x0;
-    }
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) F[i][j] = d[i][0] * W[0][j] + d[i][1] * W[1][j] + d[i][2] * W[2][j];
+    V W[3][3], F[3][3];
+    rotation_step4::DeformationGradients(e, count, offset, rest_inverse, x, W, F);
     const V det = F[0][0] * (F[1][1] * F[2][2] - F[1][2] * F[2][1]) - F[0][1] * (F[1][0] * F[2][2] - F[1][2] * F[2][0]) +
                   F[0][2] * (F[1][0] * F[2][1] - F[1][1] * F[2][0]);
-    store(inverted + e, det <= zero ? one : zero);
+    Store4(inverted + e, det <= zero ? one : zero);
     double* q = quaternion + 4 * e;
-    V qx = {q[0], q[4], q[8], q[12]}, qy = {q[1], q[5], q[9], q[13]};
-    V qz = {q[2], q[6], q[10], q[14]}, qw = {q[3], q[7], q[11], q[15]};
-    V R[3][3];
+    V qx, qy, qz, qw, R[3][3];
+    rotation_step4::LoadQuaternions(q, qx, qy, qz, qw);
     Mask4 done;
     rotation_step4::NewtonSteps(F, qx, qy, qz, qw, last_step_rad, rotation_step4::kMaxRotationSteps, R, done);
-    store(status + e, done ? zero : one);
-    for (int l = 0; l < 4; ++l) q[4 * l] = qx[l], q[4 * l + 1] = qy[l], q[4 * l + 2] = qz[l], q[4 * l + 3] = qw[l];
+    Store4(status + e, done ? zero : one);
+    rotation_step4::StoreQuaternions(q, qx, qy, qz, qw);
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) store(rotation + (3 * i + j) * count + e, R[i][j]);
+      for (int j = 0; j < 3; ++j) Store4(rotation + (3 * i + j) * count + e, R[i][j]);
     V L[3][3];  // R^T F - I (+ beta R^T dv Dm^-1)
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) L[i][j] = R[0][i] * F[0][j] + R[1][i] * F[1][j] + R[2][i] * F[2][j];
     for (int i = 0; i < 3; ++i) L[i][i] -= 1.0;
     if (kDamping) {
-      for (int k = 0; k < 3; ++k) {
-        V v0, vc;
-        node_gather(v0, v, 0, k);
-        for (int c = 0; c < 3; ++c) node_gather(vc, v, c + 1, k), d[k][c] = vc - v0;
-      }
-      V T[3][3];
+      V d[3][3], T[3][3];
+      rotation_step4::EdgeVectors(e, count, offset, v, d);
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) T[i][j] = R[0][i] * d[0][j] + R[1][i] * d[1][j] + R[2][i] * d[2][j];
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) L[i][j] += beta * (T[i][0] * W[0][j] + T[i][1] * W[1][j] + T[i][2] * W[2][j]);
     }
     V mu, lambda_volume_e;
-    load(mu, mu_volume + e), load(lambda_volume_e, lambda_volume + e);
+    Load4(mu, mu_volume + e), Load4(lambda_volume_e, lambda_volume + e);
     const V lambda_tr = lambda_volume_e * (L[0][0] + L[1][1] + L[2][2]);
     V S[3][3], P[3][3];
     for (int i = 0; i < 3; ++i)
@@ -170,10 +153,10 @@ inline __attribute__((always_inline)) void CorotationalForcesBody(
       V sum = zero;
       for (int a = 1; a < 4; ++a) {
         const V ya = P[k][0] * W[a - 1][0] + P[k][1] * W[a - 1][1] + P[k][2] * W[a - 1][2];
-        store(minus_force + (3 * a + k) * count + e, ya);
+        Store4(minus_force + (3 * a + k) * count + e, ya);
         sum += ya;
       }
-      store(minus_force + k * count + e, -sum);
+      Store4(minus_force + k * count + e, -sum);
     }
   }
 }

@@ -34,8 +34,9 @@ class NewtonSystem {
   /// when given. Matrix-free (the solver accepts an operator, the matrix is not constant
   /// and was assembled once, and every term that couples nodes applies its own Jacobian):
   /// the matrix then holds only the diagonal blocks of the other terms, and the solver
-  /// takes A from step_operator(). `state`'s vectors must stay unchanged until the solve
-  /// is done (a direct fallback assembles the rest of the matrix at that state).
+  /// takes A as the StepOperator (fem/step_operator.h) handed to it at construction.
+  /// `state`'s vectors must stay unchanged until the solve is done (a direct fallback
+  /// assembles the rest of the matrix at that state).
   void Assemble(const SystemState& state, double stiffness_scale, double damping_scale, bool with_matrix,
                 bool k_times_v = false, StageTimes* times = nullptr);
   /// After the matrix was assembled: hands the first one to the solver as its reference
@@ -63,8 +64,6 @@ class NewtonSystem {
   const Eigen::VectorXd& force_N() const { return force_; }
   const Eigen::VectorXd& stiffness_times_velocity() const { return k_times_v_; }
   const LinearSolver& solver() const { return *solver_; }
-  /// A = matrix() plus, in a matrix-free assembly, the coupling terms' Jacobians.
-  const StepOperator& step_operator() const { return operator_; }
   /// True when the last assembly with a matrix was matrix-free.
   bool matrix_free() const { return matrix_free_; }
 

@@ -93,13 +93,13 @@ void RotationStepsBy4(int count, const double* F, double* q, double* R, double l
         f[i][j] = Doubles4{p[0], p[9], p[18], p[27]};
       }
     double* w = q + 4 * k;
-    Doubles4 qx = {w[0], w[4], w[8], w[12]}, qy = {w[1], w[5], w[9], w[13]};
-    Doubles4 qz = {w[2], w[6], w[10], w[14]}, qw = {w[3], w[7], w[11], w[15]};
+    Doubles4 qx, qy, qz, qw;
+    rotation_step4::LoadQuaternions(w, qx, qy, qz, qw);
     Mask4 done;
     rotation_step4::NewtonSteps(f, qx, qy, qz, qw, last_step_rad, rotation_step4::kMaxRotationSteps, r, done);
+    rotation_step4::StoreQuaternions(w, qx, qy, qz, qw);
     for (int l = 0; l < 4; ++l) {
       status[k + l] = done[l] ? 0.0 : 1.0;
-      w[4 * l] = qx[l], w[4 * l + 1] = qy[l], w[4 * l + 2] = qz[l], w[4 * l + 3] = qw[l];
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) R[9 * (k + l) + 3 * j + i] = r[i][j][l];
     }

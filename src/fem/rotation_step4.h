@@ -23,6 +23,49 @@ inline __attribute__((always_inline)) void ToRotation(const Doubles4& x, const D
   R[2][0] = txz - twy, R[2][1] = tyz + twx, R[2][2] = 1 - (txx + tyy);
 }
 
+/// Four consecutive doubles into a vector, and back.
+inline __attribute__((always_inline)) void Load4(Doubles4& r, const double* p) { __builtin_memcpy(&r, p, sizeof(r)); }
+inline __attribute__((always_inline)) void Store4(double* p, const Doubles4& r) { __builtin_memcpy(p, &r, sizeof(r)); }
+
+/// The quaternions of four consecutive elements as Eigen stores them (x y z w, four doubles
+/// an element) into one vector per component, and back.
+inline __attribute__((always_inline)) void LoadQuaternions(const double* q, Doubles4& qx, Doubles4& qy, Doubles4& qz,
+                                                           Doubles4& qw) {
+  qx = Doubles4{q[0], q[4], q[8], q[12]}, qy = Doubles4{q[1], q[5], q[9], q[13]};
+  qz = Doubles4{q[2], q[6], q[10], q[14]}, qw = Doubles4{q[3], q[7], q[11], q[15]};
+}
+inline __attribute__((always_inline)) void StoreQuaternions(double* q, const Doubles4& qx, const Doubles4& qy,
+                                                            const Doubles4& qz, const Doubles4& qw) {
+  for (int l = 0; l < 4; ++l) q[4 * l] = qx[l], q[4 * l + 1] = qy[l], q[4 * l + 2] = qz[l], q[4 * l + 3] = qw[l];
+}
+
+/// Edge vectors of elements e..e+3 stored as structures of arrays with `count` entries (node
+/// a's 3 * index at offset[a * count + e]) for nodal values x: d[k][c] = component k of node
+/// c + 1 minus node 0 (Ds for positions).
+inline __attribute__((always_inline)) void EdgeVectors(int e, int count, const int* offset, const double* x,
+                                                       Doubles4 (&d)[3][3]) {
+  const int* o0 = offset + e;
+  for (int c = 0; c < 3; ++c) {
+    const int* oc = offset + (c + 1) * count + e;
+    for (int k = 0; k < 3; ++k)
+      d[k][c] = Doubles4{x[oc[0] + k], x[oc[1] + k], x[oc[2] + k], x[oc[3] + k]} -
+                Doubles4{x[o0[0] + k], x[o0[1] + k], x[o0[2] + k], x[o0[3] + k]};
+  }
+}
+
+/// F = Ds Dm^-1 of elements e..e+3 (layout as EdgeVectors; Dm^-1 (i, j) at
+/// rest_inverse[(3 i + j) * count + e]); W gets their Dm^-1 (the kernels read it again).
+inline __attribute__((always_inline)) void DeformationGradients(int e, int count, const int* offset,
+                                                                const double* rest_inverse, const double* x,
+                                                                Doubles4 (&W)[3][3], Doubles4 (&F)[3][3]) {
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) Load4(W[i][j], rest_inverse + (3 * i + j) * count + e);
+  Doubles4 d[3][3];
+  EdgeVectors(e, count, offset, x, d);
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) F[i][j] = d[i][0] * W[0][j] + d[i][1] * W[1][j] + d[i][2] * W[2][j];
+}
+
 /// Newton steps of the rotation of F from the warm quaternion q (x y z w), at most
 /// max_steps, as ExtractRotation takes them: a lane steps while its step is safe (H
 /// definite) and shorter than kMaxVectorStep_rad, by the exact exponential (a series in the

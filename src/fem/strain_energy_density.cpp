@@ -39,30 +39,19 @@ void CorotationalSedBy4(int begin, int end, int count, const int* offset, const 
                         const double* mu, const double* lambda, const double* x, double* quaternion,
                         double last_step_rad, double* sed, double* status) {
   using V = Doubles4;
-  auto load = [](V& r, const double* p) { __builtin_memcpy(&r, p, sizeof(r)); };
-  auto store = [](double* p, const V& r) { __builtin_memcpy(p, &r, sizeof(r)); };
+  using rotation_step4::Load4;
+  using rotation_step4::Store4;
   const int vector_end = begin + (end - begin) / 4 * 4;
   for (int k = vector_end; k < end; ++k) status[k] = 1.0;
   const V zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
   for (int k = begin; k < vector_end; k += 4) {
-    V W[3][3], d[3][3], F[3][3], R[3][3];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) load(W[i][j], rest_inverse + (3 * i + j) * count + k);
-    for (int c = 0; c < 3; ++c) {
-      const int* o0 = offset + k;
-      const int* oc = offset + (c + 1) * count + k;
-      for (int r = 0; r < 3; ++r)
-        d[r][c] = V{x[oc[0] + r], x[oc[1] + r], x[oc[2] + r], x[oc[3] + r]} -
-                  V{x[o0[0] + r], x[o0[1] + r], x[o0[2] + r], x[o0[3] + r]};
-    }
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) F[i][j] = d[i][0] * W[0][j] + d[i][1] * W[1][j] + d[i][2] * W[2][j];
+    V W[3][3], F[3][3], R[3][3], qx, qy, qz, qw;
+    rotation_step4::DeformationGradients(k, count, offset, rest_inverse, x, W, F);
     double* q = quaternion + 4 * k;
-    V qx = {q[0], q[4], q[8], q[12]}, qy = {q[1], q[5], q[9], q[13]};
-    V qz = {q[2], q[6], q[10], q[14]}, qw = {q[3], q[7], q[11], q[15]};
+    rotation_step4::LoadQuaternions(q, qx, qy, qz, qw);
     Mask4 done;
     rotation_step4::NewtonSteps(F, qx, qy, qz, qw, last_step_rad, rotation_step4::kMaxRotationSteps, R, done);
-    for (int l = 0; l < 4; ++l) q[4 * l] = qx[l], q[4 * l + 1] = qy[l], q[4 * l + 2] = qz[l], q[4 * l + 3] = qw[l];
+    rotation_step4::StoreQuaternions(q, qx, qy, qz, qw);
     V eps[3][3];  // sym(R^T F) - I
     V G[3][3];
     for (int i = 0; i < 3; ++i)
@@ -71,12 +60,12 @@ void CorotationalSedBy4(int begin, int end, int count, const int* offset, const 
       for (int j = 0; j < 3; ++j) eps[i][j] = 0.5 * (G[i][j] + G[j][i]) - (i == j ? one : zero);
     const V tr = eps[0][0] + eps[1][1] + eps[2][2];
     V mu_k, lambda_k;
-    load(mu_k, mu + k), load(lambda_k, lambda + k);
+    Load4(mu_k, mu + k), Load4(lambda_k, lambda + k);
     V eps2 = zero;
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) eps2 += eps[i][j] * eps[i][j];
-    store(sed + k, 0.5 * (lambda_k * tr * tr) + mu_k * eps2);
-    store(status + k, done ? zero : one);
+    Store4(sed + k, 0.5 * (lambda_k * tr * tr) + mu_k * eps2);
+    Store4(status + k, done ? zero : one);
   }
 }
 
@@ -184,7 +173,7 @@ void VertexSedEvaluator::Evaluate(const Eigen::VectorXd& x, Eigen::VectorXd& ver
   }
   static_assert(sizeof(Eigen::Quaterniond) == 4 * sizeof(double), "quaternions are read as x y z w, four apart");
   // The SED four elements at a time on each thread's share (F, warm polar steps,
-  // sigma:eps/2 in vector registers); ExtractRotation where one step is not enough.
+  // sigma:eps/2 in vector registers); ExtractRotation where the steps do not settle.
 #pragma omp parallel if (elements_.size() > kParallelMinElements)
   {
     const int threads = omp_get_num_threads(), tid = omp_get_thread_num();
