@@ -53,7 +53,7 @@ class VertexSedEvaluator {
   std::vector<int> elements_;                  // union of elements around vertices_
   std::vector<std::vector<int>> vertex_local_; // per vertex: indices into elements_
   std::vector<Eigen::Quaterniond> warm_;
-  // Corotational Evaluate's element data as structures of arrays (the SED four elements at
+  // Evaluate's element data (linear and corotational) as structures of arrays (the SED four elements at
   // a time), built on first use: node a's 3 * index at [a * count + k], Dm^-1 (i, j) at
   // [(3 i + j) * count + k]; per element mu, lambda and the vector pass's status.
   struct SedArrays {

@@ -61,5 +61,42 @@ TEST(VertexSedEvaluator, CorotationalSedIsTheElementSedAtThePolarRotation) {
   omp_set_num_threads(1);
 }
 
+// The linear path (four elements at a time, the remainder by ElementSed) is ElementSed of
+// the strain sym(F) - I, on 1 and 2 threads, over an element count not a multiple of 4.
+TEST(VertexSedEvaluator, LinearSedIsTheElementSedOfTheSmallStrain) {
+  const TetMesh mesh = MakeBoxMesh({0.01, 0.01, 0.01}, {7, 7, 7}, testing::Skin());
+  std::vector<int> vertices;
+  for (int i = 0; i < mesh.num_nodes(); i += 3) vertices.push_back(i);
+  const ElasticTetForce elastic(mesh, ElasticFormulation::kLinear);
+  for (int threads : {1, 2}) {
+    omp_set_num_threads(threads);
+    VertexSedEvaluator sed(elastic, vertices);
+    ASSERT_GT(sed.elements().size(), 1000u);
+    ASSERT_NE(sed.elements().size() % 4, 0u);
+    Eigen::VectorXd vertex_sed;
+    for (int call = 0; call < 2; ++call) {
+      const Eigen::VectorXd x = Deformed(mesh, 0.3 + 0.2 * call);
+      sed.Evaluate(x, vertex_sed);
+      double worst = 0, largest = 0;
+      for (size_t k = 0; k < sed.elements().size(); ++k) {
+        const int t = sed.elements()[k];
+        const Tet& n = mesh.tets[size_t(t)];
+        const TetElement& e = elastic.elements()[size_t(t)];
+        const Eigen::Matrix3d F = DeformationGradient(e, x.segment<3>(3 * n[0]), x.segment<3>(3 * n[1]),
+                                                      x.segment<3>(3 * n[2]), x.segment<3>(3 * n[3]));
+        const double expected = ElementSed(e, F, Eigen::Matrix3d::Identity());
+        worst = std::max(worst, std::abs(sed.element_sed_Pa()[Eigen::Index(k)] - expected));
+        largest = std::max(largest, std::abs(expected));
+      }
+      EXPECT_GT(largest, 10.0);
+      EXPECT_LT(worst, 1e-12 * largest) << threads << " threads, call " << call;
+      // Each vertex: the mean of its elements' SED.
+      EXPECT_TRUE(vertex_sed.allFinite());
+      EXPECT_GT(vertex_sed.maxCoeff(), 0.0);
+    }
+  }
+  omp_set_num_threads(1);
+}
+
 }  // namespace
 }  // namespace sedbridge::fem
