@@ -427,6 +427,26 @@ void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLo
   }
 }
 
+double TactileForwardModel::PatchCellsEstimate(const ContactPrimitive& c) const {
+  if (!(c.normal_force_N > 0) || !std::isfinite(c.normal_force_N)) return 0;
+  const double h = params_.grid_mm, E_N_mm2 = params_.contact_modulus_kPa * 1e-3;
+  const double R = std::max(c.radius_mm, 1e-3), F = c.normal_force_N;
+  const double grid_area = cell_count() * h * h;
+  switch (c.shape) {
+    case ContactShape::kSphere: {  // as Patch: the Hertz radius, widened to about a cell
+      const double a = std::hypot(std::cbrt(3.0 * F * R / (4.0 * E_N_mm2)), h);
+      return std::min(kPi * a * a, grid_area) / (h * h);
+    }
+    case ContactShape::kCylinder: {  // a band 2 b wide along the axis over the pad
+      const double L = RodLengthOnPad_mm(c);
+      if (!(L > 0)) return 0;
+      const double b = std::hypot(std::sqrt(4.0 * (F / L) * R / (kPi * E_N_mm2)), h);
+      return std::min(2.0 * b * (L + 2.0 * kGridMargin_mm), grid_area) / (h * h);
+    }
+    default: return 0;
+  }
+}
+
 double TactileForwardModel::RodLengthOnPad_mm(const ContactPrimitive& c) const {
   if (c.shape != ContactShape::kCylinder) return 0;
   const double yaw = c.yaw_deg * kPi / 180.0;

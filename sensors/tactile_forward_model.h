@@ -104,6 +104,10 @@ class TactileForwardModel {
   /// Readings [N] for arbitrary surface loads on the grid (the simulated sensor's pad
   /// pressure, for one): out(3 k + a). Resized to 3 * #taxels.
   void Respond(const std::vector<SurfaceLoad>& loads, Eigen::VectorXd* readings_N) const;
+  /// About the cells Patch() loads for `contact` (its Hertz patch's area over a cell's,
+  /// within the load grid), without computing the patch: what an evaluation will cost, for
+  /// budgets. 0 for the flat (precomputed responses) and for no force.
+  double PatchCellsEstimate(const ContactPrimitive& contact) const;
   /// Length of a cylinder's axis over the pad square [mm] (a finite rod: of its own length;
   /// 0 for other shapes).
   double RodLengthOnPad_mm(const ContactPrimitive& contact) const;

@@ -1,5 +1,6 @@
 #include "bridge/contact_fe_step.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <cmath>
 
@@ -145,11 +146,12 @@ bool ContactFeStep::KnownUnreachable(const ContactEstimate& e) const {
   switch (last_unreachable_status_) {
     // Nothing touches the leader where the object is: at any force.
     case scene::PressStatus::kNoContact: return true;
-    // The press ran into the patch's edge or the maximum depth below its force: a force no
-    // lower needs an indentation no smaller, which runs into them too. (The tangential load
-    // is not compared: the edge and the depth are reached by the normal indentation.)
+    // The press ran into the patch's edge or the maximum depth at a force below its target
+    // (unreachable_force_N_): a higher force needs a deeper indentation, which runs into them
+    // too. (The tangential load is not compared: the edge and the depth are reached by the
+    // normal indentation.)
     case scene::PressStatus::kPatchEdge:
-    case scene::PressStatus::kMaxDepth: return e.normal_force_N() >= last_unreachable_.normal_force_N();
+    case scene::PressStatus::kMaxDepth: return e.normal_force_N() >= unreachable_force_N_;
     default: return false;
   }
 }
@@ -252,6 +254,11 @@ const MerkelSedResult& ContactFeStep::Step(const TaxelValues& values) {
       have_unreachable_ = true;
       last_unreachable_ = estimate_;
       last_unreachable_status_ = press.status;
+      // Where the press stopped (a thickened retry's: the thinner tries stopped at forces
+      // not kept, so then the target itself, as a force no lower than it).
+      const double target_N = estimate_.normal_force_N();
+      unreachable_force_N_ =
+          pressed.presses == 1 && std::isfinite(press.force_N) ? std::clamp(press.force_N, 0.0, target_N) : target_N;
     }
     estimate_.ok = false;
     estimate_.problem = std::string("leader press: ") + scene::ToString(press.status) + ": " + press.message;

@@ -81,10 +81,10 @@ class ContactFeStep final : public FeStep {
   /// every scan (tests compare the two).
   void set_reuse_press(bool reuse) { reuse_press_ = reuse; }
   /// Whether a scan whose object is where the last press left it unable to reach its force
-  /// (the leader's patch edge or its maximum depth, at a force no higher than now; or no
-  /// contact at all) falls back at once instead of pressing again, which would fail the
-  /// same way (27 contact solves, ~0.55 ms a scan at the rig's pad corner, press_11). On by
-  /// default; off presses every scan (tests compare the two).
+  /// (the leader's patch edge or its maximum depth, reached at a force no higher than this
+  /// scan's; or no contact at all) falls back at once instead of pressing again, which would
+  /// fail the same way (27 contact solves, ~0.55 ms a scan at the rig's pad corner,
+  /// press_11). On by default; off presses every scan (tests compare the two).
   void set_skip_known_unreachable(bool skip) { skip_known_unreachable_ = skip; }
 
   /// The last scan's estimate in the leader's pad frame.
@@ -126,6 +126,7 @@ class ContactFeStep final : public FeStep {
   ContactEstimate last_unreachable_;  // pad frame
   std::string last_unreachable_problem_;
   scene::PressStatus last_unreachable_status_{};
+  double unreachable_force_N_ = 0;  // that press's force where it stopped
   double last_force_N_ = 0, last_indentation_mm_ = 0;
   Eigen::VectorXd zero_sed_;
   MerkelSedResult result_;

@@ -31,6 +31,10 @@ constexpr double kMinHalfLength_mm = 0.25, kMaxHalfLength_mm = 15;
 // A finite rod ends at least this far inside the pad (its axis's chord) [mm].
 constexpr double kMinEdgeShortfall_mm = 1.0;
 
+// One LM iteration of a 1-unit patch (a Jacobian of three pose/radius columns and a trial):
+// the overrun a soft budget allows, and the margin of the hard one (FitBudget).
+constexpr int kCheapIterationUnits = 4;
+
 bool IsFiniteRod(const ContactPrimitive& p) { return p.shape == ContactShape::kCylinder && p.length_mm > 0; }
 
 int UnknownCount(ContactShape s, bool pair, bool finite, bool shear) {
@@ -134,6 +138,8 @@ struct ContactReconstructor::Fit {
   bool converged = false;  // LM stopped by its own tests, not by a budget or an error
   bool at_radius_bound = false;  // the radius ran out of the plausible range (clamped)
   int budget_used = 0;           // evaluations weighted by patch size
+  bool stopped = false;          // by FitBudget::hard_units (chi2 infinite: nothing evaluated)
+  double refused_units = 0;      // stopped: units of one evaluation where (an estimate)
   Prediction prediction;         // at the model's unknowns
   double Penalized() const { return chi2 + 2.0 * unknowns; }
 };
@@ -208,7 +214,7 @@ bool ContactReconstructor::Plausible(const Hypothesis& h) const {
 }
 
 ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start, int max_evaluations,
-                                                         int evaluation_budget, bool force_only,
+                                                         const FitBudget& budget, FitMode mode,
                                                          const Prediction* known, double tracked_log_radius) const {
   const bool shear = options_.fit_shear;
   const bool pair = start.pair;
@@ -249,6 +255,45 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
     int refresh = 1;
     mutable Linearization last{};
     mutable Eigen::MatrixXd Jp{};
+    // The parts where the last Jacobian was taken (LM's current point): a rejected trial
+    // or the difference columns move `at` away, and the fit's answer is often this point.
+    mutable Eigen::VectorXd base_at{}, base_normal{}, base_per_x{}, base_per_y{};
+    mutable Part base_parts[2]{};
+    // FitBudget::hard_units (0: none): evaluations that would pass it are not started (their
+    // cost estimated from the patch they would load), and the call returns -1 (LM stops:
+    // UserAsked).
+    int hard_units = 0;
+    mutable bool stopped = false;
+    mutable double refused_units = 0;  // of one evaluation where it stopped
+    // Units of one evaluation at u of the single shape (s < 0) or of a pair's sphere s.
+    double Units(const Eigen::VectorXd& u, int s) const {
+      const ContactPrimitive c = s < 0 ? ShapeFromUnknowns(shape, finite, u.data())
+                                       : ShapeFromUnknowns(ContactShape::kSphere, false, u.data() + s * kSphereUnknowns);
+      return std::max(1.0, std::floor(self->model_.PatchCellsEstimate(c) / std::max(1, self->options_.cells_per_evaluation)));
+    }
+    // Units of one evaluation of the whole model at u (a pair: both spheres).
+    double ModelUnits(const Eigen::VectorXd& u) const { return pair ? Units(u, 0) + Units(u, 1) : Units(u, -1); }
+    bool Affordable(const Eigen::VectorXd& u, double evaluations) const {
+      if (hard_units == 0) return true;
+      const double units = ModelUnits(u);
+      if (hard_units > 0 && *budget_used + evaluations * units <= hard_units) return true;
+      stopped = true;
+      refused_units = units;
+      return false;
+    }
+    bool Restore(const Eigen::VectorXd& u) const {
+      if (base_at.size() != u.size() || base_at != u) return false;
+      at = base_at, normal = base_normal, per_x = base_per_x, per_y = base_per_y;
+      if (pair) parts[0] = base_parts[0], parts[1] = base_parts[1];
+      return true;
+    }
+    // The parts at u: kept, restored, or evaluated when affordable (false: not).
+    bool Ensure(const Eigen::VectorXd& u) const {
+      if ((at.size() == u.size() && at == u) || Restore(u)) return true;
+      if (!Affordable(u, 1)) return false;
+      Parts(u);
+      return true;
+    }
     int inputs() const { return UnknownCount(shape, pair, finite, shear); }
     int prior_rows() const { return prior_weight > 0 ? (pair ? 2 : 1) : 0; }
     int values() const { return static_cast<int>(self->obs_.size()) + prior_rows(); }
@@ -298,7 +343,7 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
       }
     }
     int operator()(const Eigen::VectorXd& u, Eigen::VectorXd& r) const {
-      if (at.size() != u.size() || at != u) Parts(u);
+      if (!Ensure(u)) return -1;
       Residuals(u, r);
       return 0;
     }
@@ -306,8 +351,10 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
       const int n = inputs(), geometric = n - (shear ? 2 : 0);
       J.resize(values(), n);
       Eigen::VectorXd r0;
-      if (at.size() != u.size() || at != u) Parts(u);
+      if (!Ensure(u)) return -1;
       Residuals(u, r0);
+      base_at = u, base_normal = normal, base_per_x = per_x, base_per_y = per_y;
+      if (pair) base_parts[0] = parts[0], base_parts[1] = parts[1];
       const Eigen::VectorXd u0 = u, pred0 = pred, normal0 = normal, per_x0 = per_x, per_y0 = per_y;
       // An analytic column from d pred / d u_j: weighted, a saturated channel's slope where
       // it binds, and 0 in the radius prior's rows (only log R, a difference column, moves them).
@@ -352,6 +399,7 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
           last.at.size() == n) {
         // Secant update of the prediction's Jacobian from where it was last:
         // Jp + (d pred - Jp du) du^T / du^T du; the residuals' columns from it.
+        if (!Affordable(u0, 1)) return -1;  // the radius column
         const Eigen::VectorXd du = u0 - last.at;
         const double dd = du.squaredNorm();
         Jp = last.jacobian;
@@ -371,6 +419,9 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
         ++last.since_differences;
         return 0;
       }
+      // The difference columns: one sphere per column of a pair (four each), else one
+      // evaluation per pose/radius column.
+      if (!Affordable(u0, pair ? kSphereUnknowns : geometric - 1)) return -1;
       last.since_differences = 0;
       if (pair) {
         const Part saved[2] = {parts[0], parts[1]};
@@ -409,6 +460,7 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
   int evaluations = 0, budget_used = 0;
   Functor f{{}, this, shape, pair, finite, shear, &evaluations, &budget_used, 0, 0, {}, {}, {}, {}, {}, {}, {}};
   f.refresh = options_.jacobian_refresh;
+  f.hard_units = budget.hard_units;
   // The radius prior: on the tracked radius (a single shape's warm fit), else the weak one.
   const bool tracked = !pair && std::isfinite(tracked_log_radius) && options_.radius_track_log_sigma > 0;
   const double prior_sigma = tracked ? options_.radius_track_log_sigma : options_.radius_prior_log_sigma;
@@ -452,7 +504,7 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
     p.linearization = f.last;
     return p;
   };
-  if (force_only) {
+  if (mode == FitMode::kForceStep) {
     // One Gauss-Newton step in (log F, T) with the shape held: three evaluations (the point,
     // its log R difference for the free force column, the step; two when the point's parts
     // are known), where an LM iteration of the whole model costs four and a ramp scan takes
@@ -489,7 +541,8 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
   }
   // lm.minimize(u), stopped early when the budget is spent.
   Eigen::LevenbergMarquardtSpace::Status status = lm.minimizeInit(u);
-  if (status != Eigen::LevenbergMarquardtSpace::ImproperInputParameters) {
+  if (status != Eigen::LevenbergMarquardtSpace::ImproperInputParameters &&
+      status != Eigen::LevenbergMarquardtSpace::UserAsked) {
     // Also stopped (amortized) when an iteration gains less than min_chi2_gain: the rest
     // is below the noise, and the next scan refines from here.
     double chi2 = lm.fnorm * lm.fnorm;
@@ -497,10 +550,10 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
     do {
       status = lm.minimizeOneStep(u);
       const double next = lm.fnorm * lm.fnorm;
-      gained = evaluation_budget <= 0 || !(chi2 - next < options_.min_chi2_gain);
+      gained = budget.units <= 0 || !(chi2 - next < options_.min_chi2_gain);
       chi2 = next;
     } while (status == Eigen::LevenbergMarquardtSpace::Running && gained &&
-             (evaluation_budget <= 0 || budget_used < evaluation_budget));
+             (budget.units <= 0 || budget_used < budget.units));
   }
   Fit fit;
   fit.converged = status == Eigen::LevenbergMarquardtSpace::RelativeReductionTooSmall ||
@@ -523,15 +576,22 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
     if (pair) clamp_radius(fit.model.second);
     if (fit.at_radius_bound) u = ToUnknowns(fit.model, shear);
   }
-  Eigen::VectorXd r;
-  f(u, r);
-  // The data's chi^2 (the prior's residual is not evidence for model selection or the RMS).
-  const auto data = r.head(static_cast<Eigen::Index>(obs_.size()));
-  fit.chi2 = data.allFinite() ? data.squaredNorm() : std::numeric_limits<double>::infinity();
   fit.unknowns = UnknownCount(shape, pair, finite, shear);
+  fit.stopped = f.stopped;
+  // Stopped before its start was evaluated: nothing known (the start stays the iterate).
+  const bool unevaluated = f.stopped && !(f.at.size() == u.size() && f.at == u) && !f.Restore(u);
+  if (!unevaluated) {
+    Eigen::VectorXd r;
+    f.hard_units = 0;  // the answer's parts (kept, or a clamped radius's)
+    f(u, r);
+    // The data's chi^2 (the prior's residual is not evidence for model selection or the RMS).
+    const auto data = r.head(static_cast<Eigen::Index>(obs_.size()));
+    fit.chi2 = data.allFinite() ? data.squaredNorm() : std::numeric_limits<double>::infinity();
+    fit.prediction = prediction_at(u);
+  }
   fit.evaluations = evaluations;
   fit.budget_used = budget_used;
-  fit.prediction = prediction_at(u);
+  fit.refused_units = f.refused_units;
   return fit;
 }
 
@@ -764,7 +824,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     if (amortized && options_.force_step_first && have_last_chi2_ &&
         estimate_.averaged_scans <= options_.force_step_max_averaged_scans && !last_.pair &&
         last_.first.shape != ContactShape::kFlat && options_.fit_shear && !saturated) {
-      const Fit step = FitModel(last_, 0, 0, true, &last_prediction_);
+      const Fit step = FitModel(last_, 0, 0, FitMode::kForceStep, &last_prediction_);
       tally(step);
       const double tolerance = 3 * std::sqrt(2 / dof);
       if (Plausible(step.model) && step.chi2 / dof <= last_chi2_per_dof_ + tolerance) {
@@ -777,7 +837,8 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
       const double tracked = amortized && !last_.pair
                                  ? std::log(last_.first.radius_mm)
                                  : std::numeric_limits<double>::quiet_NaN();
-      best = FitModel(last_, 0, amortized ? options_.warm_scan_evaluations : 0, false, &last_prediction_, tracked);
+      best = FitModel(last_, 0, amortized ? options_.warm_scan_evaluations : 0, FitMode::kLevenbergMarquardt,
+                      &last_prediction_, tracked);
       tally(best);
     }
     warm_won = Plausible(best.model);
@@ -830,14 +891,23 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
       // scan's check waits for a scan the model does not explain: such a candidate (a rod
       // grown over the pad to explain a sphere's patch) took 20-26 budget units a scan
       // against a budget of 6, 0.5-1 ms of reconstruction (rig press_10).
-      if (options_.defer_costly_candidates && explained && 4 * candidate_cost_ > budget) break;
-      const Fit fit = FitModel(candidate_, options_.explore_evaluations, budget, false, &candidate_prediction_);
+      const bool defer = options_.defer_costly_candidates && explained;
+      if (defer && 4 * candidate_cost_ > budget) break;
+      // Nor does its fit start evaluations past the budget and one cheap iteration: a
+      // candidate whose patch grows since its last cost was measured (a rod over the pad:
+      // 23-31 units in one iteration on rig press_09) stops where it is.
+      FitBudget fit_budget(budget);
+      if (defer) fit_budget.hard_units = budget + kCheapIterationUnits;
+      const Fit fit = FitModel(candidate_, options_.explore_evaluations, fit_budget, FitMode::kLevenbergMarquardt,
+                               &candidate_prediction_);
       tally(fit);
       budget -= fit.budget_used;
+      candidate_spent_ += fit.budget_used;
+      if (fit.stopped) candidate_cost_ = fit.refused_units;  // what its next iteration asks for
+      else candidate_cost_ = fit.evaluations > 0 ? double(fit.budget_used) / fit.evaluations : 0.0;
+      if (fit.stopped && !std::isfinite(fit.chi2)) break;  // nothing evaluated: it waits as it was
       candidate_ = fit.model;
       candidate_prediction_ = fit.prediction;
-      candidate_spent_ += fit.budget_used;
-      candidate_cost_ = fit.evaluations > 0 ? double(fit.budget_used) / fit.evaluations : 0.0;
       // A candidate whose radius runs out of the plausible range is the wrong shape (a rod
       // or sphere growing without bound to explain a flat), and its huge patches are the
       // most expensive evaluations: given up.

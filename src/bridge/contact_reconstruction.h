@@ -111,6 +111,8 @@ struct ReconstructionOptions {
   /// Amortized: while the current model explains the scan, a candidate whose one LM
   /// iteration (about 4 of its evaluations at its last cost) exceeds the scan's budget
   /// waits for a scan the model does not explain (false: it takes its iteration anyway).
+  /// And no candidate then starts evaluations past the scan's budget plus one cheap
+  /// iteration (4 units): one whose patch grew stops where it is, its cost remembered.
   bool defer_costly_candidates = true;
   /// Amortized budgets count an evaluation as max(1, patch cells / this): an evaluation
   /// costs in proportion to its patch, and a rod or sphere grown over the whole pad (a
@@ -274,16 +276,29 @@ class ContactReconstructor {
     ModelPart parts[2];   // a pair's two spheres, each its own
     Linearization linearization;
   };
+  /// A fit's budget in units (evaluations weighted by patch size, cells_per_evaluation).
+  struct FitBudget {
+    FitBudget(int soft = 0) : units(soft) {}  // NOLINT: a plain number is the soft budget
+    /// Stop after the LM iteration that reaches this many (0: none).
+    int units = 0;
+    /// Never start evaluations that would pass this many (0: no such cap; negative: none at
+    /// all; their cost estimated from the patches they would load): the fit stops at its
+    /// last accepted point instead.
+    int hard_units = 0;
+  };
   /// LM from `start`; max_evaluations: LM function evaluations (0: options' max_evaluations);
-  /// evaluation_budget: stop after the LM iteration that reaches this many forward-model
-  /// evaluations (0: none). Each sphere of a pair counts as one evaluation.
-  /// force_only: one Gauss-Newton step in log F and the shear with the shape held (single,
-  /// non-flat shapes with shear; no saturated taxel): three evaluations, two from `known`.
+  /// budget: see FitBudget. Each sphere of a pair counts as one evaluation.
+  enum class FitMode {
+    kLevenbergMarquardt,
+    /// One Gauss-Newton step in log F and the shear with the shape held (single, non-flat
+    /// shapes with shear; no saturated taxel): three evaluations, two from `known`.
+    kForceStep,
+  };
   /// known: the parts at `start` when they are known (its unknowns within round-off).
   /// @param tracked_log_radius  finite: the radius prior is centred here with
   ///                            radius_track_log_sigma (the warm fit: the last answer's)
-  Fit FitModel(const Hypothesis& start, int max_evaluations = 0, int evaluation_budget = 0,
-               bool force_only = false, const Prediction* known = nullptr,
+  Fit FitModel(const Hypothesis& start, int max_evaluations = 0, const FitBudget& budget = {},
+               FitMode mode = FitMode::kLevenbergMarquardt, const Prediction* known = nullptr,
                double tracked_log_radius = std::numeric_limits<double>::quiet_NaN()) const;
   bool Plausible(const sensors::ContactPrimitive& p) const;
   bool Plausible(const Hypothesis& h) const;

@@ -424,6 +424,8 @@ TEST(ContactReconstruction, ShortHoldMeansTakeTheForceStep) {
 // 1.25 %/scan) and a sphere moving 20 um a scan, read with far fewer forward-model
 // evaluations and the same accuracy. Measured: 738 evaluations against 1068, worst force
 // error from scan 10 on 2.5 % both, worst x error 0.068 against 0.057 mm, R 5.95 mm.
+// (Session 22: 496 against 761 before, 496 against 601 since explained scans' candidates
+// stop before evaluations past their budget: a differences Jacobian costs 3 of their 6.)
 TEST(ContactReconstruction, BroydenJacobianFitsWithFewerEvaluations) {
   sensors::TactileForwardModel model(Uskin(), Uskin().forward_model);
   ReconstructionOptions differences;
@@ -449,7 +451,7 @@ TEST(ContactReconstruction, BroydenJacobianFitsWithFewerEvaluations) {
       worst_x[1] = std::max(worst_x[1], std::abs(b.primitive.x_mm - x_mm));
     }
   }
-  EXPECT_LT(broyden.counters().evaluations, 0.8 * every.counters().evaluations)
+  EXPECT_LT(broyden.counters().evaluations, 0.9 * every.counters().evaluations)
       << broyden.counters().evaluations << " vs " << every.counters().evaluations;
   EXPECT_LT(worst_force[0], 0.05);
   EXPECT_LT(worst_force[0], worst_force[1] + 0.01);
@@ -647,16 +649,21 @@ TEST(ContactReconstruction, RejectsOptionsThatCannotWork) {
 // While the model explains the scans, a candidate whose one iteration costs more than the
 // scan's check waits (defer_costly_candidates): on the rig's press_10 (an 8 mm sphere) a rod
 // candidate grown over the pad took 20-26 budget units a scan against a check of 6, 0.5-1 ms
-// of reconstruction. The explained scans' dearest cost must fall, the model stay the same.
+// of reconstruction. A new candidate's cost is not known until it is evaluated, and one
+// whose LM trial grows its patch learns it too late: on press_09 (a 15 mm sphere) a fresh
+// rod candidate's first iteration took 23 units in an explained scan. So such a candidate
+// also stops before an evaluation (its cost estimated from the patch) that would take it
+// past the check and one cheap iteration: no explained scan's candidate costs more than 10.
+// The explained scans' dearest cost must fall, the model stay the same.
 TEST(ContactReconstruction, AnExpensiveCandidateWaitsWhileTheModelExplainsTheScans) {
   struct Run {
     int dearest_explained = 0, evaluations = 0;
     ContactEstimate at_hold;
   };
-  auto run = [](const ReconstructionOptions& o) {
+  auto run = [](const ReconstructionOptions& o, int i_press) {
     Run out;
     ContactReconstructor r(Uskin(), o);
-    const sensors::CalibrationPress& press = Rig()[10];
+    const sensors::CalibrationPress& press = Rig()[size_t(i_press)];
     const double t_hold = sensors::PressProtocol().HoldMid_s();
     for (size_t i = 0; i < press.scans.size(); ++i) {
       const ContactEstimate& e = r.Reconstruct(press.scans[i]);
@@ -667,18 +674,22 @@ TEST(ContactReconstruction, AnExpensiveCandidateWaitsWhileTheModelExplainsTheSca
     }
     return out;
   };
-  ReconstructionOptions o;
-  ASSERT_EQ(Rig()[10].name, "press_10.log");
-  const Run deferred = run(o);
-  o.defer_costly_candidates = false;
-  const Run eager = run(o);
-  EXPECT_LT(deferred.dearest_explained, eager.dearest_explained);
-  EXPECT_LT(deferred.evaluations, eager.evaluations);
-  ASSERT_TRUE(deferred.at_hold.ok);
-  EXPECT_EQ(deferred.at_hold.primitive.shape, eager.at_hold.primitive.shape);
-  EXPECT_NEAR(deferred.at_hold.primitive.radius_mm, eager.at_hold.primitive.radius_mm, 0.05 * eager.at_hold.primitive.radius_mm);
-  RecordProperty("dearest_explained_cost", std::to_string(deferred.dearest_explained) + " (eager: " +
-                                               std::to_string(eager.dearest_explained) + ")");
+  for (int i_press : {9, 10}) {
+    ReconstructionOptions o;
+    const Run deferred = run(o, i_press);
+    o.defer_costly_candidates = false;
+    const Run eager = run(o, i_press);
+    const std::string name = Rig()[size_t(i_press)].name;
+    EXPECT_LT(deferred.dearest_explained, eager.dearest_explained) << name;
+    EXPECT_LT(deferred.evaluations, eager.evaluations) << name;
+    ASSERT_TRUE(deferred.at_hold.ok) << name;
+    EXPECT_EQ(deferred.at_hold.primitive.shape, eager.at_hold.primitive.shape) << name;
+    EXPECT_NEAR(deferred.at_hold.primitive.radius_mm, eager.at_hold.primitive.radius_mm,
+                0.05 * eager.at_hold.primitive.radius_mm)
+        << name;
+    RecordProperty("dearest_explained_cost_" + name, std::to_string(deferred.dearest_explained) + " (eager: " +
+                                                         std::to_string(eager.dearest_explained) + ")");
+  }
 }
 
 }  // namespace

@@ -65,6 +65,41 @@ TEST(TactileForwardModel, PatchCarriesTheForce) {
   }
 }
 
+// The reconstruction's budgets estimate an evaluation's cost before computing it: the
+// estimate follows the patch Patch() loads, from a thin rod to a sphere over the pad, and
+// for finite rods.
+TEST(TactileForwardModel, PatchCellsEstimateFollowsThePatch) {
+  const SensorProfile p = Uskin();
+  TactileForwardModel m(p, p.forward_model);
+  int checked = 0;
+  for (ContactShape s : {ContactShape::kSphere, ContactShape::kCylinder})
+    for (double radius_mm : {0.6, 2.5, 8.0, 40.0})
+      for (double force_N : {0.05, 0.5, 2.0})
+        for (double length_mm : {0.0, 6.0}) {
+          if (s == ContactShape::kSphere && length_mm > 0) continue;
+          ContactPrimitive c;
+          c.shape = s;
+          c.radius_mm = radius_mm;
+          c.normal_force_N = force_N;
+          c.length_mm = length_mm;
+          c.x_mm = 1.5, c.y_mm = -2, c.yaw_deg = 35;
+          std::vector<SurfaceLoad> loads;
+          m.Patch(c, &loads);
+          const double estimate = m.PatchCellsEstimate(c);
+          EXPECT_GT(estimate, 0.6 * double(loads.size())) << ContactShapeName(s) << " R " << radius_mm << " F " << force_N;
+          EXPECT_LT(estimate, 1.4 * double(loads.size()) + 4) << ContactShapeName(s) << " R " << radius_mm << " F " << force_N;
+          ++checked;
+        }
+  EXPECT_EQ(checked, 36);
+  ContactPrimitive flat;
+  flat.shape = ContactShape::kFlat;
+  flat.normal_force_N = 1;
+  EXPECT_EQ(m.PatchCellsEstimate(flat), 0.0);
+  ContactPrimitive none;
+  none.normal_force_N = 0;
+  EXPECT_EQ(m.PatchCellsEstimate(none), 0.0);
+}
+
 TEST(TactileForwardModel, CentredSphereIsSymmetricAndShearPointsOutward) {
   const SensorProfile p = Uskin();
   TactileForwardModel m(p, p.forward_model);
