@@ -159,6 +159,8 @@ class ComplianceContact {
 
   /// Contact points: the candidate nodes, then options.face_samples.
   int num_samples() const { return int(rest_c_.cols()); }
+  /// The contact points' rest positions [m], 3 x num_samples().
+  const Eigen::Matrix3Xd& sample_rest_positions_m() const { return rest_c_; }
   /// Displacement of each candidate after the last step [m], 3 x #candidates.
   Eigen::Map<const Eigen::Matrix3Xd> candidate_displacements_m() const;
   /// Positions of all nodes where the last step defines them (candidates and SED nodes;

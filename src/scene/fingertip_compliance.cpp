@@ -184,6 +184,20 @@ bool FingertipCompliance::AnyInside(const std::vector<geometry::RigidObject>& ob
   return false;
 }
 
+double FingertipCompliance::ClearanceAtRest_mm(const std::vector<geometry::RigidObject>& objects_model) const {
+  double least_m = std::numeric_limits<double>::infinity();
+  const Eigen::Matrix3Xd& samples = contact_->sample_rest_positions_m();
+  for (const auto& o : objects_model) {
+    if (!o.shape || !o.shape->lipschitz()) return 0.0;
+    const Eigen::Isometry3d object_from_model = o.trajectory.Pose(0.0).inverse();
+    for (Eigen::Index k = 0; k < samples.cols(); ++k)
+      least_m = std::min(least_m, o.shape->Evaluate(object_from_model * samples.col(k)).distance_m);
+    for (int n : outside_skin_)
+      least_m = std::min(least_m, o.shape->Evaluate(object_from_model * model_.soft.rest_positions_m.col(n)).distance_m);
+  }
+  return std::isfinite(least_m) ? std::max(0.0, least_m) * 1e3 : 0.0;
+}
+
 bool FingertipCompliance::TouchesOutsidePatch(const std::vector<geometry::RigidObject>& objects_model) const {
   for (const auto& c : contact_->last().contacts)
     if (sample_on_edge_[size_t(c.sample)]) return true;
@@ -233,6 +247,13 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
       pushed[k].trajectory = geometry::Trajectory(Eigen::Translation3d(0, 0, -d_mm * 1e-3) * touch[k]);
     last_model = ToModel(pushed);
     state_indentation_mm_ = d_mm;
+  };
+  // The objects at indentation d [mm] in the model frame, the contact state untouched.
+  auto at_depth = [&](double d_mm) {
+    std::vector<geometry::RigidObject> moved = objects_pad;
+    for (size_t k = 0; k < moved.size(); ++k)
+      moved[k].trajectory = geometry::Trajectory(Eigen::Translation3d(0, 0, -d_mm * 1e-3) * touch[k]);
+    return ToModel(moved);
   };
   // Normal force at indentation d [mm].
   auto force_at = [&](double d_mm) {
@@ -375,8 +396,14 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
         return finish(PressStatus::kNotConverged, lo, f_lo, "bracketing ran out of iterations");
       // The power-law estimate (F ~ d^m) at or a little past the target, capped at max_step_mm.
       double step = step_max;
-      if (f_lo > 0 && lo > 0)
+      if (f_lo > 0 && lo > 0) {
         step = std::clamp(PowerLawDepth_mm(lo, f_lo, aim() * target_N, exponent()) - lo, kMinBracketStep_mm, step_max);
+      } else if (f_lo == 0 && (r.iterations == 0 || contact_->last().contacts.empty())) {
+        // Nothing pressed yet, so the skin is at rest: nothing can touch before the objects
+        // have moved by the clearance, and the solves on the way would only confirm it (the
+        // rig's pad-corner sphere marched 25 of them to the finger's side, ~0.5 ms).
+        step = std::max(step, ClearanceAtRest_mm(at_depth(lo)));
+      }
       hi = std::min(opt.max_indentation_mm, lo + step);
       f_hi = evaluate(hi);
       if (solve_failed) return finish(PressStatus::kInvalidInput, hi, f_hi, contact_->last().error);

@@ -142,6 +142,10 @@ class FingertipCompliance {
   bool TouchesOutsidePatch(const std::vector<geometry::RigidObject>& objects_model) const;
   /// True if any of `nodes` lies inside an object at its rest position (poses at t = 0).
   bool AnyInside(const std::vector<geometry::RigidObject>& objects_model, const std::vector<int>& nodes) const;
+  /// Least distance [mm] from the objects to the contact points and the skin outside the
+  /// patch, all at rest: with no contact force the skin is at rest, and objects moved by
+  /// less touch none of them. 0 unless every shape's distance is a true distance (Lipschitz).
+  double ClearanceAtRest_mm(const std::vector<geometry::RigidObject>& objects_model) const;
   std::vector<geometry::RigidObject> ToModel(const std::vector<geometry::RigidObject>& objects_pad) const;
   /// A tangential load along pad x, y [N] in the model frame.
   Eigen::Vector3d TangentialToModel(const Eigen::Vector2d& tangential_pad_N) const;

@@ -452,6 +452,28 @@ TEST(FingertipCompliance, PressToForceFlagsWhatItCannotReach) {
   EXPECT_TRUE(cc.PressToForce(sphere, 0.5).reached);
 }
 
+// An object beside the pad presses nothing until it meets the finger's side (or never):
+// with no force the skin is at rest, so the root find moves the object by its clearance
+// (the least distance to the contact points and the skin outside the patch) instead of
+// solving every 0.2 mm on the way (25 contact solves to 5 mm). Same flags as before.
+TEST(FingertipCompliance, PressToForceDoesNotSolveWhereNothingCanTouch) {
+  FingertipCompliance cc(Model());
+  PressToForceOptions no_force_control;
+  no_force_control.force_control = false;
+  const PressToForceResult none = cc.PressToForce({Sphere(5, {40, 0, 5})}, 0.5, no_force_control);
+  EXPECT_EQ(none.status, PressStatus::kNoContact) << none.message;
+  EXPECT_LE(none.iterations, 3);
+  cc.ResetWarmStart();
+  const PressToForceResult edge = cc.PressToForce({Sphere(3, {8.5, 1, 0})}, 0.3, no_force_control);
+  EXPECT_EQ(edge.status, PressStatus::kPatchEdge) << edge.message;
+  EXPECT_LE(edge.iterations, 8);
+  RecordProperty("iterations", std::to_string(none.iterations) + " (no contact), " + std::to_string(edge.iterations) +
+                                   " (patch edge)");
+  // Still usable, and a press that touches at once is unchanged by it.
+  cc.ResetWarmStart();
+  EXPECT_TRUE(cc.PressToForce({Sphere(5, {0, 1, 5})}, 0.5, no_force_control).reached);
+}
+
 // Contact reconstruction will try arbitrary hypotheses: random spheres, boxes and planes
 // anywhere near the pad, random targets. Every answer is finite, flagged or on target.
 TEST(FingertipCompliance, PressToForceOnRandomHypothesesIsFiniteAndHonest) {
