@@ -29,6 +29,24 @@ namespace {
 using rotation_step4::Doubles4;
 using rotation_step4::Mask4;
 
+// sigma:eps/2 = mu eps:eps + lambda/2 tr(eps)^2 of eps = sym(G) - I, four elements at a
+// time (G = R^T F corotational, F linear), with the four elements' mu and lambda [Pa].
+inline __attribute__((always_inline)) void SmallStrainSed4(const Doubles4 (&G)[3][3], const double* mu,
+                                                          const double* lambda, Doubles4& sed) {
+  using V = Doubles4;
+  const V zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
+  V eps[3][3];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) eps[i][j] = 0.5 * (G[i][j] + G[j][i]) - (i == j ? one : zero);
+  const V tr = eps[0][0] + eps[1][1] + eps[2][2];
+  V mu4, lambda4;
+  rotation_step4::Load4(mu4, mu), rotation_step4::Load4(lambda4, lambda);
+  V eps2 = zero;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) eps2 += eps[i][j] * eps[i][j];
+  sed = 0.5 * (lambda4 * tr * tr) + mu4 * eps2;
+}
+
 // Corotational SED of elements [begin, end) of a SedArrays layout (`count` entries), four at
 // a time in vector registers: F from x, warm Newton steps of the rotation from the
 // quaternions (x y z w, four per element, updated; rotation_step4::NewtonSteps), sigma:eps/2.
@@ -39,7 +57,6 @@ void CorotationalSedBy4(int begin, int end, int count, const int* offset, const 
                         const double* mu, const double* lambda, const double* x, double* quaternion,
                         double last_step_rad, double* sed, double* status) {
   using V = Doubles4;
-  using rotation_step4::Load4;
   using rotation_step4::Store4;
   const int vector_end = begin + (end - begin) / 4 * 4;
   for (int k = vector_end; k < end; ++k) status[k] = 1.0;
@@ -52,19 +69,12 @@ void CorotationalSedBy4(int begin, int end, int count, const int* offset, const 
     Mask4 done;
     rotation_step4::NewtonSteps(F, qx, qy, qz, qw, last_step_rad, rotation_step4::kMaxRotationSteps, R, done);
     rotation_step4::StoreQuaternions(q, qx, qy, qz, qw);
-    V eps[3][3];  // sym(R^T F) - I
-    V G[3][3];
+    V G[3][3];  // R^T F
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) G[i][j] = R[0][i] * F[0][j] + R[1][i] * F[1][j] + R[2][i] * F[2][j];
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) eps[i][j] = 0.5 * (G[i][j] + G[j][i]) - (i == j ? one : zero);
-    const V tr = eps[0][0] + eps[1][1] + eps[2][2];
-    V mu_k, lambda_k;
-    Load4(mu_k, mu + k), Load4(lambda_k, lambda + k);
-    V eps2 = zero;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) eps2 += eps[i][j] * eps[i][j];
-    Store4(sed + k, 0.5 * (lambda_k * tr * tr) + mu_k * eps2);
+    V sed4;
+    SmallStrainSed4(G, mu + k, lambda + k, sed4);
+    Store4(sed + k, sed4);
     Store4(status + k, done ? zero : one);
   }
 }
@@ -77,23 +87,14 @@ SEDBRIDGE_HOT_CLONES
 int LinearSedBy4(int begin, int end, int count, const int* offset, const double* rest_inverse, const double* mu,
                  const double* lambda, const double* x, double* sed) {
   using V = Doubles4;
-  using rotation_step4::Load4;
   using rotation_step4::Store4;
   const int vector_end = begin + (end - begin) / 4 * 4;
-  const V zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
   for (int k = begin; k < vector_end; k += 4) {
     V W[3][3], F[3][3];
     rotation_step4::DeformationGradients(k, count, offset, rest_inverse, x, W, F);
-    V eps[3][3];  // sym(F) - I
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) eps[i][j] = 0.5 * (F[i][j] + F[j][i]) - (i == j ? one : zero);
-    const V tr = eps[0][0] + eps[1][1] + eps[2][2];
-    V mu_k, lambda_k;
-    Load4(mu_k, mu + k), Load4(lambda_k, lambda + k);
-    V eps2 = zero;
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) eps2 += eps[i][j] * eps[i][j];
-    Store4(sed + k, 0.5 * (lambda_k * tr * tr) + mu_k * eps2);
+    V sed4;
+    SmallStrainSed4(F, mu + k, lambda + k, sed4);
+    Store4(sed + k, sed4);
   }
   return vector_end;
 }

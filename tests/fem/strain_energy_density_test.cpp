@@ -26,56 +26,26 @@ Eigen::VectorXd Deformed(const TetMesh& mesh, double angle) {
   return x;
 }
 
-// Corotational element SED = sigma:eps/2 at F's polar rotation, through the warm-started
-// path (the first call from the identity, later ones one polar step each, four elements at
-// a time) on 1 and 2 threads, over a vertex set whose element count is not a multiple of 4.
-TEST(VertexSedEvaluator, CorotationalSedIsTheElementSedAtThePolarRotation) {
+// The evaluator's element SED against `expected(element, F)` on every element around a third
+// of a 7x7x7 box's nodes (over 1000 elements, above the evaluator's parallel threshold, and
+// not a multiple of 4), on 1 and 2 threads, for calls at the deformations `angles` (one
+// evaluator per thread count: warm starts carry over between its calls). Largest error
+// relative to the largest SED must stay below `tolerance`.
+template <typename Expected>
+void ExpectElementSeds(ElasticFormulation formulation, const std::vector<double>& angles, double tolerance,
+                       Expected expected) {
   const TetMesh mesh = MakeBoxMesh({0.01, 0.01, 0.01}, {7, 7, 7}, testing::Skin());
   std::vector<int> vertices;
   for (int i = 0; i < mesh.num_nodes(); i += 3) vertices.push_back(i);
-  const ElasticTetForce elastic(mesh, ElasticFormulation::kCorotational);
-  for (int threads : {1, 2}) {
-    omp_set_num_threads(threads);
-    VertexSedEvaluator sed(elastic, vertices);
-    ASSERT_GT(sed.elements().size(), 1000u);  // above the evaluator's parallel threshold
-    ASSERT_NE(sed.elements().size() % 4, 0u);
-    Eigen::VectorXd vertex_sed;
-    for (int call = 0; call < 4; ++call) {
-      const Eigen::VectorXd x = Deformed(mesh, 0.7 + 5e-5 * call);
-      sed.Evaluate(x, vertex_sed);
-      double worst = 0, largest = 0;
-      for (size_t k = 0; k < sed.elements().size(); ++k) {
-        const int t = sed.elements()[k];
-        const Tet& n = mesh.tets[size_t(t)];
-        const TetElement& e = elastic.elements()[size_t(t)];
-        const Eigen::Matrix3d F = DeformationGradient(e, x.segment<3>(3 * n[0]), x.segment<3>(3 * n[1]),
-                                                      x.segment<3>(3 * n[2]), x.segment<3>(3 * n[3]));
-        const double expected = ElementSed(e, F, PolarRotationSvd(F));
-        worst = std::max(worst, std::abs(sed.element_sed_Pa()[Eigen::Index(k)] - expected));
-        largest = std::max(largest, std::abs(expected));
-      }
-      EXPECT_GT(largest, 10.0);
-      EXPECT_LT(worst, 1e-9 * largest) << threads << " threads, call " << call;
-    }
-  }
-  omp_set_num_threads(1);
-}
-
-// The linear path (four elements at a time, the remainder by ElementSed) is ElementSed of
-// the strain sym(F) - I, on 1 and 2 threads, over an element count not a multiple of 4.
-TEST(VertexSedEvaluator, LinearSedIsTheElementSedOfTheSmallStrain) {
-  const TetMesh mesh = MakeBoxMesh({0.01, 0.01, 0.01}, {7, 7, 7}, testing::Skin());
-  std::vector<int> vertices;
-  for (int i = 0; i < mesh.num_nodes(); i += 3) vertices.push_back(i);
-  const ElasticTetForce elastic(mesh, ElasticFormulation::kLinear);
+  const ElasticTetForce elastic(mesh, formulation);
   for (int threads : {1, 2}) {
     omp_set_num_threads(threads);
     VertexSedEvaluator sed(elastic, vertices);
     ASSERT_GT(sed.elements().size(), 1000u);
     ASSERT_NE(sed.elements().size() % 4, 0u);
     Eigen::VectorXd vertex_sed;
-    for (int call = 0; call < 2; ++call) {
-      const Eigen::VectorXd x = Deformed(mesh, 0.3 + 0.2 * call);
+    for (size_t call = 0; call < angles.size(); ++call) {
+      const Eigen::VectorXd x = Deformed(mesh, angles[call]);
       sed.Evaluate(x, vertex_sed);
       double worst = 0, largest = 0;
       for (size_t k = 0; k < sed.elements().size(); ++k) {
@@ -84,18 +54,33 @@ TEST(VertexSedEvaluator, LinearSedIsTheElementSedOfTheSmallStrain) {
         const TetElement& e = elastic.elements()[size_t(t)];
         const Eigen::Matrix3d F = DeformationGradient(e, x.segment<3>(3 * n[0]), x.segment<3>(3 * n[1]),
                                                       x.segment<3>(3 * n[2]), x.segment<3>(3 * n[3]));
-        const double expected = ElementSed(e, F, Eigen::Matrix3d::Identity());
-        worst = std::max(worst, std::abs(sed.element_sed_Pa()[Eigen::Index(k)] - expected));
-        largest = std::max(largest, std::abs(expected));
+        const double want = expected(e, F);
+        worst = std::max(worst, std::abs(sed.element_sed_Pa()[Eigen::Index(k)] - want));
+        largest = std::max(largest, std::abs(want));
       }
       EXPECT_GT(largest, 10.0);
-      EXPECT_LT(worst, 1e-12 * largest) << threads << " threads, call " << call;
-      // Each vertex: the mean of its elements' SED.
+      EXPECT_LT(worst, tolerance * largest) << threads << " threads, call " << call;
       EXPECT_TRUE(vertex_sed.allFinite());
       EXPECT_GT(vertex_sed.maxCoeff(), 0.0);
     }
   }
   omp_set_num_threads(1);
+}
+
+// Corotational element SED = sigma:eps/2 at F's polar rotation, through the warm-started
+// path (the first call from the identity, later ones one polar step each, four elements at
+// a time).
+TEST(VertexSedEvaluator, CorotationalSedIsTheElementSedAtThePolarRotation) {
+  ExpectElementSeds(ElasticFormulation::kCorotational, {0.7, 0.7 + 5e-5, 0.7 + 1e-4, 0.7 + 1.5e-4}, 1e-9,
+                    [](const TetElement& e, const Eigen::Matrix3d& F) { return ElementSed(e, F, PolarRotationSvd(F)); });
+}
+
+// The linear path (four elements at a time, the remainder by ElementSed) is ElementSed of
+// the strain sym(F) - I.
+TEST(VertexSedEvaluator, LinearSedIsTheElementSedOfTheSmallStrain) {
+  ExpectElementSeds(ElasticFormulation::kLinear, {0.3, 0.5}, 1e-12, [](const TetElement& e, const Eigen::Matrix3d& F) {
+    return ElementSed(e, F, Eigen::Matrix3d::Identity());
+  });
 }
 
 }  // namespace
