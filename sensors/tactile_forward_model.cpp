@@ -309,7 +309,6 @@ void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLo
   loads->clear();
   if (!(c.normal_force_N > 0) || !std::isfinite(c.normal_force_N)) return;
   const double h = params_.grid_mm, half = 0.5 * params_.pad_size_mm;
-  const double E_N_mm2 = params_.contact_modulus_kPa * 1e-3;  // kPa -> N/mm^2
   const double F = c.normal_force_N;
   auto add_box = [&](double x_lo, double x_hi, double y_lo, double y_hi, auto&& weight) {
     const int i0 = std::max(0, static_cast<int>(std::floor((x_lo - grid_x0_mm_) / h)));
@@ -325,10 +324,7 @@ void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLo
   };
   switch (c.shape) {
     case ContactShape::kSphere: {
-      const double R = std::max(c.radius_mm, 1e-3);
-      // Patches narrower than the grid are widened to about one cell, so that every
-      // contact covers a few cells and the readings stay smooth in the pose.
-      const double a = std::hypot(std::cbrt(3.0 * F * R / (4.0 * E_N_mm2)), h);
+      const double a = SphereHalfWidth_mm(F, c.radius_mm);
       add_box(c.x_mm - a, c.x_mm + a, c.y_mm - a, c.y_mm + a, [&](double x, double y) {
         const double r2 = ((x - c.x_mm) * (x - c.x_mm) + (y - c.y_mm) * (y - c.y_mm)) / (a * a);
         return r2 < 1 ? std::sqrt(1 - r2) : 0.0;
@@ -341,8 +337,7 @@ void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLo
       const double half_length = c.length_mm > 0 ? 0.5 * c.length_mm : kUnboundedLineParameter;
       const double L = LengthInSquare(c.x_mm, c.y_mm, dx, dy, half, half_length);
       if (L <= 0) return;
-      const double R = std::max(c.radius_mm, 1e-3);
-      const double b = std::hypot(std::sqrt(4.0 * (F / L) * R / (kPi * E_N_mm2)), h);
+      const double b = RodHalfWidth_mm(F / L, c.radius_mm);
       // The Hertz profile averaged over [s - h/2, s + h/2] across the axis, not sampled at
       // the cell centre: a strip only a few cells wide, point-sampled, gains or loses a
       // cell with a sqrt-kink as b grows, which made the readings (and chi^2) rough in R
@@ -427,20 +422,31 @@ void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLo
   }
 }
 
+double TactileForwardModel::SphereHalfWidth_mm(double force_N, double radius_mm) const {
+  const double E_N_mm2 = params_.contact_modulus_kPa * 1e-3;  // kPa -> N/mm^2
+  const double R = std::max(radius_mm, 1e-3);
+  return std::hypot(std::cbrt(3.0 * force_N * R / (4.0 * E_N_mm2)), params_.grid_mm);
+}
+
+double TactileForwardModel::RodHalfWidth_mm(double force_per_length_N_mm, double radius_mm) const {
+  const double E_N_mm2 = params_.contact_modulus_kPa * 1e-3;
+  const double R = std::max(radius_mm, 1e-3);
+  return std::hypot(std::sqrt(4.0 * force_per_length_N_mm * R / (kPi * E_N_mm2)), params_.grid_mm);
+}
+
 double TactileForwardModel::PatchCellsEstimate(const ContactPrimitive& c) const {
   if (!(c.normal_force_N > 0) || !std::isfinite(c.normal_force_N)) return 0;
-  const double h = params_.grid_mm, E_N_mm2 = params_.contact_modulus_kPa * 1e-3;
-  const double R = std::max(c.radius_mm, 1e-3), F = c.normal_force_N;
+  const double h = params_.grid_mm, F = c.normal_force_N;
   const double grid_area = cell_count() * h * h;
   switch (c.shape) {
-    case ContactShape::kSphere: {  // as Patch: the Hertz radius, widened to about a cell
-      const double a = std::hypot(std::cbrt(3.0 * F * R / (4.0 * E_N_mm2)), h);
+    case ContactShape::kSphere: {  // Patch's disc
+      const double a = SphereHalfWidth_mm(F, c.radius_mm);
       return std::min(kPi * a * a, grid_area) / (h * h);
     }
-    case ContactShape::kCylinder: {  // a band 2 b wide along the axis over the pad
+    case ContactShape::kCylinder: {  // Patch's band, 2 b wide along the axis over the pad
       const double L = RodLengthOnPad_mm(c);
       if (!(L > 0)) return 0;
-      const double b = std::hypot(std::sqrt(4.0 * (F / L) * R / (kPi * E_N_mm2)), h);
+      const double b = RodHalfWidth_mm(F / L, c.radius_mm);
       return std::min(2.0 * b * (L + 2.0 * kGridMargin_mm), grid_area) / (h * h);
     }
     default: return 0;

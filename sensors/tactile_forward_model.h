@@ -119,6 +119,11 @@ class TactileForwardModel {
   Eigen::Vector2d CellCentre_mm(int cell) const;
 
  private:
+  /// Hertz half-widths [mm] of a sphere's patch (radius) and a rod's band (half-width, for
+  /// force per length F/L [N/mm]), R clamped to >= 1e-3 mm, widened to about one grid cell
+  /// so that every contact covers a few cells and the readings stay smooth in the pose.
+  double SphereHalfWidth_mm(double force_N, double radius_mm) const;
+  double RodHalfWidth_mm(double force_per_length_N_mm, double radius_mm) const;
   void BuildKernelTable();
   /// Per load, its cell's distance into the kernel table [entries]: the entry for taxel k is
   /// table_[taxel_base_[k] - offset]. Once per patch, not once per (taxel, cell): the

@@ -83,8 +83,8 @@ class ContactFeStep final : public FeStep {
   /// Whether a scan whose object is where the last press left it unable to reach its force
   /// (the leader's patch edge or its maximum depth, reached at a force no higher than this
   /// scan's; or no contact at all) falls back at once instead of pressing again, which would
-  /// fail the same way (27 contact solves, ~0.55 ms a scan at the rig's pad corner,
-  /// press_11). On by default; off presses every scan (tests compare the two).
+  /// fail the same way (0.5-1 ms a scan at the rig's pad corner, press_11). On by default;
+  /// off presses every scan (tests compare the two).
   void set_skip_known_unreachable(bool skip) { skip_known_unreachable_ = skip; }
 
   /// The last scan's estimate in the leader's pad frame.

@@ -138,7 +138,7 @@ struct ContactReconstructor::Fit {
   bool converged = false;  // LM stopped by its own tests, not by a budget or an error
   bool at_radius_bound = false;  // the radius ran out of the plausible range (clamped)
   int budget_used = 0;           // evaluations weighted by patch size
-  bool stopped = false;          // by FitBudget::hard_units (chi2 infinite: nothing evaluated)
+  bool stopped = false;          // by FitBudget::hard_units (chi2 infinite if nothing was evaluated)
   double refused_units = 0;      // stopped: units of one evaluation where (an estimate)
   Prediction prediction;         // at the model's unknowns
   double Penalized() const { return chi2 + 2.0 * unknowns; }
@@ -265,18 +265,22 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
     int hard_units = 0;
     mutable bool stopped = false;
     mutable double refused_units = 0;  // of one evaluation where it stopped
+    // Budget units of an evaluation whose patch has `cells` cells.
+    double UnitsOf(double cells) const {
+      return std::max(1.0, std::floor(cells / std::max(1, self->options_.cells_per_evaluation)));
+    }
     // Units of one evaluation at u of the single shape (s < 0) or of a pair's sphere s.
     double Units(const Eigen::VectorXd& u, int s) const {
       const ContactPrimitive c = s < 0 ? ShapeFromUnknowns(shape, finite, u.data())
                                        : ShapeFromUnknowns(ContactShape::kSphere, false, u.data() + s * kSphereUnknowns);
-      return std::max(1.0, std::floor(self->model_.PatchCellsEstimate(c) / std::max(1, self->options_.cells_per_evaluation)));
+      return UnitsOf(self->model_.PatchCellsEstimate(c));
     }
     // Units of one evaluation of the whole model at u (a pair: both spheres).
     double ModelUnits(const Eigen::VectorXd& u) const { return pair ? Units(u, 0) + Units(u, 1) : Units(u, -1); }
     bool Affordable(const Eigen::VectorXd& u, double evaluations) const {
-      if (hard_units == 0) return true;
+      if (hard_units <= 0) return true;
       const double units = ModelUnits(u);
-      if (hard_units > 0 && *budget_used + evaluations * units <= hard_units) return true;
+      if (*budget_used + evaluations * units <= hard_units) return true;
       stopped = true;
       refused_units = units;
       return false;
@@ -304,7 +308,7 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
       const ContactPrimitive c = ShapeFromUnknowns(ContactShape::kSphere, false, u.data() + s * kSphereUnknowns);
       self->model_.PredictLinearInShear(c, &p.normal, &p.per_x, &p.per_y, &cells);
       p.force_N = c.normal_force_N;
-      *budget_used += std::max(1, cells / std::max(1, self->options_.cells_per_evaluation));
+      *budget_used += int(UnitsOf(cells));
     }
     void CombineParts() const {
       const double w = parts[0].force_N / (parts[0].force_N + parts[1].force_N);
@@ -321,7 +325,7 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
         ++*evaluations;
         int cells = 0;
         self->model_.PredictLinearInShear(ShapeFromUnknowns(shape, finite, u.data()), &normal, &per_x, &per_y, &cells);
-        *budget_used += std::max(1, cells / std::max(1, self->options_.cells_per_evaluation));
+        *budget_used += int(UnitsOf(cells));
       }
       at = u;
     }

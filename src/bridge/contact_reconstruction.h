@@ -281,9 +281,9 @@ class ContactReconstructor {
     FitBudget(int soft = 0) : units(soft) {}  // NOLINT: a plain number is the soft budget
     /// Stop after the LM iteration that reaches this many (0: none).
     int units = 0;
-    /// Never start evaluations that would pass this many (0: no such cap; negative: none at
-    /// all; their cost estimated from the patches they would load): the fit stops at its
-    /// last accepted point instead.
+    /// Never start evaluations that would pass this many (0: no such cap; their cost
+    /// estimated from the patches they would load): the fit stops at its last accepted
+    /// point instead.
     int hard_units = 0;
   };
   /// LM from `start`; max_evaluations: LM function evaluations (0: options' max_evaluations);

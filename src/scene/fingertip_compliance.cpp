@@ -237,23 +237,20 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
   }
   // Friction anchors belong to a stepped scene, not to a hypothesis being pressed.
   if (options_.contact.friction_anisotropy > 0) contact_->ResetWarmStart();
-  std::vector<geometry::RigidObject> pushed = objects_pad;
   std::vector<geometry::RigidObject> last_model;
   const Eigen::Vector3d t_model = TangentialToModel(tangential_pad_N);
   bool solve_failed = false, solve_unconverged = false;
-  // The objects at indentation d [mm] (translated by -d along z_pad); the contact state's.
-  auto place = [&](double d_mm) {
-    for (size_t k = 0; k < pushed.size(); ++k)
-      pushed[k].trajectory = geometry::Trajectory(Eigen::Translation3d(0, 0, -d_mm * 1e-3) * touch[k]);
-    last_model = ToModel(pushed);
-    state_indentation_mm_ = d_mm;
-  };
-  // The objects at indentation d [mm] in the model frame, the contact state untouched.
+  // The objects at indentation d [mm] (translated by -d along z_pad) in the model frame.
   auto at_depth = [&](double d_mm) {
     std::vector<geometry::RigidObject> moved = objects_pad;
     for (size_t k = 0; k < moved.size(); ++k)
       moved[k].trajectory = geometry::Trajectory(Eigen::Translation3d(0, 0, -d_mm * 1e-3) * touch[k]);
     return ToModel(moved);
+  };
+  // The same, as the contact state's.
+  auto place = [&](double d_mm) {
+    last_model = at_depth(d_mm);
+    state_indentation_mm_ = d_mm;
   };
   // Normal force at indentation d [mm].
   auto force_at = [&](double d_mm) {
@@ -316,8 +313,7 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
   // At indentation 0 the force is zero unless a candidate is inside an object at rest
   // (no force, no displacement): then no solve is needed there.
   double lo = 0, f_lo = 0;
-  for (size_t k = 0; k < pushed.size(); ++k) pushed[k].trajectory = geometry::Trajectory(touch[k]);
-  if (AnyInside(ToModel(pushed), contact_->candidate_nodes())) {
+  if (AnyInside(at_depth(0.0), contact_->candidate_nodes())) {
     f_lo = evaluate(0.0);
     if (solve_failed) return finish(PressStatus::kInvalidInput, 0.0, 0.0, contact_->last().error);
     if (std::abs(f_lo - target_N) <= tol) return finish(PressStatus::kReached, 0.0, f_lo, "");
