@@ -30,7 +30,7 @@ Simulation::Simulation(const TetMesh& mesh, std::vector<std::unique_ptr<ForceTer
   }
 }
 
-StepReport Simulation::Step(double dt) {
+StepReport Simulation::Step(double dt, const std::function<void()>& after_step) {
   // The step's start state: kept once per step (no allocation after the first) for the
   // rollback below.
   step_start_ = state_;
@@ -40,11 +40,6 @@ StepReport Simulation::Step(double dt) {
   if (choose) omp_set_num_threads(team);
   const auto t0 = std::chrono::steady_clock::now();
   StepReport r = integrator_->Step(dt, state_);
-  if (choose) {
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    thread_team_.Record(team, ms / std::max(1, r.newton_iterations));
-    omp_set_num_threads(caller_threads);
-  }
   r.finite = state_.x_m.allFinite() && state_.v_m_s.allFinite();
   if (!r.finite) {
     // Never hand NaN downstream: keep the last good state and say so.
@@ -57,6 +52,12 @@ StepReport Simulation::Step(double dt) {
   for (const auto& term : terms_) term->EndStep(s);
   r.t_s = state_.t_s;
   r.inverted_elements = elastic_ ? elastic_->inverted_elements() : 0;
+  if (after_step) after_step();
+  if (choose) {
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    thread_team_.Record(team, ms / std::max(1, r.newton_iterations));
+    omp_set_num_threads(caller_threads);
+  }
   return r;
 }
 

@@ -7,6 +7,7 @@
 // -> EndStep hooks.
 
 #include <Eigen/Core>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -38,7 +39,10 @@ class Simulation {
   /// evaluated at the new t). A step that produces NaN/Inf is rolled back and reported.
   /// With AutoThreadTeam() the step runs with the team ThreadTeamChooser picks between 1
   /// and omp_get_max_threads() at construction (the caller's setting is restored after).
-  StepReport Step(double dt_s);
+  /// @param after_step  work on the new state that belongs to the step (the scene's Merkel
+  ///                    SED): it runs on the same team and counts in the step's cost, so a
+  ///                    team that is fast for the solve but slow for it is not kept.
+  StepReport Step(double dt_s, const std::function<void()>& after_step = {});
 
   const Eigen::VectorXd& positions_m() const { return state_.x_m; }
   const Eigen::VectorXd& velocities_m_s() const { return state_.v_m_s; }

@@ -4,9 +4,15 @@
 // A second OpenMP thread speeds up the element assembly on an idle core (1.8x on model B),
 // but on a busy machine every barrier waits for a thread the scheduler has parked: measured
 // here, a backward Euler contact step on B took 15 ms with one thread and 42 ms with two
-// while one compile ran beside it (docs/performance.md). Which is faster depends on the
-// load, which changes, so the step measures it: it alternates team sizes for a few steps,
-// keeps the faster, and measures again every so often or when the kept one slows down.
+// while one compile ran beside it (docs/performance.md). On a quiet 16-core machine the
+// step is fastest with 4-8 threads and slower again with all 16, and with half the cores
+// busy 16 threads made a 1.4 ms step take 186 ms. Which team is fastest depends on the
+// machine and its load, which changes, so the step measures it: it climbs a ladder of team
+// sizes (1, 2, 4, ... up to the cores) one rung at a time, comparing each rung with the
+// best so far for a few steps, and stops at the first rung that is not clearly faster, so
+// a team is never tried unless the one below it paid; a rung whose first step costs twice
+// the best's has lost at once. It measures again, around the kept
+// team, every so often or when the kept one slows down.
 
 #include <vector>
 
@@ -20,7 +26,8 @@ bool AutoThreadTeam();
 
 class ThreadTeamChooser {
  public:
-  /// @param max_threads      the team compared with one thread (<= 1: always one)
+  /// @param max_threads      the largest team tried (the ladder is 1, 2, 4, ... and
+  ///                         max_threads itself; <= 1: always one)
   /// @param samples          steps measured per team size before choosing
   /// @param reexplore_steps  steps after which the choice is measured again; doubled (up to
   ///                         64x) each time the measurement confirms the same team, since
@@ -38,16 +45,25 @@ class ThreadTeamChooser {
   void Record(int team, double cost);
   /// The team kept, or 0 while measuring.
   int chosen() const { return chosen_; }
+  /// Team sizes that may be tried, smallest first.
+  const std::vector<int>& ladder() const { return ladder_; }
 
  private:
   int max_threads_, samples_, reexplore_steps_, period_;
   double slowdown_;
+  std::vector<int> ladder_;
   bool warm_ = false;
-  std::vector<double> one_, many_;  // costs measured since the last (re)start
+  // While measuring: the best rung so far against the rung being tried, above it (climbing)
+  // or below it (descending after a re-measure found no gain above).
+  int best_ = 0, trial_ = 1;
+  bool climbing_ = true, may_descend_ = false;
+  std::vector<double> best_costs_, trial_costs_;
   int chosen_ = 0, last_choice_ = 0;
   double chosen_cost_ = 0;
   int steps_since_choice_ = 0;
   std::vector<double> recent_;  // the kept team's last `samples_` costs
+  void Compare(bool trial_lost = false);
+  void Keep(int rung);
   void Restart();
 };
 

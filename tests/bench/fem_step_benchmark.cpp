@@ -7,7 +7,7 @@
 // and linear_iterations (PCG iterations per step). ContactPressStep/.../pcg_warp/rest_only
 // turns the warped PCG's contact update off (solver.contact_update: false); .../capN accepts
 // the PCG iterate after N iterations; force_N is the contact force after the timed steps.
-// The argument is the OpenMP team: 1, 2, or 0 = chosen by the step itself
+// The argument is the OpenMP team: 1, 2, 4, 8, 16 (as many as the machine has cores), or 0 = chosen by the step itself
 // (fem/thread_team.h; `threads` then reports the team it kept at the end, 0 = still measuring).
 
 #include <benchmark/benchmark.h>
@@ -234,12 +234,12 @@ void StepProduct(benchmark::State& state) {
   Report(state, ms);
 }
 
-// Thread columns: 1, 2, 4, 8 where the machine has that many cores (more would only
+// Thread columns: 1, 2, 4, 8, 16 where the machine has that many cores (more would only
 // measure oversubscription), then 0 = the step's own choice (ThreadTeamChooser).
 template <typename B>
 B* ThreadArgs(B* b, bool with_auto = true) {
   const int cores = omp_get_num_procs();
-  for (int t : {1, 2, 4, 8})
+  for (int t : {1, 2, 4, 8, 16})
     if (t <= 2 || t <= cores) b->Arg(t);
   if (with_auto) b->Arg(0);
   return b;

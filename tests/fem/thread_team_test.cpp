@@ -1,12 +1,15 @@
 // ThreadTeamChooser (fem/thread_team.h): fed step costs, not clocks, so the choice is
-// deterministic: it keeps the faster team, prefers one thread on a tie, and measures again
-// when the kept team slows down or after its re-measure period.
+// deterministic: it keeps the faster team, prefers one thread on a tie, climbs the ladder of
+// team sizes only while each rung pays, and measures again when the kept team slows down or
+// after its re-measure period.
 
 #include "fem/thread_team.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <functional>
+#include <map>
 
 namespace sedbridge::fem {
 namespace {
@@ -71,6 +74,90 @@ TEST(ThreadTeamChooser, MeasuresAgainAfterItsPeriod) {
   EXPECT_EQ(chooser.chosen(), 2);
   RunSteps(chooser, 10, [](int team, int) { return team == 2 ? 4.0 : 6.0; });
   EXPECT_EQ(chooser.chosen(), 0);
+}
+
+// Step costs of the contact step on B_fine on a quiet 16-core machine, per team (ms;
+// docs/performance.md "Thread scaling on a 16-core machine"): fastest at 4-8, slower at 16.
+double QuietSixteenCores(int team, int) {
+  static const std::map<int, double> ms{{1, 8.05}, {2, 5.09}, {4, 4.15}, {8, 4.25}, {16, 6.85}};
+  return ms.at(team);
+}
+
+TEST(ThreadTeamChooser, LadderDoublesUpToTheCores) {
+  EXPECT_EQ(ThreadTeamChooser(16).ladder(), (std::vector<int>{1, 2, 4, 8, 16}));
+  EXPECT_EQ(ThreadTeamChooser(6).ladder(), (std::vector<int>{1, 2, 4, 6}));
+  EXPECT_EQ(ThreadTeamChooser(2).ladder(), (std::vector<int>{1, 2}));
+}
+
+TEST(ThreadTeamChooser, ClimbsToTheFastestTeamAndNoFurther) {
+  ThreadTeamChooser chooser(16, 3, 1000);
+  int largest = 0;
+  RunSteps(chooser, 40, [&](int team, int k) {
+    largest = std::max(largest, team);
+    return QuietSixteenCores(team, k);
+  });
+  // 1 -> 2 (1.58x) -> 4 (1.23x) pay; 8 is not 5 % faster than 4, so 16 is never tried.
+  EXPECT_EQ(chooser.chosen(), 4);
+  EXPECT_EQ(largest, 8);
+}
+
+TEST(ThreadTeamChooser, NeverTriesALargeTeamOnABusyMachine) {
+  // Half the cores busy: every extra thread makes the step slower (16 threads: 186 ms for
+  // a 1.4 ms step, measured). Only 2 is ever tried against 1.
+  ThreadTeamChooser chooser(16, 3, 1000);
+  int largest = 0;
+  RunSteps(chooser, 40, [&](int team, int) {
+    largest = std::max(largest, team);
+    return team == 1 ? 2.8 : 2.8 * team;
+  });
+  EXPECT_EQ(chooser.chosen(), 1);
+  EXPECT_EQ(largest, 2);
+}
+
+TEST(ThreadTeamChooser, AFarSlowerRungLosesAfterOneStep) {
+  // Half the cores busy, as measured: 8 threads still 9 % faster than 4, 16 threads 130x
+  // slower. 16 is tried once, not three times.
+  const std::map<int, double> loaded{{1, 2.70}, {2, 1.67}, {4, 1.17}, {8, 1.07}, {16, 186.0}};
+  ThreadTeamChooser chooser(16, 3, 1000);
+  std::vector<int> teams;
+  RunSteps(chooser, 40, [&](int team, int) {
+    teams.push_back(team);
+    return loaded.at(team);
+  });
+  EXPECT_EQ(chooser.chosen(), 8);
+  EXPECT_EQ(std::count(teams.begin(), teams.end(), 16), 1);
+}
+
+TEST(ThreadTeamChooser, MeasuresAgainAroundTheKeptTeam) {
+  ThreadTeamChooser chooser(16, 3, 20);
+  RunSteps(chooser, 25, QuietSixteenCores);  // warm-up + 4 comparisons of 3 + 3 steps, then 12 kept
+  ASSERT_EQ(chooser.chosen(), 4);
+  // Some cores got busy: 4 threads are now no faster than 2, 8 slower, 1 still slower.
+  // After the period the chooser tries 8, then 2, keeps going down while the smaller team
+  // does as well (the tie goes to fewer threads), stops at 2 against 1; 16 is never run.
+  const std::map<int, double> busy{{1, 8.0}, {2, 5.0}, {4, 5.0}, {8, 9.0}};
+  std::vector<int> teams;
+  RunSteps(chooser, 30, [&](int team, int) {  // 8 more steps kept, 6 + 6 + 3 measuring, 7 kept
+    teams.push_back(team);
+    return busy.at(team);
+  });
+  EXPECT_EQ(chooser.chosen(), 2);
+  EXPECT_GT(std::count(teams.begin(), teams.end(), 8), 0);
+  EXPECT_EQ(std::count(teams.begin(), teams.end(), 16), 0);
+}
+
+TEST(ThreadTeamChooser, ASlowdownOnlyTriesSmallerTeams) {
+  ThreadTeamChooser chooser(16, 3, 1000);
+  RunSteps(chooser, 40, QuietSixteenCores);
+  ASSERT_EQ(chooser.chosen(), 4);
+  // Load arrives: every team is slower, more threads more so.
+  std::vector<int> teams;
+  RunSteps(chooser, 30, [&](int team, int) {
+    teams.push_back(team);
+    return 6.0 * team;
+  });
+  EXPECT_EQ(chooser.chosen(), 1);
+  EXPECT_EQ(*std::max_element(teams.begin(), teams.end()), 4);
 }
 
 TEST(ThreadTeamChooser, OneCoreAlwaysOneThread) {
