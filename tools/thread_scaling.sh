@@ -32,7 +32,8 @@ if [[ -z "${THREADS:-}" ]]; then
   for t in 1 2 4 8 16; do ((t <= 2 || t <= CORES)) && THREADS+="$t "; done
   THREADS+="0"
 fi
-export SEDBRIDGE_ROOT=${SEDBRIDGE_ROOT:-$(pwd)}
+# Models and scenes come from this checkout, wherever the script is run from.
+export SEDBRIDGE_ROOT=${SEDBRIDGE_ROOT:-$(cd "$(dirname "$0")/.." && pwd)}
 (lscpu; echo; uptime) >"$DIR/lscpu.txt" 2>&1
 # Past DEADLINE_S seconds no new run starts, so the table still gets printed.
 out_of_time() { [[ -n ${DEADLINE_S:-} ]] && ((SECONDS > DEADLINE_S)) && say "skipped: past DEADLINE_S=$DEADLINE_S"; }
@@ -67,10 +68,10 @@ press() {
     say "press B OMP_NUM_THREADS=${env_threads:-unset}"
     local t0=$EPOCHREALTIME
     if [[ -n $env_threads ]]; then
-      OMP_NUM_THREADS=$t timeout 240 $RUN "$BUILD/sedbridge" press --scene config/scenes/paper_press.yaml \
+      OMP_NUM_THREADS=$t timeout 240 $RUN "$BUILD/sedbridge" press --scene "$SEDBRIDGE_ROOT/config/scenes/paper_press.yaml" \
         --out "$RAW/press_$t" --no-plots --quiet >>"$LOG" 2>&1
     else
-      (unset OMP_NUM_THREADS; timeout 240 $RUN "$BUILD/sedbridge" press --scene config/scenes/paper_press.yaml \
+      (unset OMP_NUM_THREADS; timeout 240 $RUN "$BUILD/sedbridge" press --scene "$SEDBRIDGE_ROOT/config/scenes/paper_press.yaml" \
         --out "$RAW/press_$t" --no-plots --quiet >>"$LOG" 2>&1)
     fi
     local rc=$? t1=$EPOCHREALTIME
