@@ -3,7 +3,6 @@
 #include <omp.h>
 
 #include <algorithm>
-#include <chrono>
 
 #include "fem/backward_euler_integrator.h"
 #include "fem/lumped_mass.h"
@@ -34,11 +33,7 @@ StepReport Simulation::Step(double dt, const std::function<void()>& after_step) 
   // The step's start state: kept once per step (no allocation after the first) for the
   // rollback below.
   step_start_ = state_;
-  const bool choose = AutoThreadTeam() && thread_team_.max_threads() > 1;
-  const int caller_threads = omp_get_max_threads();
-  const int team = choose ? thread_team_.Next() : caller_threads;
-  if (choose) omp_set_num_threads(team);
-  const auto t0 = std::chrono::steady_clock::now();
+  ChosenTeamScope team(thread_team_);
   StepReport r = integrator_->Step(dt, state_);
   r.finite = state_.x_m.allFinite() && state_.v_m_s.allFinite();
   if (!r.finite) {
@@ -53,11 +48,7 @@ StepReport Simulation::Step(double dt, const std::function<void()>& after_step) 
   r.t_s = state_.t_s;
   r.inverted_elements = elastic_ ? elastic_->inverted_elements() : 0;
   if (after_step) after_step();
-  if (choose) {
-    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    thread_team_.Record(team, ms / std::max(1, r.newton_iterations));
-    omp_set_num_threads(caller_threads);
-  }
+  team.Record(r.newton_iterations);
   return r;
 }
 
@@ -75,6 +66,7 @@ double Simulation::PotentialEnergy() const {
 }
 
 Eigen::VectorXd Simulation::TotalForce() {
+  ChosenTeamScope team(thread_team_);  // a whole assembly: on the step's team, not all cores
   const SystemState s{state_.x_m, Eigen::VectorXd::Zero(state_.x_m.size()), state_.t_s, false};
   system_->Assemble(s, 1.0, 0.0, false);
   return system_->force_N();

@@ -4,6 +4,8 @@
 #include <atomic>
 #include <cstdlib>
 
+#include <omp.h>
+
 namespace sedbridge::fem {
 namespace {
 
@@ -120,6 +122,26 @@ void ThreadTeamChooser::Keep(int rung) {
   chosen_cost_ = best_costs_.empty() ? chosen_cost_ : Median(best_costs_);
   steps_since_choice_ = 0;
   recent_.clear();
+}
+
+ChosenTeamScope::ChosenTeamScope(ThreadTeamChooser& chooser)
+    : chooser_(chooser),
+      choosing_(AutoThreadTeam() && chooser.max_threads() > 1),
+      caller_threads_(omp_get_max_threads()),
+      team_(choosing_ ? chooser.Next() : caller_threads_) {
+  if (choosing_) omp_set_num_threads(team_);
+  t0_ = std::chrono::steady_clock::now();
+}
+
+ChosenTeamScope::~ChosenTeamScope() {
+  if (choosing_) omp_set_num_threads(caller_threads_);
+}
+
+void ChosenTeamScope::Record(double work_units) {
+  if (!choosing_ || recorded_) return;
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0_).count();
+  chooser_.Record(team_, ms / std::max(1.0, work_units));
+  recorded_ = true;
 }
 
 void ThreadTeamChooser::Restart() {

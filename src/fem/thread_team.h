@@ -14,6 +14,7 @@
 // the best's has lost at once. It measures again, around the kept
 // team, every so often or when the kept one slows down.
 
+#include <chrono>
 #include <vector>
 
 namespace sedbridge::fem {
@@ -65,6 +66,29 @@ class ThreadTeamChooser {
   void Compare(bool trial_lost = false);
   void Keep(int rung);
   void Restart();
+};
+
+/// Runs a scope (one FE step and the work that belongs to it) on the team `chooser` picks
+/// when AutoThreadTeam(), else on the caller's team, and restores the caller's team at
+/// exit. Record() gives the chooser the scope's cost so far.
+class ChosenTeamScope {
+ public:
+  explicit ChosenTeamScope(ThreadTeamChooser& chooser);
+  ~ChosenTeamScope();
+  ChosenTeamScope(const ChosenTeamScope&) = delete;
+  ChosenTeamScope& operator=(const ChosenTeamScope&) = delete;
+
+  /// Whether the team was chosen (AutoThreadTeam() and more than one core).
+  bool choosing() const { return choosing_; }
+  /// Records the wall time since construction per `work_units` (e.g. Newton iterations);
+  /// once per scope, and only when choosing().
+  void Record(double work_units = 1.0);
+
+ private:
+  ThreadTeamChooser& chooser_;
+  bool choosing_, recorded_ = false;
+  int caller_threads_, team_;
+  std::chrono::steady_clock::time_point t0_;
 };
 
 }  // namespace sedbridge::fem

@@ -1,5 +1,7 @@
 #include "scene/fingertip_scene.h"
 
+#include <omp.h>
+
 #include <Eigen/Dense>
 #include <set>
 
@@ -71,12 +73,16 @@ void FingertipScene::Build() {
                                                   fem::MakeLinearSolver(compliance ? "ldlt" : ToString(d.solver), d.pcg, &elastic_ref, contact_));
   if (d.outputs.merkel_sed)
     merkel_ = std::make_unique<MerkelLayer>(m, *simulation_->elastic(), nodal_pressure_, d.outputs.merkel_side);
-  if (compliance) compliance_ = std::make_unique<FingertipCompliance>(m, ComplianceOptionsFromScene(d));
+  if (compliance) {
+    compliance_ = std::make_unique<FingertipCompliance>(m, ComplianceOptionsFromScene(d));
+    compliance_team_ = fem::ThreadTeamChooser(omp_get_max_threads());
+  }
   skin_area_m2_ = fem::VertexAreas(m.skin_triangles, m.soft.rest_positions_m);
 }
 
 fem::StepReport FingertipScene::Step() {
   if (compliance_) {
+    fem::ChosenTeamScope team(compliance_team_);
     compliance_t_s_ += description_.dt_s;
     static const std::vector<geometry::RigidObject> kNone;
     fem::StepReport r;
@@ -91,6 +97,7 @@ fem::StepReport FingertipScene::Step() {
     if (c.ok) simulation_->SetPositions(compliance_->contact().positions_m());
     compliance_->contact().EndStep();  // friction anchors, as the simulation's EndStep
     EvaluateMerkelSed(r.stage_ms);
+    team.Record();
     return r;
   }
   StageTimes sed_ms;

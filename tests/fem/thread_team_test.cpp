@@ -6,6 +6,7 @@
 #include "fem/thread_team.h"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <algorithm>
 #include <functional>
@@ -158,6 +159,35 @@ TEST(ThreadTeamChooser, ASlowdownOnlyTriesSmallerTeams) {
   });
   EXPECT_EQ(chooser.chosen(), 1);
   EXPECT_EQ(*std::max_element(teams.begin(), teams.end()), 4);
+}
+
+TEST(ChosenTeamScope, RunsOnTheChosenTeamAndRestoresTheCallers) {
+  const bool auto_before = AutoThreadTeam();
+  const int threads_before = omp_get_max_threads();
+  SetAutoThreadTeam(true);
+  omp_set_num_threads(3);
+  ThreadTeamChooser chooser(4, 1, 1000);  // ladder 1, 2, 4; one sample per rung
+  {
+    ChosenTeamScope scope(chooser);
+    EXPECT_TRUE(scope.choosing());
+    EXPECT_EQ(omp_get_max_threads(), 2);  // the warm-up step
+    scope.Record();
+  }
+  EXPECT_EQ(omp_get_max_threads(), 3);
+  for (int expected : {1, 2, 4}) {  // 1 against 2; 2 won (cost 1/team), so 4 against 2's cost
+    ChosenTeamScope scope(chooser);
+    EXPECT_EQ(omp_get_max_threads(), expected);
+    chooser.Record(expected, 10.0 / expected);  // a fed cost, not the clock
+  }
+  EXPECT_EQ(chooser.chosen(), 4);
+  SetAutoThreadTeam(false);  // the user chose: the scope keeps the caller's team
+  {
+    ChosenTeamScope scope(chooser);
+    EXPECT_FALSE(scope.choosing());
+    EXPECT_EQ(omp_get_max_threads(), 3);
+  }
+  SetAutoThreadTeam(auto_before);
+  omp_set_num_threads(threads_before);
 }
 
 TEST(ThreadTeamChooser, OneCoreAlwaysOneThread) {
