@@ -11,8 +11,8 @@
 // sizes (1, 2, 4, ... up to the cores) one rung at a time, comparing each rung with the
 // best so far for a few steps, and stops at the first rung that is not clearly faster, so
 // a team is never tried unless the one below it paid; a rung whose first step costs twice
-// the best's has lost at once. It measures again, around the kept
-// team, every so often or when the kept one slows down.
+// the best's has lost at once. It measures again, around the kept team, every so often or
+// when the kept one slows down. ChosenTeamScope runs a step on the team it picks.
 
 #include <chrono>
 #include <vector>
