@@ -52,7 +52,9 @@ FidelityCase FromCalibrationPress(const sensors::CalibrationPress& press);
 /// elastomer as a layer on a rigid base, sensors::RigFittedLayerPad()).
 /// random_count > 0: instead of the fixed set, that many rig-like presses drawn with `seed`
 /// (spheres 2-15 mm, rods 0.5-3 mm at any yaw, flats, strokes; places, sizes and depths the
-/// rig did not use): the closest thing here to presses of this sensor not seen before.
+/// rig did not use): the closest thing here to presses of this sensor not seen before. Each
+/// drawn press has its own sensor-noise stream (from `seed` and its index); the fixed set's
+/// presses share the stream `seed`.
 std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& profile, uint64_t seed = 1,
                                                  sensors::PadMechanics pad = sensors::PadMechanics::kLayer,
                                                  int random_count = 0);
