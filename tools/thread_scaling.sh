@@ -7,7 +7,8 @@
 #   3. the same FE steps while half the cores run busy loops (threads must not make
 #      a step slower on a loaded machine).
 # Prints a markdown table at the end and writes DIR/thread_scaling.csv (one row per run),
-# DIR/thread_scaling.log (everything the runs printed) and DIR/lscpu.txt.
+# DIR/thread_scaling.log (everything the runs printed), DIR/lscpu.txt and, with matplotlib,
+# DIR/thread_scaling.png (speed-up against team size: tools/plot_thread_scaling.py).
 #
 # usage: tools/thread_scaling.sh [BUILD_DIR [OUT_DIR]]      (Release build; defaults build, out/thread_scaling)
 # environment:
@@ -145,4 +146,13 @@ for (sec, model, case), by_team in groups.items():
 print("(step rows: median ms a step, speed-up over team 1 in brackets; chosen: [team kept]; press: wall s)")
 EOF
 (cd "$RAW" && tar -czf - *.json press.csv press_*/force_displacement.csv 2>/dev/null) >"$DIR/raw.tar.gz"
+# The same as a plot, with the first Python that has matplotlib (Debian's python3-matplotlib
+# is /usr/bin/python3's), as sedbridge's own plots look for it.
+for py in /usr/bin/python3 python3; do
+  if "$py" -c "import matplotlib" 2>/dev/null; then
+    "$py" "$(dirname "$0")/plot_thread_scaling.py" "$DIR/thread_scaling.csv" --out "$DIR/thread_scaling.png" \
+      --title "$(hostname), $(nproc) cores, $(date -u +'%Y-%m-%d %H:%M UTC')"
+    break
+  fi
+done
 rm -rf "$RAW"
