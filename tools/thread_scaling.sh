@@ -80,17 +80,33 @@ press() {
   done
 }
 
+# The busy loops (and the raw folder) never outlive the script (Ctrl-C, a kill, an error).
+HOG_PIDS=()
+stop_hogs() {
+  ((${#HOG_PIDS[@]})) || return 0
+  kill "${HOG_PIDS[@]}" 2>/dev/null
+  wait "${HOG_PIDS[@]}" 2>/dev/null
+  HOG_PIDS=()
+}
+trap 'stop_hogs; rm -rf "$RAW"' EXIT
+trap 'stop_hogs; exit 130' INT TERM
+
 load() {
-  local hogs=$((CORES / 2)) pids=()
+  local hogs=$((CORES / 2))
   ((hogs < 1)) && hogs=1
-  for _ in $(seq "$hogs"); do (while :; do :; done) & pids+=($!); done
+  for _ in $(seq "$hogs"); do (while :; do :; done) & HOG_PIDS+=($!); done
   say "load: $hogs busy loops on $CORES cores"
   TEAMS=${LOAD_THREADS:-$THREADS} STEP_TIMEOUT=60 step_runs load B 'ContactPressStep/backward_euler/corotational/pcg_warp/cap1'
   TEAMS=${LOAD_THREADS:-$THREADS} STEP_TIMEOUT=60 step_runs load B_fine 'ContactPressStep/backward_euler/corotational/pcg_warp'
-  kill "${pids[@]}" 2>/dev/null
-  wait "${pids[@]}" 2>/dev/null
+  stop_hogs
 }
 
+for s in $SECTIONS; do
+  case $s in
+    steps | press | load | traction) ;;
+    *) echo "thread_scaling.sh: unknown section '$s' in SECTIONS (steps, press, load, traction)" >&2; exit 2 ;;
+  esac
+done
 for s in $SECTIONS; do say "section $s"; $s; done
 
 # Merge the runs into one CSV and print the table.
