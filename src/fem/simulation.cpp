@@ -33,7 +33,7 @@ StepReport Simulation::Step(double dt, const std::function<void()>& after_step) 
   // The step's start state: kept once per step (no allocation after the first) for the
   // rollback below.
   step_start_ = state_;
-  ChosenTeamScope team(thread_team_);
+  ChosenTeamScope team = StepTeam();
   StepReport r = integrator_->Step(dt, state_);
   r.finite = state_.x_m.allFinite() && state_.v_m_s.allFinite();
   if (!r.finite) {
@@ -66,7 +66,7 @@ double Simulation::PotentialEnergy() const {
 }
 
 Eigen::VectorXd Simulation::TotalForce() {
-  ChosenTeamScope team(thread_team_);  // a whole assembly: on the step's team, not all cores
+  const ChosenTeamScope team = StepTeam();  // a whole assembly: on the step's team, not all cores
   const SystemState s{state_.x_m, Eigen::VectorXd::Zero(state_.x_m.size()), state_.t_s, false};
   system_->Assemble(s, 1.0, 0.0, false);
   return system_->force_N();

@@ -72,6 +72,9 @@ class Simulation {
   Eigen::VectorXd TotalForce();
   /// The team-size chooser of Step (fem/thread_team.h).
   const ThreadTeamChooser& thread_team() const { return thread_team_; }
+  /// A scope on Step's team, for work that stands in for a step (the compliance method's
+  /// contact step, which never calls Step) or belongs to one (a whole assembly).
+  ChosenTeamScope StepTeam() { return ChosenTeamScope(thread_team_); }
   /// True if every term's Jacobian is constant (system matrix assembled once).
   bool constant_matrix() const { return system_->constant_matrix(); }
 

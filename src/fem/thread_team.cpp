@@ -19,8 +19,8 @@ double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
-// More threads are kept only when clearly faster: a tie goes to one thread, which leaves
-// the other core to the rest of the machine [-].
+// A larger team is kept only when clearly faster: a tie goes to the smaller, which leaves
+// the other cores to the rest of the machine [-].
 constexpr double kMinSpeedup = 1.05;
 // A rung whose step costs this much more than the best so far has lost after one step: with
 // more threads than idle cores a step can cost 100x (186 ms for 1.4 ms, measured), and
@@ -129,7 +129,8 @@ ChosenTeamScope::ChosenTeamScope(ThreadTeamChooser& chooser)
       choosing_(AutoThreadTeam() && chooser.max_threads() > 1),
       caller_threads_(omp_get_max_threads()),
       team_(choosing_ ? chooser.Next() : caller_threads_) {
-  if (choosing_) omp_set_num_threads(team_);
+  if (!choosing_) return;
+  omp_set_num_threads(team_);
   t0_ = std::chrono::steady_clock::now();
 }
 

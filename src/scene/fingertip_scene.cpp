@@ -1,7 +1,5 @@
 #include "scene/fingertip_scene.h"
 
-#include <omp.h>
-
 #include <Eigen/Dense>
 #include <set>
 
@@ -73,16 +71,15 @@ void FingertipScene::Build() {
                                                   fem::MakeLinearSolver(compliance ? "ldlt" : ToString(d.solver), d.pcg, &elastic_ref, contact_));
   if (d.outputs.merkel_sed)
     merkel_ = std::make_unique<MerkelLayer>(m, *simulation_->elastic(), nodal_pressure_, d.outputs.merkel_side);
-  if (compliance) {
-    compliance_ = std::make_unique<FingertipCompliance>(m, ComplianceOptionsFromScene(d));
-    compliance_team_ = fem::ThreadTeamChooser(omp_get_max_threads());
-  }
+  if (compliance) compliance_ = std::make_unique<FingertipCompliance>(m, ComplianceOptionsFromScene(d));
   skin_area_m2_ = fem::VertexAreas(m.skin_triangles, m.soft.rest_positions_m);
 }
 
 fem::StepReport FingertipScene::Step() {
   if (compliance_) {
-    fem::ChosenTeamScope team(compliance_team_);
+    // The simulation never steps here: its team chooser measures this step instead (the
+    // contact solve and the threaded SED).
+    fem::ChosenTeamScope team = simulation_->StepTeam();
     compliance_t_s_ += description_.dt_s;
     static const std::vector<geometry::RigidObject> kNone;
     fem::StepReport r;

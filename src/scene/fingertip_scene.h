@@ -9,7 +9,6 @@
 #include "scene/fingertip_compliance.h"
 #include "fem/simulation.h"
 #include "fem/surface_traction_force.h"
-#include "fem/thread_team.h"
 #include "model/fingertip_model.h"
 #include "scene/merkel_layer.h"
 #include "scene/scene_description.h"
@@ -70,9 +69,6 @@ class FingertipScene {
   const fem::NodalPressureTetForce* nodal_pressure_ = nullptr;
   std::unique_ptr<FingertipCompliance> compliance_;
   double compliance_t_s_ = 0;
-  // The compliance step's team (its SED is threaded; the simulation's own chooser never
-  // runs when the compliance method answers the contact).
-  fem::ThreadTeamChooser compliance_team_{1};
   Eigen::VectorXd skin_area_m2_;
 };
 
