@@ -99,6 +99,16 @@ double SedToCommandMapping::Sample(const SedField& field, std::size_t site) cons
   return kNaN;
 }
 
+bool SedToCommandMapping::Reads(double x_mm, double y_mm, double z_mm) const {
+  if (!(z_mm >= params_.z_min_mm && z_mm <= params_.z_max_mm)) return false;
+  const double r2 = params_.radius_mm * params_.radius_mm;
+  for (std::size_t i = 0; i < size(); ++i) {
+    const double dx = x_mm - site_x_mm_[i], dy = y_mm - site_y_mm_[i];
+    if (dx * dx + dy * dy <= r2) return true;  // the same test as Sample's
+  }
+  return false;
+}
+
 double SedToCommandMapping::Transfer(double sed_Pa, std::size_t site) const {
   if (std::isnan(sed_Pa)) return kNaN;
   const MappingParams& m = params_;

@@ -41,6 +41,11 @@ class SedToCommandMapping {
   /// lies within the radius, NaN when a non-finite SED does; NaN-position vertices are skipped.
   double Sample(const SedField& field, std::size_t site) const;
 
+  /// True when Sample() would read a vertex at this pad-frame position [mm] for some site
+  /// (within radius_mm in x-y of it and inside the z window): the SED a producer must
+  /// compute for this display; every other vertex leaves every command unchanged.
+  bool Reads(double x_mm, double y_mm, double z_mm) const;
+
   /// Transfer function for actuator `site`: SED [Pa] -> value [unit]; NaN in -> NaN out.
   double Transfer(double sed_Pa, std::size_t site) const;
 

@@ -38,6 +38,14 @@ const config::EnumNames<FeStepKind>& NamesOf(FeStepKind) {
 
 const char* ToString(FeStepKind kind) { return config::NameCStrOf(kind); }
 
+const config::EnumNames<MerkelRegion>& NamesOf(MerkelRegion) {
+  static const config::EnumNames<MerkelRegion> names{{MerkelRegion::kLayer, "layer"},
+                                                     {MerkelRegion::kDisplay, "display"}};
+  return names;
+}
+
+const char* ToString(MerkelRegion region) { return config::NameCStrOf(region); }
+
 FeStepKind FeStepKindFromString(const std::string& name) { return config::ParseEnum<FeStepKind>(name, "fe.step"); }
 
 BridgeConfig LoadBridgeConfig(const std::string& path) { return Parse(config::LoadYamlFile(path)); }

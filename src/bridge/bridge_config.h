@@ -36,6 +36,15 @@ const char* ToString(FeStepKind kind);
 /// The kind named `name` (as in the config); throws std::invalid_argument for others.
 FeStepKind FeStepKindFromString(const std::string& name);
 
+/// Where the FE step computes the Merkel SED (bridge config `fe.merkel_region`).
+enum class MerkelRegion {
+  kLayer,    ///< "layer": every vertex of the Merkel layer (viewers, logs and plots see it all)
+  kDisplay,  ///< "display": only the vertices the display profile samples (its sites'
+             ///< radius_mm in x-y, inside its z window): the same commands, less work
+};
+const config::EnumNames<MerkelRegion>& NamesOf(MerkelRegion);
+const char* ToString(MerkelRegion region);
+
 /// Every key is named in Serialize, with its range; the member initialisers are the
 /// defaults. Channel names are checked after reading (lcm_io::CheckChannelNames).
 struct BridgeConfig {
@@ -57,6 +66,7 @@ struct BridgeConfig {
   /// fe.contact_tolerance: fe.step contact's leader press solves the penalty law to this
   /// fraction of its largest contact force (scene::PressToForceOptions::contact_relative_tolerance)
   double contact_tolerance = 1e-5;
+  MerkelRegion merkel_region = MerkelRegion::kLayer;  ///< fe.merkel_region: layer | display
 
   // registration:
   PadRegistrationParams registration;
@@ -96,6 +106,7 @@ struct BridgeConfig {
       f->Visit(Field("two_contacts", &two_contacts));
       f->Visit(Field("finite_rods", &finite_rods));
       f->Visit(Field("contact_tolerance", &contact_tolerance).InRange(1e-12, 0.1));
+      f->Visit(Field("merkel_region", &merkel_region));
     });
     a->Section("registration", [&](auto* g) {
       g->Visit(Field("offset_mm", &registration.offset_mm));

@@ -3,9 +3,12 @@
 #include <algorithm>
 #include <cstdio>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "bridge/contact_object.h"
 #include "bridge/reduced_linear_fe_step.h"
+#include "bridge/scene_fe_step.h"
 #include "common/thread_cpu_time.h"
 #include "model/fingertip_model.h"
 #include "scene/fingertip_compliance.h"
@@ -15,12 +18,17 @@ namespace sedbridge::bridge {
 ContactFeStep::ContactFeStep(const std::string& model_name, const sensors::SensorProfile& profile,
                              const PadRegistration& registration, std::unique_ptr<FeStep> fallback,
                              scene::FingertipComplianceOptions leader, ReconstructionOptions options,
-                             scene::PressToForceOptions press)
+                             scene::PressToForceOptions press, const model::MerkelVertexFilter& merkel_filter)
     : fallback_(std::move(fallback)), registration_(registration), press_options_(press) {
   reconstructor_ = std::make_unique<ContactReconstructor>(profile, options);
-  model_ = std::make_unique<model::FingertipModel>(model::LoadFingertipModel(model_name));
+  model_ = std::make_unique<model::FingertipModel>(LoadBridgeModel(model_name, merkel_filter));
   leader_ = std::make_unique<scene::FingertipCompliance>(*model_, std::move(leader));
   zero_sed_ = Eigen::VectorXd::Zero(leader_->merkel_rest_pad_mm().cols());
+  // The fallback answers some scans: its SED must be over the same vertices.
+  if (fallback_->merkel_rest_pad_mm().cols() != leader_->merkel_rest_pad_mm().cols())
+    throw std::invalid_argument("contact FE step: the fallback's Merkel layer has " +
+                                std::to_string(fallback_->merkel_rest_pad_mm().cols()) + " vertices, the leader's " +
+                                std::to_string(leader_->merkel_rest_pad_mm().cols()));
 }
 
 ContactFeStep::~ContactFeStep() = default;

@@ -19,10 +19,8 @@
 #include "bridge/fe_step.h"
 #include "bridge/latency_stats.h"
 #include "bridge/pad_registration.h"
+#include "model/fingertip_model.h"
 
-namespace sedbridge::model {
-struct FingertipModel;
-}
 namespace sedbridge::scene {
 class FingertipCompliance;
 }
@@ -56,10 +54,13 @@ class ContactFeStep final : public FeStep {
   ///                    instead of the cache)
   /// @param press       the leader press's force and contact tolerances
   ///                    (ReconstructedPressOptions(); fe.contact_tolerance sets its contact one)
+  /// @param merkel_filter the Merkel vertices whose SED is computed (empty = the whole
+  ///                    layer); the fallback must have been built with the same
   ContactFeStep(const std::string& model_name, const sensors::SensorProfile& profile,
                 const PadRegistration& registration, std::unique_ptr<FeStep> fallback,
                 scene::FingertipComplianceOptions leader, ReconstructionOptions options = {},
-                scene::PressToForceOptions press = ReconstructedPressOptions());
+                scene::PressToForceOptions press = ReconstructedPressOptions(),
+                const model::MerkelVertexFilter& merkel_filter = {});
   ~ContactFeStep() override;
 
   /// Needs values.scan (set by ScanConditioner); without it the fallback answers.

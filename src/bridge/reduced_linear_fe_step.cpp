@@ -1,17 +1,19 @@
 #include "bridge/reduced_linear_fe_step.h"
 
 #include <cstdio>
+#include <set>
 #include <stdexcept>
 
 namespace sedbridge::bridge {
 
 ReducedLinearFeStep::ReducedLinearFeStep(const scene::SceneDescription& d, const sensors::SensorProfile& profile,
-                                         const PadRegistration& registration, const TractionFieldOptions& options) {
+                                         const PadRegistration& registration, const TractionFieldOptions& options,
+                                         const model::MerkelVertexFilter& merkel_filter) {
   if (d.elasticity != fem::ElasticFormulation::kLinear || d.integrator.kind != fem::IntegratorKind::kQuasiStatic ||
       d.contact || d.friction || (d.bone && d.bone->motion) || !d.surface_traction)
     throw std::invalid_argument(
         "the reduced FE step needs a linear quasi-static traction-only scene with the bone fixed (preset 'fast')");
-  scene_step_ = std::make_unique<SceneFeStep>(d, profile, registration, options);
+  scene_step_ = std::make_unique<SceneFeStep>(d, profile, registration, options, merkel_filter);
   num_taxels_ = profile.taxel_count;
   shear_ = profile.axes == 3;
   scene::FingertipScene& sc = scene_step_->scene();
@@ -39,6 +41,20 @@ ReducedLinearFeStep::ReducedLinearFeStep(const scene::SceneDescription& d, const
   sc.simulation().SetPositions(rest_m_);
   x_m_ = rest_m_;
   v_.setZero(U_.cols());
+  {
+    std::set<int> nodes;
+    for (int e : sc.merkel()->elements())
+      for (int n : sc.model().soft.tets[size_t(e)]) nodes.insert(n);
+    sed_nodes_.assign(nodes.begin(), nodes.end());
+  }
+  U_sed_.resize(3 * Eigen::Index(sed_nodes_.size()), U_.cols());
+  for (size_t k = 0; k < sed_nodes_.size(); ++k) U_sed_.middleRows<3>(3 * Eigen::Index(k)) = U_.middleRows<3>(3 * sed_nodes_[k]);
+}
+
+Eigen::VectorXd ReducedLinearFeStep::positions_m() const {
+  Eigen::VectorXd x = rest_m_;
+  x.noalias() += U_ * v_;
+  return x;
 }
 
 const MerkelSedResult& ReducedLinearFeStep::Step(const TaxelValues& values) {
@@ -64,11 +80,12 @@ const MerkelSedResult& ReducedLinearFeStep::Step(const TaxelValues& values) {
   }
   bc_timer.Stop();
   StageTimer solve_timer(times, Stage::kSolve);
-  x_m_ = rest_m_;
-  x_m_.noalias() += U_ * v_;
+  u_sed_.noalias() = U_sed_ * v_;
+  for (size_t k = 0; k < sed_nodes_.size(); ++k)
+    x_m_.segment<3>(3 * sed_nodes_[k]) = rest_m_.segment<3>(3 * sed_nodes_[k]) + u_sed_.segment<3>(3 * Eigen::Index(k));
   solve_timer.Stop();
   result_.applied_force_N = force_per_Pa_N_.dot(v_.head(num_taxels_));
-  result_.report.finite = x_m_.allFinite();
+  result_.report.finite = u_sed_.allFinite();
   result_.report.converged = true;
   if (!result_.report.finite) {
     result_.error = "reduced step produced NaN/Inf";
@@ -83,7 +100,7 @@ const MerkelSedResult& ReducedLinearFeStep::Step(const TaxelValues& values) {
 bool ReducedLinearFeStep::Frame(FeFrame* frame) const {
   const scene::FingertipScene& sc = scene_step_->scene();
   frame->mesh = &sc.model().soft;
-  frame->positions_m = x_m_;
+  frame->positions_m = positions_m();
   frame->point_fields = {MerkelSedPointField(sc.model().soft.num_nodes(), sc.merkel()->nodes(), sc.merkel()->sed_Pa())};
   return true;
 }

@@ -5,6 +5,9 @@
 // U = K^-1 B W. U is computed once by stepping the scene under each unit taxel load (one
 // back-substitution per column); a step is then u = U v plus the Merkel-layer SED of the
 // new positions. Same result as SceneFeStep up to round-off, at a fraction of its cost.
+// A step moves only the nodes the Merkel SED reads (the rows of U for the nodes of the
+// layer's elements: most of the mesh for the whole layer, a tenth for a display's
+// footprint); the whole mesh is moved for a VTU frame only (Frame).
 //
 // Refuses (std::invalid_argument) scenes where the map is not linear: corotational
 // elasticity, contact, a moving bone, backward Euler.
@@ -19,8 +22,10 @@ namespace sedbridge::bridge {
 
 class ReducedLinearFeStep final : public FeStep {
  public:
+  /// merkel_filter: as SceneFeStep's.
   ReducedLinearFeStep(const scene::SceneDescription& description, const sensors::SensorProfile& profile,
-                      const PadRegistration& registration, const TractionFieldOptions& options = {});
+                      const PadRegistration& registration, const TractionFieldOptions& options = {},
+                      const model::MerkelVertexFilter& merkel_filter = {});
 
   const MerkelSedResult& Step(const TaxelValues& values) override;
   const Eigen::Matrix3Xd& merkel_rest_pad_mm() const override { return scene_step_->merkel_rest_pad_mm(); }
@@ -32,8 +37,9 @@ class ReducedLinearFeStep final : public FeStep {
   /// Displacement per unit taxel value [m/Pa], 3 #soft nodes x (#taxels * #axes); columns
   /// ordered normal (all taxels), then shear x, then shear y.
   const Eigen::MatrixXd& displacement_map() const { return U_; }
-  /// Soft-node positions of the last Step() [m], 3 * #soft nodes (rest before the first).
-  const Eigen::VectorXd& positions_m() const { return x_m_; }
+  /// Soft-node positions of the last Step() [m], 3 * #soft nodes (rest before the first),
+  /// of every node (U v over the whole mesh, computed here).
+  Eigen::VectorXd positions_m() const;
   /// The scene step it was built from: its mesh and Merkel layer (its own state is unused).
   SceneFeStep& scene_step() { return *scene_step_; }
 
@@ -42,7 +48,10 @@ class ReducedLinearFeStep final : public FeStep {
   int num_taxels_ = 0;
   bool shear_ = false;
   Eigen::MatrixXd U_;
-  Eigen::VectorXd rest_m_, x_m_, v_;
+  // The rows of U for the nodes the Merkel SED reads (3 per node, in sed_nodes_ order).
+  std::vector<int> sed_nodes_;
+  Eigen::MatrixXd U_sed_;
+  Eigen::VectorXd rest_m_, x_m_, v_, u_sed_;
   Eigen::VectorXd force_per_Pa_N_;  // applied pressing force per unit pressure of each taxel
   MerkelSedResult result_;
 };

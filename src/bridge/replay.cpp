@@ -12,6 +12,7 @@
 #include "bridge/reduced_linear_fe_step.h"
 #include "bridge/scene_fe_step.h"
 #include "common/wall_clock.h"
+#include "display/sed_to_command_mapping.h"
 #include "scene/vtu_writer.h"
 #include "sensors/frame_pump.h"
 #include "sensors/scan_assembler.h"
@@ -27,8 +28,16 @@ constexpr double kAtCeilingFraction = 1 - 1e-6;
 
 }  // namespace
 
+model::MerkelVertexFilter DisplayFootprint(const display::DisplayProfile& display) {
+  auto mapping = std::make_shared<const display::SedToCommandMapping>(display);
+  return [mapping](const Eigen::Vector3d& p_mm) { return mapping->Reads(p_mm.x(), p_mm.y(), p_mm.z()); };
+}
+
 std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::SensorProfile& profile,
-                                   bool full_field) {
+                                   bool full_field, const display::DisplayProfile* display) {
+  model::MerkelVertexFilter region;
+  if (config.merkel_region == MerkelRegion::kDisplay)
+    region = DisplayFootprint(display ? *display : display::LoadNamedDisplayProfile(config.display_profile));
   if (config.fe_step == FeStepKind::kContact && (!profile.has_forward_model || profile.axes != 3)) {
     std::fprintf(stderr,
                  "note: fe.step contact needs a three-axis sensor profile with a calibrated forward_model ('%s' has "
@@ -36,7 +45,7 @@ std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::Se
                  profile.name.c_str());
     BridgeConfig map = config;
     map.fe_step = FeStepKind::kReduced;
-    return MakeFeStep(map, profile);
+    return MakeFeStep(map, profile, false, display);
   }
   if (config.fe_step == FeStepKind::kContact) {
     // The pressure map stays as the fallback for scans the reconstruction cannot explain.
@@ -45,14 +54,15 @@ std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::Se
     scene::FingertipComplianceOptions leader = LeaderComplianceOptions(config.compliance_cache_dir, config.face_contact);
     leader.contact.full_field = full_field;
     return std::make_unique<ContactFeStep>(config.model, profile, PadRegistration(profile.taxels, config.registration),
-                                           MakeFeStep(map, profile), std::move(leader), ReconstructionOptionsOf(config),
-                                           ReconstructedPressOptions(config));
+                                           MakeFeStep(map, profile, false, display), std::move(leader),
+                                           ReconstructionOptionsOf(config), ReconstructedPressOptions(config), region);
   }
   if (config.fe_step == FeStepKind::kReduced)
     return std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, config.preset), profile,
-                                                 PadRegistration(profile.taxels, config.registration), config.traction);
+                                                 PadRegistration(profile.taxels, config.registration), config.traction,
+                                                 region);
   return std::make_unique<SceneFeStep>(BridgeSceneDescription(config.model, config.preset), profile,
-                                       PadRegistration(profile.taxels, config.registration), config.traction);
+                                       PadRegistration(profile.taxels, config.registration), config.traction, region);
 }
 
 void WriteSummaryCsv(const std::string& path, const std::vector<ReplayRow>& rows) {
@@ -93,7 +103,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   using Clock = std::chrono::steady_clock;
   ReplayResult result;
   const auto t_setup = Clock::now();
-  if (!fe) fe = MakeFeStep(config, profile, options.vtu_every > 0 && !options.out_dir.empty());
+  if (!fe) fe = MakeFeStep(config, profile, options.vtu_every > 0 && !options.out_dir.empty(), &display_profile);
   result.fe_description = fe->Describe();
 
   lcm_io::LcmSettings lcm = config.lcm;

@@ -26,9 +26,16 @@ scene::SceneDescription BridgeSceneDescription(const std::string& model, const s
   return d;
 }
 
+model::FingertipModel LoadBridgeModel(const std::string& name, const model::MerkelVertexFilter& merkel_filter) {
+  model::FingertipModel m = model::LoadFingertipModel(name);
+  if (merkel_filter) model::KeepMerkelVertices(&m, merkel_filter);
+  return m;
+}
+
 SceneFeStep::SceneFeStep(const scene::SceneDescription& description, const sensors::SensorProfile& profile,
-                         const PadRegistration& registration, const TractionFieldOptions& options)
-    : scene_(std::make_unique<scene::FingertipScene>(description)) {
+                         const PadRegistration& registration, const TractionFieldOptions& options,
+                         const model::MerkelVertexFilter& merkel_filter)
+    : scene_(std::make_unique<scene::FingertipScene>(description, LoadBridgeModel(description.model, merkel_filter))) {
   if (!scene_->traction()) throw std::invalid_argument("bridge scene needs surface_traction: true");
   if (!scene_->merkel()) throw std::invalid_argument("bridge scene needs outputs.merkel_sed: true");
   bc_ = std::make_unique<PressureBoundaryCondition>(*scene_, profile, registration, options);

@@ -17,6 +17,10 @@ namespace sedbridge::bridge {
 /// one step per scan, Merkel SED output. Throws std::invalid_argument for an unknown preset.
 scene::SceneDescription BridgeSceneDescription(const std::string& model, const std::string& preset);
 
+/// Loads the model named `name` (model::LoadFingertipModel) with only the Merkel vertices
+/// `merkel_filter` accepts (all when it is empty).
+model::FingertipModel LoadBridgeModel(const std::string& name, const model::MerkelVertexFilter& merkel_filter);
+
 /// OpenMP threads of the FE kernels (omp_set_num_threads). The bridge defaults to 1: its
 /// per-step work is small, and on a shared 2-core machine spinning OpenMP workers cost
 /// more than they gain (the measurement: docs/bridge.md, "Timing").
@@ -29,8 +33,11 @@ class SceneFeStep final : public FeStep {
 
   /// Builds the scene (loads the model: may take a second) and the boundary condition, and
   /// runs one unloaded step so the factorization happens here, not on the first scan.
+  /// merkel_filter: the Merkel vertices whose SED is computed (model::KeepMerkelVertices;
+  /// empty = the whole layer).
   SceneFeStep(const scene::SceneDescription& description, const sensors::SensorProfile& profile,
-              const PadRegistration& registration, const TractionFieldOptions& options = {});
+              const PadRegistration& registration, const TractionFieldOptions& options = {},
+              const model::MerkelVertexFilter& merkel_filter = {});
 
   const MerkelSedResult& Step(const TaxelValues& values) override;
   const Eigen::Matrix3Xd& merkel_rest_pad_mm() const override;

@@ -9,6 +9,7 @@
 #include <set>
 #include <unordered_map>
 #include <unordered_set>
+#include <stdexcept>
 
 #include "common/config_error.h"
 #include "common/resource_path.h"
@@ -478,6 +479,24 @@ FingertipModel LoadFingertipModel(const std::string& name_or_path) {
     }
   }
   return BuildFingertipModel(msh, d);
+}
+
+std::size_t KeepMerkelVertices(FingertipModel* model, const MerkelVertexFilter& keep) {
+  std::vector<char> kept(size_t(model->num_soft_nodes()), 0);
+  std::vector<int> nodes;
+  for (int v : model->merkel_nodes) {
+    if (!keep(model->pad_frame.ToPad(model->soft.rest_positions_m.col(v)) * 1e3)) continue;
+    kept[size_t(v)] = 1;
+    nodes.push_back(v);
+  }
+  if (nodes.empty())
+    throw std::invalid_argument("model '" + model->name + "': no Merkel-layer vertex lies where the SED is read");
+  std::vector<fem::Triangle> triangles;
+  for (const fem::Triangle& t : model->merkel_triangles)
+    if (kept[size_t(t[0])] && kept[size_t(t[1])] && kept[size_t(t[2])]) triangles.push_back(t);
+  model->merkel_nodes = std::move(nodes);  // still sorted: a subsequence
+  model->merkel_triangles = std::move(triangles);
+  return model->merkel_nodes.size();
 }
 
 }  // namespace sedbridge::model

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -100,6 +101,16 @@ FingertipModel BuildFingertipModel(const MshFile& msh, const ModelDescription& d
 /// (where the tilted plane first touches). `skin_nodes` index columns of `positions_m`.
 PadFrame ComputePadFrame(const Eigen::Matrix3Xd& positions_m, const std::vector<int>& skin_nodes,
                          double tilt_deg);
+
+/// Which Merkel-layer vertices a consumer reads, by rest position in the pad frame [mm]
+/// (e.g. a display's sampling footprint: display::SedToCommandMapping::Reads).
+using MerkelVertexFilter = std::function<bool(const Eigen::Vector3d& rest_pad_mm)>;
+
+/// Keeps only the Merkel vertices `keep` accepts (and the Merkel triangles all of whose
+/// vertices are kept), so that every SED evaluator built on the model afterwards works on
+/// those alone. A kept vertex's SED is unchanged: it averages its own elements, whatever
+/// else is in the layer. Returns the number kept; throws std::invalid_argument when none is.
+std::size_t KeepMerkelVertices(FingertipModel* model, const MerkelVertexFilter& keep);
 
 /// Loads a model from a model YAML or a .msh, or a shipped model by name ("B" means
 /// config/models/B.yaml): config::ResolveNameOrPath.

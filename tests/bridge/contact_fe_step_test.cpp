@@ -20,6 +20,8 @@
 #include "bridge/replay.h"
 #include "bridge/scene_fe_step.h"
 #include "bridge_test_util.h"
+#include "display/sed_to_command_mapping.h"
+#include "sedbridge/lcmt_display_command.hpp"
 #include "sedbridge/lcmt_contact_estimate.hpp"
 #include "sensors/calibration_press.h"
 #include "sensors/candump_log.h"
@@ -99,6 +101,65 @@ TEST(ContactFeStep, ExampleLogPublishesContactEstimates) {
   EXPECT_GT(spheres, 100);
   EXPECT_GT(none, 100);  // quiet at both ends: no contact, no solve
   EXPECT_NE(r.fe_counters.find("pressed on the leader"), std::string::npos);
+}
+
+// fe.merkel_region: display computes the SED only where the display samples it: the same
+// commands as the whole layer, scan for scan, from a fraction of its vertices (the contact
+// press and its pressure-map fallback alike).
+TEST(ContactFeStep, DisplayRegionGivesTheSameCommandsFromFewerVertices) {
+  struct Run {
+    std::vector<std::vector<float>> commands;
+    int vertices = 0;
+    int64_t steps = 0;
+  };
+  auto run = [](MerkelRegion region, FeStepKind kind) {
+    BridgeConfig config = ContactConfig();
+    config.fe_step = kind;
+    config.merkel_region = region;
+    struct Sink {
+      Run* out;
+      void On(const lcm::ReceiveBuffer*, const std::string&, const lcmt_display_command* m) {
+        out->commands.push_back(m->value);
+      }
+    };
+    Run r;
+    Sink sink{&r};
+    lcm::LCM* lcm = nullptr;
+    ReplayOptions options;
+    options.on_start = [&](BridgePipeline& p) {
+      lcm = &p.display().publisher().lcm();
+      lcm->subscribe(config.lcm.channels.command, &Sink::On, &sink);
+      r.vertices = int(p.fe().merkel_rest_pad_mm().cols());
+      const display::SedToCommandMapping mapping(testing::ConfigDisplay(config));
+      const Eigen::Matrix3Xd& rest = p.fe().merkel_rest_pad_mm();
+      for (Eigen::Index k = 0; k < rest.cols() && region == MerkelRegion::kDisplay; ++k) {
+        EXPECT_TRUE(mapping.Reads(rest(0, k), rest(1, k), rest(2, k))) << k;
+      }
+    };
+    options.on_scan = [&](const ScanOutcome&, BridgePipeline&) {
+      while (lcm && lcm->handleTimeout(0) > 0) {
+      }
+    };
+    sensors::CandumpLogSource source(testing::ExampleLogPath());
+    r.steps = testing::ReplayWithConfigProfiles(config, source, options).counters.steps;
+    return r;
+  };
+  for (FeStepKind kind : {FeStepKind::kContact, FeStepKind::kReduced}) {
+    const Run layer = run(MerkelRegion::kLayer, kind), display = run(MerkelRegion::kDisplay, kind);
+    EXPECT_GT(layer.steps, 250) << ToString(kind);
+    EXPECT_EQ(display.steps, layer.steps) << ToString(kind);
+    EXPECT_LT(5 * display.vertices, layer.vertices) << ToString(kind);
+    EXPECT_GT(display.vertices, 0) << ToString(kind);
+    ASSERT_EQ(display.commands.size(), layer.commands.size()) << ToString(kind);
+    int touched = 0;
+    for (size_t i = 0; i < layer.commands.size(); ++i) {
+      ASSERT_EQ(display.commands[i].size(), layer.commands[i].size());
+      for (size_t a = 0; a < layer.commands[i].size(); ++a)
+        EXPECT_NEAR(display.commands[i][a], layer.commands[i][a], 1e-5f * 20) << ToString(kind) << " command " << i;
+      touched += *std::max_element(layer.commands[i].begin(), layer.commands[i].end()) > 1.0f;
+    }
+    EXPECT_GT(touched, 50) << ToString(kind);  // the press reached the display
+  }
 }
 
 TEST(ContactFeStep, RigSphereFarSharperThanThePressureMap) {

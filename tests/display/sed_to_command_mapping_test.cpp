@@ -53,6 +53,42 @@ TEST(SedToCommandMapping, InterpolationReproducesAVertexOnTheSiteAndAverages) {
   EXPECT_NEAR(s, (100 * 16 + 300 * 4) / 20.0, 1e-9);
 }
 
+// Reads() names exactly the vertices Sample() uses: dropping every other vertex changes no
+// sample, and dropping one it reads does.
+TEST(SedToCommandMapping, ReadsExactlyTheVerticesItSamples) {
+  MappingParams m = Params(SamplingMethod::kMeanWithinRadius);
+  m.z_min_mm = -2;
+  m.z_max_mm = 0.5;
+  const SedToCommandMapping map = Mapping(m);
+  SedField f = Field({0.1, -0.5, 0.0, 3.0, 5.9, 5.0, 0.2}, {0.0, 0.5, 0.9, 0.0, 0.0, 0.2, 0.1},
+                     {100, 300, 200, 9000, 50, 70, 4000});
+  f.z_mm = {-1.0, -0.5, 0.0, -1.0, -1.0, -1.9, -3.0};  // the last under the window (the nail side)
+  const std::vector<bool> expected = {true, true, true, false, true, true, false};
+  SedField kept;
+  kept.utime = f.utime;
+  for (size_t v = 0; v < f.size(); ++v) {
+    EXPECT_EQ(map.Reads(f.x_mm[v], f.y_mm[v], f.z_mm[v]), expected[v]) << v;
+    if (!map.Reads(f.x_mm[v], f.y_mm[v], f.z_mm[v])) continue;
+    kept.x_mm.push_back(f.x_mm[v]);
+    kept.y_mm.push_back(f.y_mm[v]);
+    kept.z_mm.push_back(f.z_mm[v]);
+    kept.sed_Pa.push_back(f.sed_Pa[v]);
+  }
+  for (SamplingMethod method :
+       {SamplingMethod::kMaxWithinRadius, SamplingMethod::kMeanWithinRadius, SamplingMethod::kInterpolate}) {
+    MappingParams p = m;
+    p.sampling = method;
+    const SedToCommandMapping mm = Mapping(p);
+    for (size_t site = 0; site < mm.size(); ++site)
+      EXPECT_EQ(mm.Sample(kept, site), mm.Sample(f, site)) << int(method) << " site " << site;
+  }
+  kept.x_mm.erase(kept.x_mm.begin());
+  kept.y_mm.erase(kept.y_mm.begin());
+  kept.z_mm.erase(kept.z_mm.begin());
+  kept.sed_Pa.erase(kept.sed_Pa.begin());
+  EXPECT_NE(map.Sample(kept, 0), map.Sample(f, 0));
+}
+
 TEST(SedToCommandMapping, TransferThresholdPowerSaturation) {
   MappingParams m = Params(SamplingMethod::kMaxWithinRadius);
   m.threshold_Pa = 100;

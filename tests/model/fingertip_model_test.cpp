@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/config_error.h"
@@ -186,6 +187,31 @@ TEST(FingertipModel, HomogeneousSoftTissueMeshHasNoMerkelLayer) {
   EXPECT_TRUE(m.merkel_triangles.empty());
   EXPECT_TRUE(m.merkel_nodes.empty());
   EXPECT_EQ(m.skin_triangles.size(), 5u);  // the shared face is interior, not skin
+}
+
+// KeepMerkelVertices keeps the vertices its filter accepts (by pad-frame rest position),
+// still sorted, and the triangles among them; none kept is an error.
+TEST(FingertipModel, KeepMerkelVerticesKeepsTheChosenAndTheirTriangles) {
+  FingertipModel m = LoadFingertipModel("B_coarse");
+  const std::vector<int> all = m.merkel_nodes;
+  ASSERT_GT(all.size(), 50u);
+  auto near_pad_centre = [](const Eigen::Vector3d& p_mm) { return std::hypot(p_mm.x(), p_mm.y()) < 4 && p_mm.z() > -6; };
+  const size_t kept = KeepMerkelVertices(&m, near_pad_centre);
+  EXPECT_EQ(kept, m.merkel_nodes.size());
+  EXPECT_GT(kept, 3u);
+  EXPECT_LT(kept, all.size() / 2);
+  EXPECT_TRUE(std::is_sorted(m.merkel_nodes.begin(), m.merkel_nodes.end()));
+  size_t expected = 0;
+  for (int v : all) {
+    const bool in = near_pad_centre(m.pad_frame.ToPad(m.soft.rest_positions_m.col(v)) * 1e3);
+    expected += in;
+    EXPECT_EQ(std::binary_search(m.merkel_nodes.begin(), m.merkel_nodes.end(), v), in) << v;
+  }
+  EXPECT_EQ(kept, expected);
+  EXPECT_FALSE(m.merkel_triangles.empty());
+  for (const auto& t : m.merkel_triangles)
+    for (int v : t) EXPECT_TRUE(std::binary_search(m.merkel_nodes.begin(), m.merkel_nodes.end(), v));
+  EXPECT_THROW(KeepMerkelVertices(&m, [](const Eigen::Vector3d&) { return false; }), std::invalid_argument);
 }
 
 TEST(FingertipModel, UnknownFileKind) {
