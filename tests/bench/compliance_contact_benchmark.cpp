@@ -4,6 +4,8 @@
 //   OMP_NUM_THREADS=1 build/tests/bench/compliance_contact_benchmark
 //   SEDBRIDGE_BENCH_MODEL=B_coarse build/tests/bench/compliance_contact_benchmark --benchmark_filter=Step
 //   build/tests/bench/compliance_contact_benchmark --benchmark_filter=BridgePress
+//   SEDBRIDGE_BENCH_MERKEL_DISPLAY=suction_4x4 build/tests/bench/compliance_contact_benchmark
+//     (the Merkel SED only where that display samples it: bridge fe.merkel_region: display)
 // Counters: median_ms / p99_ms / max_ms per step (wall clock), cpu_median_ms / cpu_p99_ms
 // (this thread's CPU time: on a shared machine the wall-clock tail is mostly preemption),
 // steps_per_s (from the wall median), contacts (active nodes, mean), iterations (outer
@@ -21,6 +23,8 @@
 #include <filesystem>
 #include <memory>
 
+#include "display/display_profile.h"
+#include "display/sed_to_command_mapping.h"
 #include "scene/fingertip_compliance.h"
 
 namespace sedbridge {
@@ -32,7 +36,15 @@ std::string ModelName() {
 }
 
 const model::FingertipModel& SharedModel() {
-  static const model::FingertipModel model = model::LoadFingertipModel(ModelName());
+  static const model::FingertipModel model = [] {
+    model::FingertipModel m = model::LoadFingertipModel(ModelName());
+    const char* display = std::getenv("SEDBRIDGE_BENCH_MERKEL_DISPLAY");
+    if (display && *display) {
+      auto mapping = std::make_shared<const display::SedToCommandMapping>(display::LoadNamedDisplayProfile(display));
+      model::KeepMerkelVertices(&m, [mapping](const Eigen::Vector3d& p) { return mapping->Reads(p.x(), p.y(), p.z()); });
+    }
+    return m;
+  }();
   return model;
 }
 
@@ -261,7 +273,7 @@ void Register() {
   benchmark::RegisterBenchmark("SphereStep", SphereStep)
       ->Args({5, 50})->Args({8, 100})->Args({10, 200})->Args({20, 250})->Args({40, 300})
       ->Iterations(2000)->Unit(benchmark::kMillisecond)->UseRealTime();
-  benchmark::RegisterBenchmark("PlaneStep", PlaneStep)->Arg(50)->Arg(100)->Arg(200)->Arg(300)
+  benchmark::RegisterBenchmark("PlaneStep", PlaneStep)->Arg(50)->Arg(100)->Arg(200)->Arg(300)->Arg(500)->Arg(700)
       ->Iterations(2000)->Unit(benchmark::kMillisecond)->UseRealTime();
   benchmark::RegisterBenchmark("PressToForce", PressToForce)
       ->ArgNames({"force_control", "cold"})->Args({0, 0})->Args({1, 0})->Args({0, 1})->Args({1, 1})
