@@ -85,6 +85,9 @@ TEST(BridgeConfig, UnknownKeyNamesFileLineColumn) {
   EXPECT_EQ(ParseBridgeConfig("fe: {step: reduced}\n", "b.yaml").fe_step, FeStepKind::kReduced);
   ExpectErrorNaming("fe:\n  contact_tolerance: 0.5\n", "loose.yaml", "loose.yaml:2:", "contact_tolerance");
   EXPECT_THROW(ParseBridgeConfig("fe: {contact_tolerance: 0}\n", "b.yaml"), config::ConfigError);
+  EXPECT_EQ(ParseBridgeConfig("fe: {merkel_region: display}\n", "b.yaml").merkel_region, MerkelRegion::kDisplay);
+  EXPECT_EQ(ParseBridgeConfig("fe: {model: B}\n", "b.yaml").merkel_region, MerkelRegion::kLayer);
+  ExpectErrorNaming("fe:\n  merkel_region: pad\n", "region.yaml", "region.yaml:2:", "merkel_region");
 }
 
 TEST(BridgeConfig, LcmSectionIsReadThroughItsSchema) {
