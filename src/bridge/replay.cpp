@@ -30,7 +30,13 @@ constexpr double kAtCeilingFraction = 1 - 1e-6;
 
 model::MerkelVertexFilter DisplayFootprint(const display::DisplayProfile& display) {
   auto mapping = std::make_shared<const display::SedToCommandMapping>(display);
-  return [mapping](const Eigen::Vector3d& p_mm) { return mapping->Reads(p_mm.x(), p_mm.y(), p_mm.z()); };
+  char what[256];
+  std::snprintf(what, sizeof what,
+                "fe.merkel_region: display, the %zu sites of display '%s' within %g mm in x-y and z in [%g, %g] mm: "
+                "do they lie on the leader's pad?",
+                mapping->size(), display.name.c_str(), mapping->params().radius_mm, mapping->params().z_min_mm,
+                mapping->params().z_max_mm);
+  return {[mapping](const Eigen::Vector3d& p_mm) { return mapping->Reads(p_mm.x(), p_mm.y(), p_mm.z()); }, what};
 }
 
 std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::SensorProfile& profile,

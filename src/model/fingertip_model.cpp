@@ -481,7 +481,9 @@ FingertipModel LoadFingertipModel(const std::string& name_or_path) {
   return BuildFingertipModel(msh, d);
 }
 
-std::size_t KeepMerkelVertices(FingertipModel* model, const MerkelVertexFilter& keep) {
+std::size_t KeepMerkelVertices(FingertipModel* model, const MerkelVertexFilter& filter) {
+  if (!filter) return model->merkel_nodes.size();
+  const auto& keep = filter.keep;
   std::vector<char> kept(size_t(model->num_soft_nodes()), 0);
   std::vector<int> nodes;
   for (int v : model->merkel_nodes) {
@@ -490,7 +492,9 @@ std::size_t KeepMerkelVertices(FingertipModel* model, const MerkelVertexFilter& 
     nodes.push_back(v);
   }
   if (nodes.empty())
-    throw std::invalid_argument("model '" + model->name + "': no Merkel-layer vertex lies where the SED is read");
+    throw std::invalid_argument("model '" + model->name + "': none of its " + std::to_string(model->merkel_nodes.size()) +
+                                " Merkel-layer vertices lies where the SED is read" +
+                                (filter.what.empty() ? std::string() : " (" + filter.what + ")"));
   std::vector<fem::Triangle> triangles;
   for (const fem::Triangle& t : model->merkel_triangles)
     if (kept[size_t(t[0])] && kept[size_t(t[1])] && kept[size_t(t[2])]) triangles.push_back(t);

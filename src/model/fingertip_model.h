@@ -104,13 +104,18 @@ PadFrame ComputePadFrame(const Eigen::Matrix3Xd& positions_m, const std::vector<
 
 /// Which Merkel-layer vertices a consumer reads, by rest position in the pad frame [mm]
 /// (e.g. a display's sampling footprint: display::SedToCommandMapping::Reads).
-using MerkelVertexFilter = std::function<bool(const Eigen::Vector3d& rest_pad_mm)>;
+struct MerkelVertexFilter {
+  std::function<bool(const Eigen::Vector3d& rest_pad_mm)> keep;  ///< empty: every vertex
+  std::string what;  ///< what it selects, for messages ("the sites of display 'suction_4x4' ...")
+  explicit operator bool() const { return bool(keep); }
+};
 
 /// Keeps only the Merkel vertices `keep` accepts (and the Merkel triangles all of whose
 /// vertices are kept), so that every SED evaluator built on the model afterwards works on
 /// those alone. A kept vertex's SED is unchanged: it averages its own elements, whatever
-/// else is in the layer. Returns the number kept; throws std::invalid_argument when none is.
-std::size_t KeepMerkelVertices(FingertipModel* model, const MerkelVertexFilter& keep);
+/// else is in the layer. Returns the number kept; throws std::invalid_argument when none is
+/// (naming the filter's `what`). An empty filter keeps every vertex.
+std::size_t KeepMerkelVertices(FingertipModel* model, const MerkelVertexFilter& filter);
 
 /// Loads a model from a model YAML or a .msh, or a shipped model by name ("B" means
 /// config/models/B.yaml): config::ResolveNameOrPath.

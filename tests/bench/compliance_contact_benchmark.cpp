@@ -41,7 +41,8 @@ const model::FingertipModel& SharedModel() {
     const char* display = std::getenv("SEDBRIDGE_BENCH_MERKEL_DISPLAY");
     if (display && *display) {
       auto mapping = std::make_shared<const display::SedToCommandMapping>(display::LoadNamedDisplayProfile(display));
-      model::KeepMerkelVertices(&m, [mapping](const Eigen::Vector3d& p) { return mapping->Reads(p.x(), p.y(), p.z()); });
+      model::KeepMerkelVertices(
+          &m, {[mapping](const Eigen::Vector3d& p) { return mapping->Reads(p.x(), p.y(), p.z()); }, display});
     }
     return m;
   }();

@@ -162,6 +162,25 @@ TEST(ContactFeStep, DisplayRegionGivesTheSameCommandsFromFewerVertices) {
   }
 }
 
+// A display whose sites miss the leader's pad leaves no vertex to compute: the bridge
+// refuses to start and says which key and which display.
+TEST(ContactFeStep, DisplayRegionOffThePadIsAnErrorNamingTheKeyAndTheDisplay) {
+  BridgeConfig config = ContactConfig();
+  config.fe_step = FeStepKind::kReduced;
+  config.merkel_region = MerkelRegion::kDisplay;
+  display::DisplayProfile far = testing::ConfigDisplay(config);
+  for (double& x : far.x_mm) x += 50;
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);
+  try {
+    MakeFeStep(config, profile, false, &far);
+    ADD_FAILURE() << "a footprint off the pad was accepted";
+  } catch (const std::invalid_argument& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("fe.merkel_region: display"), std::string::npos) << what;
+    EXPECT_NE(what.find("'" + far.name + "'"), std::string::npos) << what;
+  }
+}
+
 TEST(ContactFeStep, RigSphereFarSharperThanThePressureMap) {
   const RigSetup rig;
   const auto& press = rig.presses[3];  // sphere R 5 mm, centred, 0.8 N

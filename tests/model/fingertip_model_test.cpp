@@ -196,7 +196,7 @@ TEST(FingertipModel, KeepMerkelVerticesKeepsTheChosenAndTheirTriangles) {
   const std::vector<int> all = m.merkel_nodes;
   ASSERT_GT(all.size(), 50u);
   auto near_pad_centre = [](const Eigen::Vector3d& p_mm) { return std::hypot(p_mm.x(), p_mm.y()) < 4 && p_mm.z() > -6; };
-  const size_t kept = KeepMerkelVertices(&m, near_pad_centre);
+  const size_t kept = KeepMerkelVertices(&m, {near_pad_centre, "near the pad centre"});
   EXPECT_EQ(kept, m.merkel_nodes.size());
   EXPECT_GT(kept, 3u);
   EXPECT_LT(kept, all.size() / 2);
@@ -211,7 +211,13 @@ TEST(FingertipModel, KeepMerkelVerticesKeepsTheChosenAndTheirTriangles) {
   EXPECT_FALSE(m.merkel_triangles.empty());
   for (const auto& t : m.merkel_triangles)
     for (int v : t) EXPECT_TRUE(std::binary_search(m.merkel_nodes.begin(), m.merkel_nodes.end(), v));
-  EXPECT_THROW(KeepMerkelVertices(&m, [](const Eigen::Vector3d&) { return false; }), std::invalid_argument);
+  try {
+    KeepMerkelVertices(&m, {[](const Eigen::Vector3d&) { return false; }, "nowhere"});
+    ADD_FAILURE() << "no vertex kept, no error";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("(nowhere)"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(KeepMerkelVertices(&m, {}), kept);  // an empty filter keeps them all
 }
 
 TEST(FingertipModel, UnknownFileKind) {
