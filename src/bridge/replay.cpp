@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <stdexcept>
 
 #include "bridge/contact_fe_step.h"
@@ -42,8 +43,11 @@ model::MerkelVertexFilter DisplayFootprint(const display::DisplayProfile& displa
 std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::SensorProfile& profile,
                                    bool full_field, const display::DisplayProfile* display) {
   model::MerkelVertexFilter region;
-  if (config.merkel_region == MerkelRegion::kDisplay)
-    region = DisplayFootprint(display ? *display : display::LoadNamedDisplayProfile(config.display_profile));
+  std::optional<display::DisplayProfile> loaded;  // the config's display, read once for the nested steps
+  if (config.merkel_region == MerkelRegion::kDisplay) {
+    if (!display) display = &loaded.emplace(display::LoadNamedDisplayProfile(config.display_profile));
+    region = DisplayFootprint(*display);
+  }
   if (config.fe_step == FeStepKind::kContact && (!profile.has_forward_model || profile.axes != 3)) {
     std::fprintf(stderr,
                  "note: fe.step contact needs a three-axis sensor profile with a calibrated forward_model ('%s' has "
