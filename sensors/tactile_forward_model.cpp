@@ -431,7 +431,8 @@ double TactileForwardModel::SphereHalfWidth_mm(double force_N, double radius_mm)
 double TactileForwardModel::RodHalfWidth_mm(double force_per_length_N_mm, double radius_mm) const {
   const double E_N_mm2 = params_.contact_modulus_kPa * 1e-3;
   const double R = std::max(radius_mm, 1e-3);
-  return std::hypot(std::sqrt(4.0 * force_per_length_N_mm * R / (kPi * E_N_mm2)), params_.grid_mm);
+  return std::hypot(std::sqrt(4.0 * force_per_length_N_mm * R / (kPi * E_N_mm2)),
+                    std::max(params_.grid_mm, params_.rod_min_halfwidth_mm));
 }
 
 double TactileForwardModel::PatchCellsEstimate(const ContactPrimitive& c) const {

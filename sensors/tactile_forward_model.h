@@ -9,7 +9,9 @@
 //       sphere   Hertz:  a = cbrt(3 F R / (4 E*)),  p ~ sqrt(1 - r^2/a^2)
 //       cylinder Hertz line contact of the rod's length inside the pad (L):
 //                b = sqrt(4 (F/L) R / (pi E*)),  p ~ sqrt(1 - s^2/b^2); a finite rod (an
-//                edge of length_mm: a ruler's, a key's) loads only its own length
+//                edge of length_mm: a ruler's, a key's) loads only its own length; the
+//                band is widened to sqrt(b^2 + w^2), w = rod_min_halfwidth_mm (the sensor's
+//                cover spreads a thin line over a width of its own)
 //       flat     uniform over the pad square (side pad_size_mm)
 //     each scaled so the cells sum to the normal force F; a tangential force T (stroking)
 //     is spread over the same cells in proportion to p.
@@ -121,7 +123,8 @@ class TactileForwardModel {
  private:
   /// Hertz half-widths [mm] of a sphere's patch (radius) and a rod's band (half-width, for
   /// force per length F/L [N/mm]), R clamped to >= 1e-3 mm, widened to about one grid cell
-  /// so that every contact covers a few cells and the readings stay smooth in the pose.
+  /// so that every contact covers a few cells and the readings stay smooth in the pose (a
+  /// rod's band to at least params.rod_min_halfwidth_mm: the cover's spread).
   double SphereHalfWidth_mm(double force_N, double radius_mm) const;
   double RodHalfWidth_mm(double force_per_length_N_mm, double radius_mm) const;
   void BuildKernelTable();

@@ -1,6 +1,7 @@
 #include "sensors/tactile_model_fit.h"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <unsupported/Eigen/NonLinearOptimization>
 #include <unsupported/Eigen/NumericalDiff>
@@ -25,7 +26,7 @@ struct Window {
 struct Problem {
   const std::vector<CalibrationPress>* presses;
   const SensorProfile* profile;
-  double grid_mm;
+  TactileModelParams fixed;  // what the fit does not move (grid_mm, rod_min_halfwidth_mm)
   std::vector<Window> windows;
   Eigen::VectorXd inv_sigma;  // per channel
 
@@ -44,7 +45,7 @@ struct Problem {
   void Residuals(const Params& p, Eigen::VectorXd* r) const {
     const int m = static_cast<int>(inv_sigma.size());
     r->resize(residual_count());
-    TactileModelParams params = TactileModelParams::FromArray(p, grid_mm);
+    TactileModelParams params = TactileModelParams::FromArray(p, fixed);
     try {
       TactileForwardModel model(*profile, params);
       Eigen::VectorXd pred;
@@ -68,10 +69,11 @@ struct Functor : common::DynamicSizeFunctor {
   }
 };
 
-Problem MakeProblem(const std::vector<CalibrationPress>& presses, const SensorProfile& profile, double grid_mm,
+Problem MakeProblem(const std::vector<CalibrationPress>& presses, const SensorProfile& profile,
+                    const TactileModelParams& fixed,
                     const FitOptions& options, bool hold_only) {
   if (profile.axes != 3) throw std::invalid_argument("fit-sensor needs a three-axis profile");
-  Problem pr{&presses, &profile, grid_mm, {}, {}};
+  Problem pr{&presses, &profile, fixed, {}, {}};
   const int n = profile.taxel_count;
   pr.inv_sigma.resize(3 * n);
   for (int k = 0; k < n; ++k)
@@ -109,7 +111,7 @@ TactileModelParams InitialTactileModelParams() {
 std::vector<PressFitReport> EvaluateTactileModel(const std::vector<CalibrationPress>& presses,
                                                  const SensorProfile& profile, const TactileModelParams& params,
                                                  const FitOptions& options) {
-  const Problem pr = MakeProblem(presses, profile, params.grid_mm, options, /*hold_only=*/true);
+  const Problem pr = MakeProblem(presses, profile, params, options, /*hold_only=*/true);
   Eigen::VectorXd r;
   pr.Residuals(params.ToArray(), &r);
   const int m = static_cast<int>(pr.inv_sigma.size());
@@ -136,7 +138,7 @@ std::vector<PressFitReport> EvaluateTactileModel(const std::vector<CalibrationPr
 
 FitReport FitTactileModel(const std::vector<CalibrationPress>& presses, const SensorProfile& profile,
                           const TactileModelParams& initial, const FitOptions& options) {
-  const Problem pr = MakeProblem(presses, profile, initial.grid_mm, options, /*hold_only=*/false);
+  const Problem pr = MakeProblem(presses, profile, initial, options, /*hold_only=*/false);
   Functor f{{}, &pr};
   Eigen::NumericalDiff<Functor> numeric(f);
   Eigen::LevenbergMarquardt<Eigen::NumericalDiff<Functor>> lm(numeric);
@@ -146,7 +148,7 @@ FitReport FitTactileModel(const std::vector<CalibrationPress>& presses, const Se
   Eigen::VectorXd x = pr.ToUnknowns(initial.ToArray());
   const auto status = lm.minimize(x);
   FitReport rep;
-  rep.params = TactileModelParams::FromArray(pr.ToParams(x), initial.grid_mm);
+  rep.params = TactileModelParams::FromArray(pr.ToParams(x), initial);
   rep.evaluations = static_cast<int>(lm.nfev);
   rep.status = "Eigen LevenbergMarquardt status " + std::to_string(static_cast<int>(status));
   Eigen::VectorXd r;
@@ -154,6 +156,75 @@ FitReport FitTactileModel(const std::vector<CalibrationPress>& presses, const Se
   rep.rms_sigma_all = std::sqrt(r.squaredNorm() / r.size());
   rep.presses = EvaluateTactileModel(presses, profile, rep.params, options);
   return rep;
+}
+
+namespace {
+
+// The hold mean of one rod press against the model, in noise units of that mean; unknowns
+// x, y, yaw, log F, shear x, shear y [cN], log R.
+struct RodHoldFunctor : common::DynamicSizeFunctor {
+  const TactileForwardModel* model = nullptr;
+  ContactPrimitive base;
+  Eigen::VectorXd mean, weight;
+  int inputs() const { return 7; }
+  int values() const { return int(mean.size()); }
+  int operator()(const Eigen::VectorXd& u, Eigen::VectorXd& f) const {
+    ContactPrimitive c = base;
+    c.x_mm = u[0];
+    c.y_mm = u[1];
+    c.yaw_deg = u[2];
+    c.normal_force_N = std::exp(u[3]);
+    c.shear_x_N = 1e-2 * u[4];
+    c.shear_y_N = 1e-2 * u[5];
+    c.radius_mm = std::exp(u[6]);
+    Eigen::VectorXd pred;
+    model->Predict(c, &pred);
+    f = (pred - mean).cwiseProduct(weight);
+    return 0;
+  }
+};
+
+}  // namespace
+
+std::vector<RodRadiusReport> FitRodRadii(const std::vector<CalibrationPress>& presses, const SensorProfile& profile,
+                                         const TactileModelParams& params, const FitOptions& options) {
+  const TactileForwardModel model(profile, params);
+  const PressProtocol protocol;
+  const double t0 = protocol.unloaded_s + protocol.ramp_s, t1 = t0 + protocol.hold_s;
+  std::vector<RodRadiusReport> out;
+  for (const CalibrationPress& press : presses) {
+    if (press.object.shape != ContactShape::kCylinder) continue;
+    // The hold without its first and last 50 ms (the ramp's end, the release's start).
+    int scans = 0;
+    for (double t : press.t_s) scans += t >= t0 + 0.05 && t <= t1 - 0.05;
+    if (scans == 0) continue;
+    RodHoldFunctor f;
+    f.model = &model;
+    f.base = press.object;
+    f.mean = press.MeanReadings(t0 + 0.05, t1 - 0.05);
+    f.weight.resize(f.mean.size());
+    for (int k = 0; k < model.taxel_count(); ++k)
+      for (int a = 0; a < 3; ++a)
+        f.weight[3 * k + a] = std::sqrt(double(scans)) / (options.noise_counts * NewtonsPerCount(profile, k, a));
+    RodRadiusReport rep;
+    rep.name = press.name;
+    rep.true_radius_mm = press.object.radius_mm;
+    rep.chi2 = std::numeric_limits<double>::infinity();
+    for (double start_mm : {0.5, 1.0, 2.0, 4.0}) {
+      Eigen::VectorXd u(7);
+      u << press.object.x_mm, press.object.y_mm, press.object.yaw_deg, std::log(press.object.normal_force_N), 0, 0,
+          std::log(start_mm);
+      Eigen::NumericalDiff<RodHoldFunctor> numeric(f);
+      Eigen::LevenbergMarquardt<Eigen::NumericalDiff<RodHoldFunctor>> lm(numeric);
+      lm.parameters.maxfev = 3000;
+      lm.minimize(u);
+      Eigen::VectorXd r;
+      f(u, r);
+      if (r.squaredNorm() < rep.chi2) rep.chi2 = r.squaredNorm(), rep.fitted_radius_mm = std::exp(u[6]);
+    }
+    out.push_back(rep);
+  }
+  return out;
 }
 
 }  // namespace sedbridge::sensors

@@ -47,6 +47,22 @@ std::vector<PressFitReport> EvaluateTactileModel(const std::vector<CalibrationPr
                                                  const SensorProfile& profile, const TactileModelParams& params,
                                                  const FitOptions& options = {});
 
+/// One rod press's hold read back as a rod: the radius that best explains its hold mean.
+struct RodRadiusReport {
+  std::string name;
+  double true_radius_mm = 0;
+  double fitted_radius_mm = 0;  ///< pose, force, shear and radius all free
+  double chi2 = 0;              ///< of the hold mean, in units of its own noise
+};
+
+/// For every rod (cylinder) press: the radius at which `params` explains the mean of its hold
+/// best, with the pose, force and shear free too (Levenberg–Marquardt from several radii, no
+/// prior). What rod_min_halfwidth_mm calibrates: a line contact's band width is what the
+/// taxels see of a rod's radius, so the model reads a rod at its true radius only if its
+/// band is as wide as the sensor's. A rod far thinner than the band reads towards 0.
+std::vector<RodRadiusReport> FitRodRadii(const std::vector<CalibrationPress>& presses, const SensorProfile& profile,
+                                         const TactileModelParams& params, const FitOptions& options = {});
+
 /// Defaults a fit starts from (a soft pad, kernels of about one taxel pitch).
 TactileModelParams InitialTactileModelParams();
 

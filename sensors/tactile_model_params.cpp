@@ -24,13 +24,12 @@ std::array<double, TactileModelParams::kCount> TactileModelParams::ToArray() con
           shear_lift.gain, shear_lift.width_mm, shear_lift.power};
 }
 
-TactileModelParams TactileModelParams::FromArray(const std::array<double, kCount>& a, double grid_mm) {
-  TactileModelParams p;
+TactileModelParams TactileModelParams::FromArray(const std::array<double, kCount>& a, const TactileModelParams& fixed) {
+  TactileModelParams p = fixed;
   p.contact_modulus_kPa = a[0];
   p.pad_size_mm = a[1];
   RadialKernel* k[5] = {&p.normal, &p.spread, &p.shear, &p.shear_cross, &p.shear_lift};
   for (int i = 0; i < 5; ++i) *k[i] = {a[2 + 3 * i], a[3 + 3 * i], a[4 + 3 * i]};
-  p.grid_mm = grid_mm;
   return p;
 }
 
@@ -74,7 +73,9 @@ std::string TactileModelParamsYaml(const TactileModelParams& p, int indent) {
   s.precision(6);
   s << pad << "contact_modulus_kPa: " << p.contact_modulus_kPa << "\n"
     << pad << "pad_size_mm: " << p.pad_size_mm << "\n"
-    << pad << "grid_mm: " << p.grid_mm << "\n"
+    << pad << "grid_mm: " << p.grid_mm << "\n";
+  if (p.rod_min_halfwidth_mm > 0) s << pad << "rod_min_halfwidth_mm: " << p.rod_min_halfwidth_mm << "\n";
+  s
     << pad << "kernels:                       # [gain, width_mm, power]\n";
   const std::pair<const char*, const RadialKernel*> named[5] = {{"normal", &p.normal},
                                                                  {"spread", &p.spread},

@@ -30,11 +30,19 @@ struct TactileModelParams {
   RadialKernel shear_cross;          ///< Kc: tangential load -> x/y along e (e . T)
   RadialKernel shear_lift;           ///< Kl: tangential load -> z
   double grid_mm = 0.235;            ///< load grid spacing h (pitch / 20 for uskin_4x4)
+  /// Smallest half-width of a rod's pressure band [mm]: the band is sqrt(b_Hertz^2 + w^2)
+  /// wide with w = max(grid_mm, this), since the sensor's cover spreads a line contact over a
+  /// width of its own, whatever the rod's radius. Not one of the fitted unknowns (the
+  /// hold and ramp readings at known objects hardly depend on it: docs/bridge-fidelity.md
+  /// §1, "A rod's band"); `fit-sensor --rod-radii` reports the radius that best explains
+  /// each rig rod's hold with it. 0: the load grid's spacing.
+  double rod_min_halfwidth_mm = 0;
 
-  /// Parameters as a flat vector (the fit's unknowns) and back.
+  /// Parameters as a flat vector (the fit's unknowns) and back; `fixed` gives the rest
+  /// (grid_mm, rod_min_halfwidth_mm).
   static constexpr int kCount = 17;
   std::array<double, kCount> ToArray() const;
-  static TactileModelParams FromArray(const std::array<double, kCount>& a, double grid_mm);
+  static TactileModelParams FromArray(const std::array<double, kCount>& a, const TactileModelParams& fixed);
   static const std::array<const char*, kCount>& Names();
 
   /// The scalar keys; `kernels` ([gain, width_mm, power] each) is read by
@@ -45,6 +53,7 @@ struct TactileModelParams {
     a->Visit(Field("contact_modulus_kPa", &contact_modulus_kPa).Positive());
     a->Visit(Field("pad_size_mm", &pad_size_mm).Positive());
     a->Visit(Field("grid_mm", &grid_mm).InRange(0.05, 2.0));
+    a->Visit(Field("rod_min_halfwidth_mm", &rod_min_halfwidth_mm).InRange(0.0, 5.0));
   }
 };
 
@@ -55,6 +64,7 @@ void CheckKernel(const RadialKernel& kernel, const char* name);
 ///   contact_modulus_kPa: 330
 ///   pad_size_mm: 18.8
 ///   grid_mm: 0.235
+///   rod_min_halfwidth_mm: 0.3      (optional; 0 = grid_mm)
 ///   kernels: {normal: [A, s_mm, q], spread: [...], shear: [...], shear_cross: [...],
 ///             shear_lift: [...]}
 TactileModelParams ParseTactileModelParams(config::MapReader& reader);

@@ -3,6 +3,7 @@
 // sensor profile, with how well each press is reproduced.
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <string>
@@ -63,6 +64,29 @@ void PrintPadReport(const std::vector<PressFitReport>& model, const std::vector<
               within(worst_pad), within(worst_ramp), pad.size());
 }
 
+// A fitted rod radius below this ran towards 0: the hold does not resolve it [mm].
+constexpr double kUnresolvedRadius_mm = 0.05;
+
+// Each rod's hold read back as a rod, and the log error of the rods the sensor resolves.
+void PrintRodRadii(const std::vector<RodRadiusReport>& rods, double min_halfwidth_mm) {
+  std::printf("rod radius that best explains each rod's hold (rod_min_halfwidth_mm %g):\n", min_halfwidth_mm);
+  std::printf("%-14s %10s %10s %10s %8s\n", "press", "true_mm", "fitted_mm", "log_error", "chi2");
+  double sum2 = 0;
+  int resolved = 0;
+  for (const auto& r : rods) {
+    const double e = std::log(r.fitted_radius_mm / r.true_radius_mm);
+    if (r.fitted_radius_mm < kUnresolvedRadius_mm)
+      std::printf("%-14s %10.2f %10s %10s %8.1f\n", r.name.c_str(), r.true_radius_mm, "< 0.05", "-", r.chi2);
+    else
+      std::printf("%-14s %10.2f %10.2f %10.3f %8.1f\n", r.name.c_str(), r.true_radius_mm, r.fitted_radius_mm, e,
+                  r.chi2);
+    // A rod thinner than the band the sensor draws of any line contact is not resolved: its
+    // fit runs towards 0 whatever the width; only the thicker ones calibrate the width.
+    if (r.true_radius_mm >= 1.0) sum2 += e * e, ++resolved;
+  }
+  if (resolved) std::printf("RMS log error over the %d rods of radius >= 1 mm: %.3f\n", resolved, std::sqrt(sum2 / resolved));
+}
+
 int RunFitSensor(int argc, char** argv) {
   ArgParser args("sedbridge fit-sensor",
                  "Calibrates the follower sensor's forward model (sensors/tactile_forward_model.h:\n"
@@ -76,6 +100,10 @@ int RunFitSensor(int argc, char** argv) {
       .Option("out", "YAML", "also write the forward_model block to this file")
       .Option("hold-out", "LOGS", "comma-separated logs left out of the fit and reported after it (validation)")
       .Flag("evaluate", "only report how well the profile's current forward_model reproduces the presses")
+      .Flag("rod-radii", "only report, per rod press, the radius at which the forward model explains its hold best "
+                         "(what rod_min_halfwidth_mm calibrates)")
+      .Option("rod-min-halfwidth-mm", "MM",
+              "use this rod_min_halfwidth_mm instead of the profile's (with --evaluate, --rod-radii or a fit)")
       .Option("evaluate-pad", "MODEL",
               "report how well a simulated pad (kernel, halfspace or layer: sensors/simulated/simulated_sensor.h) "
               "reproduces the presses, each pressed to its hold force (and its ramp at 0.29 of it), beside the "
@@ -105,6 +133,19 @@ int RunFitSensor(int argc, char** argv) {
   }
   FitOptions options;
   options.noise_counts = args.GetDouble("noise-counts");
+  SensorProfile fitted_profile = profile;  // the profile with --rod-min-halfwidth-mm applied
+  if (auto w = args.GetOptional("rod-min-halfwidth-mm")) {
+    const double mm = args.GetDouble("rod-min-halfwidth-mm");
+    if (!(mm >= 0 && mm <= 5)) throw UsageError("--rod-min-halfwidth-mm must be in [0, 5], got " + *w);
+    fitted_profile.forward_model.rod_min_halfwidth_mm = mm;
+  }
+  if (args.GetFlag("rod-radii")) {
+    if (!profile.has_forward_model) throw UsageError("profile '" + profile.name + "' has no forward_model");
+    const TactileModelParams& params = fitted_profile.forward_model;
+    PrintRodRadii(FitRodRadii(presses, profile, params, options),
+                  std::max(params.rod_min_halfwidth_mm, params.grid_mm));
+    return 0;
+  }
   if (auto model = args.GetOptional("evaluate-pad")) {
     if (!profile.has_forward_model) throw UsageError("profile '" + profile.name + "' has no forward_model");
     PadModel pad;
@@ -127,12 +168,13 @@ int RunFitSensor(int argc, char** argv) {
   }
   if (args.GetFlag("evaluate")) {
     if (!profile.has_forward_model) throw UsageError("profile '" + profile.name + "' has no forward_model");
-    PrintReport(EvaluateTactileModel(presses, profile, profile.forward_model, options));
+    PrintReport(EvaluateTactileModel(presses, profile, fitted_profile.forward_model, options));
     return 0;
   }
   std::printf("fitting %d parameters to %zu presses (hold + 2 ramp windows each) ...\n",
               TactileModelParams::kCount, presses.size());
-  const TactileModelParams initial = profile.has_forward_model ? profile.forward_model : InitialTactileModelParams();
+  TactileModelParams initial = profile.has_forward_model ? profile.forward_model : InitialTactileModelParams();
+  initial.rod_min_halfwidth_mm = fitted_profile.forward_model.rod_min_halfwidth_mm;
   const FitReport rep = FitTactileModel(presses, profile, initial, options);
   std::printf("%s after %d evaluations; RMS over all residuals %.2f sigma\n", rep.status.c_str(), rep.evaluations,
               rep.rms_sigma_all);

@@ -322,7 +322,10 @@ namespace {
 // the profile's antiderivative, (t sqrt(1 - t^2) + asin t) / 2, on every cell inside the pad,
 // whatever route (scalar or vector arcsine) the model takes to it.
 TEST(TactileForwardModel, RodPatchIsTheHertzProfileAveragedOverEachCell) {
-  const SensorProfile p = Uskin();
+  SensorProfile p = Uskin();
+  // As shipped, and with a rod band floor above the grid (rod_min_halfwidth_mm).
+  for (double floor_mm : {p.forward_model.rod_min_halfwidth_mm, 0.3}) {
+  p.forward_model.rod_min_halfwidth_mm = floor_mm;
   TactileForwardModel m(p, p.forward_model);
   const double kPi = 3.14159265358979323846;
   const double h = m.cell_size_mm(), half = 0.5 * m.params().pad_size_mm;
@@ -334,7 +337,9 @@ TEST(TactileForwardModel, RodPatchIsTheHertzProfileAveragedOverEachCell) {
       c.shape = ContactShape::kCylinder, c.radius_mm = radius_mm, c.yaw_deg = yaw_deg, c.normal_force_N = 0.8;
       const double yaw = yaw_deg * kPi / 180, dx = std::cos(yaw), dy = std::sin(yaw);
       const double L = 2 * half / std::max(std::abs(dx), std::abs(dy));  // through the centre
-      const double b = std::hypot(std::sqrt(4 * (c.normal_force_N / L) * radius_mm / (kPi * E_N_mm2)), h);
+      // Widened by the cover's spread (rod_min_halfwidth_mm), at least one cell.
+      const double w = std::max(h, m.params().rod_min_halfwidth_mm);
+      const double b = std::hypot(std::sqrt(4 * (c.normal_force_N / L) * radius_mm / (kPi * E_N_mm2)), w);
       std::vector<SurfaceLoad> loads;
       m.Patch(c, &loads);
       ASSERT_GT(loads.size(), 20u);
@@ -354,9 +359,44 @@ TEST(TactileForwardModel, RodPatchIsTheHertzProfileAveragedOverEachCell) {
                                              [](const auto& a, const auto& z) { return a.second < z.second; });
       const double scale = fullest.first / fullest.second;
       for (const auto& [load, strip] : load_and_strip)
-        EXPECT_NEAR(load, scale * strip, 1e-13 * scale) << "yaw " << yaw_deg << ", R " << radius_mm << ", strip " << strip;
+        EXPECT_NEAR(load, scale * strip, 1e-13 * scale)
+            << "floor " << floor_mm << ", yaw " << yaw_deg << ", R " << radius_mm << ", strip " << strip;
       EXPECT_GT(inside, 20);
     }
+  }
+  }
+}
+
+// fit-sensor --rod-radii: a rod's hold that the model itself rendered is read back at its
+// radius (pose, force, shear free), whatever the band floor; a rod much thinner than the
+// floor's band reads thinner than its radius, towards 0 (the band no longer tells it).
+TEST(TactileModelFit, RodRadiiReadTheModelsOwnRodsBack) {
+  SensorProfile p = Uskin();
+  for (double floor_mm : {0.0, 0.3}) {
+    p.forward_model.rod_min_halfwidth_mm = floor_mm;
+    const TactileForwardModel model(p, p.forward_model);
+    std::vector<CalibrationPress> presses;
+    const double radii[] = {1.0, 2.5, 0.2};
+    for (double radius_mm : radii) {
+      CalibrationPress press;
+      press.name = "rod_" + std::to_string(radius_mm);
+      press.object.shape = ContactShape::kCylinder;
+      press.object.radius_mm = radius_mm;
+      press.object.x_mm = 0.4, press.object.y_mm = -0.7, press.object.yaw_deg = 25, press.object.normal_force_N = 0.5;
+      Eigen::VectorXd hold;
+      model.Predict(press.object, &hold);
+      for (double t = 1.0; t <= 1.5; t += 0.01) press.t_s.push_back(t), press.readings_N.push_back(hold);
+      presses.push_back(press);
+    }
+    presses.push_back(presses[0]);
+    presses.back().object.shape = ContactShape::kSphere;  // not a rod: not reported
+    const std::vector<RodRadiusReport> rods = FitRodRadii(presses, p, p.forward_model);
+    ASSERT_EQ(rods.size(), 3u);
+    EXPECT_NEAR(rods[0].fitted_radius_mm, 1.0, 0.01) << floor_mm;
+    EXPECT_NEAR(rods[1].fitted_radius_mm, 2.5, 0.025) << floor_mm;
+    EXPECT_LT(rods[0].chi2, 1e-6) << floor_mm;
+    EXPECT_LT(rods[2].fitted_radius_mm, 0.2 * 1.05) << floor_mm;  // at or below the truth, never above
+    EXPECT_EQ(rods[0].true_radius_mm, 1.0);
   }
 }
 
