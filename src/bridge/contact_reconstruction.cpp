@@ -811,13 +811,34 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     tally(fit);
     return fit;
   };
+  // A candidate of the last answer's shape is the same object at another size: it is judged
+  // with the warm fit's prior on the radius (the last answer's, radius_track_log_sigma)
+  // instead of the weak one, as the warm fit is. Otherwise, at light load, where any radius
+  // explains a scan within noise, a candidate of another size replaced the model by chance
+  // (rig press_03, a 5 mm sphere, at 0.08 N: 12.5 mm for the warm fit's 3 mm, walked back to
+  // 5.3 mm by 0.25 N; test RadiusHoldsStillWhileTheContactLoads).
+  const bool track_candidates = have_last_ && !last_.pair && last_.first.shape != ContactShape::kFlat &&
+                                options_.selection == ModelSelection::kAmortized && options_.radius_track_log_sigma > 0;
+  bool warm_won = false;  // best is the warm fit (its chi2 has the tracked prior already)
+  auto penalized = [&](const Fit& f, bool warm) {
+    double p = f.Penalized();
+    if (track_candidates && !warm && !f.model.pair && f.model.first.shape == last_.first.shape) {
+      const double log_r = std::log(f.model.first.radius_mm);
+      const double tracked = (log_r - std::log(last_.first.radius_mm)) / options_.radius_track_log_sigma;
+      const double weak = options_.radius_prior_log_sigma > 0
+                              ? (log_r - std::log(options_.radius_prior_mm)) / options_.radius_prior_log_sigma
+                              : 0.0;
+      p += tracked * tracked - weak * weak;
+    }
+    return p;
+  };
   auto better = [&](const Fit& a, const Fit& b) {  // a better than b
-    return Plausible(a.model) && std::isfinite(a.chi2) && (!std::isfinite(b.chi2) || a.Penalized() < b.Penalized());
+    return Plausible(a.model) && std::isfinite(a.chi2) &&
+           (!std::isfinite(b.chi2) || penalized(a, false) < penalized(b, warm_won));
   };
 
   const bool amortized = options_.selection == ModelSelection::kAmortized;
   Fit best;
-  bool warm_won = false;
   if (have_last_) {
     // A scan of a moving load (no hold mean, or a short one) whose contact keeps its shape,
     // only its force:
