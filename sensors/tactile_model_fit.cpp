@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 #include <unsupported/Eigen/NonLinearOptimization>
 #include <unsupported/Eigen/NumericalDiff>
 
@@ -22,6 +23,20 @@ struct Window {
   double t_s = 0;
   Eigen::VectorXd mean;
 };
+
+// 1 / single-scan noise of every channel [1/N] (3 per taxel: x, y, z).
+Eigen::VectorXd InverseNoise(const SensorProfile& profile, double noise_counts) {
+  Eigen::VectorXd inv(3 * profile.taxel_count);
+  for (int k = 0; k < profile.taxel_count; ++k)
+    for (int a = 0; a < 3; ++a) inv[3 * k + a] = 1.0 / (noise_counts * NewtonsPerCount(profile, k, a));
+  return inv;
+}
+
+// The hold's window [s]: its middle 80 % (off the ramp's end and the release's start).
+std::pair<double, double> HoldWindow(const PressProtocol& protocol) {
+  const double mid = protocol.HoldMid_s(), half = 0.4 * protocol.hold_s;
+  return {mid - half, mid + half};
+}
 
 struct Problem {
   const std::vector<CalibrationPress>* presses;
@@ -74,16 +89,11 @@ Problem MakeProblem(const std::vector<CalibrationPress>& presses, const SensorPr
                     const FitOptions& options, bool hold_only) {
   if (profile.axes != 3) throw std::invalid_argument("fit-sensor needs a three-axis profile");
   Problem pr{&presses, &profile, fixed, {}, {}};
-  const int n = profile.taxel_count;
-  pr.inv_sigma.resize(3 * n);
-  for (int k = 0; k < n; ++k)
-    for (int a = 0; a < 3; ++a) {
-      pr.inv_sigma[3 * k + a] = 1.0 / (options.noise_counts * NewtonsPerCount(profile, k, a));
-    }
+  pr.inv_sigma = InverseNoise(profile, options.noise_counts);
   const PressProtocol protocol;
+  const auto [hold_begin, hold_end] = HoldWindow(protocol);
   for (size_t i = 0; i < presses.size(); ++i) {
-    const double hold = protocol.HoldMid_s(), half = 0.4 * protocol.hold_s;
-    pr.windows.push_back({static_cast<int>(i), hold, presses[i].MeanReadings(hold - half, hold + half)});
+    pr.windows.push_back({static_cast<int>(i), protocol.HoldMid_s(), presses[i].MeanReadings(hold_begin, hold_end)});
     if (hold_only) continue;
     for (double t : options.ramp_times_s)
       pr.windows.push_back({static_cast<int>(i), t,
@@ -189,23 +199,19 @@ struct RodHoldFunctor : common::DynamicSizeFunctor {
 std::vector<RodRadiusReport> FitRodRadii(const std::vector<CalibrationPress>& presses, const SensorProfile& profile,
                                          const TactileModelParams& params, const FitOptions& options) {
   const TactileForwardModel model(profile, params);
-  const PressProtocol protocol;
-  const double t0 = protocol.unloaded_s + protocol.ramp_s, t1 = t0 + protocol.hold_s;
+  const auto [hold_begin, hold_end] = HoldWindow(PressProtocol{});
+  const Eigen::VectorXd inv_sigma = InverseNoise(profile, options.noise_counts);
   std::vector<RodRadiusReport> out;
   for (const CalibrationPress& press : presses) {
     if (press.object.shape != ContactShape::kCylinder) continue;
-    // The hold without its first and last 50 ms (the ramp's end, the release's start).
     int scans = 0;
-    for (double t : press.t_s) scans += t >= t0 + 0.05 && t <= t1 - 0.05;
+    for (double t : press.t_s) scans += t >= hold_begin && t <= hold_end;
     if (scans == 0) continue;
     RodHoldFunctor f;
     f.model = &model;
     f.base = press.object;
-    f.mean = press.MeanReadings(t0 + 0.05, t1 - 0.05);
-    f.weight.resize(f.mean.size());
-    for (int k = 0; k < model.taxel_count(); ++k)
-      for (int a = 0; a < 3; ++a)
-        f.weight[3 * k + a] = std::sqrt(double(scans)) / (options.noise_counts * NewtonsPerCount(profile, k, a));
+    f.mean = press.MeanReadings(hold_begin, hold_end);
+    f.weight = std::sqrt(double(scans)) * inv_sigma;  // the mean's noise
     RodRadiusReport rep;
     rep.name = press.name;
     rep.true_radius_mm = press.object.radius_mm;

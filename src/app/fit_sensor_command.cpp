@@ -133,17 +133,15 @@ int RunFitSensor(int argc, char** argv) {
   }
   FitOptions options;
   options.noise_counts = args.GetDouble("noise-counts");
-  SensorProfile fitted_profile = profile;  // the profile with --rod-min-halfwidth-mm applied
+  TactileModelParams params = profile.forward_model;  // with --rod-min-halfwidth-mm applied
   if (auto w = args.GetOptional("rod-min-halfwidth-mm")) {
     const double mm = args.GetDouble("rod-min-halfwidth-mm");
     if (!(mm >= 0 && mm <= 5)) throw UsageError("--rod-min-halfwidth-mm must be in [0, 5], got " + *w);
-    fitted_profile.forward_model.rod_min_halfwidth_mm = mm;
+    params.rod_min_halfwidth_mm = mm;
   }
   if (args.GetFlag("rod-radii")) {
     if (!profile.has_forward_model) throw UsageError("profile '" + profile.name + "' has no forward_model");
-    const TactileModelParams& params = fitted_profile.forward_model;
-    PrintRodRadii(FitRodRadii(presses, profile, params, options),
-                  std::max(params.rod_min_halfwidth_mm, params.grid_mm));
+    PrintRodRadii(FitRodRadii(presses, profile, params, options), std::max(params.rod_min_halfwidth_mm, params.grid_mm));
     return 0;
   }
   if (auto model = args.GetOptional("evaluate-pad")) {
@@ -168,13 +166,13 @@ int RunFitSensor(int argc, char** argv) {
   }
   if (args.GetFlag("evaluate")) {
     if (!profile.has_forward_model) throw UsageError("profile '" + profile.name + "' has no forward_model");
-    PrintReport(EvaluateTactileModel(presses, profile, fitted_profile.forward_model, options));
+    PrintReport(EvaluateTactileModel(presses, profile, params, options));
     return 0;
   }
   std::printf("fitting %d parameters to %zu presses (hold + 2 ramp windows each) ...\n",
               TactileModelParams::kCount, presses.size());
   TactileModelParams initial = profile.has_forward_model ? profile.forward_model : InitialTactileModelParams();
-  initial.rod_min_halfwidth_mm = fitted_profile.forward_model.rod_min_halfwidth_mm;
+  initial.rod_min_halfwidth_mm = params.rod_min_halfwidth_mm;
   const FitReport rep = FitTactileModel(presses, profile, initial, options);
   std::printf("%s after %d evaluations; RMS over all residuals %.2f sigma\n", rep.status.c_str(), rep.evaluations,
               rep.rms_sigma_all);

@@ -1,7 +1,6 @@
 #include "bridge/reduced_linear_fe_step.h"
 
 #include <cstdio>
-#include <set>
 #include <stdexcept>
 
 namespace sedbridge::bridge {
@@ -41,12 +40,7 @@ ReducedLinearFeStep::ReducedLinearFeStep(const scene::SceneDescription& d, const
   sc.simulation().SetPositions(rest_m_);
   x_m_ = rest_m_;
   v_.setZero(U_.cols());
-  {
-    std::set<int> nodes;
-    for (int e : sc.merkel()->elements())
-      for (int n : sc.model().soft.tets[size_t(e)]) nodes.insert(n);
-    sed_nodes_.assign(nodes.begin(), nodes.end());
-  }
+  sed_nodes_ = sc.merkel()->element_nodes();
   U_sed_.resize(3 * Eigen::Index(sed_nodes_.size()), U_.cols());
   for (size_t k = 0; k < sed_nodes_.size(); ++k) U_sed_.middleRows<3>(3 * Eigen::Index(k)) = U_.middleRows<3>(3 * sed_nodes_[k]);
 }

@@ -164,10 +164,7 @@ ComplianceContact::ComplianceContact(const TetMesh& mesh, std::vector<std::uniqu
   }
   sed_ = std::make_unique<VertexSedEvaluator>(*elastic, std::move(sed_vertices));
   {
-    std::set<int> nodes;
-    for (int e : sed_->elements())
-      for (int v : mesh.tets[size_t(e)]) nodes.insert(v);
-    sed_nodes_.assign(nodes.begin(), nodes.end());
+    sed_nodes_ = sed_->element_nodes();
     std::vector<int> local(size_t(n), -1);
     for (size_t a = 0; a < sed_nodes_.size(); ++a) local[size_t(sed_nodes_[a])] = int(a);
     const std::vector<int>& elements = sed_->elements();

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 #include <stdexcept>
 
 #include "common/hot_clones.h"
@@ -124,10 +125,13 @@ VertexSedEvaluator::VertexSedEvaluator(const ElasticTetForce& elastic, std::vect
   std::map<int, int> local;
   for (int v : vertices_)
     for (int t : node_elements.at(size_t(v))) local.emplace(t, 0);
+  std::set<int> nodes;
   for (auto& [t, k] : local) {
     k = int(elements_.size());
     elements_.push_back(t);
+    for (int n : mesh.tets[size_t(t)]) nodes.insert(n);
   }
+  element_nodes_.assign(nodes.begin(), nodes.end());
   for (int v : vertices_) {
     std::vector<int> ids;
     for (int t : node_elements[size_t(v)])

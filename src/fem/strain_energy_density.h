@@ -45,12 +45,16 @@ class VertexSedEvaluator {
 
   const std::vector<int>& vertices() const { return vertices_; }
   const std::vector<int>& elements() const { return elements_; }
+  /// Nodes of elements(), sorted: the only displacements Evaluate reads (linear and
+  /// corotational elements).
+  const std::vector<int>& element_nodes() const { return element_nodes_; }
 
  private:
   void EvaluateNodalPressure(const Eigen::VectorXd& x_m);
   const ElasticTetForce& elastic_;
   std::vector<int> vertices_;
   std::vector<int> elements_;                  // union of elements around vertices_
+  std::vector<int> element_nodes_;             // their nodes, sorted
   std::vector<std::vector<int>> vertex_local_; // per vertex: indices into elements_
   std::vector<Eigen::Quaterniond> warm_;
   // Evaluate's element data (linear and corotational) as structures of arrays (the SED four elements at

@@ -33,8 +33,8 @@ class MerkelLayer {
 
   /// Soft node index of each Merkel vertex (= model.merkel_nodes).
   const std::vector<int>& nodes() const { return evaluator_.vertices(); }
-  /// Mesh tets whose SED the vertices average (the only elements Evaluate reads).
-  const std::vector<int>& elements() const { return evaluator_.elements(); }
+  /// Nodes of the tets whose SED the vertices average: the only positions Evaluate reads.
+  const std::vector<int>& element_nodes() const { return evaluator_.element_nodes(); }
   /// Rest position of each vertex in the pad frame [mm], 3 x #vertices.
   const Eigen::Matrix3Xd& rest_pad_mm() const { return rest_pad_mm_; }
   /// 1 where the layer faces the pad (outward normal . z_pad > 0), else 0.
