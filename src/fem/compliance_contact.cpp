@@ -15,6 +15,7 @@
 #include <set>
 #include <stdexcept>
 
+#include "fem/dense_cholesky.h"
 #include "common/hot_clones.h"
 #include "fem/elastic_tet_force.h"
 #include "fem/linear_solver.h"
@@ -85,6 +86,13 @@ SEDBRIDGE_HOT_CLONES
 void AddThreeColumns(int rows, const double* a0, const double* a1, const double* a2, double f0, double f1, double f2,
                      double* y) {
   for (int i = 0; i < rows; ++i) y[i] += a0[i] * f0 + a1[i] * f1 + a2[i] * f2;
+}
+
+// y = a0 f0 + a1 f1 + a2 f2.
+SEDBRIDGE_HOT_CLONES
+void SetThreeColumns(int rows, const double* a0, const double* a1, const double* a2, double f0, double f1, double f2,
+                     double* y) {
+  for (int i = 0; i < rows; ++i) y[i] = a0[i] * f0 + a1[i] * f1 + a2[i] * f2;
 }
 
 // The same from single-precision columns (summed in double).
@@ -490,9 +498,97 @@ Eigen::VectorXd ComplianceContact::full_positions_m() const {
   return x;
 }
 
-void ComplianceContact::CandidateDisplacements() {
+void ComplianceContact::CandidateDisplacements(bool normal_forces_only) {
   u_c_.setZero();
-  AddWTimes(loaded_, [](int j) { return j; }, [&](int j) { return Eigen::Vector3d(f_c_.segment<3>(3 * j)); }, u_c_);
+  if (!normal_forces_only || num_objects_ <= 0) {
+    AddWTimes(loaded_, [](int j) { return j; }, [&](int j) { return Eigen::Vector3d(f_c_.segment<3>(3 * j)); }, u_c_);
+    return;
+  }
+  // A sample's force is the sum of its pairs' l_p n_p: where every such pair's row still
+  // has its column of T (the last QP's, same direction), sum those columns instead of
+  // reading three columns of W.
+  const int no = num_objects_;
+  std::vector<int>& from_w = from_w_;
+  std::vector<int>& from_t = from_t_;
+  from_w.clear();
+  from_t.clear();
+  for (int j : loaded_) {
+    bool cached = true;
+    for (int o = 0; o < no && cached; ++o) {
+      const int p = j * no + o;
+      if (lambda_N_[p] > 0) cached = CachedRowColumn(p, j, normal_.col(p)) >= 0;
+    }
+    if (!cached) {
+      from_w.push_back(j);
+      continue;
+    }
+    for (int o = 0; o < no; ++o)
+      if (lambda_N_[j * no + o] > 0) from_t.push_back(j * no + o);
+  }
+  AddWTimes(from_w, [](int j) { return j; }, [&](int j) { return Eigen::Vector3d(f_c_.segment<3>(3 * j)); }, u_c_);
+  AddColumnsOfT(from_t, [&](int p) { return t_slot_of_row_[size_t(p)]; }, [&](int p) { return lambda_N_[p]; }, u_c_);
+}
+
+int ComplianceContact::CachedRowColumn(int r, int sample, const Eigen::Vector3d& dir) const {
+  if (size_t(r) >= t_slot_of_row_.size()) return -1;
+  const int slot = t_slot_of_row_[size_t(r)];
+  return slot >= 0 && t_has_column_[size_t(slot)] && t_sample_[size_t(slot)] == sample && t_dir_[size_t(slot)] == dir
+             ? slot
+             : -1;
+}
+
+int ComplianceContact::RowColumn(int r) {
+  const int sample = row_node_[size_t(r)];
+  const Eigen::Vector3d dir = row_dir_.col(r);
+  int& slot = t_slot_of_row_[size_t(r)];
+  if (slot < 0) {  // a new slot (grows only while a larger contact set appears)
+    slot = int(t_sample_.size());
+    t_sample_.push_back(-1);
+    t_dir_.emplace_back();
+    t_has_column_.push_back(0);
+  }
+  const size_t k = size_t(slot);
+  if (t_sample_[k] != sample || t_dir_[k] != dir) {
+    // A direction not seen before for this row (a curved object's normals turn every outer
+    // iteration): no column; W serves this use directly, which is cheaper for one use.
+    t_sample_[k] = sample;
+    t_dir_[k] = dir;
+    t_has_column_[k] = 0;
+    ++t_generation_;
+    return -1;
+  }
+  if (t_has_column_[k]) return slot;
+  // The same sample and direction a second time: it is likely to hold (a plane), so the
+  // column is worth its one pass over W.
+  if (slot >= T_.cols()) T_.conservativeResize(W_.rows(), std::max<Eigen::Index>(std::max(32, slot + 1), 2 * T_.cols()));
+  const Eigen::Index n = W_.rows();
+  const double* w = W_.data() + 3 * Eigen::Index(sample) * n;
+  SetThreeColumns(int(n), w, w + n, w + 2 * n, dir[0], dir[1], dir[2], T_.col(slot).data());
+  t_has_column_[k] = 1;
+  ++t_generation_;
+  return slot;
+}
+
+template <typename Items, typename SlotOf, typename CoefficientOf>
+void ComplianceContact::AddColumnsOfT(const Items& items, const SlotOf& slot_of, const CoefficientOf& coefficient_of,
+                                      Eigen::VectorXd& y) const {
+  // Three columns per pass over y.
+  const double* column[3];
+  double coefficient[3];
+  int k = 0;
+  const int n = int(T_.rows());
+  for (int item : items) {
+    const double l = coefficient_of(item);
+    if (l == 0) continue;
+    column[k] = T_.col(slot_of(item)).data();
+    coefficient[k] = l;
+    if (++k == 3) {
+      AddThreeColumns(n, column[0], column[1], column[2], coefficient[0], coefficient[1], coefficient[2], y.data());
+      k = 0;
+    }
+  }
+  for (; k > 0 && k < 3; ++k) column[k] = column[0], coefficient[k] = 0.0;
+  if (k == 3) AddThreeColumns(n, column[0], column[1], column[2], coefficient[0], coefficient[1], coefficient[2], y.data());
 }
 
 const ComplianceStepResult& ComplianceContact::Step(const std::vector<geometry::RigidObject>& objects, double t_s,
@@ -585,6 +681,7 @@ const ComplianceStepResult& ComplianceContact::Solve(const std::vector<geometry:
   const bool exact = options_.exact_contact;
   bool converged_exact = false;
   bool have_previous = false;  // Anderson history valid (same contacts as last iteration)
+  bool previous_prediction_valid = false;  // previous_prediction_ = W (last QP's mapped forces)
   prediction_valid_ = false;
   for (int it = 0; it <= options_.max_iterations; ++it) {
     // The iteration's state: force vector l_p n_p of every pair that carries one (below).
@@ -619,7 +716,7 @@ const ComplianceStepResult& ComplianceContact::Solve(const std::vector<geometry:
     if (prediction_valid_ && tangential_force_N.isZero(0.0))
       u_c_.swap(u_new_);
     else
-      CandidateDisplacements();
+      CandidateDisplacements(!friction && tangential_force_N.isZero(0.0));
     prediction_valid_ = false;
 
     // 2. Gaps and normals at the current positions; how far the forces are from k*depth.
@@ -738,7 +835,9 @@ const ComplianceStepResult& ComplianceContact::Solve(const std::vector<geometry:
     // it superlinear in practice.
     // (Not with friction springs: their forces are not along the normals.)
     double accelerated_gamma = 0;  // set when Anderson moved the forces
+    bool combined = false;         // ... and u_new_ is W times the moved forces
     if (!friction) {
+      const bool qp_predicted = prediction_valid_ && tangential_force_N.isZero(0.0);  // u_new_ = W mapped
       mapped_.clear();
       for (Eigen::Index p = 0; p < lambda_N_.size(); ++p)
         if (lambda_N_[p] > 0) mapped_.push(int(p), lambda_N_[p] * normal_.col(p));
@@ -758,6 +857,7 @@ const ComplianceStepResult& ComplianceContact::Solve(const std::vector<geometry:
         const double gamma = dd > 0 ? rd / dd : 0.0;
         if (std::isfinite(gamma) && std::abs(gamma) < 10) {
           accelerated_gamma = gamma;
+          size_t moved = 0;
           for (size_t i = 0; i < mapped_.pairs.size(); ++i) {
             const int p = mapped_.pairs[i];
             const Eigen::Vector3d accelerated =
@@ -765,12 +865,26 @@ const ComplianceStepResult& ComplianceContact::Solve(const std::vector<geometry:
             const double norm = accelerated.norm();
             // Keep the QP's contact set and directions that stay outward of the object.
             if (norm > 0 && accelerated.dot(normal_.col(p)) > 0) {
-              prediction_valid_ = false;
+              ++moved;
               lambda_N_[p] = norm;
               normal_.col(p) = accelerated / norm;
             }
           }
+          // W is linear: when every pair took the accelerated force, W times it is the same
+          // combination of this QP's prediction and the last one's (no pass over W).
+          combined = qp_predicted && previous_prediction_valid && moved == mapped_.pairs.size();
+          if (combined) {
+            prediction_.swap(u_new_);  // prediction_: this QP's W mapped
+            u_new_ = prediction_ - gamma * (prediction_ - previous_prediction_);
+            prediction_.swap(previous_prediction_);
+          } else if (moved > 0) {
+            prediction_valid_ = false;
+          }
         }
+      }
+      if (!combined) {  // this QP's prediction W mapped is the next combination's previous one
+        previous_prediction_valid = qp_predicted;
+        if (qp_predicted) previous_prediction_ = u_new_;
       }
       std::swap(previous_mapped_, mapped_);
       std::swap(previous_residual_, residual_);
@@ -902,6 +1016,10 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau, co
     }
   }
 
+  // Rows keep their columns of T from earlier QPs where their sample and direction have not
+  // changed (a plane's rows, step after step); the slot map is per row index.
+  t_slot_of_row_.resize(size_t(rows), -1);
+
   // Force control: the rows' forces must push target_N along the direction; the objects'
   // move delta (the multiplier of that constraint) closes each gap by delta * push_r. The
   // active-set iterates all carry the target (convex combinations of points that do), so
@@ -928,11 +1046,24 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau, co
       row_lambda_[first] = control->target_N / row_push_[first];
     }
   }
-  // Predicted displacements for row forces l: u_t + sum_r l_r W dir_r.
-  auto predicted_displacements = [&](const std::vector<int>& set, const Eigen::VectorXd& l) {
+  // Predicted displacements for row forces l: u_t + sum_r l_r W dir_r, from the rows'
+  // columns of T (every passive row has one).
+  // Predicted displacements for the passive rows' forces l: u_t + sum_r l_r W dir_r, from
+  // T where a row has its column (passive_slot_, as the QP matrix was built), else from W.
+  auto predicted_displacements = [&](const Eigen::VectorXd& l) {
     u_new_ = u_t_;
-    AddWTimes(set, [&](int r) { return row_node_[size_t(r)]; },
-              [&](int r) { return Eigen::Vector3d(l[r] * row_dir_.col(r)); }, u_new_);
+    with_column_.clear();
+    without_column_.clear();
+    for (size_t a = 0; a < passive_.size(); ++a)
+      (passive_slot_[a] >= 0 ? with_column_ : without_column_).push_back(int(a));
+    AddColumnsOfT(with_column_, [&](int a) { return passive_slot_[size_t(a)]; },
+                  [&](int a) { return l[passive_[size_t(a)]]; }, u_new_);
+    AddWTimes(without_column_, [&](int a) { return row_node_[size_t(passive_[size_t(a)])]; },
+              [&](int a) {
+                const int r = passive_[size_t(a)];
+                return Eigen::Vector3d(l[r] * row_dir_.col(r));
+              },
+              u_new_);
   };
   passive_.clear();
   for (int r = 0; r < rows; ++r)
@@ -947,29 +1078,62 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau, co
   for (int inner = 0; inner < 4 * rows + 10; ++inner) {
     // Unconstrained minimizer on the passive set.
     const int m = int(passive_.size());
-    J_.resize(m, m);
     rhs_.resize(m);
-    for (int a = 0; a < m; ++a) {
-      const int r = passive_[size_t(a)], i = row_node_[size_t(r)];
-      const Eigen::Vector3d dr = row_dir_.col(r);
-      rhs_[a] = -row_gap_[r] + dr.dot(u_c_.segment<3>(3 * i) - u_t_.segment<3>(3 * i));
-      for (int b = 0; b <= a; ++b) {
-        const int q = passive_[size_t(b)];
-        J_(a, b) = dr.dot(W_.block<3, 3>(3 * i, 3 * row_node_[size_t(q)]) * row_dir_.col(q));
+    std::vector<int>& slot = passive_slot_;
+    slot.resize(size_t(m));
+    for (int a = 0; a < m; ++a) slot[size_t(a)] = RowColumn(passive_[size_t(a)]);
+    // The factor of the last QP matrix serves again when nothing it was built from changed:
+    // the same rows, none of T's columns recomputed since, the same compliances (a plane's
+    // contact set between the steps where a node joins or leaves it).
+    bool same_matrix = factor_valid_ && factor_generation_ == t_generation_ && passive_ == factor_rows_;
+    for (int a = 0; a < m && same_matrix; ++a)
+      same_matrix = row_compliance_[passive_[size_t(a)]] == factor_compliance_[size_t(a)];
+    if (!same_matrix) {
+      // J = D^T W_PP D column by column from T: J(a, b) = dir_a . (W dir_b)[sample of a].
+      J_.resize(m, m);
+      factor_compliance_.resize(size_t(m));
+      // A row without a column takes its entries from the other row's column, or from W.
+      for (int b = 0; b < m; ++b) {
+        const int q = passive_[size_t(b)], i_q = row_node_[size_t(q)];
+        const Eigen::Vector3d d_q = row_dir_.col(q);
+        if (slot[size_t(b)] >= 0) {
+          const double* t = T_.col(slot[size_t(b)]).data();
+          for (int a = b; a < m; ++a) {
+            const int r = passive_[size_t(a)], i = row_node_[size_t(r)];
+            J_(a, b) = row_dir_.col(r).dot(Eigen::Map<const Eigen::Vector3d>(t + 3 * i));
+          }
+        } else {
+          for (int a = b; a < m; ++a) {
+            const int r = passive_[size_t(a)], i = row_node_[size_t(r)];
+            J_(a, b) = slot[size_t(a)] >= 0
+                           ? d_q.dot(Eigen::Map<const Eigen::Vector3d>(T_.col(slot[size_t(a)]).data() + 3 * i_q))
+                           : row_dir_.col(r).dot(W_.block<3, 3>(3 * i, 3 * i_q) * d_q);
+          }
+        }
+        J_(b, b) += row_compliance_[q];
+        factor_compliance_[size_t(b)] = row_compliance_[q];
       }
-      J_(a, a) += row_compliance_[r];
+      factor_valid_ = m > 0 && CholeskyFactorLower(m, J_.data(), m);
+      factor_rows_ = passive_;
+      factor_generation_ = t_generation_;
+      if (m && !factor_valid_) return false;
+    }
+    for (int b = 0; b < m; ++b) {
+      const int q = passive_[size_t(b)], i = row_node_[size_t(q)];
+      rhs_[b] = -row_gap_[q] + row_dir_.col(q).dot(u_c_.segment<3>(3 * i) - u_t_.segment<3>(3 * i));
     }
     if (m) {
-      const auto llt = J_.selfadjointView<Eigen::Lower>().llt();
-      z_ = llt.solve(rhs_);
+      z_ = rhs_;
+      CholeskySolveLower(m, J_.data(), m, z_.data());
       if (control) {  // J l = rhs + delta push, push . l = target
         push_passive_.resize(m);
         for (int a = 0; a < m; ++a) push_passive_[a] = row_push_[passive_[size_t(a)]];
-        const Eigen::VectorXd y = llt.solve(push_passive_);
-        const double denominator = push_passive_.dot(y);
+        y_ = push_passive_;
+        CholeskySolveLower(m, J_.data(), m, y_.data());
+        const double denominator = push_passive_.dot(y_);
         if (!(denominator > 0)) return false;
         delta = (control->target_N - push_passive_.dot(z_)) / denominator;
-        z_ += delta * y;
+        z_ += delta * y_;
       }
     } else {
       if (control) return false;
@@ -1009,7 +1173,7 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau, co
     }
     for (int a = 0; a < m; ++a) row_lambda_[passive_[size_t(a)]] = z_[a];
     // Optimal on the passive set: any other normal row predicted to penetrate joins it.
-    predicted_displacements(passive_, row_lambda_);
+    predicted_displacements(row_lambda_);
     for (int a = 0; a < m; ++a)
       if (passive_[size_t(a)] < bounded_rows_) largest_ = std::max(largest_, z_[a]);
     const double gap_tolerance = options_.exact_contact

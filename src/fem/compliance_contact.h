@@ -213,8 +213,20 @@ class ComplianceContact {
   template <typename Items, typename SampleOf, typename Force>
   void AddWTimes(const Items& items, const SampleOf& sample_of, const Force& force, Eigen::VectorXd& u_samples);
   void SaveCache(std::uint64_t key) const;
-  /// u_c = W f_c over the candidates whose force is non-zero.
-  void CandidateDisplacements();
+  /// u_c = W f_c over the candidates whose force is non-zero. normal_forces_only: f_c is
+  /// exactly the pairs' l_p n_p (no friction, no tangential load), so cached columns of T
+  /// can serve.
+  void CandidateDisplacements(bool normal_forces_only);
+  /// The slot of T's column for QP row r (W dir_r at its sample), or -1 when the row has
+  /// none: a column is kept for a row's current sample and direction, and computed the
+  /// second time the row comes with them.
+  int RowColumn(int r);
+  /// The slot of row r's column if it holds W dir at `sample`, else -1.
+  int CachedRowColumn(int r, int sample, const Eigen::Vector3d& dir) const;
+  /// y += sum over `items` of coefficient_of(item) T(:, slot_of(item)).
+  template <typename Items, typename SlotOf, typename CoefficientOf>
+  void AddColumnsOfT(const Items& items, const SlotOf& slot_of, const CoefficientOf& coefficient_of,
+                     Eigen::VectorXd& y) const;
   /// One convex QP for the normal forces with the gaps linearized at the current
   /// positions (see the .cpp); updates lambda_N_. False on NaN.
   /// With `control`: the force along its direction is its target, and qp_offset_change_m_
@@ -258,8 +270,24 @@ class ComplianceContact {
   std::vector<char> skippable_;       // per object: a 1-Lipschitz SDF
   Eigen::VectorXd f_c_, u_c_, u_t_;   // candidate forces, displacements, tangential part
   std::vector<int> active_, loaded_;  // pairs penetrating now; candidates with a force
-  Eigen::MatrixXd J_;
-  Eigen::VectorXd rhs_, z_, u_new_, u_s_, push_passive_;
+  Eigen::MatrixXd J_;  // the QP's matrix, then its Cholesky factor (lower)
+  Eigen::VectorXd rhs_, z_, y_, u_new_, u_s_, push_passive_;
+  Eigen::VectorXd prediction_, previous_prediction_;  // QPs' W mapped (Anderson's combination)
+  // T: W dir_r for QP rows r, one column per slot (3 x #samples rows), kept while the row's
+  // sample and direction stay the same: the QP's matrix is gathered from it (J(a, b) =
+  // dir_a . T(sample_a, b)) and its predictions are sums of its columns, so a row unchanged
+  // since the last QP reads W not at all and its prediction a third of it.
+  Eigen::MatrixXd T_;
+  std::vector<int> t_slot_of_row_, t_sample_;
+  std::vector<Eigen::Vector3d> t_dir_;
+  std::vector<char> t_has_column_;
+  std::vector<int> from_w_, from_t_, passive_slot_, with_column_, without_column_;
+  std::uint64_t t_generation_ = 0;  // counts columns of T (re)computed
+  // What J_'s factor was built from (reused while all of it holds).
+  bool factor_valid_ = false;
+  std::vector<int> factor_rows_;
+  std::vector<double> factor_compliance_;
+  std::uint64_t factor_generation_ = 0;
   bool prediction_valid_ = false;  // u_new_ = W f of the current forces (QP's last prediction)
   // Pseudo friction, per pair: anchor in the object's frame, current spring force, the
   // force the law asks at the current positions, and whether a spring acts (anchored and
