@@ -566,6 +566,7 @@ int ComplianceContact::RowColumn(int r) {
   SetThreeColumns(int(n), w, w + n, w + 2 * n, dir[0], dir[1], dir[2], T_.col(slot).data());
   t_has_column_[k] = 1;
   ++t_generation_;
+  ++qp_counts_.columns_computed;
   return slot;
 }
 
@@ -874,6 +875,7 @@ const ComplianceStepResult& ComplianceContact::Solve(const std::vector<geometry:
           // combination of this QP's prediction and the last one's (no pass over W).
           combined = qp_predicted && previous_prediction_valid && moved == mapped_.pairs.size();
           if (combined) {
+            ++qp_counts_.combined_predictions;
             prediction_.swap(u_new_);  // prediction_: this QP's W mapped
             u_new_ = prediction_ - gamma * (prediction_ - previous_prediction_);
             prediction_.swap(previous_prediction_);
@@ -1016,6 +1018,7 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau, co
     }
   }
 
+  ++qp_counts_.qps;
   // Rows keep their columns of T from earlier QPs where their sample and direction have not
   // changed (a plane's rows, step after step); the slot map is per row index.
   t_slot_of_row_.resize(size_t(rows), -1);
@@ -1088,6 +1091,7 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau, co
     bool same_matrix = factor_valid_ && factor_generation_ == t_generation_ && passive_ == factor_rows_;
     for (int a = 0; a < m && same_matrix; ++a)
       same_matrix = row_compliance_[passive_[size_t(a)]] == factor_compliance_[size_t(a)];
+    qp_counts_.factor_reuses += same_matrix;
     if (!same_matrix) {
       // J = D^T W_PP D column by column from T: J(a, b) = dir_a . (W dir_b)[sample of a].
       J_.resize(m, m);
@@ -1114,6 +1118,7 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau, co
         factor_compliance_[size_t(b)] = row_compliance_[q];
       }
       factor_valid_ = m > 0 && CholeskyFactorLower(m, J_.data(), m);
+      qp_counts_.factorizations += m > 0;
       factor_rows_ = passive_;
       factor_generation_ = t_generation_;
       if (m && !factor_valid_) return false;

@@ -21,6 +21,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <array>
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -87,6 +88,15 @@ struct ComplianceStepResult {
   Eigen::VectorXd sed_Pa;   ///< SED per vertex, in the order of sed_vertices()
 };
 
+/// What the contact QPs did since construction (where a step's time goes).
+struct ComplianceQpCounts {
+  std::uint64_t qps = 0;                ///< linearized QPs solved (one per outer iteration)
+  std::uint64_t factorizations = 0;     ///< Cholesky factorizations of a QP matrix
+  std::uint64_t factor_reuses = 0;      ///< QP solves on the last factor (matrix unchanged)
+  std::uint64_t columns_computed = 0;   ///< columns W dir computed for T
+  std::uint64_t combined_predictions = 0;  ///< Anderson moves predicted without a pass over W
+};
+
 class ComplianceContact {
  public:
   /// @param mesh            rest mesh (must outlive this object)
@@ -140,6 +150,7 @@ class ComplianceContact {
   /// True when sed_Pa and positions_m() belong to the last step.
   bool sed_current() const { return sed_current_; }
   const ComplianceStepResult& last() const { return result_; }
+  const ComplianceQpCounts& qp_counts() const { return qp_counts_; }
   /// Forgets the warm start (the next step starts from no contact) and friction anchors.
   void ResetWarmStart();
   /// The warm start (contact forces and directions of the last step), to try a step and
@@ -282,7 +293,8 @@ class ComplianceContact {
   std::vector<Eigen::Vector3d> t_dir_;
   std::vector<char> t_has_column_;
   std::vector<int> from_w_, from_t_, passive_slot_, with_column_, without_column_;
-  std::uint64_t t_generation_ = 0;  // counts columns of T (re)computed
+  std::uint64_t t_generation_ = 0;  // counts changes to T's rows (keys or columns)
+  ComplianceQpCounts qp_counts_;
   // What J_'s factor was built from (reused while all of it holds).
   bool factor_valid_ = false;
   std::vector<int> factor_rows_;

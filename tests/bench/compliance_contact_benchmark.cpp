@@ -9,7 +9,9 @@
 // Counters: median_ms / p99_ms / max_ms per step (wall clock), cpu_median_ms / cpu_p99_ms
 // (this thread's CPU time: on a shared machine the wall-clock tail is mostly preemption),
 // steps_per_s (from the wall median), contacts (active nodes, mean), iterations (outer
-// Newton iterations, mean); precompute: seconds, candidates, SED nodes.
+// Newton iterations, mean), qp_* (per step: factorizations, factor reuses, columns of T
+// computed, combined predictions; fem::ComplianceQpCounts); precompute: seconds,
+// candidates, SED nodes.
 
 #include <benchmark/benchmark.h>
 #include <omp.h>
@@ -100,6 +102,16 @@ void Report(benchmark::State& state, const Timer& t) {
   state.counters["steps_per_s"] = 1000.0 / median;
 }
 
+// Per step: QP matrices factorized (the rest reused the last factor), columns of W dir
+// computed, Anderson moves predicted without a pass over W.
+void ReportQpCounts(benchmark::State& state, const fem::ComplianceQpCounts& after, const fem::ComplianceQpCounts& before,
+                    double steps) {
+  state.counters["qp_factorizations"] = double(after.factorizations - before.factorizations) / steps;
+  state.counters["qp_reuses"] = double(after.factor_reuses - before.factor_reuses) / steps;
+  state.counters["qp_columns"] = double(after.columns_computed - before.columns_computed) / steps;
+  state.counters["qp_combined"] = double(after.combined_predictions - before.combined_predictions) / steps;
+}
+
 geometry::RigidObject Sphere(double radius_mm, double depth_mm) {
   return {"sphere", std::make_shared<geometry::SphereSdf>(radius_mm * 1e-3),
           geometry::Trajectory(Eigen::Isometry3d(Eigen::Translation3d(0, 1e-3, (radius_mm - depth_mm) * 1e-3)))};
@@ -145,6 +157,7 @@ void SphereStep(benchmark::State& state) {
   scene::FingertipCompliance& cc = Shared();
   cc.contact().ResetWarmStart();
   std::vector<geometry::RigidObject> objects{Sphere(radius_mm, depth_mm)};
+  const fem::ComplianceQpCounts before = cc.contact().qp_counts();
   Timer timer;
   double contacts = 0, iterations = 0;
   int k = 0;
@@ -160,6 +173,7 @@ void SphereStep(benchmark::State& state) {
   state.counters["contacts"] = contacts / double(timer.wall_ms.size());
   state.counters["iterations"] = iterations / double(timer.wall_ms.size());
   state.counters["force_N"] = cc.normal_force_N();
+  ReportQpCounts(state, cc.contact().qp_counts(), before, double(timer.wall_ms.size()));
   Report(state, timer);
 }
 
@@ -177,6 +191,7 @@ void PlaneStep(benchmark::State& state) {
     return geometry::RigidObject{"plane", std::make_shared<geometry::PlaneSdf>(), geometry::Trajectory(pose)};
   };
   std::vector<geometry::RigidObject> objects{plane(depth_mm)};
+  const fem::ComplianceQpCounts before = cc.contact().qp_counts();
   Timer timer;
   double contacts = 0, iterations = 0;
   int k = 0;
@@ -192,6 +207,7 @@ void PlaneStep(benchmark::State& state) {
   state.counters["contacts"] = contacts / double(timer.wall_ms.size());
   state.counters["iterations"] = iterations / double(timer.wall_ms.size());
   state.counters["force_N"] = cc.normal_force_N();
+  ReportQpCounts(state, cc.contact().qp_counts(), before, double(timer.wall_ms.size()));
   Report(state, timer);
 }
 
