@@ -3,7 +3,6 @@
 #include <omp.h>
 #include <unistd.h>
 
-#include <Eigen/Cholesky>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -15,7 +14,6 @@
 #include <set>
 #include <stdexcept>
 
-#include "fem/dense_cholesky.h"
 #include "common/hot_clones.h"
 #include "fem/elastic_tet_force.h"
 #include "fem/linear_solver.h"
@@ -554,7 +552,6 @@ int ComplianceContact::RowColumn(int r) {
     t_sample_[k] = sample;
     t_dir_[k] = dir;
     t_has_column_[k] = 0;
-    ++t_generation_;
     return -1;
   }
   if (t_has_column_[k]) return slot;
@@ -565,7 +562,6 @@ int ComplianceContact::RowColumn(int r) {
   const double* w = W_.data() + 3 * Eigen::Index(sample) * n;
   SetThreeColumns(int(n), w, w + n, w + 2 * n, dir[0], dir[1], dir[2], T_.col(slot).data());
   t_has_column_[k] = 1;
-  ++t_generation_;
   ++qp_counts_.columns_computed;
   return slot;
 }
@@ -958,6 +954,94 @@ void ComplianceContact::ComputeSed() {
   sed_current_ = true;
 }
 
+double ComplianceContact::QpEntry(int r, int slot_r, int q, int slot_q) const {
+  const int i_r = row_node_[size_t(r)], i_q = row_node_[size_t(q)];
+  // From q's column of T, else r's (J is symmetric), else W's block.
+  if (slot_q >= 0) return row_dir_.col(r).dot(Eigen::Map<const Eigen::Vector3d>(T_.col(slot_q).data() + 3 * i_r));
+  if (slot_r >= 0) return row_dir_.col(q).dot(Eigen::Map<const Eigen::Vector3d>(T_.col(slot_r).data() + 3 * i_q));
+  return row_dir_.col(r).dot(W_.block<3, 3>(3 * i_r, 3 * i_q) * row_dir_.col(q));
+}
+
+bool ComplianceContact::UpdateFactor(int rows) {
+  const int m = int(passive_.size());
+  std::vector<int>& slot = passive_slot_;
+  // Which of the factor's rows are still passive, with the sample, direction and
+  // compliance they were factored with (a plane's rows, step after step).
+  std::vector<int>& slot_of = row_slot_;  // passive row -> its slot + 2 (0: not passive)
+  slot_of.assign(size_t(rows), 0);
+  for (int a = 0; a < m; ++a) slot_of[size_t(passive_[size_t(a)])] = slot[size_t(a)] + 2;
+  const int f = int(factor_rows_.size());
+  int kept = 0;
+  std::vector<char>& keep = factor_keep_;
+  keep.assign(size_t(f), 0);
+  for (int a = 0; a < f; ++a) {
+    const int r = factor_rows_[size_t(a)];
+    const FactorRow& key = factor_keys_[size_t(a)];
+    if (r < rows && slot_of[size_t(r)] && key.sample == row_node_[size_t(r)] && key.dir == row_dir_.col(r) &&
+        key.compliance == row_compliance_[r]) {
+      keep[size_t(a)] = 1;
+      slot_of[size_t(r)] = -slot_of[size_t(r)];  // marked: in the factor
+      ++kept;
+    }
+  }
+  const int changes = (f - kept) + (m - kept);
+  // Rank-one changes cost O(m^2) each, a new factor O(m^3 / 3): update while few change.
+  const bool update = m > 0 && kept > 0 && changes <= std::max(4, m / 8);
+  if (update) {
+    if (changes == 0) ++qp_counts_.factor_reuses;
+    for (int a = f - 1; a >= 0; --a) {
+      if (keep[size_t(a)]) continue;
+      factor_.Remove(a);
+      factor_rows_.erase(factor_rows_.begin() + a);
+      factor_keys_.erase(factor_keys_.begin() + a);
+      ++qp_counts_.factor_updates;
+    }
+    std::vector<double>& column = factor_column_;
+    bool appended = true;
+    for (int b = 0; b < m && appended; ++b) {
+      const int q = passive_[size_t(b)];
+      if (slot_of[size_t(q)] < 0) continue;  // in the factor already
+      column.clear();
+      for (int r : factor_rows_) column.push_back(QpEntry(r, std::abs(slot_of[size_t(r)]) - 2, q, slot[size_t(b)]));
+      column.push_back(QpEntry(q, slot[size_t(b)], q, slot[size_t(b)]) + row_compliance_[q]);
+      appended = factor_.Append(column.data());
+      if (appended) {
+        factor_rows_.push_back(q);
+        factor_keys_.push_back({row_node_[size_t(q)], row_dir_.col(q), row_compliance_[q]});
+        slot_of[size_t(q)] = -slot_of[size_t(q)];
+        ++qp_counts_.factor_updates;
+      }
+    }
+    if (appended) {
+      // The QP goes on in the factor's row order.
+      for (int a = 0; a < m; ++a) {
+        passive_[size_t(a)] = factor_rows_[size_t(a)];
+        slot[size_t(a)] = std::abs(slot_of[size_t(factor_rows_[size_t(a)])]) - 2;
+      }
+      return true;
+    }
+    // A nearly dependent row: factor anew.
+  }
+  // J = D^T W_PP D in the passive order, then its Cholesky factor.
+  J_.resize(m, m);
+  for (int b = 0; b < m; ++b) {
+    const int q = passive_[size_t(b)];
+    for (int a = b; a < m; ++a) J_(a, b) = QpEntry(passive_[size_t(a)], slot[size_t(a)], q, slot[size_t(b)]);
+    J_(b, b) += row_compliance_[q];
+  }
+  factor_rows_.clear();
+  factor_keys_.clear();
+  if (m == 0) {
+    factor_.Clear();
+    return true;
+  }
+  ++qp_counts_.factorizations;
+  if (!factor_.Factor(m, J_.data(), m)) return false;
+  factor_rows_ = passive_;
+  for (int q : passive_) factor_keys_.push_back({row_node_[size_t(q)], row_dir_.col(q), row_compliance_[q]});
+  return true;
+}
+
 bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau, const ForceControl* control) {
   const double k = options_.stiffness_N_m;
   const bool friction = options_.friction_anisotropy > 0;
@@ -1085,56 +1169,19 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau, co
     std::vector<int>& slot = passive_slot_;
     slot.resize(size_t(m));
     for (int a = 0; a < m; ++a) slot[size_t(a)] = RowColumn(passive_[size_t(a)]);
-    // The factor of the last QP matrix serves again when nothing it was built from changed:
-    // the same rows, none of T's columns recomputed since, the same compliances (a plane's
-    // contact set between the steps where a node joins or leaves it).
-    bool same_matrix = factor_valid_ && factor_generation_ == t_generation_ && passive_ == factor_rows_;
-    for (int a = 0; a < m && same_matrix; ++a)
-      same_matrix = row_compliance_[passive_[size_t(a)]] == factor_compliance_[size_t(a)];
-    qp_counts_.factor_reuses += same_matrix;
-    if (!same_matrix) {
-      // J = D^T W_PP D column by column from T: J(a, b) = dir_a . (W dir_b)[sample of a].
-      J_.resize(m, m);
-      factor_compliance_.resize(size_t(m));
-      // A row without a column takes its entries from the other row's column, or from W.
-      for (int b = 0; b < m; ++b) {
-        const int q = passive_[size_t(b)], i_q = row_node_[size_t(q)];
-        const Eigen::Vector3d d_q = row_dir_.col(q);
-        if (slot[size_t(b)] >= 0) {
-          const double* t = T_.col(slot[size_t(b)]).data();
-          for (int a = b; a < m; ++a) {
-            const int r = passive_[size_t(a)], i = row_node_[size_t(r)];
-            J_(a, b) = row_dir_.col(r).dot(Eigen::Map<const Eigen::Vector3d>(t + 3 * i));
-          }
-        } else {
-          for (int a = b; a < m; ++a) {
-            const int r = passive_[size_t(a)], i = row_node_[size_t(r)];
-            J_(a, b) = slot[size_t(a)] >= 0
-                           ? d_q.dot(Eigen::Map<const Eigen::Vector3d>(T_.col(slot[size_t(a)]).data() + 3 * i_q))
-                           : row_dir_.col(r).dot(W_.block<3, 3>(3 * i, 3 * i_q) * d_q);
-          }
-        }
-        J_(b, b) += row_compliance_[q];
-        factor_compliance_[size_t(b)] = row_compliance_[q];
-      }
-      factor_valid_ = m > 0 && CholeskyFactorLower(m, J_.data(), m);
-      qp_counts_.factorizations += m > 0;
-      factor_rows_ = passive_;
-      factor_generation_ = t_generation_;
-      if (m && !factor_valid_) return false;
-    }
+    if (!UpdateFactor(rows)) return false;
     for (int b = 0; b < m; ++b) {
       const int q = passive_[size_t(b)], i = row_node_[size_t(q)];
       rhs_[b] = -row_gap_[q] + row_dir_.col(q).dot(u_c_.segment<3>(3 * i) - u_t_.segment<3>(3 * i));
     }
     if (m) {
       z_ = rhs_;
-      CholeskySolveLower(m, J_.data(), m, z_.data());
+      factor_.Solve(z_.data());
       if (control) {  // J l = rhs + delta push, push . l = target
         push_passive_.resize(m);
         for (int a = 0; a < m; ++a) push_passive_[a] = row_push_[passive_[size_t(a)]];
         y_ = push_passive_;
-        CholeskySolveLower(m, J_.data(), m, y_.data());
+        factor_.Solve(y_.data());
         const double denominator = push_passive_.dot(y_);
         if (!(denominator > 0)) return false;
         delta = (control->target_N - push_passive_.dot(z_)) / denominator;

@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "fem/dense_cholesky.h"
 #include "fem/force_term.h"
 #include "fem/penalty_contact_force.h"
 #include "fem/strain_energy_density.h"
@@ -93,6 +94,7 @@ struct ComplianceQpCounts {
   std::uint64_t qps = 0;                ///< linearized QPs solved (one per outer iteration)
   std::uint64_t factorizations = 0;     ///< Cholesky factorizations of a QP matrix
   std::uint64_t factor_reuses = 0;      ///< QP solves on the last factor (matrix unchanged)
+  std::uint64_t factor_updates = 0;     ///< rows appended to or removed from the factor
   std::uint64_t columns_computed = 0;   ///< columns W dir computed for T
   std::uint64_t combined_predictions = 0;  ///< Anderson moves predicted without a pass over W
 };
@@ -243,6 +245,13 @@ class ComplianceContact {
   /// With `control`: the force along its direction is its target, and qp_offset_change_m_
   /// is how far the objects move for it (the multiplier of that constraint).
   bool SolveLinearizedQp(int num_objects, const Eigen::Vector3d& tau, const ForceControl* control = nullptr);
+  /// QP matrix entry of rows r and q (their slots of T, -1: none), compliance not included.
+  double QpEntry(int r, int slot_r, int q, int slot_q) const;
+  /// Brings factor_ to the passive rows (passive_, passive_slot_; `rows` QP rows): kept as
+  /// is, updated by the rows that joined or left, or factored anew; passive_ and
+  /// passive_slot_ then follow the factor's row order. False if the matrix is not positive
+  /// definite.
+  bool UpdateFactor(int rows);
 
   const TetMesh& mesh_;
   std::vector<std::unique_ptr<ForceTerm>> terms_;
@@ -293,13 +302,19 @@ class ComplianceContact {
   std::vector<Eigen::Vector3d> t_dir_;
   std::vector<char> t_has_column_;
   std::vector<int> from_w_, from_t_, passive_slot_, with_column_, without_column_;
-  std::uint64_t t_generation_ = 0;  // counts changes to T's rows (keys or columns)
   ComplianceQpCounts qp_counts_;
-  // What J_'s factor was built from (reused while all of it holds).
-  bool factor_valid_ = false;
-  std::vector<int> factor_rows_;
-  std::vector<double> factor_compliance_;
-  std::uint64_t factor_generation_ = 0;
+  // The QP matrix's Cholesky factor and, per factor row, the QP row and what its entries
+  // were computed from (updated by rows while that holds).
+  struct FactorRow {
+    int sample;
+    Eigen::Vector3d dir;
+    double compliance;
+  };
+  UpdatableCholesky factor_;
+  std::vector<int> factor_rows_, row_slot_;
+  std::vector<FactorRow> factor_keys_;
+  std::vector<char> factor_keep_;
+  std::vector<double> factor_column_;
   bool prediction_valid_ = false;  // u_new_ = W f of the current forces (QP's last prediction)
   // Pseudo friction, per pair: anchor in the object's frame, current spring force, the
   // force the law asks at the current positions, and whether a spring acts (anchored and

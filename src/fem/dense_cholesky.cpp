@@ -1,5 +1,6 @@
 #include "fem/dense_cholesky.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/hot_clones.h"
@@ -118,5 +119,74 @@ void CholeskySolveLower(int n, const double* l, int lda, double* b) {
     b[j] = s / col[j];
   }
 }
+
+void UpdatableCholesky::Reserve(int n) {
+  if (n <= lda_) return;
+  const int lda = std::max(n, 2 * lda_);
+  std::vector<double> l(size_t(lda) * size_t(lda));
+  for (int j = 0; j < n_; ++j) std::copy_n(&l_[size_t(j) * size_t(lda_)], n_, &l[size_t(j) * size_t(lda)]);
+  l_.swap(l);
+  lda_ = lda;
+}
+
+bool UpdatableCholesky::Factor(int n, const double* a, int lda) {
+  n_ = 0;
+  Reserve(n);
+  for (int j = 0; j < n; ++j) std::copy_n(a + size_t(j) * size_t(lda) + j, n - j, &l_[size_t(j) * size_t(lda_) + j]);
+  if (!CholeskyFactorLower(n, l_.data(), lda_)) return false;
+  n_ = n;
+  return true;
+}
+
+bool UpdatableCholesky::Append(const double* column, double relative_pivot) {
+  const int n = n_;
+  Reserve(n + 1);
+  // L y = column(0..n-1), then the pivot A(new, new) - y.y.
+  scratch_.assign(column, column + n);
+  double* y = scratch_.data();
+  for (int j = 0; j < n; ++j) {
+    const double* col = &l_[size_t(j) * size_t(lda_)];
+    y[j] /= col[j];
+    for (int i = j + 1; i < n; ++i) y[i] -= col[i] * y[j];
+  }
+  double pivot = column[n];
+  for (int j = 0; j < n; ++j) pivot -= y[j] * y[j];
+  if (!(pivot > relative_pivot * column[n]) || !std::isfinite(pivot)) return false;
+  for (int j = 0; j < n; ++j) l_[size_t(n) + size_t(j) * size_t(lda_)] = y[j];
+  l_[size_t(n) + size_t(n) * size_t(lda_)] = std::sqrt(pivot);
+  n_ = n + 1;
+  return true;
+}
+
+void UpdatableCholesky::Remove(int k) {
+  const int n = n_;
+  auto at = [&](int i, int j) -> double& { return l_[size_t(i) + size_t(j) * size_t(lda_)]; };
+  // The trailing block absorbs column k below the diagonal: L33' L33'^T = L33 L33^T + x x^T
+  // (rank-one update by rotations), then row and column k leave the storage.
+  scratch_.resize(size_t(n));
+  double* x = scratch_.data();
+  for (int i = k + 1; i < n; ++i) x[i] = at(i, k);
+  for (int j = k + 1; j < n; ++j) {
+    const double d = at(j, j), r = std::hypot(d, x[j]);
+    const double c = r / d, s = x[j] / d;
+    at(j, j) = r;
+    for (int i = j + 1; i < n; ++i) {
+      const double l = (at(i, j) + s * x[i]) / c;
+      x[i] = c * x[i] - s * l;
+      at(i, j) = l;
+    }
+  }
+  for (int j = 0; j < n; ++j) {
+    if (j == k) continue;
+    const int to_j = j < k ? j : j - 1;
+    for (int i = std::max(j, 0); i < n; ++i) {
+      if (i == k) continue;
+      at(i < k ? i : i - 1, to_j) = at(i, j);
+    }
+  }
+  n_ = n - 1;
+}
+
+void UpdatableCholesky::Solve(double* b) const { CholeskySolveLower(n_, l_.data(), lda_, b); }
 
 }  // namespace sedbridge::fem

@@ -8,6 +8,9 @@
 // beside the baseline (common/hot_clones.h). Measured 2-4x faster than Eigen's LLT for
 // m = 50-300 on the 2-core VM (dense_cholesky_benchmark).
 
+#include <cstddef>
+#include <vector>
+
 namespace sedbridge::fem {
 
 /// A = L L^T in place: `a` is n x n, column-major with leading dimension lda >= n; its
@@ -19,5 +22,33 @@ bool CholeskyFactorLower(int n, double* a, int lda);
 
 /// Solves L L^T x = b in place (b: n values) with L from CholeskyFactorLower.
 void CholeskySolveLower(int n, const double* l, int lda, double* b);
+
+/// A Cholesky factor L L^T = A of a dense SPD matrix whose rows and columns come and go:
+/// appending one costs a triangular solve and removing one a rank-one update, O(n^2) each
+/// instead of the O(n^3 / 3) of factoring anew (an active set changing by a row or two).
+class UpdatableCholesky {
+ public:
+  int size() const { return n_; }
+  void Clear() { n_ = 0; }
+  /// Factors the n x n matrix `a` (column-major, leading dimension lda, lower triangle
+  /// read). False (and size 0) if it is not positive definite.
+  bool Factor(int n, const double* a, int lda);
+  /// Appends a row and column: `column` holds A(0..n-1, new) then A(new, new). False (the
+  /// factor unchanged) if the new pivot is not positive, or below relative_pivot times
+  /// A(new, new): the row is nearly dependent on the others, factor anew.
+  bool Append(const double* column, double relative_pivot = 1e-10);
+  /// Removes row and column k (0 <= k < size()); the others keep their order.
+  void Remove(int k);
+  /// x = A^-1 b in place (size() values).
+  void Solve(double* b) const;
+  /// L(i, j), i >= j (for tests).
+  double L(int i, int j) const { return l_[std::size_t(i) + std::size_t(j) * std::size_t(lda_)]; }
+
+ private:
+  void Reserve(int n);
+  std::vector<double> l_;  // column-major, leading dimension lda_
+  int lda_ = 0, n_ = 0;
+  std::vector<double> scratch_;
+};
 
 }  // namespace sedbridge::fem
