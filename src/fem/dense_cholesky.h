@@ -5,11 +5,9 @@
 // Why not Eigen's LLT: the project compiles for the x86-64 baseline, so Eigen's kernels
 // run on 2-double SSE2 packets; this kernel is a right-looking factorization with 8-column
 // panels whose trailing update is one fused, contiguous loop, built as an AVX2/FMA clone
-// beside the baseline (common/hot_clones.h). Measured 2-4x faster than Eigen's LLT for
-// m = 50-300 on the 2-core VM (dense_cholesky_benchmark).
-
-#include <cstddef>
-#include <vector>
+// beside the baseline (common/hot_clones.h). Factor + solve against Eigen's LLT, two runs
+// of build/tests/bench/dense_cholesky_benchmark on the 2-core VM (docs/performance.md,
+// "Session 25"): 1.0-2.5x faster for m = 20-200, about even at m = 300.
 
 namespace sedbridge::fem {
 
