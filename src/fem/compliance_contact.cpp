@@ -1133,8 +1133,6 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau, co
       row_lambda_[first] = control->target_N / row_push_[first];
     }
   }
-  // Predicted displacements for row forces l: u_t + sum_r l_r W dir_r, from the rows'
-  // columns of T (every passive row has one).
   // Predicted displacements for the passive rows' forces l: u_t + sum_r l_r W dir_r, from
   // T where a row has its column (passive_slot_, as the QP matrix was built), else from W.
   auto predicted_displacements = [&](const Eigen::VectorXd& l) {

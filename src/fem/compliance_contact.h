@@ -290,7 +290,7 @@ class ComplianceContact {
   std::vector<char> skippable_;       // per object: a 1-Lipschitz SDF
   Eigen::VectorXd f_c_, u_c_, u_t_;   // candidate forces, displacements, tangential part
   std::vector<int> active_, loaded_;  // pairs penetrating now; candidates with a force
-  Eigen::MatrixXd J_;  // the QP's matrix, then its Cholesky factor (lower)
+  Eigen::MatrixXd J_;  // the QP's matrix when it is factored anew (lower triangle)
   Eigen::VectorXd rhs_, z_, y_, u_new_, u_s_, push_passive_;
   Eigen::VectorXd prediction_, previous_prediction_;  // QPs' W mapped (Anderson's combination)
   // T: W dir_r for QP rows r, one column per slot (3 x #samples rows), kept while the row's

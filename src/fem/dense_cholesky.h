@@ -9,6 +9,9 @@
 // of build/tests/bench/dense_cholesky_benchmark on the 2-core VM (docs/performance.md,
 // "Session 25"): 1.0-2.5x faster for m = 20-200, about even at m = 300.
 
+#include <cstddef>
+#include <vector>
+
 namespace sedbridge::fem {
 
 /// A = L L^T in place: `a` is n x n, column-major with leading dimension lda >= n; its
