@@ -179,7 +179,7 @@ void UpdatableCholesky::Remove(int k) {
   for (int j = 0; j < n; ++j) {
     if (j == k) continue;
     const int to_j = j < k ? j : j - 1;
-    for (int i = std::max(j, 0); i < n; ++i) {
+    for (int i = j; i < n; ++i) {
       if (i == k) continue;
       at(i < k ? i : i - 1, to_j) = at(i, j);
     }
