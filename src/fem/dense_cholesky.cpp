@@ -101,9 +101,11 @@ bool CholeskyFactorLower(int n, double* a, int lda) {
   return true;
 }
 
+namespace {
+// L y = b in place, column-oriented (contiguous columns of L): the first half of a solve,
+// and all of an appended row's.
 SEDBRIDGE_HOT_CLONES
-void CholeskySolveLower(int n, const double* l, int lda, double* b) {
-  // L y = b, column-oriented (contiguous columns of L).
+void ForwardSolveLower(int n, const double* l, int lda, double* b) {
   for (int j = 0; j < n; ++j) {
     const double* __restrict col = l + j * lda;
     double* __restrict out = b;
@@ -111,6 +113,12 @@ void CholeskySolveLower(int n, const double* l, int lda, double* b) {
     out[j] = y;
     for (int i = j + 1; i < n; ++i) out[i] -= col[i] * y;
   }
+}
+}  // namespace
+
+SEDBRIDGE_HOT_CLONES
+void CholeskySolveLower(int n, const double* l, int lda, double* b) {
+  ForwardSolveLower(n, l, lda, b);
   // L^T x = y, row of L^T = column of L (dot products).
   for (int j = n - 1; j >= 0; --j) {
     const double* col = l + j * lda;
@@ -144,11 +152,7 @@ bool UpdatableCholesky::Append(const double* column, double relative_pivot) {
   // L y = column(0..n-1), then the pivot A(new, new) - y.y.
   scratch_.assign(column, column + n);
   double* y = scratch_.data();
-  for (int j = 0; j < n; ++j) {
-    const double* col = &l_[size_t(j) * size_t(lda_)];
-    y[j] /= col[j];
-    for (int i = j + 1; i < n; ++i) y[i] -= col[i] * y[j];
-  }
+  ForwardSolveLower(n, l_.data(), lda_, y);
   double pivot = column[n];
   for (int j = 0; j < n; ++j) pivot -= y[j] * y[j];
   if (!(pivot > relative_pivot * column[n]) || !std::isfinite(pivot)) return false;
