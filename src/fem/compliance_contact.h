@@ -163,6 +163,9 @@ class ComplianceContact {
     Eigen::Matrix3Xd normal;
   };
   WarmStart SaveWarmStart() const { return {num_objects_, lambda_N_, normal_}; }
+  /// True if the warm start carries a contact force (else the next step starts from the
+  /// skin at rest).
+  bool HasContactForces() const { return (lambda_N_.array() > 0).any(); }
   /// Back to a saved warm start (friction anchors are not part of it: unchanged).
   void RestoreWarmStart(const WarmStart& w);
   /// Accepts the last step for pseudo friction (as a simulation's EndStep): contacts

@@ -26,6 +26,12 @@ constexpr double kMinBracketStep_mm = 1e-4;
 // Bounds on a measured force-indentation exponent m of F ~ d^m (a penalty-contact flat is
 // near 1, a sphere growing its patch over a curved pad steeper than Hertz's 1.5).
 constexpr double kMinExponent = 0.8, kMaxExponent = 4.0;
+// A cold force-controlled press starts where the objects first reach the skin at rest,
+// found by sphere tracing (each step the least clearance): stopped when the clearance is
+// below this [mm] (the force-controlled step closes the rest: it moves up to max_step_mm an
+// outer iteration) or after this many steps.
+constexpr double kApproachClearance_mm = 0.02;
+constexpr int kMaxApproachSteps = 16;
 
 // Indentation at which a contact with F ~ d^m through (d_mm, force_N) reaches target_N [mm].
 double PowerLawDepth_mm(double d_mm, double force_N, double target_N, double exponent) {
@@ -339,10 +345,23 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
   // Only from a state without force at indentation 0 (f_zero = 0), and frictionless.
   if (opt.force_control && f_zero == 0 && !(options_.contact.friction_anisotropy > 0) &&
       !options_.contact.exact_contact) {
+    // From no contact state (a touch's first scan) the step would walk the objects to the
+    // skin max_step_mm an outer iteration: 18 of them, 1.1 ms, for the rig's sphere at the
+    // pad's corner, whose lowest point is 2.9 mm above the skin there. With no force the
+    // skin is at rest, and moving the objects by the clearance at rest touches nothing:
+    // start from where that walk ends.
+    double start_mm = d;
+    if (d == 0 && !contact_->HasContactForces()) {
+      for (int k = 0; k < kMaxApproachSteps && start_mm < opt.max_indentation_mm; ++k) {
+        const double clearance_mm = ClearanceAtRest_mm(at_depth(start_mm));
+        start_mm = std::min(opt.max_indentation_mm, start_mm + clearance_mm);
+        if (!(clearance_mm > kApproachClearance_mm)) break;
+      }
+    }
     fem::ComplianceContact::ForceControl control;
     control.direction_unit = -model_.pad_frame.model_from_pad.linear().col(2);
     control.target_N = target_N;
-    control.offset_m = d * 1e-3;
+    control.offset_m = start_mm * 1e-3;
     control.max_change_m = std::max(1e-3, opt.max_step_mm) * 1e-3;
     control.max_offset_m = opt.max_indentation_mm * 1e-3;
     const std::vector<geometry::RigidObject> at_touch = ToModel(objects_pad);  // poses at t = 0

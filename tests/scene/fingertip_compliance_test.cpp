@@ -145,7 +145,11 @@ TEST(FingertipCompliance, WarmStartedPressMatchesTheColdPress) {
       warm_work += force_control ? w_outer : w.iterations;
       cold_work += force_control ? cold.contact().last().iterations : c.iterations;
     }
-    EXPECT_LT(3 * warm_work, 2 * cold_work) << "warm " << warm_work << ", cold " << cold_work;
+    // Force control, outer iterations: warm 52, cold 79 when a cold press walked the sphere
+    // from its first-touch pose to the skin; 52 and 77 since it starts where the sphere
+    // reaches the skin (ColdPressOfAThinRodFindsTheSlowMarchsEquilibrium). Root find: 30
+    // and 59 contact solves.
+    EXPECT_LT(4 * warm_work, 3 * cold_work) << "warm " << warm_work << ", cold " << cold_work;
   }
 }
 
@@ -234,6 +238,50 @@ TEST(FingertipCompliance, ThinRodDoesNotTunnelThroughTheSkin) {
           << "R " << radius_mm << " F " << target_N << ": " << ToString(r.status) << " " << r.message;
       EXPECT_NE(r.status, PressStatus::kNoContact);
     }
+  }
+}
+
+// A thin rod's penalty contact has more than one equilibrium at the same force (skin points
+// on either side of it), so a press must reach the one a continuous push reaches. A cold
+// force-controlled press used to walk the rod from its pose 0.3 mm above the pad to the skin
+// by max_step_mm an outer iteration, closing the last gap in a jump, and held the synthetic
+// random set's 0.56 mm rod (seed 2, random_27) on 12 skin points at 3553 Pa where a march of
+// 0.005 mm steps holds it on 9 at 3948 Pa. It now starts where the rod first touches the
+// skin at rest (sphere-traced). Of 96 rods (0.5-0.9 mm, four yaws, three places, 0.4 and
+// 0.8 N) the march reached 59; the old cold press found another equilibrium in 3 of them
+// (these three), the new one in none.
+TEST(FingertipCompliance, ColdPressOfAThinRodFindsTheSlowMarchsEquilibrium) {
+  FingertipComplianceOptions face;
+  face.face_samples = true;
+  FingertipCompliance cc(ModelB(), face);
+  struct Rod {
+    double radius_mm, x_mm, y_mm;
+  };
+  for (const Rod& r : {Rod{0.56, 0.67, -3.35}, Rod{0.56, 0, 0}, Rod{0.7, 0.67, -3.35}}) {
+    SCOPED_TRACE(testing::Message() << "rod R" << r.radius_mm << " at (" << r.x_mm << ", " << r.y_mm << ")");
+    // As the fidelity set poses it: 40 mm long, 0.3 mm above the pad plane.
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = Eigen::AngleAxisd(129 * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    pose.translation() = Eigen::Vector3d(r.x_mm, r.y_mm, r.radius_mm + 0.3) * 1e-3;
+    const geometry::RigidObject rod{"rod", std::make_shared<geometry::CylinderSdf>(r.radius_mm * 1e-3, 20e-3),
+                                    geometry::Trajectory(pose)};
+    const double target_N = 0.8;
+    PressToForceOptions march;
+    march.force_control = false;
+    march.max_step_mm = 0.005;
+    march.max_iterations = 2000;
+    cc.ResetWarmStart();
+    const PressToForceResult slow = cc.PressToForce({rod}, target_N, march);
+    ASSERT_TRUE(slow.reached) << ToString(slow.status) << " " << slow.message;
+    const Eigen::VectorXd slow_sed = cc.sed_Pa();
+    cc.ResetWarmStart();
+    const PressToForceResult cold = cc.PressToForce({rod}, target_N);
+    ASSERT_TRUE(cold.reached) << ToString(cold.status) << " " << cold.message;
+    EXPECT_TRUE(cold.force_controlled);
+    EXPECT_EQ(cold.active_nodes, slow.active_nodes);
+    EXPECT_NEAR(cold.indentation_mm, slow.indentation_mm, 1e-4);
+    EXPECT_LT((cc.sed_Pa() - slow_sed).norm(), 1e-4 * slow_sed.norm())
+        << "max SED: cold " << cc.sed_Pa().maxCoeff() << ", march " << slow_sed.maxCoeff();
   }
 }
 
