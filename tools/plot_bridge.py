@@ -11,7 +11,9 @@ and writes
   DIR/bridge_peak.png      at the scan of peak SED: the taxel pressures on the pad, the
                            Merkel-layer SED under the pad, the display command (pad frame:
                            x lateral, y toward the tip)
-  DIR/bridge_timeline.png  measured force and max Merkel SED over time, max command below
+  DIR/bridge_timeline.png  force (the sensor's taxel sum, and what the leader was pressed
+                           with where that differs) and max Merkel SED over time, max
+                           command below
 
 Run with /usr/bin/python3 (needs matplotlib; Debian: python3-matplotlib).
 """
@@ -51,12 +53,21 @@ def main():
     t0 = float(summary[0]["utime"])
     t = [(float(r["utime"]) - t0) * 1e-6 for r in summary]
     fig, (a1, a2) = plt.subplots(2, 1, figsize=(7, 5), sharex=True)
-    a1.plot(t, col(summary, "total_force_N"), color="tab:blue", label="measured force")
+    measured = col(summary, "total_force_N")
+    a1.plot(t, measured, color="tab:blue", label="sensor (sum of taxel normals)")
+    # What the leader's model was pressed with: the reconstructed contact's force (fe.step
+    # contact), which a real sensor's taxel sum understates (the rig's read ~0.6 of the
+    # true force); the pressure map applies the taxel sum itself, so the lines coincide.
+    if summary and "applied_force_N" in summary[0]:
+        applied = col(summary, "applied_force_N")
+        if any(abs(a - m) > 1e-3 * max(1e-9, abs(m)) for a, m in zip(applied, measured)):
+            a1.plot(t, applied, color="tab:blue", ls="--", label="applied on the leader")
     a1.set_ylabel("force [N]", color="tab:blue")
+    a1.legend(loc="upper left", fontsize=8)
     b1 = a1.twinx()
     b1.plot(t, col(summary, "max_sed_Pa"), color="tab:red", label="max Merkel SED")
     b1.set_ylabel("max Merkel SED [Pa]", color="tab:red")
-    a1.set_title("bridge: measured force and max Merkel-layer SED")  # replay and simulate alike
+    a1.set_title("bridge: force and max Merkel-layer SED")  # replay and simulate alike
     max_cmd = col(summary, "max_command")
     a2.plot(t, max_cmd, color="tab:green", label="max command")
     if ceiling:
