@@ -236,11 +236,49 @@ __attribute__((target("avx512f"))) void SumKernelRowsAvx512(const KernelEntry* r
   _mm512_storeu_pd(r, _mm512_add_pd(_mm512_add_pd(s0, s1), _mm512_add_pd(s2, s3)));
 }
 
+// The same with two 256-bit registers per set (an entry's two halves). The x86-64-v3 clone
+// of SumKernelRows vectorized only three of its four sets and ran the fourth as eight scalar
+// FMAs (GCC 12's SLP), 14 FMA instructions per four cells instead of 8. Same products, same
+// order (FMA per value): the same sums as that clone, bit for bit.
+__attribute__((target("avx2,fma"))) void SumKernelRowsAvx2(const KernelEntry* row, const int* offset, const double* w,
+                                                          int m, double* r) {
+  static_assert(kKernelValues == 8, "an entry is two 256-bit halves");
+  __m256d a0 = _mm256_setzero_pd(), b0 = _mm256_setzero_pd(), a1 = _mm256_setzero_pd(), b1 = _mm256_setzero_pd();
+  __m256d a2 = _mm256_setzero_pd(), b2 = _mm256_setzero_pd(), a3 = _mm256_setzero_pd(), b3 = _mm256_setzero_pd();
+  int c = 0;
+  for (; c + 3 < m; c += 4) {
+    const double* t0 = (row - offset[c])->v;
+    const double* t1 = (row - offset[c + 1])->v;
+    const double* t2 = (row - offset[c + 2])->v;
+    const double* t3 = (row - offset[c + 3])->v;
+    const __m256d w0 = _mm256_set1_pd(w[c]), w1 = _mm256_set1_pd(w[c + 1]);
+    const __m256d w2 = _mm256_set1_pd(w[c + 2]), w3 = _mm256_set1_pd(w[c + 3]);
+    a0 = _mm256_fmadd_pd(w0, _mm256_load_pd(t0), a0);
+    b0 = _mm256_fmadd_pd(w0, _mm256_load_pd(t0 + 4), b0);
+    a1 = _mm256_fmadd_pd(w1, _mm256_load_pd(t1), a1);
+    b1 = _mm256_fmadd_pd(w1, _mm256_load_pd(t1 + 4), b1);
+    a2 = _mm256_fmadd_pd(w2, _mm256_load_pd(t2), a2);
+    b2 = _mm256_fmadd_pd(w2, _mm256_load_pd(t2 + 4), b2);
+    a3 = _mm256_fmadd_pd(w3, _mm256_load_pd(t3), a3);
+    b3 = _mm256_fmadd_pd(w3, _mm256_load_pd(t3 + 4), b3);
+  }
+  for (; c < m; ++c) {
+    const double* t = (row - offset[c])->v;
+    const __m256d wc = _mm256_set1_pd(w[c]);
+    a0 = _mm256_fmadd_pd(wc, _mm256_load_pd(t), a0);
+    b0 = _mm256_fmadd_pd(wc, _mm256_load_pd(t + 4), b0);
+  }
+  _mm256_storeu_pd(r, _mm256_add_pd(_mm256_add_pd(a0, a1), _mm256_add_pd(a2, a3)));
+  _mm256_storeu_pd(r + 4, _mm256_add_pd(_mm256_add_pd(b0, b1), _mm256_add_pd(b2, b3)));
+}
+
 using SumKernelRowsFn = void (*)(const KernelEntry*, const int*, const double*, int, double*);
-// Chosen once: AVX-512 where the CPU has it, else the clones' own choice.
+// Chosen once: AVX-512 where the CPU has it, else AVX2 with FMA, else the portable loop.
 SumKernelRowsFn PickSumKernelRows() {
   __builtin_cpu_init();
-  return __builtin_cpu_supports("avx512f") ? SumKernelRowsAvx512 : SumKernelRows;
+  if (__builtin_cpu_supports("avx512f")) return SumKernelRowsAvx512;
+  if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma")) return SumKernelRowsAvx2;
+  return SumKernelRows;
 }
 #else
 using SumKernelRowsFn = void (*)(const KernelEntry*, const int*, const double*, int, double*);
