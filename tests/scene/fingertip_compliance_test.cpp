@@ -285,6 +285,32 @@ TEST(FingertipCompliance, ColdPressOfAThinRodFindsTheSlowMarchsEquilibrium) {
   }
 }
 
+// A touch's first press (no contact state) starts its force-controlled solve where the
+// object first reaches the skin at rest: an 8 mm sphere at the pad's corner, as the rig's
+// press_07 (there 18 outer iterations, 1.1 ms in the bridge), whose lowest point starts
+// more than 2 mm above the curved skin, took 15 outer iterations walking down 0.2 mm each;
+// now 4. Same answer as the root find's march.
+TEST(FingertipCompliance, ColdForceControlledPressStartsAtTheSkin) {
+  FingertipComplianceOptions face;
+  face.face_samples = true;
+  FingertipCompliance cc(ModelB(), face);
+  const std::vector<geometry::RigidObject> sphere{Sphere(8, {-6, -6, 8})};
+  const double target_N = 0.013;
+  PressToForceOptions march;
+  march.force_control = false;
+  const PressToForceResult slow = cc.PressToForce(sphere, target_N, march);
+  ASSERT_TRUE(slow.reached) << ToString(slow.status) << " " << slow.message;
+  EXPECT_GT(slow.indentation_mm, 2.0);  // the skin is that far below the pad plane here
+  const Eigen::VectorXd slow_sed = cc.sed_Pa();
+  cc.ResetWarmStart();
+  const PressToForceResult cold = cc.PressToForce(sphere, target_N);
+  ASSERT_TRUE(cold.reached) << ToString(cold.status) << " " << cold.message;
+  EXPECT_TRUE(cold.force_controlled);
+  EXPECT_LE(cc.contact().last().iterations, 6) << "outer iterations";
+  EXPECT_NEAR(cold.indentation_mm, slow.indentation_mm, 1e-4);
+  EXPECT_LT((cc.sed_Pa() - slow_sed).norm(), 1e-4 * slow_sed.norm());
+}
+
 // A 0.6 mm rod passes between the skin nodes (rig press_16: 0.03 N at 4.2 mm, then the
 // patch edge); the faces between them catch it.
 TEST(FingertipCompliance, FaceContactCatchesARodThinnerThanTheNodeSpacing) {
