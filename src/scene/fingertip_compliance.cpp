@@ -346,10 +346,12 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
   if (opt.force_control && f_zero == 0 && !(options_.contact.friction_anisotropy > 0) &&
       !options_.contact.exact_contact) {
     // From no contact state (a touch's first scan) the step would walk the objects to the
-    // skin max_step_mm an outer iteration: 18 of them, 1.1 ms, for the rig's sphere at the
-    // pad's corner, whose lowest point is 2.9 mm above the skin there. With no force the
-    // skin is at rest, and moving the objects by the clearance at rest touches nothing:
-    // start from where that walk ends.
+    // skin max_step_mm an outer iteration (18 of them, 1.1 ms, for the rig's sphere at the
+    // pad's corner, whose lowest point is 2.9 mm above the skin there), and its last move
+    // onto the skin could land a thin rod in another equilibrium than a continuous push
+    // (ColdPressOfAThinRodFindsTheSlowMarchsEquilibrium). With no force the skin is at rest,
+    // and moving the objects by the clearance at rest touches nothing: start where those
+    // moves meet the skin.
     double start_mm = d;
     if (d == 0 && !contact_->HasContactForces()) {
       for (int k = 0; k < kMaxApproachSteps && start_mm < opt.max_indentation_mm; ++k) {
