@@ -616,7 +616,7 @@ const ComplianceStepResult& ComplianceContact::Solve(const std::vector<geometry:
                                                      const Eigen::Vector3d& tangential_force_N, bool compute_sed,
                                                      ForceControl* control) {
   sed_current_ = false;
-  result_.ok = result_.converged = false;
+  result_.ok = result_.converged = result_.stale_warm_start = false;
   result_.iterations = 0;
   result_.error.clear();
   result_.contacts.clear();
@@ -678,6 +678,8 @@ const ComplianceStepResult& ComplianceContact::Solve(const std::vector<geometry:
   const bool exact = options_.exact_contact;
   bool converged_exact = false;
   bool have_previous = false;  // Anderson history valid (same contacts as last iteration)
+  const bool warm_forces = control && (lambda_N_.array() > 0).any();
+  double warm_gap_m = std::numeric_limits<double>::infinity();  // least gap of a warm force, at the start
   bool previous_prediction_valid = false;  // previous_prediction_ = W (last QP's mapped forces)
   prediction_valid_ = false;
   for (int it = 0; it <= options_.max_iterations; ++it) {
@@ -742,6 +744,7 @@ const ComplianceStepResult& ComplianceContact::Solve(const std::vector<geometry:
         // As RigidObject::Evaluate, with the pose computed once a step.
         geometry::SdfSample s = objects[size_t(o)].shape->Evaluate(pose_inverse_[size_t(o)] * x);
         s.normal = pose_rotation_[size_t(o)] * s.normal;
+        if (it == 0 && lambda_N_[p] > 0) warm_gap_m = std::min(warm_gap_m, s.distance_m);
         phi_m_[p] = s.distance_m;
         phi_evaluated_[p] = s.distance_m;
         offset_evaluated_[p] = offset;
@@ -792,6 +795,15 @@ const ComplianceStepResult& ComplianceContact::Solve(const std::vector<geometry:
       }
     }
     result_.iterations = it;
+    if (it == 0 && warm_forces && active_.empty() && warm_gap_m > control->max_change_m) {
+      // Force control from forces that touch nothing where the objects start, every one
+      // further than a move may go (the estimate moved since: the rig's pad-corner sphere,
+      // whose warm contacts were on the finger's side, then walked 24 moves to the 5 mm
+      // bound, 6.5 ms). Not a release (the skin just clear of the objects): the caller
+      // starts from no contact.
+      result_.stale_warm_start = true;
+      break;
+    }
     if (exact) {
       converged_exact = gap_error <= options_.relative_tolerance * kExactGapScale_m &&
                         turn <= options_.relative_tolerance * largest;

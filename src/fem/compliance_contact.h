@@ -80,6 +80,10 @@ struct ComplianceContactOptions {
 struct ComplianceStepResult {
   bool ok = false;          ///< false: bad input (non-finite pose/force); nothing else is valid
   bool converged = false;   ///< Newton met relative_tolerance within max_iterations
+  /// Force control only: the warm start's forces touch nothing where the objects start
+  /// (they moved since), so the step stopped at once (not converged); start it again from
+  /// no contact (ResetWarmStart).
+  bool stale_warm_start = false;
   int iterations = 0;
   std::string error;
   std::vector<ActiveContact> contacts;  ///< node = mesh node index, object = index into objects

@@ -352,29 +352,42 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
     // (ColdPressOfAThinRodFindsTheSlowMarchsEquilibrium). With no force the skin is at rest,
     // and moving the objects by the clearance at rest touches nothing: start where those
     // moves meet the skin.
-    double start_mm = d;
-    if (d == 0 && !contact_->HasContactForces()) {
+    auto approach_at_rest = [&] {
+      double start_mm = 0;
       for (int k = 0; k < kMaxApproachSteps && start_mm < opt.max_indentation_mm; ++k) {
         const double clearance_mm = ClearanceAtRest_mm(at_depth(start_mm));
         start_mm = std::min(opt.max_indentation_mm, start_mm + clearance_mm);
         if (!(clearance_mm > kApproachClearance_mm)) break;
       }
-    }
-    fem::ComplianceContact::ForceControl control;
-    control.direction_unit = -model_.pad_frame.model_from_pad.linear().col(2);
-    control.target_N = target_N;
-    control.offset_m = start_mm * 1e-3;
-    control.max_change_m = std::max(1e-3, opt.max_step_mm) * 1e-3;
-    control.max_offset_m = opt.max_indentation_mm * 1e-3;
+      return start_mm;
+    };
+    const double start_mm = d == 0 && !contact_->HasContactForces() ? approach_at_rest() : d;
     const std::vector<geometry::RigidObject> at_touch = ToModel(objects_pad);  // poses at t = 0
     const fem::ComplianceContact::WarmStart before = contact_->SaveWarmStart();
-    const fem::ComplianceStepResult& s = contact_->StepToForce(at_touch, control, t_model, /*compute_sed=*/false);
-    ++r.iterations;
-    const double d_mm = control.offset_m * 1e3;
-    const double f_N = s.ok ? normal_force_N() : 0.0;
-    if (s.ok && s.converged && !s.contacts.empty() && std::abs(f_N - target_N) <= tol) {
+    auto force_controlled = [&](double from_mm) -> const fem::ComplianceStepResult& {
+      fem::ComplianceContact::ForceControl control;
+      control.direction_unit = -model_.pad_frame.model_from_pad.linear().col(2);
+      control.target_N = target_N;
+      control.offset_m = from_mm * 1e-3;
+      control.max_change_m = std::max(1e-3, opt.max_step_mm) * 1e-3;
+      control.max_offset_m = opt.max_indentation_mm * 1e-3;
+      const fem::ComplianceStepResult& s = contact_->StepToForce(at_touch, control, t_model, /*compute_sed=*/false);
+      ++r.iterations;
+      r.indentation_mm = control.offset_m * 1e3;
+      return s;
+    };
+    const fem::ComplianceStepResult* s = &force_controlled(start_mm);
+    // The last answer's contacts do not touch these objects where they start (the estimate
+    // moved: the rig's pad-corner sphere, whose warm contacts were on the finger's side,
+    // then walked 24 moves to the 5 mm bound, 6.5 ms): press them from no contact instead.
+    if (s->stale_warm_start) {
+      contact_->ResetWarmStart();
+      s = &force_controlled(approach_at_rest());
+    }
+    const double d_mm = r.indentation_mm;
+    const double f_N = s->ok ? normal_force_N() : 0.0;
+    if (s->ok && s->converged && !s->contacts.empty() && std::abs(f_N - target_N) <= tol) {
       place(d_mm);
-      r.indentation_mm = d_mm;
       r.force_controlled = true;
       return finish(PressStatus::kReached, d_mm, f_N, "");
     }
