@@ -311,6 +311,33 @@ TEST(FingertipCompliance, ColdForceControlledPressStartsAtTheSkin) {
   EXPECT_LT((cc.sed_Pa() - slow_sed).norm(), 1e-4 * slow_sed.norm());
 }
 
+// Scan after scan the press starts from the last answer's contact forces; when the
+// estimate has jumped (a new object, a fit that moved) those forces touch nothing where the
+// object now is, and force control would close their gaps along their own normals, far
+// away (the rig's pad-corner sphere walked 24 moves of max_step_mm to the 5 mm bound). The
+// step reports the stale warm start and the press starts again from no contact: the cold
+// press's answer and outer iterations (5 here; the walk took 15, and ended elsewhere
+// within the contact tolerance).
+TEST(FingertipCompliance, PressFromAStaleWarmStartStartsAgainFromNoContact) {
+  FingertipComplianceOptions face;
+  face.face_samples = true;
+  FingertipCompliance jumped(ModelB(), face), cold(ModelB(), face);
+  const PressToForceResult first = jumped.PressToForce({Sphere(3, {0, 1, 3})}, 0.3);
+  ASSERT_TRUE(first.reached) << ToString(first.status) << " " << first.message;
+  // Towards the pad's corner, where the skin lies a few millimetres below the pad plane.
+  const std::vector<geometry::RigidObject> moved{Sphere(3.5, {5, 5, 3.5})};
+  const PressToForceResult r = jumped.PressToForce(moved, 0.03);
+  const int outer = jumped.contact().last().iterations;
+  const PressToForceResult c = cold.PressToForce(moved, 0.03);
+  ASSERT_TRUE(r.reached) << ToString(r.status) << " " << r.message;
+  ASSERT_TRUE(c.reached) << ToString(c.status) << " " << c.message;
+  EXPECT_TRUE(r.force_controlled);
+  EXPECT_EQ(r.iterations, 2);  // the stale step (stopped at once) and the one from no contact
+  EXPECT_EQ(outer, cold.contact().last().iterations);
+  EXPECT_NEAR(r.indentation_mm, c.indentation_mm, 1e-9);
+  EXPECT_LT((jumped.sed_Pa() - cold.sed_Pa()).norm(), 1e-9 * cold.sed_Pa().norm());
+}
+
 // A 0.6 mm rod passes between the skin nodes (rig press_16: 0.03 N at 4.2 mm, then the
 // patch edge); the faces between them catch it.
 TEST(FingertipCompliance, FaceContactCatchesARodThinnerThanTheNodeSpacing) {
