@@ -186,12 +186,9 @@ void TactileForwardModel::TableOffsets(const std::vector<SurfaceLoad>& loads, st
 }
 
 namespace {
-// r[q] = sum_c w[c] (row - offset[c])->v[q], q < 8: most of a forward-model evaluation. Raw
-// pointers only (no Eigen), so that the x86-64-v3 (AVX2, FMA) clone is safe to mix with the
-// rest of the build; the loader picks the clone the CPU runs.
-#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-__attribute__((target_clones("arch=x86-64-v3", "default")))
-#endif
+// r[q] = sum_c w[c] (row - offset[c])->v[q], q < 8: most of a forward-model evaluation. The
+// portable loop; where the CPU has AVX2 and FMA or AVX-512, the explicit variants below run
+// (GCC 12's own x86-64-v3 clone of this loop left a quarter of its FMAs scalar).
 void SumKernelRows(const KernelEntry* row, const int* offset, const double* w, int m, double* r) {
   // Four cells at a time into four sets of sums: one set is a chain of dependent FMAs whose
   // latency, not the FMA units, sets the speed.
@@ -220,7 +217,7 @@ void SumKernelRows(const KernelEntry* row, const int* offset, const double* w, i
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
 // The same sums with one 512-bit register per set: an entry is one cache line, eight
 // doubles, so a (taxel, cell) pair is one load and one FMA instead of two of each (the AVX2
-// clone). Same products, same order: the same sums as the x86-64-v3 clone, bit for bit.
+// variant). Same products, same order: the same sums as SumKernelRowsAvx2, bit for bit.
 __attribute__((target("avx512f"))) void SumKernelRowsAvx512(const KernelEntry* row, const int* offset,
                                                            const double* w, int m, double* r) {
   static_assert(kKernelValues == 8 && sizeof(KernelEntry) == 64, "one entry, one 512-bit register");
@@ -236,10 +233,10 @@ __attribute__((target("avx512f"))) void SumKernelRowsAvx512(const KernelEntry* r
   _mm512_storeu_pd(r, _mm512_add_pd(_mm512_add_pd(s0, s1), _mm512_add_pd(s2, s3)));
 }
 
-// The same with two 256-bit registers per set (an entry's two halves). The x86-64-v3 clone
-// of SumKernelRows vectorized only three of its four sets and ran the fourth as eight scalar
-// FMAs (GCC 12's SLP), 14 FMA instructions per four cells instead of 8. Same products, same
-// order (FMA per value): the same sums as that clone, bit for bit.
+// The same with two 256-bit registers per set (an entry's two halves). GCC 12's x86-64-v3
+// clone of SumKernelRows vectorized only three of its four sets and ran the fourth as eight
+// scalar FMAs, 14 FMA instructions per four cells instead of 8. Same products, same order
+// (FMA per value): the same sums as that clone was, bit for bit.
 __attribute__((target("avx2,fma"))) void SumKernelRowsAvx2(const KernelEntry* row, const int* offset, const double* w,
                                                           int m, double* r) {
   static_assert(kKernelValues == 8, "an entry is two 256-bit halves");

@@ -678,7 +678,7 @@ const ComplianceStepResult& ComplianceContact::Solve(const std::vector<geometry:
   const bool exact = options_.exact_contact;
   bool converged_exact = false;
   bool have_previous = false;  // Anderson history valid (same contacts as last iteration)
-  const bool warm_forces = control && (lambda_N_.array() > 0).any();
+  const bool warm_forces = control && HasContactForces();
   double warm_gap_m = std::numeric_limits<double>::infinity();  // least gap of a warm force, at the start
   bool previous_prediction_valid = false;  // previous_prediction_ = W (last QP's mapped forces)
   prediction_valid_ = false;
@@ -744,7 +744,7 @@ const ComplianceStepResult& ComplianceContact::Solve(const std::vector<geometry:
         // As RigidObject::Evaluate, with the pose computed once a step.
         geometry::SdfSample s = objects[size_t(o)].shape->Evaluate(pose_inverse_[size_t(o)] * x);
         s.normal = pose_rotation_[size_t(o)] * s.normal;
-        if (it == 0 && lambda_N_[p] > 0) warm_gap_m = std::min(warm_gap_m, s.distance_m);
+        if (warm_forces && it == 0 && lambda_N_[p] > 0) warm_gap_m = std::min(warm_gap_m, s.distance_m);
         phi_m_[p] = s.distance_m;
         phi_evaluated_[p] = s.distance_m;
         offset_evaluated_[p] = offset;

@@ -364,6 +364,7 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
     const double start_mm = d == 0 && !contact_->HasContactForces() ? approach_at_rest() : d;
     const std::vector<geometry::RigidObject> at_touch = ToModel(objects_pad);  // poses at t = 0
     const fem::ComplianceContact::WarmStart before = contact_->SaveWarmStart();
+    double d_mm = 0;  // where the force-controlled step left the objects
     auto force_controlled = [&](double from_mm) -> const fem::ComplianceStepResult& {
       fem::ComplianceContact::ForceControl control;
       control.direction_unit = -model_.pad_frame.model_from_pad.linear().col(2);
@@ -373,7 +374,7 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
       control.max_offset_m = opt.max_indentation_mm * 1e-3;
       const fem::ComplianceStepResult& s = contact_->StepToForce(at_touch, control, t_model, /*compute_sed=*/false);
       ++r.iterations;
-      r.indentation_mm = control.offset_m * 1e3;
+      d_mm = control.offset_m * 1e3;
       return s;
     };
     const fem::ComplianceStepResult* s = &force_controlled(start_mm);
@@ -384,10 +385,10 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
       contact_->ResetWarmStart();
       s = &force_controlled(approach_at_rest());
     }
-    const double d_mm = r.indentation_mm;
     const double f_N = s->ok ? normal_force_N() : 0.0;
     if (s->ok && s->converged && !s->contacts.empty() && std::abs(f_N - target_N) <= tol) {
       place(d_mm);
+      r.indentation_mm = d_mm;
       r.force_controlled = true;
       return finish(PressStatus::kReached, d_mm, f_N, "");
     }
