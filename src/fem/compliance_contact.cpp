@@ -13,6 +13,7 @@
 #include <limits>
 #include <set>
 #include <stdexcept>
+#include <utility>
 
 #include "common/hot_clones.h"
 #include "fem/elastic_tet_force.h"
@@ -109,15 +110,40 @@ void AddColumns3(const Matrix& A, int j, const Eigen::Vector3d& f, Eigen::Vector
   AddThreeColumns(int(rows), a, a + rows, a + 2 * rows, f[0], f[1], f[2], y.data());
 }
 
-// Linear SED of `count` tetrahedra from the displacements u [m] of their nodes: element e's
-// node a at u + offset[a * count + e], shape gradient component (a, q) at
+// Row blocks [begin, end) of `rows` for thread `t` of `n`, in whole cache lines of doubles.
+std::pair<Eigen::Index, Eigen::Index> RowBlock(Eigen::Index rows, int t, int n) {
+  const Eigen::Index chunk = ((rows + n - 1) / n + 7) / 8 * 8;
+  const Eigen::Index begin = std::min(rows, t * chunk);
+  return {begin, std::min(rows, begin + chunk)};
+}
+
+// y += sum_k A.middleCols<3>(3 columns[k]) forces.col(k): G's product for the SED, by row
+// blocks over the caller's team when it is large (it runs at one core's memory bandwidth,
+// docs/performance.md). Each row sums its columns in the same order with any team: the same
+// bits.
+void AddColumnsByRowBlocks(const Eigen::MatrixXf& A, const std::vector<int>& columns, const Eigen::Matrix3Xd& forces,
+                           int team, Eigen::VectorXd& y) {
+  const Eigen::Index rows = A.rows();
+#pragma omp parallel num_threads(team) if (team > 1)
+  {
+    const auto [begin, end] = RowBlock(rows, omp_get_thread_num(), omp_get_num_threads());
+    for (size_t k = 0; k < columns.size() && begin < end; ++k) {
+      const float* a = A.data() + 3 * Eigen::Index(columns[k]) * rows + begin;
+      const auto f = forces.col(Eigen::Index(k));
+      AddThreeColumns(int(end - begin), a, a + rows, a + 2 * rows, f[0], f[1], f[2], y.data() + begin);
+    }
+  }
+}
+
+// Linear SED of tetrahedra [begin, end) of `count` from the displacements u [m] of their
+// nodes: element e's node a at u + offset[a * count + e], shape gradient component (a, q) at
 // gradient[(3 a + q) * count + e] (structure of arrays, so the loop vectorizes across
 // elements). mu eps:eps + lambda/2 tr(eps)^2 [Pa].
 SEDBRIDGE_HOT_CLONES
-void LinearElementSeds(int count, const int* offset, const double* gradient, const double* mu_Pa,
+void LinearElementSeds(int begin, int end, int count, const int* offset, const double* gradient, const double* mu_Pa,
                        const double* lambda_Pa, const double* u, double* sed_Pa) {
 #pragma omp simd
-  for (int e = 0; e < count; ++e) {
+  for (int e = begin; e < end; ++e) {
     double H[3][3] = {};  // displacement gradient sum_a u_a g_a^T
     for (int a = 0; a < 4; ++a) {
       const double* ua = u + offset[a * count + e];
@@ -946,12 +972,25 @@ void ComplianceContact::ComputeSed() {
   // SED from the displacements of the nodes it reads (G f: most of a step with few
   // contacts, so a root find over many steps asks for it only at its answer).
   u_s_.setZero();
+  sed_columns_.clear();
   if (options_.face_samples.empty()) {
-    for (int j : loaded_) AddColumns3(G_single_, j, f_c_.segment<3>(3 * j), u_s_);
+    sed_columns_ = loaded_;
+    sed_forces_.resize(3, Eigen::Index(loaded_.size()));
+    for (size_t k = 0; k < loaded_.size(); ++k) sed_forces_.col(Eigen::Index(k)) = f_c_.segment<3>(3 * loaded_[k]);
   } else {  // G_ is over the nodes
     for (int j : loaded_) AddSampleForce(j, f_c_.segment<3>(3 * j));
-    ApplyNodeForces(G_single_, u_s_);
+    sed_forces_.resize(3, Eigen::Index(forced_nodes_.size()));
+    for (int node : forced_nodes_) {
+      sed_forces_.col(Eigen::Index(sed_columns_.size())) = node_force_.segment<3>(3 * node);
+      sed_columns_.push_back(node);
+      node_force_.segment<3>(3 * node).setZero();
+      node_forced_[size_t(node)] = 0;
+    }
+    forced_nodes_.clear();
   }
+  const double entries = double(G_single_.rows()) * 3.0 * double(sed_columns_.size());
+  AddColumnsByRowBlocks(G_single_, sed_columns_, sed_forces_,
+                        entries >= options_.sed_parallel_min_entries ? omp_get_max_threads() : 1, u_s_);
   for (size_t a = 0; a < sed_nodes_.size(); ++a) {
     const int v = sed_nodes_[a];
     x_.segment<3>(3 * v) = mesh_.rest_positions_m.col(v) + u_s_.segment<3>(3 * Eigen::Index(a));
@@ -959,9 +998,15 @@ void ComplianceContact::ComputeSed() {
   for (int j = 0; j < c; ++j) x_.segment<3>(3 * candidates_[size_t(j)]) = rest_c_.col(j) + u_c_.segment<3>(3 * j);
   // Linear SED straight from the displacement gradient (same value as ElementSed with
   // R = I, a third of its work: this is most of a step with few contacts).
-  element_sed_.resize(Eigen::Index(sed_mu_Pa_.size()));
-  LinearElementSeds(int(sed_mu_Pa_.size()), sed_offset_.data(), sed_gradient_.data(), sed_mu_Pa_.data(),
-                    sed_lambda_Pa_.data(), u_s_.data(), element_sed_.data());
+  const int count = int(sed_mu_Pa_.size());
+  element_sed_.resize(count);
+  const int team = count >= options_.sed_parallel_min_elements ? omp_get_max_threads() : 1;
+#pragma omp parallel num_threads(team) if (team > 1)
+  {
+    const auto [begin, end] = RowBlock(count, omp_get_thread_num(), omp_get_num_threads());
+    LinearElementSeds(int(begin), int(end), count, sed_offset_.data(), sed_gradient_.data(), sed_mu_Pa_.data(),
+                      sed_lambda_Pa_.data(), u_s_.data(), element_sed_.data());
+  }
   sed_->AverageToVertices(element_sed_, result_.sed_Pa);
   sed_current_ = true;
 }

@@ -67,6 +67,13 @@ struct ComplianceContactOptions {
   std::string cache_dir;
   /// OpenMP threads for the precompute's back-substitutions; 0 = OpenMP's default.
   int precompute_threads = 0;
+  /// The Merkel SED's two passes run on the caller's OpenMP team (omp_get_max_threads: a
+  /// scene's chosen team, the bridge's fe threads) only from these sizes on; below, a
+  /// parallel region's start and barrier cost more than the pass. Entries of G read by its
+  /// product (3 x loaded nodes x SED rows; a 10-contact sphere on B reads 0.12 M) ...
+  double sed_parallel_min_entries = 1.5e6;
+  /// ... and elements of the linear SED pass.
+  int sed_parallel_min_elements = 4000;
   /// Face contact: these points on skin faces take part in the contact as the candidate
   /// nodes do (the penalty law at their own positions), so that an object narrower than
   /// the node spacing is caught by the faces between nodes (docs/bridge-fidelity.md §11).
@@ -277,6 +284,8 @@ class ComplianceContact {
   // Face samples: W over the nodes only; G_ and F_ stay over the nodes.
   Eigen::MatrixXd W_nodes_;
   Eigen::MatrixXf G_single_;  // G_ rounded to float: the SED's products read it
+  std::vector<int> sed_columns_;  // the SED's product: G's node columns and their forces
+  Eigen::Matrix3Xd sed_forces_;
   // Scratch of the products through the nodes (B^T f); mutable: full_positions_m() is const.
   mutable Eigen::VectorXd node_force_;
   mutable std::vector<int> forced_nodes_;

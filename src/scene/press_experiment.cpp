@@ -7,6 +7,7 @@
 #include <iomanip>
 #include <stdexcept>
 
+#include "fem/thread_team.h"
 #include "scene/vtu_writer.h"
 
 namespace sedbridge::scene {
@@ -55,6 +56,9 @@ PressResult RunPress(FingertipScene& scene, const PressOptions& options) {
       std::vector<VtuField> point_fields;
       if (full_sed) {
         Eigen::VectorXd sed;
+        // A whole element pass: on the step's team (all cores of a 16-core machine cost
+        // more than they bring, docs/performance.md), not measured as part of the step.
+        const fem::ChosenTeamScope team = scene.simulation().StepTeam();
         full_sed->Evaluate(scene.simulation().positions_m(), sed);
         point_fields.push_back({"sed_Pa", 1, std::vector<double>(sed.data(), sed.data() + sed.size())});
       }

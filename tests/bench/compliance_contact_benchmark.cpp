@@ -6,6 +6,8 @@
 //   build/tests/bench/compliance_contact_benchmark --benchmark_filter=BridgePress
 //   SEDBRIDGE_BENCH_MERKEL_DISPLAY=suction_4x4 build/tests/bench/compliance_contact_benchmark
 //     (the Merkel SED only where that display samples it: bridge fe.merkel_region: display)
+//   SEDBRIDGE_BENCH_THREADS=4 ...: the steps and presses on a team of 4 (default 1; the
+//     SED's product with G splits by rows above a size: compliance_contact.cpp)
 // Counters: median_ms / p99_ms / max_ms per step (wall clock), cpu_median_ms / cpu_p99_ms
 // (this thread's CPU time: on a shared machine the wall-clock tail is mostly preemption),
 // steps_per_s (from the wall median), contacts (active nodes, mean), iterations (outer
@@ -114,6 +116,13 @@ void ReportQpCounts(benchmark::State& state, const fem::ComplianceQpCounts& afte
   state.counters["qp_combined"] = double(after.combined_predictions - before.combined_predictions) / steps;
 }
 
+// OpenMP team of the steps and presses: SEDBRIDGE_BENCH_THREADS, default 1.
+int StepThreads() {
+  const char* env = std::getenv("SEDBRIDGE_BENCH_THREADS");
+  const int n = env ? std::atoi(env) : 1;
+  return n > 0 ? n : 1;
+}
+
 geometry::RigidObject Sphere(double radius_mm, double depth_mm) {
   return {"sphere", std::make_shared<geometry::SphereSdf>(radius_mm * 1e-3),
           geometry::Trajectory(Eigen::Isometry3d(Eigen::Translation3d(0, 1e-3, (radius_mm - depth_mm) * 1e-3)))};
@@ -154,7 +163,7 @@ void CacheLoad(benchmark::State& state) {
 // A sphere held on the pad with its depth changing a little every step (a live scan at
 // 1 kHz): contact solve warm-started from the last step, then the Merkel SED.
 void SphereStep(benchmark::State& state) {
-  omp_set_num_threads(1);
+  omp_set_num_threads(StepThreads());
   const double radius_mm = double(state.range(0)), depth_mm = double(state.range(1)) / 100.0;
   scene::FingertipCompliance& cc = Shared();
   cc.contact().ResetWarmStart();
@@ -182,7 +191,7 @@ void SphereStep(benchmark::State& state) {
 // The pad pressed flat by a plane (the paper's press), depth changing a little each step:
 // the largest patches (up to the whole candidate set).
 void PlaneStep(benchmark::State& state) {
-  omp_set_num_threads(1);
+  omp_set_num_threads(StepThreads());
   const double depth_mm = double(state.range(0)) / 100.0;
   scene::FingertipCompliance& cc = Shared();
   cc.contact().ResetWarmStart();
@@ -218,7 +227,7 @@ void PlaneStep(benchmark::State& state) {
 // solves (0); warm (arg 1 = 0: scan after scan) or from no contact each call (1: a first
 // touch).
 void PressToForce(benchmark::State& state) {
-  omp_set_num_threads(1);
+  omp_set_num_threads(StepThreads());
   scene::FingertipCompliance& cc = Shared();
   cc.contact().ResetWarmStart();
   const std::vector<geometry::RigidObject> sphere{Sphere(8, 0)};
@@ -251,7 +260,7 @@ void PressToForce(benchmark::State& state) {
 // pad (1, R 2.5 mm, axis along the pad's x): the reconstructed contact's path in
 // `sedbridge replay`, a rod's line of contacts the dearer.
 void BridgePress(benchmark::State& state) {
-  omp_set_num_threads(1);
+  omp_set_num_threads(StepThreads());
   static scene::FingertipCompliance cc = [] {
     scene::FingertipComplianceOptions o;
     o.contact.cache_dir = CacheDir();

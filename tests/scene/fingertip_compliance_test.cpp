@@ -5,6 +5,7 @@
 #include "scene/fingertip_compliance.h"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 
 #include <cmath>
 #include <functional>
@@ -198,6 +199,32 @@ TEST(FingertipCompliance, DeferredSedEqualsTheSolvesOwn) {
   EXPECT_TRUE(contact.sed_current());
   EXPECT_LT((contact.last().sed_Pa - immediate).norm(), 1e-12 * immediate.norm());
   EXPECT_LT((contact.positions_m() - positions).norm(), 1e-15);
+}
+
+// The SED's passes on a team (G's product by row blocks, the elements by ranges, both
+// forced on here with a team of 3: uneven blocks) give one thread's answer bit for bit,
+// with node contact and with face contact (whose product goes through the nodes).
+TEST(FingertipCompliance, SedOnATeamEqualsOneThreadsBitForBit) {
+  const int caller_threads = omp_get_max_threads();
+  for (const bool face : {false, true}) {
+    FingertipComplianceOptions one, team;
+    one.face_samples = team.face_samples = face;
+    team.contact.sed_parallel_min_entries = 0;
+    team.contact.sed_parallel_min_elements = 0;
+    one.contact.sed_parallel_min_entries = one.contact.sed_parallel_min_elements = 1 << 30;
+    FingertipCompliance a(Model(), one), b(Model(), team);
+    const std::vector<geometry::RigidObject> objects{Sphere(8, {0, 1, 6.5})};
+    omp_set_num_threads(1);
+    const Eigen::VectorXd sed_one = a.Step(objects).sed_Pa;
+    omp_set_num_threads(3);
+    const fem::ComplianceStepResult& r = b.Step(objects);
+    omp_set_num_threads(caller_threads);
+    ASSERT_TRUE(r.ok) << r.error;
+    ASSERT_GT(r.contacts.size(), 5u) << "face " << face;
+    ASSERT_GT(sed_one.maxCoeff(), 0.0);
+    ASSERT_EQ(sed_one.size(), r.sed_Pa.size());
+    EXPECT_EQ((sed_one - r.sed_Pa).cwiseAbs().maxCoeff(), 0.0) << "face " << face;
+  }
 }
 
 // Model B, whose skin nodes are about 1.5 mm apart, and a rod lying on its pad.
