@@ -200,7 +200,11 @@ FitReport FitTactileModel(const std::vector<CalibrationPress>& presses, const Se
   const Params start = initial.ToArray();
   const std::vector<int> all = Range(0, TactileModelParams::kCount);
   int evaluations = 0;
+  auto say = [&](const std::string& line) {
+    if (options.progress) options.progress(line);
+  };
   // 1. Every unknown at once from the start (the fit of sessions before 27).
+  say("joint fit of all 17 unknowns from the start");
   Minimized best = Minimize(pr, start, all, options.max_evaluations);
   evaluations += best.evaluations;
   std::string how = "joint fit from the start";
@@ -215,6 +219,7 @@ FitReport FitTactileModel(const std::vector<CalibrationPress>& presses, const Se
     if (p.object.shear_x_N != 0 || p.object.shear_y_N != 0) with_traction.push_back(p);
   if (!with_traction.empty()) {
     const Problem tangential_problem = MakeProblem(with_traction, profile, initial, options, /*hold_only=*/false);
+    say("staged fit: the normal load's 8 unknowns");
     const Minimized normal = Minimize(pr, start, Range(0, kFirstTangential), options.max_evaluations);
     evaluations += normal.evaluations;
     Minimized tangential;
@@ -227,6 +232,9 @@ FitReport FitTactileModel(const std::vector<CalibrationPress>& presses, const Se
         {0.3, 3.0, 2.0, 0.1, 3.0, 2.0, 0.5, 3.0, 2.0},
         {1.0, 1.5, 2.0, 1.0, 1.5, 2.0, 1.0, 1.5, 2.0},
     }};
+    say("staged fit: the tangential kernels from " + std::to_string(starts.size()) + " starts on the " +
+        std::to_string(with_traction.size()) + (with_traction.size() == 1 ? " press" : " presses") +
+        " with a traction");
     for (const auto& kernels : starts) {
       Params p = normal.params;
       for (int i = 0; i < 9; ++i) p[size_t(kFirstTangential + i)] = kernels[size_t(i)];
@@ -235,6 +243,7 @@ FitReport FitTactileModel(const std::vector<CalibrationPress>& presses, const Se
       evaluations += m.evaluations;
       if (m.chi2 < tangential.chi2) tangential = m;
     }
+    say("staged fit: all 17 unknowns from there");
     const Minimized staged = Minimize(pr, tangential.params, all, options.max_evaluations);
     evaluations += staged.evaluations;
     if (staged.chi2 < best.chi2) {

@@ -5,6 +5,7 @@
 // residuals need nothing larger) over, per press, the mean reading of the hold and of two
 // windows on the ramp, each residual divided by the single-scan noise of its axis.
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,9 @@ struct FitOptions {
   /// Ramp windows (load fraction at their centre) besides the hold.
   std::vector<double> ramp_times_s = {0.5, 0.8};
   double window_half_s = 0.02;
+  /// Called with a line as each stage of the fit starts (a fit takes ~20 s on 21 presses);
+  /// empty: silent.
+  std::function<void(const std::string&)> progress;
 };
 
 struct PressFitReport {

@@ -53,6 +53,20 @@ def fold_profile(profile_text, fitted_text):
     return "".join(before) + fitted[0] + "".join(kept) + "".join(fitted[1:]) + "".join(after)
 
 
+def run(fold_dir, log_name, command, fold):
+    """Runs `command` with its output in fold_dir/log_name; a failure names the fold and the log."""
+    log_path = os.path.join(fold_dir, log_name)
+    try:
+        with open(log_path, "w") as log:
+            rc = subprocess.run(command, stdout=log, stderr=subprocess.STDOUT).returncode
+    except OSError as e:
+        raise SystemExit(f"rig_cross_validation: fold {fold + 1}: cannot run {command[0]}: {e}")
+    if rc != 0:
+        tail = open(log_path).read().strip().splitlines()[-3:]
+        raise SystemExit(f"rig_cross_validation: fold {fold + 1}: `{' '.join(command[:2])}` exited {rc} "
+                         f"(log: {log_path})" + "".join("\n  " + line for line in tail))
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--sedbridge", default="build/sedbridge")
@@ -63,9 +77,15 @@ def main():
     args = ap.parse_args()
 
     cases_dir = os.path.dirname(os.path.abspath(args.cases))
-    cases = json.load(open(args.cases))["cases"]
-    profile_text = open(args.profile).read()
-    k = max(2, min(args.folds, len(cases)))
+    try:
+        cases = json.load(open(args.cases))["cases"]
+        profile_text = open(args.profile).read()
+    except (OSError, ValueError, KeyError) as e:
+        raise SystemExit(f"rig_cross_validation: {e}")
+    if args.folds < 2 or len(cases) < 2:
+        raise SystemExit(f"rig_cross_validation: --folds must be >= 2 and {args.cases} must hold >= 2 presses "
+                         f"(--folds {args.folds}, {len(cases)} presses)")
+    k = min(args.folds, len(cases))
     os.makedirs(args.out, exist_ok=True)
     # Each fit starts from fit-sensor's generic start, not from the profile's fit of all presses.
     before, block, after = forward_model_block(profile_text)
@@ -84,10 +104,8 @@ def main():
         os.makedirs(d, exist_ok=True)
         logs = ",".join(c["log"] for c in fold)
         print(f"[{time.time() - t0:5.0f} s] fold {f + 1}/{k}: fit without {logs}", file=sys.stderr, flush=True)
-        with open(os.path.join(d, "fit.log"), "w") as log:
-            subprocess.run([args.sedbridge, "fit-sensor", "--cases", args.cases, "--profile", generic,
-                            "--hold-out", logs, "--out", os.path.join(d, "fitted.yaml")] + fit_extra,
-                           stdout=log, stderr=subprocess.STDOUT, check=True)
+        run(d, "fit.log", [args.sedbridge, "fit-sensor", "--cases", args.cases, "--profile", generic,
+                           "--hold-out", logs, "--out", os.path.join(d, "fitted.yaml")] + fit_extra, f)
         profile = os.path.join(d, "profile.yaml")
         with open(profile, "w") as p:
             p.write(fold_profile(profile_text, open(os.path.join(d, "fitted.yaml")).read()))
@@ -96,10 +114,8 @@ def main():
             json.dump({"cases": fold_cases}, cj, indent=1)
         print(f"[{time.time() - t0:5.0f} s] fold {f + 1}/{k}: fidelity of the held-out presses", file=sys.stderr,
               flush=True)
-        with open(os.path.join(d, "fidelity.log"), "w") as log:
-            subprocess.run([args.sedbridge, "fidelity", "--cases", os.path.join(d, "cases.json"), "--profile", profile,
-                            "--out", os.path.join(d, "fidelity"), "--no-plots"],
-                           stdout=log, stderr=subprocess.STDOUT, check=True)
+        run(d, "fidelity.log", [args.sedbridge, "fidelity", "--cases", os.path.join(d, "cases.json"), "--profile",
+                                profile, "--out", os.path.join(d, "fidelity"), "--no-plots"], f)
         for r in csv.DictReader(open(os.path.join(d, "fidelity", "fidelity.csv"))):
             r["fold"] = str(f)
             rows.append(r)

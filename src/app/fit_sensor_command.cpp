@@ -173,7 +173,12 @@ int RunFitSensor(int argc, char** argv) {
               TactileModelParams::kCount, presses.size());
   TactileModelParams initial = profile.has_forward_model ? profile.forward_model : InitialTactileModelParams();
   initial.rod_min_halfwidth_mm = params.rod_min_halfwidth_mm;
-  const FitReport rep = FitTactileModel(presses, profile, initial, options);
+  FitOptions fit_options = options;
+  fit_options.progress = [](const std::string& line) {
+    std::printf("  %s ...\n", line.c_str());
+    std::fflush(stdout);
+  };
+  const FitReport rep = FitTactileModel(presses, profile, initial, fit_options);
   std::printf("%s after %d evaluations; RMS over all residuals %.2f sigma\n", rep.status.c_str(), rep.evaluations,
               rep.rms_sigma_all);
   PrintReport(rep.presses);
