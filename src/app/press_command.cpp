@@ -33,6 +33,9 @@ int RunPress(int argc, char** argv) {
           "  merkel_sed.csv          vertex,x_mm,y_mm,z_mm,sed_Pa at the step closest to the target force\n"
           "                          (pad frame; vertex = Gmsh node tag)\n"
           "  sed_path.csv            x_mm,sed_Pa,sed_normalized along x at y = 2 mm\n"
+          "  step_timing.csv         per step: wall_ms, Newton and linear iterations, and threads\n"
+          "                          (the OpenMP team it ran on: its own choice unless\n"
+          "                          OMP_NUM_THREADS is set)\n"
           "  frames.pvd + frame_*.vtu  deformation and SED for ParaView\n"
           "  *.png                   force-displacement, area-force, Merkel SED map, SED path plots\n\n"
           "example:\n  sedbridge press --model B --out out/press_B");

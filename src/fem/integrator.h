@@ -46,6 +46,7 @@ struct StepReport {
   int inverted_elements = 0;     ///< det F <= 0 at the end of the step
   double max_step_m = 0;         ///< max |dx| of the last Newton iteration
   bool finite = true;            ///< state is free of NaN/Inf (else it was rolled back)
+  int threads = 0;               ///< OpenMP team the step ran on (its own choice or the caller's)
   /// Wall time of this step's assembly and solve (factorization included); the callers add
   /// the stages around it (boundary condition, SED).
   StageTimes stage_ms;

@@ -47,6 +47,7 @@ StepReport Simulation::Step(double dt, const std::function<void()>& after_step) 
   for (const auto& term : terms_) term->EndStep(s);
   r.t_s = state_.t_s;
   r.inverted_elements = elastic_ ? elastic_->inverted_elements() : 0;
+  r.threads = team.team();
   if (after_step) after_step();
   team.Record(r.newton_iterations);
   return r;

@@ -80,6 +80,8 @@ class ChosenTeamScope {
 
   /// Whether the team was chosen (AutoThreadTeam() and more than one core).
   bool choosing() const { return choosing_; }
+  /// The team the scope runs on (the chosen one, else the caller's).
+  int team() const { return team_; }
   /// Records the wall time since construction per `work_units` (e.g. Newton iterations);
   /// once per scope, and only when choosing().
   void Record(double work_units = 1.0);

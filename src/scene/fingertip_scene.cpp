@@ -88,6 +88,7 @@ fem::StepReport FingertipScene::Step() {
         compliance_->Step(description_.contact ? description_.contact->objects_pad_frame : kNone, compliance_t_s_);
     solve_timer.Stop();
     r.t_s = compliance_t_s_;
+    r.threads = team.team();
     r.newton_iterations = c.iterations;
     r.converged = c.ok && c.converged;
     r.finite = c.ok;

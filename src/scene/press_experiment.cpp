@@ -124,10 +124,13 @@ void WritePressCsv(const FingertipScene& scene, const PressResult& result, const
   {
     // Not part of the figure contract: what each step cost, for the accuracy-cost study.
     auto out = open("step_timing.csv");
-    out << "step,wall_ms,newton_iterations,linear_iterations,solver_fallbacks,converged,inverted_elements\n";
+    // threads: the OpenMP team of the step (the step's own choice when OMP_NUM_THREADS is
+    // unset: fem/thread_team.h), so a slow press can be told from a slow team choice.
+    out << "step,wall_ms,newton_iterations,linear_iterations,solver_fallbacks,converged,inverted_elements,threads\n";
     for (const auto& s : result.steps)
       out << s.step << "," << s.wall_ms << "," << s.report.newton_iterations << "," << s.report.linear_iterations << ","
-          << s.report.solver_fallbacks << "," << (s.report.converged ? 1 : 0) << "," << s.report.inverted_elements << "\n";
+          << s.report.solver_fallbacks << "," << (s.report.converged ? 1 : 0) << "," << s.report.inverted_elements
+          << "," << s.report.threads << "\n";
   }
   {
     // Which step merkel_sed.csv and sed_path.csv show, so plots can say so (and name the model).

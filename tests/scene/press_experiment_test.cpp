@@ -1,6 +1,7 @@
 #include "scene/press_experiment.h"
 
 #include <gtest/gtest.h>
+#include <omp.h>
 #include "tests/common/scratch_dir.h"
 
 #include <cmath>
@@ -8,6 +9,7 @@
 #include <fstream>
 
 #include "common/resource_path.h"
+#include "fem/thread_team.h"
 
 namespace sedbridge::scene {
 namespace {
@@ -45,6 +47,23 @@ TEST(PressExperiment, CoarsePressWritesTheOutputContract) {
   std::ifstream path(dir + "/sed_path.csv");
   std::getline(path, header);
   EXPECT_EQ(header, "x_mm,sed_Pa,sed_normalized");
+  // step_timing.csv: one row per step, each with the OpenMP team it ran on: the caller's
+  // when OMP_NUM_THREADS is set (ctest sets 1), else the step's own choice.
+  std::ifstream timing(dir + "/step_timing.csv");
+  std::getline(timing, header);
+  EXPECT_EQ(header, "step,wall_ms,newton_iterations,linear_iterations,solver_fallbacks,converged,inverted_elements,threads");
+  int rows = 0;
+  for (std::string line; std::getline(timing, line); ++rows) {
+    const int threads = std::stoi(line.substr(line.rfind(',') + 1));
+    EXPECT_EQ(threads, r.steps[size_t(rows)].report.threads) << line;
+    if (fem::AutoThreadTeam()) {
+      EXPECT_GE(threads, 1) << line;
+      EXPECT_LE(threads, omp_get_num_procs()) << line;
+    } else {
+      EXPECT_EQ(threads, omp_get_max_threads()) << line;
+    }
+  }
+  EXPECT_EQ(rows, 10);
 }
 
 // The shipped paper's press solves Newton's linear systems by PCG with the warped rest
