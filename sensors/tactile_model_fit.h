@@ -3,7 +3,11 @@
 // presses, as a lab calibrates a physical sensor: weighted nonlinear least squares
 // (Eigen's Levenberg–Marquardt, a MINPACK port that ships with Eigen: 17 unknowns and ~3000
 // residuals need nothing larger) over, per press, the mean reading of the hold and of two
-// windows on the ramp, each residual divided by the single-scan noise of its axis.
+// windows on the ramp, each residual divided by the single-scan noise of its axis. Two fits
+// run and the lower chi^2 is kept: every unknown at once from the start, and in stages (the
+// normal load's unknowns; the tangential kernels, which only presses with a traction see,
+// from several starts; then all): the one-start fit stalled when a single stroke was left to
+// calibrate the tangential kernels (docs/bridge-fidelity.md §15).
 
 #include <functional>
 #include <string>
