@@ -1,5 +1,6 @@
 #include "sensors/tactile_model_fit.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -76,15 +77,16 @@ struct Problem {
   }
 };
 
-// The unknowns `free` (indices into Params) of `problem`, the others held at `base`.
+// The unknowns `free` (indices into Params) of `problem`, the others held at `base` (as
+// unknowns: ToUnknowns of the held parameters).
 struct Functor : common::DynamicSizeFunctor {
   const Problem* problem;
   std::vector<int> free;
-  Params base;
+  Eigen::VectorXd base;
   int inputs() const { return int(free.size()); }
   int values() const { return problem->residual_count(); }
   Params Full(const Eigen::VectorXd& x) const {
-    Eigen::VectorXd all = problem->ToUnknowns(base);
+    Eigen::VectorXd all = base;
     for (size_t k = 0; k < free.size(); ++k) all[free[k]] = x[Eigen::Index(k)];
     return problem->ToParams(all);
   }
@@ -103,10 +105,9 @@ struct Minimized {
 
 // Levenberg-Marquardt over the parameters `free` from `start`.
 Minimized Minimize(const Problem& problem, const Params& start, std::vector<int> free, int max_evaluations) {
-  Functor f{{}, &problem, std::move(free), start};
+  Functor f{{}, &problem, std::move(free), problem.ToUnknowns(start)};
   Eigen::VectorXd x(f.inputs());
-  const Eigen::VectorXd all = problem.ToUnknowns(start);
-  for (size_t k = 0; k < f.free.size(); ++k) x[Eigen::Index(k)] = all[f.free[k]];
+  for (size_t k = 0; k < f.free.size(); ++k) x[Eigen::Index(k)] = f.base[f.free[k]];
   Eigen::NumericalDiff<Functor> numeric(f);
   Eigen::LevenbergMarquardt<Eigen::NumericalDiff<Functor>> lm(numeric);
   lm.parameters.maxfev = max_evaluations;
@@ -226,12 +227,13 @@ FitReport FitTactileModel(const std::vector<CalibrationPress>& presses, const Se
     tangential.chi2 = std::numeric_limits<double>::infinity();
     // Kernel starts [gain, width_mm, power] for Kt, Kc, Kl: the generic start, and kernels
     // of one and two taxel-pitch halves with the cross and lift terms weak or strong.
-    const std::array<std::array<double, 9>, 4> starts = {{
-        {start[8], start[9], start[10], start[11], start[12], start[13], start[14], start[15], start[16]},
+    std::array<std::array<double, 9>, 4> starts = {{
+        {},  // the start's own, below
         {0.05, 2.0, 2.5, 2.0, 2.0, 2.5, 2.0, 2.0, 2.5},
         {0.3, 3.0, 2.0, 0.1, 3.0, 2.0, 0.5, 3.0, 2.0},
         {1.0, 1.5, 2.0, 1.0, 1.5, 2.0, 1.0, 1.5, 2.0},
     }};
+    std::copy(start.begin() + kFirstTangential, start.end(), starts[0].begin());
     say("staged fit: the tangential kernels from " + std::to_string(starts.size()) + " starts on the " +
         std::to_string(with_traction.size()) + (with_traction.size() == 1 ? " press" : " presses") +
         " with a traction");

@@ -322,14 +322,19 @@ void ComplianceContact::AddSampleForce(int j, const Eigen::Vector3d& f) const {
   for (int a = 0; a < 3; ++a) add(sample.candidate[size_t(a)], sample.weight[size_t(a)] * f);
 }
 
-template <typename Matrix>
-void ComplianceContact::ApplyNodeForces(const Matrix& A, Eigen::VectorXd& y) const {
+template <typename Take>
+void ComplianceContact::TakeNodeForces(const Take& take) const {
   for (int node : forced_nodes_) {
-    AddColumns3(A, node, node_force_.segment<3>(3 * node), y);
+    take(node, Eigen::Vector3d(node_force_.segment<3>(3 * node)));
     node_force_.segment<3>(3 * node).setZero();
     node_forced_[size_t(node)] = 0;
   }
   forced_nodes_.clear();
+}
+
+template <typename Matrix>
+void ComplianceContact::ApplyNodeForces(const Matrix& A, Eigen::VectorXd& y) const {
+  TakeNodeForces([&](int node, const Eigen::Vector3d& f) { AddColumns3(A, node, f, y); });
 }
 
 void ComplianceContact::AddToSamples(const Eigen::VectorXd& u_nodes, Eigen::VectorXd& u_samples) const {
@@ -972,24 +977,22 @@ void ComplianceContact::ComputeSed() {
   // SED from the displacements of the nodes it reads (G f: most of a step with few
   // contacts, so a root find over many steps asks for it only at its answer).
   u_s_.setZero();
-  sed_columns_.clear();
-  if (options_.face_samples.empty()) {
-    sed_columns_ = loaded_;
+  const bool node_contact = options_.face_samples.empty();
+  if (node_contact) {  // the candidates' own columns
     sed_forces_.resize(3, Eigen::Index(loaded_.size()));
     for (size_t k = 0; k < loaded_.size(); ++k) sed_forces_.col(Eigen::Index(k)) = f_c_.segment<3>(3 * loaded_[k]);
   } else {  // G_ is over the nodes
     for (int j : loaded_) AddSampleForce(j, f_c_.segment<3>(3 * j));
+    sed_columns_.clear();
     sed_forces_.resize(3, Eigen::Index(forced_nodes_.size()));
-    for (int node : forced_nodes_) {
-      sed_forces_.col(Eigen::Index(sed_columns_.size())) = node_force_.segment<3>(3 * node);
+    TakeNodeForces([&](int node, const Eigen::Vector3d& f) {
+      sed_forces_.col(Eigen::Index(sed_columns_.size())) = f;
       sed_columns_.push_back(node);
-      node_force_.segment<3>(3 * node).setZero();
-      node_forced_[size_t(node)] = 0;
-    }
-    forced_nodes_.clear();
+    });
   }
-  const double entries = double(G_single_.rows()) * 3.0 * double(sed_columns_.size());
-  AddColumnsByRowBlocks(G_single_, sed_columns_, sed_forces_,
+  const std::vector<int>& columns = node_contact ? loaded_ : sed_columns_;
+  const double entries = double(G_single_.rows()) * 3.0 * double(columns.size());
+  AddColumnsByRowBlocks(G_single_, columns, sed_forces_,
                         entries >= options_.sed_parallel_min_entries ? omp_get_max_threads() : 1, u_s_);
   for (size_t a = 0; a < sed_nodes_.size(); ++a) {
     const int v = sed_nodes_[a];

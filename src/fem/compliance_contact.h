@@ -230,7 +230,11 @@ class ComplianceContact {
   // goes to its nodes (B^T f), the node columns take it there, and displacements at the
   // samples are B u (207-row columns on B instead of 570).
   void AddSampleForce(int sample, const Eigen::Vector3d& f) const;  // into node_force_
-  /// y += A node_force_ over the nodes with a force (A: W_nodes_, G_ or F_), which are then
+  /// Calls take(node, force) for every node with a force in node_force_, in the order they
+  /// got one, and clears them.
+  template <typename Take>
+  void TakeNodeForces(const Take& take) const;
+  /// y += A node_force_ over the nodes with a force (A: W_nodes_ or F_), which are then
   /// cleared.
   template <typename Matrix>
   void ApplyNodeForces(const Matrix& A, Eigen::VectorXd& y) const;
@@ -284,8 +288,8 @@ class ComplianceContact {
   // Face samples: W over the nodes only; G_ and F_ stay over the nodes.
   Eigen::MatrixXd W_nodes_;
   Eigen::MatrixXf G_single_;  // G_ rounded to float: the SED's products read it
-  std::vector<int> sed_columns_;  // the SED's product: G's node columns and their forces
-  Eigen::Matrix3Xd sed_forces_;
+  std::vector<int> sed_columns_;  // face contact: the SED's product's node columns of G ...
+  Eigen::Matrix3Xd sed_forces_;   // ... and their forces (node contact: loaded_ and f_c_)
   // Scratch of the products through the nodes (B^T f); mutable: full_positions_m() is const.
   mutable Eigen::VectorXd node_force_;
   mutable std::vector<int> forced_nodes_;
