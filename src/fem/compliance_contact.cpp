@@ -96,6 +96,13 @@ void SetThreeColumns(int rows, const double* a0, const double* a1, const double*
 
 // The same from single-precision columns (summed in double).
 SEDBRIDGE_HOT_CLONES
+void SetThreeColumns(int rows, const float* a0, const float* a1, const float* a2, double f0, double f1, double f2,
+                     double* y) {
+  for (int i = 0; i < rows; ++i) y[i] = double(a0[i]) * f0 + double(a1[i]) * f1 + double(a2[i]) * f2;
+}
+
+// The same from single-precision columns (summed in double).
+SEDBRIDGE_HOT_CLONES
 void AddThreeColumns(int rows, const float* a0, const float* a1, const float* a2, double f0, double f1, double f2,
                      double* y) {
   for (int i = 0; i < rows; ++i) y[i] += double(a0[i]) * f0 + double(a1[i]) * f1 + double(a2[i]) * f2;
@@ -120,6 +127,41 @@ void AddFourColumnTriples(int rows, const float* const* a, const double* f, doub
   }
 }
 
+// Row blocks [begin, end) of `rows` for thread `t` of `n`, in whole cache lines of doubles.
+std::pair<Eigen::Index, Eigen::Index> RowBlock(Eigen::Index rows, int t, int n) {
+  const Eigen::Index chunk = ((rows + n - 1) / n + 7) / 8 * 8;
+  const Eigen::Index begin = std::min(rows, t * chunk);
+  return {begin, std::min(rows, begin + chunk)};
+}
+
+// y += a0 f0 + a1 f1 + a2 f2 + a3 f3 (the SED's kept columns, four a pass over y).
+SEDBRIDGE_HOT_CLONES
+void AddFourColumns(int rows, const double* a0, const double* a1, const double* a2, const double* a3, double f0,
+                    double f1, double f2, double f3, double* y) {
+  for (int i = 0; i < rows; ++i) y[i] += a0[i] * f0 + a1[i] * f1 + a2[i] * f2 + a3[i] * f3;
+}
+
+// y += sum_k coefficients[k] K.col(slots[k]) by row blocks over the team, as
+// AddColumnsByRowBlocks (the same sums with any team).
+void AddKeptColumnsByRowBlocks(const Eigen::MatrixXd& K, const std::vector<int>& slots,
+                               const std::vector<double>& coefficients, int team, Eigen::VectorXd& y) {
+  const Eigen::Index rows = K.rows();
+#pragma omp parallel num_threads(team) if (team > 1)
+  {
+    const auto [begin, end] = RowBlock(rows, omp_get_thread_num(), omp_get_num_threads());
+    for (size_t k = 0; k < slots.size() && begin < end; k += 4) {
+      const double* a[4];
+      double f[4];
+      for (size_t t = 0; t < 4; ++t) {  // past the end: the first column again, times 0
+        const bool in = k + t < slots.size();
+        a[t] = K.data() + Eigen::Index(slots[in ? k + t : k]) * rows + begin;
+        f[t] = in ? coefficients[k + t] : 0.0;
+      }
+      AddFourColumns(int(end - begin), a[0], a[1], a[2], a[3], f[0], f[1], f[2], f[3], y.data() + begin);
+    }
+  }
+}
+
 // y += A.middleCols<3>(3 j) * f as one fused pass over the rows (Eigen's generic 3-column
 // product path was the largest cost of a step with many contacts).
 template <typename Matrix>
@@ -127,13 +169,6 @@ void AddColumns3(const Matrix& A, int j, const Eigen::Vector3d& f, Eigen::Vector
   const Eigen::Index rows = A.rows();
   const auto* a = A.data() + 3 * Eigen::Index(j) * rows;
   AddThreeColumns(int(rows), a, a + rows, a + 2 * rows, f[0], f[1], f[2], y.data());
-}
-
-// Row blocks [begin, end) of `rows` for thread `t` of `n`, in whole cache lines of doubles.
-std::pair<Eigen::Index, Eigen::Index> RowBlock(Eigen::Index rows, int t, int n) {
-  const Eigen::Index chunk = ((rows + n - 1) / n + 7) / 8 * 8;
-  const Eigen::Index begin = std::min(rows, t * chunk);
-  return {begin, std::min(rows, begin + chunk)};
 }
 
 // y += sum_k A.middleCols<3>(3 columns[k]) forces.col(k): G's product for the SED, by row
@@ -1023,9 +1058,28 @@ void ComplianceContact::ComputeSed() {
     });
   }
   const std::vector<int>& columns = node_contact ? loaded_ : sed_columns_;
-  const double entries = double(G_single_.rows()) * 3.0 * double(columns.size());
-  AddColumnsByRowBlocks(G_single_, columns, sed_forces_,
-                        entries >= options_.sed_parallel_min_entries ? omp_get_max_threads() : 1, u_s_);
+  // Nodes whose force kept its direction through one kept column, the rest through three.
+  sed_kept_slots_.clear();
+  sed_kept_coefficients_.clear();
+  sed_triple_columns_.clear();
+  for (size_t k = 0; k < columns.size(); ++k) {
+    const Eigen::Vector3d f = sed_forces_.col(Eigen::Index(k));
+    double coefficient = 0;
+    const int slot = KeptSedColumn(columns[k], f, &coefficient);
+    if (slot >= 0) {
+      sed_kept_slots_.push_back(slot);
+      sed_kept_coefficients_.push_back(coefficient);
+    } else {
+      sed_forces_.col(Eigen::Index(sed_triple_columns_.size())) = f;
+      sed_triple_columns_.push_back(columns[k]);
+    }
+  }
+  qp_counts_.sed_kept_reads += sed_kept_slots_.size();
+  const double entries =
+      double(G_single_.rows()) * (3.0 * double(sed_triple_columns_.size()) + double(sed_kept_slots_.size()));
+  const int product_team = entries >= options_.sed_parallel_min_entries ? omp_get_max_threads() : 1;
+  AddColumnsByRowBlocks(G_single_, sed_triple_columns_, sed_forces_, product_team, u_s_);
+  AddKeptColumnsByRowBlocks(sed_kept_, sed_kept_slots_, sed_kept_coefficients_, product_team, u_s_);
   for (size_t a = 0; a < sed_nodes_.size(); ++a) {
     const int v = sed_nodes_[a];
     x_.segment<3>(3 * v) = mesh_.rest_positions_m.col(v) + u_s_.segment<3>(3 * Eigen::Index(a));
@@ -1044,6 +1098,45 @@ void ComplianceContact::ComputeSed() {
   }
   sed_->AverageToVertices(element_sed_, result_.sed_Pa);
   sed_current_ = true;
+}
+
+int ComplianceContact::KeptSedColumn(int node, const Eigen::Vector3d& f, double* coefficient) {
+  const Eigen::Index rows = G_single_.rows();
+  const auto budget = Eigen::Index(options_.sed_kept_columns_MiB * 1048576.0 / 8.0) / std::max<Eigen::Index>(rows, 1);
+  const double size = f.norm();
+  if (budget <= 0 || !(size > 0)) return -1;
+  if (sed_direction_.empty()) sed_direction_.resize(size_t(G_single_.cols() / 3));
+  SedDirection& d = sed_direction_[size_t(node)];
+  const double along = f.dot(d.dir);
+  if (!((f - along * d.dir).norm() <= 1e-12 * size)) {  // turned (or first seen): remember where
+    if (d.slot >= 0) sed_kept_free_.push_back(d.slot);
+    d.slot = -1;
+    d.dir = f / size;
+    return -1;
+  }
+  if (d.slot < 0) {  // the second time along d: keep G(:, node) d
+    if (!sed_kept_free_.empty()) {
+      d.slot = sed_kept_free_.back();
+      sed_kept_free_.pop_back();
+    } else if (sed_kept_.cols() < std::min<Eigen::Index>(budget, Eigen::Index(sed_direction_.size()))) {
+      // Grow in steps (a plane's patch arrives in a step or two), keeping what is there.
+      const Eigen::Index cols = sed_kept_.cols();
+      const Eigen::Index grown = std::min<Eigen::Index>({budget, Eigen::Index(sed_direction_.size()),
+                                                         std::max<Eigen::Index>(32, 2 * cols)});
+      sed_kept_.conservativeResize(rows, grown);
+      for (Eigen::Index slot = grown - 1; slot > cols; --slot) sed_kept_free_.push_back(int(slot));
+      d.slot = int(cols);
+    } else {
+      return -1;  // out of the budget: three columns
+    }
+    // From G's float columns as the three-column product reads them: the same sums to
+    // rounding (ComplianceContact.KeptSedColumnsGiveTheThreeColumnSed: to 1e-12).
+    const float* g = G_single_.data() + 3 * Eigen::Index(node) * rows;
+    SetThreeColumns(int(rows), g, g + rows, g + 2 * rows, d.dir[0], d.dir[1], d.dir[2], sed_kept_.col(d.slot).data());
+    ++qp_counts_.sed_columns_kept;
+  }
+  *coefficient = along;
+  return d.slot;
 }
 
 double ComplianceContact::QpEntry(int r, int slot_r, int q, int slot_q) const {

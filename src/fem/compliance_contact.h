@@ -74,6 +74,11 @@ struct ComplianceContactOptions {
   double sed_parallel_min_entries = 1.5e6;
   /// ... and elements of the linear SED pass.
   int sed_parallel_min_elements = 4000;
+  /// Memory for the SED's kept columns [MiB]: a node whose force comes along the same
+  /// direction as at the last SED (a plane's contacts, step after step) gets one column
+  /// G(:, node) d, so the SED's product reads one column of doubles for it instead of
+  /// three of floats. 0 = none (every node through its three columns).
+  double sed_kept_columns_MiB = 64;
   /// Face contact: these points on skin faces take part in the contact as the candidate
   /// nodes do (the penalty law at their own positions), so that an object narrower than
   /// the node spacing is caught by the faces between nodes (docs/bridge-fidelity.md §11).
@@ -108,6 +113,8 @@ struct ComplianceQpCounts {
   std::uint64_t factor_updates = 0;     ///< rows appended to or removed from the factor
   std::uint64_t columns_computed = 0;   ///< columns W dir computed for T
   std::uint64_t combined_predictions = 0;  ///< Anderson moves predicted without a pass over W
+  std::uint64_t sed_columns_kept = 0;   ///< SED columns G(:, node) d computed (kept for reuse)
+  std::uint64_t sed_kept_reads = 0;     ///< node forces the SED took through a kept column
 };
 
 class ComplianceContact {
@@ -288,6 +295,21 @@ class ComplianceContact {
   // Face samples: W over the nodes only; G_ and F_ stay over the nodes.
   Eigen::MatrixXd W_nodes_;
   Eigen::MatrixXf G_single_;  // G_ rounded to float: the SED's products read it
+  /// The SED's kept column for G's column node `node` (ComplianceContactOptions::
+  /// sed_kept_columns_MiB) when its force f is along the direction it had at the last SED:
+  /// its slot in sed_kept_, with f = coefficient * that direction (to 1e-12 relative). -1:
+  /// take f through G's three columns.
+  int KeptSedColumn(int node, const Eigen::Vector3d& f, double* coefficient);
+  struct SedDirection {
+    Eigen::Vector3d dir = Eigen::Vector3d::Zero();  // unit; zero: none seen
+    int slot = -1;                                 // its column in sed_kept_, -1: none
+  };
+  std::vector<SedDirection> sed_direction_;  // per node column of G
+  Eigen::MatrixXd sed_kept_;                 // kept columns (G's rows), sed_direction_'s slots
+  std::vector<int> sed_kept_free_;           // slots given back by a node that turned
+  std::vector<int> sed_kept_slots_;          // this SED's kept slots ...
+  std::vector<double> sed_kept_coefficients_;  // ... and their coefficients
+  std::vector<int> sed_triple_columns_;      // this SED's nodes through three columns
   std::vector<int> sed_columns_;  // face contact: the SED's product's node columns of G ...
   Eigen::Matrix3Xd sed_forces_;   // ... and their forces (node contact: loaded_ and f_c_)
   // Scratch of the products through the nodes (B^T f); mutable: full_positions_m() is const.

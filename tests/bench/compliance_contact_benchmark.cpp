@@ -8,11 +8,14 @@
 //     (the Merkel SED only where that display samples it: bridge fe.merkel_region: display)
 //   SEDBRIDGE_BENCH_THREADS=4 ...: the steps and presses on a team of 4 (default 1; the
 //     SED's product with G splits by rows above a size: compliance_contact.cpp)
+//   SEDBRIDGE_BENCH_SED_KEPT_MIB=0 ...: no kept SED columns (ComplianceContactOptions::
+//     sed_kept_columns_MiB; default 64)
 // Counters: median_ms / p99_ms / max_ms per step (wall clock), cpu_median_ms / cpu_p99_ms
 // (this thread's CPU time: on a shared machine the wall-clock tail is mostly preemption),
 // steps_per_s (from the wall median), contacts (active nodes, mean), iterations (outer
 // Newton iterations, mean), qp_* (per step: factorizations, factor reuses, columns of T
-// computed, combined predictions; fem::ComplianceQpCounts); precompute: seconds,
+// computed, combined predictions; sed_kept_new / sed_kept_reads: the SED's kept columns
+// computed and read; fem::ComplianceQpCounts); precompute: seconds,
 // candidates, SED nodes.
 
 #include <benchmark/benchmark.h>
@@ -62,6 +65,7 @@ scene::FingertipCompliance& Shared() {
   static scene::FingertipCompliance cc = [] {
     scene::FingertipComplianceOptions o;
     o.contact.cache_dir = CacheDir();
+    if (const char* kept = std::getenv("SEDBRIDGE_BENCH_SED_KEPT_MIB")) o.contact.sed_kept_columns_MiB = std::atof(kept);
     return scene::FingertipCompliance(SharedModel(), o);
   }();
   return cc;
@@ -114,6 +118,8 @@ void ReportQpCounts(benchmark::State& state, const fem::ComplianceQpCounts& afte
   state.counters["qp_row_updates"] = double(after.factor_updates - before.factor_updates) / steps;
   state.counters["qp_columns"] = double(after.columns_computed - before.columns_computed) / steps;
   state.counters["qp_combined"] = double(after.combined_predictions - before.combined_predictions) / steps;
+  state.counters["sed_kept_new"] = double(after.sed_columns_kept - before.sed_columns_kept) / steps;
+  state.counters["sed_kept_reads"] = double(after.sed_kept_reads - before.sed_kept_reads) / steps;
 }
 
 // OpenMP team of the steps and presses: SEDBRIDGE_BENCH_THREADS, default 1.

@@ -249,6 +249,58 @@ TEST(ComplianceContact, KeptColumnsReusedFactorAndCombinedPredictionsGiveTheCold
   EXPECT_LT(n.factorizations + n.factor_reuses, 2 * n.qps + 10 * scenes.size());
 }
 
+// The SED's kept columns (a node whose force keeps its direction goes through one column
+// G(:, node) d instead of G's three) give the three-column SED to rounding, with node and
+// face contact and with a budget of three columns; they are computed only when a node's
+// direction repeats (a plane's, not a moving sphere's), and a node that turns goes back to
+// three columns until its new direction repeats.
+TEST(ComplianceContact, KeptSedColumnsGiveTheThreeColumnSed) {
+  const TetMesh mesh = Block();
+  const double rows = 3.0 * double(MakeCompliance(mesh).sed_nodes().size());
+  for (const char* variant : {"nodes", "faces", "three columns"}) {
+    ComplianceContactOptions o;
+    if (std::string(variant) == "faces")
+      o.face_samples = {{{0, 1, 2}, {0.5, 0.25, 0.25}}, {{3, 4, 5}, {0.2, 0.3, 0.5}}, {{7, 8, 9}, {0.4, 0.3, 0.3}}};
+    if (std::string(variant) == "three columns") o.sed_kept_columns_MiB = 3.5 * rows * 8 / 1048576;
+    ComplianceContactOptions none = o;
+    none.sed_kept_columns_MiB = 0;
+    ComplianceContact kept = MakeCompliance(mesh, o), plain = MakeCompliance(mesh, none);
+    auto step = [&](const std::vector<geometry::RigidObject>& scene) {
+      const ComplianceStepResult& a = kept.Step(scene);
+      const ComplianceStepResult& b = plain.Step(scene);
+      ASSERT_TRUE(a.ok && a.converged && b.ok && b.converged) << variant;
+      EXPECT_EQ(a.spring_force_N, b.spring_force_N) << variant;  // the SED does not feed back
+      EXPECT_LT(RelativeError(a.sed_Pa, b.sed_Pa), 1e-12) << variant;
+    };
+    auto reads_of = [&](const std::vector<geometry::RigidObject>& scene) {
+      const std::uint64_t before = kept.qp_counts().sed_kept_reads;
+      step(scene);
+      return kept.qp_counts().sed_kept_reads - before;
+    };
+    for (double depth : {0.00020, 0.00021, 0.00026}) step({PlaneAbove(depth)});
+    const std::uint64_t plane_reads = reads_of({PlaneAbove(0.00020)});
+    const ComplianceQpCounts after_plane = kept.qp_counts();
+    EXPECT_GT(after_plane.sed_columns_kept, 0u) << variant;
+    EXPECT_GT(after_plane.sed_kept_reads, 2 * after_plane.sed_columns_kept) << variant;
+    if (std::string(variant) == "three columns") {
+      EXPECT_EQ(plane_reads, 3u);
+    } else {
+      EXPECT_GE(plane_reads, after_plane.sed_columns_kept) << variant;  // every loaded node
+    }
+    for (double x : {0.50, 0.52, 0.55, 0.60}) step({SphereAbove(0.004, 0.0004, x * kSide)});
+    EXPECT_EQ(kept.qp_counts().sed_columns_kept, after_plane.sed_columns_kept) << variant;
+    EXPECT_EQ(kept.qp_counts().sed_kept_reads, after_plane.sed_kept_reads) << variant;
+    if (std::string(variant) != "three columns") {
+      // The nodes the sphere turned take three columns, the others their kept ones; the
+      // next plane step finds every node along the plane's normal again.
+      const std::uint64_t turned = reads_of({PlaneAbove(0.00020)});
+      EXPECT_LT(turned, plane_reads) << variant;
+      EXPECT_EQ(reads_of({PlaneAbove(0.00021)}), plane_reads) << variant;
+    }
+    EXPECT_EQ(plain.qp_counts().sed_columns_kept + plain.qp_counts().sed_kept_reads, 0u) << variant;
+  }
+}
+
 TEST(ComplianceContact, TangentialLoadIsCarriedByTheContactsAndShearsTheBlock) {
   const TetMesh mesh = Block();
   ComplianceContact cc = MakeCompliance(mesh);
