@@ -25,6 +25,10 @@ struct SyntheticSpec {
   double friction = 0;
   bool primitive = false;
   sensors::ContactPrimitive truth;  // shape, x, y, radius, yaw (force filled later)
+  // The objects the truth presses on the leader, if not objects_yaml: a rod or sphere
+  // thinner than the leader holds, at the leader's minimum radius (as the rig presses' truths
+  // and the bridge press it: contact_object.h).
+  std::string leader_objects_yaml;
 };
 
 std::string Motion(double depth_mm, double slide_x_mm) {
@@ -46,25 +50,40 @@ sensors::ContactPrimitive Primitive(sensors::ContactShape s, double x, double y,
   return p;
 }
 
-SyntheticSpec SphereSpec(const std::string& name, double r, double x, double y, double d) {
-  char label[64], yaml[256];
-  std::snprintf(label, sizeof label, "sphere R%g (%g, %g)", r, x, y);
+std::string SphereYaml(double r, double x, double y) {
+  char yaml[256];
   std::snprintf(yaml, sizeof yaml, "{shape: sphere, radius_mm: %g, position_mm: [%g, %g, %g]", r, x, y, r + kLift_mm);
-  return {name, label, yaml, d, 0, 0, true, Primitive(sensors::ContactShape::kSphere, x, y, r)};
+  return yaml;
 }
 
-SyntheticSpec RodSpec(const std::string& name, double r, double yaw, double x, double y, double d) {
-  char label[64], yaml[256];
-  std::snprintf(label, sizeof label, "rod R%g yaw %g (%g, %g)", r, yaw, x, y);
+std::string RodYaml(double r, double yaw, double x, double y) {
+  char yaml[256];
   std::snprintf(yaml, sizeof yaml,
                 "{shape: cylinder, radius_mm: %g, length_mm: 40, position_mm: [%g, %g, %g], rpy_deg: [0, 0, %g]", r, x,
                 y, r + kLift_mm, yaw);
-  return {name, label, yaml, d, 0, 0, true, Primitive(sensors::ContactShape::kCylinder, x, y, r, yaw)};
+  return yaml;
+}
+
+SyntheticSpec SphereSpec(const std::string& name, double r, double x, double y, double d) {
+  char label[64];
+  std::snprintf(label, sizeof label, "sphere R%g (%g, %g)", r, x, y);
+  SyntheticSpec spec{name, label, SphereYaml(r, x, y), d, 0, 0, true, Primitive(sensors::ContactShape::kSphere, x, y, r), {}};
+  if (r < kLeaderMinSphereRadius_mm) spec.leader_objects_yaml = SphereYaml(kLeaderMinSphereRadius_mm, x, y);
+  return spec;
+}
+
+SyntheticSpec RodSpec(const std::string& name, double r, double yaw, double x, double y, double d) {
+  char label[64];
+  std::snprintf(label, sizeof label, "rod R%g yaw %g (%g, %g)", r, yaw, x, y);
+  SyntheticSpec spec{name, label, RodYaml(r, yaw, x, y), d, 0, 0, true,
+                     Primitive(sensors::ContactShape::kCylinder, x, y, r, yaw), {}};
+  if (r < kLeaderMinRodRadius_mm) spec.leader_objects_yaml = RodYaml(kLeaderMinRodRadius_mm, yaw, x, y);
+  return spec;
 }
 
 SyntheticSpec FlatSpec(const std::string& name, double d) {
   return {name, "flat", "{shape: plane, rpy_deg: [180, 0, 0], position_mm: [0, 0, 0.3]", d, 0, 0, true,
-          Primitive(sensors::ContactShape::kFlat, 0, 0, 0)};
+          Primitive(sensors::ContactShape::kFlat, 0, 0, 0), {}};
 }
 
 std::vector<SyntheticSpec> Specs() {
@@ -91,17 +110,17 @@ std::vector<SyntheticSpec> Specs() {
   s.push_back(FlatSpec("flat", 0.025));
   // A 10 mm cube with an edge (along x) or a corner pointing into the pad.
   s.push_back({"box_edge", "box edge along x (0, 0)",
-               "{shape: box, size_mm: [10, 10, 10], rpy_deg: [45, 0, 0], position_mm: [0, 0, 7.371]", 0.3, 0, 0, false, {}});
+               "{shape: box, size_mm: [10, 10, 10], rpy_deg: [45, 0, 0], position_mm: [0, 0, 7.371]", 0.3, 0, 0, false, {}, {}});
   s.push_back({"box_corner", "box corner (1, -1)",
-               "{shape: box, size_mm: [10, 10, 10], rpy_deg: [45, 35.264, 0], position_mm: [1, -1, 8.960]", 1.0, 0, 0, false, {}});
+               "{shape: box, size_mm: [10, 10, 10], rpy_deg: [45, 35.264, 0], position_mm: [1, -1, 8.960]", 1.0, 0, 0, false, {}, {}});
   // Two contacts at once: objects_yaml holds two entries.
   s.push_back({"two_spheres", "two spheres R3 (-4, -3) and (4, 3)",
                "{shape: sphere, radius_mm: 3, position_mm: [-4, -3, 3.3]|{shape: sphere, radius_mm: 3, position_mm: [4, 3, 3.3]",
-               0.5, 0, 0, false, {}});
+               0.5, 0, 0, false, {}, {}});
   // Stroking: a sphere pressed, then slid 4 mm along +x with friction 0.4.
   s.push_back({"sliding_sphere", "sphere R5 sliding +x 4 mm (mu 0.4)",
                "{shape: sphere, radius_mm: 5, position_mm: [-2, 0, 5.3]", 0.5, 4.0, 0.4, true,
-               Primitive(ContactShape::kSphere, 0, 0, 5)});
+               Primitive(ContactShape::kSphere, 0, 0, 5), {}});
   return s;
 }
 
@@ -205,24 +224,27 @@ std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& p
     config.noise.seed = random_count > 0 ? CaseNoiseSeed(seed, index) : seed;
     config.noise.stddev_counts = 2;
     config.duration_s = kEnd_s + 0.1;
-    std::string yaml = "objects: [";
-    size_t start = 0;
-    for (;;) {  // entries separated by '|'
-      const size_t bar = spec.objects_yaml.find('|', start);
-      const std::string one = spec.objects_yaml.substr(start, bar == std::string::npos ? std::string::npos : bar - start);
-      yaml += one + ", " + Motion(spec.depth_mm + kLift_mm, spec.slide_x_mm) + "}";
-      if (bar == std::string::npos) break;
-      yaml += ", ";
-      start = bar + 1;
-    }
-    yaml += "]";
-    const config::YamlDocument doc = config::LoadYamlString(yaml, "synthetic:" + spec.name);
-    config::MapReader objects_owner(doc.root, doc.file);
-    config.objects = geometry::ParseRigidObjects(objects_owner, "objects");
+    auto parse_objects = [&](const std::string& objects_yaml) {
+      std::string yaml = "objects: [";
+      size_t start = 0;
+      for (;;) {  // entries separated by '|'
+        const size_t bar = objects_yaml.find('|', start);
+        const std::string one = objects_yaml.substr(start, bar == std::string::npos ? std::string::npos : bar - start);
+        yaml += one + ", " + Motion(spec.depth_mm + kLift_mm, spec.slide_x_mm) + "}";
+        if (bar == std::string::npos) break;
+        yaml += ", ";
+        start = bar + 1;
+      }
+      yaml += "]";
+      const config::YamlDocument doc = config::LoadYamlString(yaml, "synthetic:" + spec.name);
+      config::MapReader objects_owner(doc.root, doc.file);
+      return geometry::ParseRigidObjects(objects_owner, "objects");
+    };
+    config.objects = parse_objects(spec.objects_yaml);
     FidelityCase c;
     c.name = spec.name;
     c.label = spec.label;
-    c.objects = config.objects;
+    c.objects = spec.leader_objects_yaml.empty() ? config.objects : parse_objects(spec.leader_objects_yaml);
     c.has_primitive = spec.primitive;
     c.primitive = spec.truth;
     sensors::SimulatedSensorSource source(config);

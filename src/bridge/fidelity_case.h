@@ -54,7 +54,9 @@ FidelityCase FromCalibrationPress(const sensors::CalibrationPress& press);
 /// (spheres 2-15 mm, rods 0.5-3 mm at any yaw, flats, strokes; places, sizes and depths the
 /// rig did not use): the closest thing here to presses of this sensor not seen before. Each
 /// drawn press has its own sensor-noise stream (from `seed` and its index); the fixed set's
-/// presses share the stream `seed`.
+/// presses share the stream `seed`. The simulated sensor sees every object as it is; a rod or
+/// sphere thinner than the leader holds (kLeaderMinRodRadius_mm, kLeaderMinSphereRadius_mm)
+/// is pressed on the leader for the truth at that minimum, as the rig presses' truths are.
 std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& profile, uint64_t seed = 1,
                                                  sensors::PadMechanics pad = sensors::PadMechanics::kLayer,
                                                  int random_count = 0);
