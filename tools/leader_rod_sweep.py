@@ -24,8 +24,10 @@ import argparse
 import csv
 import json
 import os
-import subprocess
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from logged_run import run_logged  # noqa: E402
 
 
 def number_list(text, name):
@@ -127,16 +129,7 @@ def main():
     command = [args.sedbridge, "fidelity", "--cases", cases_path, "--no-plots", "--out", fidelity_dir]
     if args.cache_dir:
         command += ["--cache-dir", args.cache_dir]
-    log_path = os.path.join(args.out, "fidelity.log")
-    try:
-        with open(log_path, "w") as log:
-            rc = subprocess.run(command, stdout=log, stderr=subprocess.STDOUT).returncode
-    except OSError as e:
-        raise SystemExit(f"leader_rod_sweep: cannot run {args.sedbridge}: {e}")
-    if rc != 0:
-        tail = open(log_path).read().strip().splitlines()[-3:]
-        raise SystemExit(f"leader_rod_sweep: `{' '.join(command[:2])}` exited {rc} (log: {log_path})"
-                         + "".join("\n  " + line for line in tail))
+    run_logged(command, os.path.join(args.out, "fidelity.log"), "leader_rod_sweep")
     with open(os.path.join(fidelity_dir, "fidelity.csv")) as f:
         table, counts = summarize(list(csv.DictReader(f)), radii, args.flag)
     sweep_path = os.path.join(args.out, "sweep.csv")

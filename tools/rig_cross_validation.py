@@ -24,9 +24,11 @@ import argparse
 import csv
 import json
 import os
-import subprocess
 import sys
 import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from logged_run import run_logged  # noqa: E402
 
 
 def forward_model_block(text):
@@ -55,16 +57,7 @@ def fold_profile(profile_text, fitted_text):
 
 def run(fold_dir, log_name, command, fold):
     """Runs `command` with its output in fold_dir/log_name; a failure names the fold and the log."""
-    log_path = os.path.join(fold_dir, log_name)
-    try:
-        with open(log_path, "w") as log:
-            rc = subprocess.run(command, stdout=log, stderr=subprocess.STDOUT).returncode
-    except OSError as e:
-        raise SystemExit(f"rig_cross_validation: fold {fold + 1}: cannot run {command[0]}: {e}")
-    if rc != 0:
-        tail = open(log_path).read().strip().splitlines()[-3:]
-        raise SystemExit(f"rig_cross_validation: fold {fold + 1}: `{' '.join(command[:2])}` exited {rc} "
-                         f"(log: {log_path})" + "".join("\n  " + line for line in tail))
+    run_logged(command, os.path.join(fold_dir, log_name), f"rig_cross_validation: fold {fold + 1}")
 
 
 def main():
