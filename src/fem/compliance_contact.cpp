@@ -1101,11 +1101,14 @@ void ComplianceContact::ComputeSed() {
 }
 
 int ComplianceContact::KeptSedColumn(int node, const Eigen::Vector3d& f, double* coefficient) {
-  const Eigen::Index rows = G_single_.rows();
-  const auto budget = Eigen::Index(options_.sed_kept_columns_MiB * 1048576.0 / 8.0) / std::max<Eigen::Index>(rows, 1);
+  const Eigen::Index rows = G_single_.rows(), nodes = G_single_.cols() / 3;
   const double size = f.norm();
-  if (budget <= 0 || !(size > 0)) return -1;
-  if (sed_direction_.empty()) sed_direction_.resize(size_t(G_single_.cols() / 3));
+  if (!(options_.sed_kept_columns_MiB > 0) || rows <= 0 || !(size > 0)) return -1;
+  // Columns within the budget (as a double first: a huge budget must not overflow the cast).
+  const auto budget = Eigen::Index(
+      std::min(std::floor(options_.sed_kept_columns_MiB * 1048576.0 / (8.0 * double(rows))), double(nodes)));
+  if (budget <= 0) return -1;
+  if (sed_direction_.empty()) sed_direction_.resize(size_t(nodes));
   SedDirection& d = sed_direction_[size_t(node)];
   const double along = f.dot(d.dir);
   if (!((f - along * d.dir).norm() <= 1e-12 * size)) {  // turned (or first seen): remember where
@@ -1118,11 +1121,10 @@ int ComplianceContact::KeptSedColumn(int node, const Eigen::Vector3d& f, double*
     if (!sed_kept_free_.empty()) {
       d.slot = sed_kept_free_.back();
       sed_kept_free_.pop_back();
-    } else if (sed_kept_.cols() < std::min<Eigen::Index>(budget, Eigen::Index(sed_direction_.size()))) {
+    } else if (sed_kept_.cols() < budget) {
       // Grow in steps (a plane's patch arrives in a step or two), keeping what is there.
       const Eigen::Index cols = sed_kept_.cols();
-      const Eigen::Index grown = std::min<Eigen::Index>({budget, Eigen::Index(sed_direction_.size()),
-                                                         std::max<Eigen::Index>(32, 2 * cols)});
+      const Eigen::Index grown = std::min<Eigen::Index>(budget, std::max<Eigen::Index>(32, 2 * cols));
       sed_kept_.conservativeResize(rows, grown);
       for (Eigen::Index slot = grown - 1; slot > cols; --slot) sed_kept_free_.push_back(int(slot));
       d.slot = int(cols);

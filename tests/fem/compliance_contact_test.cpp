@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -298,6 +299,23 @@ TEST(ComplianceContact, KeptSedColumnsGiveTheThreeColumnSed) {
       EXPECT_EQ(reads_of({PlaneAbove(0.00021)}), plane_reads) << variant;
     }
     EXPECT_EQ(plain.qp_counts().sed_columns_kept + plain.qp_counts().sed_kept_reads, 0u) << variant;
+  }
+  // A budget that is not a positive size keeps nothing; a huge one is the whole G.
+  for (const double budget_MiB : {-1.0, std::nan(""), 1e300}) {
+    ComplianceContactOptions o;
+    o.sed_kept_columns_MiB = budget_MiB;
+    ComplianceContact odd = MakeCompliance(mesh, o), plain = MakeCompliance(mesh, []() {
+      ComplianceContactOptions none;
+      none.sed_kept_columns_MiB = 0;
+      return none;
+    }());
+    for (double depth : {0.00020, 0.00021, 0.00022}) {
+      const ComplianceStepResult& a = odd.Step({PlaneAbove(depth)});
+      const ComplianceStepResult& b = plain.Step({PlaneAbove(depth)});
+      ASSERT_TRUE(a.ok && b.ok) << budget_MiB;
+      EXPECT_LT(RelativeError(a.sed_Pa, b.sed_Pa), 1e-12) << budget_MiB;
+    }
+    EXPECT_EQ(odd.qp_counts().sed_columns_kept > 0, budget_MiB > 0) << budget_MiB;
   }
 }
 
