@@ -22,7 +22,7 @@ namespace sedbridge::bridge {
 /// slip); a rod of 0.5 mm pressed to 1.2 N slips at 13 of 12 yaws x 3 places (0.65 mm:
 /// none). Where a 0.5 mm rod holds, its ridge can still break into a spot or two where the
 /// contact points happen to lie along it (docs/bridge-fidelity.md §16: of 324 poses and
-/// forces, 62 presses of a 0.5 mm rod failed and 5 peaked at 1.9-3.6 times the 1 mm rod's
+/// forces, 62 presses of a 0.5 mm rod failed and 5 peaked at 1.8-3.6 times the 1 mm rod's
 /// SED; at 0.6 mm, 3 and none), so rods are pressed at 0.6 mm at least (test
 /// ContactObject.ThinRodKeepsOneRidgeOnTheLeader), and a press that slips is tried thicker
 /// (PressReconstructed). More force needs a thicker object (a 1 mm sphere slips everywhere

@@ -11,6 +11,7 @@
 #include <memory>
 #include <vector>
 
+#include "bridge/contact_object.h"
 #include "bridge/fidelity_case.h"
 #include "common/yaml_reader.h"
 #include "sensors/tactile_model_fit.h"
@@ -215,6 +216,31 @@ TEST(FidelityBenchmark, HeldOutPressesWithARefittedSensorModel) {
   }
   EXPECT_GE(by_argmax, 5);
   EXPECT_EQ(by_region, 6);
+}
+
+// The synthetic set's 0.5 mm rod: its sensor presses it as it is, its truth presses it on the
+// leader at kLeaderMinRodRadius_mm, as the bridge and the rig presses' truths do (a thinner
+// rod's ridge on model B can break into spots: docs/bridge-fidelity.md §16). Rods the leader
+// holds keep their radius.
+TEST(FidelityCase, SyntheticTruthPressesAThinRodAtTheLeadersMinimum) {
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
+  const std::vector<FidelityCase> cases = SyntheticFidelityCases(profile);
+  auto find = [&](const std::string& name) {
+    const auto it = std::find_if(cases.begin(), cases.end(), [&](const FidelityCase& c) { return c.name == name; });
+    EXPECT_NE(it, cases.end()) << name;
+    return it;
+  };
+  const auto thin = find("rod_r0.5_yaw0"), held = find("rod_r1_yaw30");
+  ASSERT_NE(thin, cases.end());
+  ASSERT_NE(held, cases.end());
+  EXPECT_EQ(thin->primitive.radius_mm, 0.5);
+  // Both rods start with their lowest line at the same lift above the pad; the axis is one
+  // pressed radius above it.
+  const double held_axis_mm = held->objects[0].trajectory.Pose(0).translation().z() * 1e3;
+  const double thin_axis_mm = thin->objects[0].trajectory.Pose(0).translation().z() * 1e3;
+  EXPECT_NEAR(thin_axis_mm - (held_axis_mm - 1.0), kLeaderMinRodRadius_mm, 1e-9);
+  const Eigen::Vector3d inside(0, 1e-3, (thin_axis_mm - 0.55) * 1e-3);  // 0.55 mm below the axis
+  EXPECT_LT(thin->objects[0].Evaluate(inside, 0).distance_m, 0.0);      // inside 0.6 mm, not 0.5
 }
 
 // `fidelity --synthetic --random N`: rig-like presses the rig did not make, the same for the
