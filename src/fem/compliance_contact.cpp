@@ -333,6 +333,14 @@ ComplianceContact::ComplianceContact(const TetMesh& mesh, std::vector<std::uniqu
   // larger than a core's L2 cache) for ~1e-7 relative in the SED nodes' displacements. (W
   // stays double: the contact iteration compares its products with the QP's prediction.)
   G_single_ = G_.cast<float>();
+  {
+    // Kept SED columns within the budget (as a double first: a huge budget must not
+    // overflow the cast; one that is not a positive size keeps none).
+    const double rows = double(G_single_.rows()), nodes = double(G_single_.cols() / 3);
+    const double MiB = options_.sed_kept_columns_MiB;
+    sed_kept_budget_ = MiB > 0 && rows > 0 ? Eigen::Index(std::min(std::floor(MiB * 1048576.0 / (8.0 * rows)), nodes)) : 0;
+    if (sed_kept_budget_ > 0) sed_direction_.resize(size_t(nodes));
+  }
   f_c_ = u_c_ = u_t_ = Eigen::VectorXd::Zero(3 * num_samples());
   u_s_ = Eigen::VectorXd::Zero(Eigen::Index(3 * sed_nodes_.size()));
   ResetWarmStart();
@@ -1044,35 +1052,29 @@ void ComplianceContact::ComputeSed() {
   // SED from the displacements of the nodes it reads (G f: most of a step with few
   // contacts, so a root find over many steps asks for it only at its answer).
   u_s_.setZero();
-  const bool node_contact = options_.face_samples.empty();
-  if (node_contact) {  // the candidates' own columns
-    sed_forces_.resize(3, Eigen::Index(loaded_.size()));
-    for (size_t k = 0; k < loaded_.size(); ++k) sed_forces_.col(Eigen::Index(k)) = f_c_.segment<3>(3 * loaded_[k]);
-  } else {  // G_ is over the nodes
-    for (int j : loaded_) AddSampleForce(j, f_c_.segment<3>(3 * j));
-    sed_columns_.clear();
-    sed_forces_.resize(3, Eigen::Index(forced_nodes_.size()));
-    TakeNodeForces([&](int node, const Eigen::Vector3d& f) {
-      sed_forces_.col(Eigen::Index(sed_columns_.size())) = f;
-      sed_columns_.push_back(node);
-    });
-  }
-  const std::vector<int>& columns = node_contact ? loaded_ : sed_columns_;
-  // Nodes whose force kept its direction through one kept column, the rest through three.
+  // Each loaded node through its kept column when its force kept its direction, else
+  // through G's three columns.
   sed_kept_slots_.clear();
   sed_kept_coefficients_.clear();
   sed_triple_columns_.clear();
-  for (size_t k = 0; k < columns.size(); ++k) {
-    const Eigen::Vector3d f = sed_forces_.col(Eigen::Index(k));
+  auto take = [&](int column, const Eigen::Vector3d& f) {
     double coefficient = 0;
-    const int slot = KeptSedColumn(columns[k], f, &coefficient);
+    const int slot = KeptSedColumn(column, f, &coefficient);
     if (slot >= 0) {
       sed_kept_slots_.push_back(slot);
       sed_kept_coefficients_.push_back(coefficient);
     } else {
       sed_forces_.col(Eigen::Index(sed_triple_columns_.size())) = f;
-      sed_triple_columns_.push_back(columns[k]);
+      sed_triple_columns_.push_back(column);
     }
+  };
+  if (options_.face_samples.empty()) {  // the candidates' own columns
+    sed_forces_.resize(3, Eigen::Index(loaded_.size()));
+    for (int j : loaded_) take(j, f_c_.segment<3>(3 * j));
+  } else {  // G_ is over the nodes
+    for (int j : loaded_) AddSampleForce(j, f_c_.segment<3>(3 * j));
+    sed_forces_.resize(3, Eigen::Index(forced_nodes_.size()));
+    TakeNodeForces(take);
   }
   qp_counts_.sed_kept_reads += sed_kept_slots_.size();
   const double entries =
@@ -1101,14 +1103,9 @@ void ComplianceContact::ComputeSed() {
 }
 
 int ComplianceContact::KeptSedColumn(int node, const Eigen::Vector3d& f, double* coefficient) {
-  const Eigen::Index rows = G_single_.rows(), nodes = G_single_.cols() / 3;
+  const Eigen::Index rows = G_single_.rows();
   const double size = f.norm();
-  if (!(options_.sed_kept_columns_MiB > 0) || rows <= 0 || !(size > 0)) return -1;
-  // Columns within the budget (as a double first: a huge budget must not overflow the cast).
-  const auto budget = Eigen::Index(
-      std::min(std::floor(options_.sed_kept_columns_MiB * 1048576.0 / (8.0 * double(rows))), double(nodes)));
-  if (budget <= 0) return -1;
-  if (sed_direction_.empty()) sed_direction_.resize(size_t(nodes));
+  if (sed_kept_budget_ <= 0 || !(size > 0)) return -1;
   SedDirection& d = sed_direction_[size_t(node)];
   const double along = f.dot(d.dir);
   if (!((f - along * d.dir).norm() <= 1e-12 * size)) {  // turned (or first seen): remember where
@@ -1121,10 +1118,10 @@ int ComplianceContact::KeptSedColumn(int node, const Eigen::Vector3d& f, double*
     if (!sed_kept_free_.empty()) {
       d.slot = sed_kept_free_.back();
       sed_kept_free_.pop_back();
-    } else if (sed_kept_.cols() < budget) {
+    } else if (sed_kept_.cols() < sed_kept_budget_) {
       // Grow in steps (a plane's patch arrives in a step or two), keeping what is there.
       const Eigen::Index cols = sed_kept_.cols();
-      const Eigen::Index grown = std::min<Eigen::Index>(budget, std::max<Eigen::Index>(32, 2 * cols));
+      const Eigen::Index grown = std::min<Eigen::Index>(sed_kept_budget_, std::max<Eigen::Index>(32, 2 * cols));
       sed_kept_.conservativeResize(rows, grown);
       for (Eigen::Index slot = grown - 1; slot > cols; --slot) sed_kept_free_.push_back(int(slot));
       d.slot = int(cols);

@@ -304,14 +304,14 @@ class ComplianceContact {
     Eigen::Vector3d dir = Eigen::Vector3d::Zero();  // unit; zero: none seen
     int slot = -1;                                 // its column in sed_kept_, -1: none
   };
-  std::vector<SedDirection> sed_direction_;  // per node column of G
+  Eigen::Index sed_kept_budget_ = 0;         // kept columns sed_kept_columns_MiB holds
+  std::vector<SedDirection> sed_direction_;  // per node column of G (with a budget)
   Eigen::MatrixXd sed_kept_;                 // kept columns (G's rows), sed_direction_'s slots
   std::vector<int> sed_kept_free_;           // slots given back by a node that turned
   std::vector<int> sed_kept_slots_;          // this SED's kept slots ...
   std::vector<double> sed_kept_coefficients_;  // ... and their coefficients
-  std::vector<int> sed_triple_columns_;      // this SED's nodes through three columns
-  std::vector<int> sed_columns_;  // face contact: the SED's product's node columns of G ...
-  Eigen::Matrix3Xd sed_forces_;   // ... and their forces (node contact: loaded_ and f_c_)
+  std::vector<int> sed_triple_columns_;      // this SED's nodes through three columns ...
+  Eigen::Matrix3Xd sed_forces_;              // ... and their forces
   // Scratch of the products through the nodes (B^T f); mutable: full_positions_m() is const.
   mutable Eigen::VectorXd node_force_;
   mutable std::vector<int> forced_nodes_;

@@ -302,13 +302,10 @@ TEST(ComplianceContact, KeptSedColumnsGiveTheThreeColumnSed) {
   }
   // A budget that is not a positive size keeps nothing; a huge one is the whole G.
   for (const double budget_MiB : {-1.0, std::nan(""), 1e300}) {
-    ComplianceContactOptions o;
+    ComplianceContactOptions o, none;
     o.sed_kept_columns_MiB = budget_MiB;
-    ComplianceContact odd = MakeCompliance(mesh, o), plain = MakeCompliance(mesh, []() {
-      ComplianceContactOptions none;
-      none.sed_kept_columns_MiB = 0;
-      return none;
-    }());
+    none.sed_kept_columns_MiB = 0;
+    ComplianceContact odd = MakeCompliance(mesh, o), plain = MakeCompliance(mesh, none);
     for (double depth : {0.00020, 0.00021, 0.00022}) {
       const ComplianceStepResult& a = odd.Step({PlaneAbove(depth)});
       const ComplianceStepResult& b = plain.Step({PlaneAbove(depth)});
