@@ -96,13 +96,6 @@ void SetThreeColumns(int rows, const double* a0, const double* a1, const double*
 
 // The same from single-precision columns (summed in double).
 SEDBRIDGE_HOT_CLONES
-void SetThreeColumns(int rows, const float* a0, const float* a1, const float* a2, double f0, double f1, double f2,
-                     double* y) {
-  for (int i = 0; i < rows; ++i) y[i] = double(a0[i]) * f0 + double(a1[i]) * f1 + double(a2[i]) * f2;
-}
-
-// The same from single-precision columns (summed in double).
-SEDBRIDGE_HOT_CLONES
 void AddThreeColumns(int rows, const float* a0, const float* a1, const float* a2, double f0, double f1, double f2,
                      double* y) {
   for (int i = 0; i < rows; ++i) y[i] += double(a0[i]) * f0 + double(a1[i]) * f1 + double(a2[i]) * f2;
@@ -134,30 +127,35 @@ std::pair<Eigen::Index, Eigen::Index> RowBlock(Eigen::Index rows, int t, int n) 
   return {begin, std::min(rows, begin + chunk)};
 }
 
-// y += a0 f0 + a1 f1 + a2 f2 + a3 f3 (the SED's kept columns, four a pass over y).
+// y += sum_t a[t] f[t], t = 0..7 (the SED's kept columns, eight a pass over y: y's loads
+// and stores in doubles weigh as much as four single-precision columns). Single precision
+// like G's, summed in double: the kept columns are a plane step's largest read.
 SEDBRIDGE_HOT_CLONES
-void AddFourColumns(int rows, const double* a0, const double* a1, const double* a2, const double* a3, double f0,
-                    double f1, double f2, double f3, double* y) {
-  for (int i = 0; i < rows; ++i) y[i] += a0[i] * f0 + a1[i] * f1 + a2[i] * f2 + a3[i] * f3;
+void AddEightColumns(int rows, const float* const* a, const double* f, double* y) {
+  const float *a0 = a[0], *a1 = a[1], *a2 = a[2], *a3 = a[3], *a4 = a[4], *a5 = a[5], *a6 = a[6], *a7 = a[7];
+  const double f0 = f[0], f1 = f[1], f2 = f[2], f3 = f[3], f4 = f[4], f5 = f[5], f6 = f[6], f7 = f[7];
+  for (int i = 0; i < rows; ++i)
+    y[i] += (double(a0[i]) * f0 + double(a1[i]) * f1 + double(a2[i]) * f2 + double(a3[i]) * f3) +
+            (double(a4[i]) * f4 + double(a5[i]) * f5 + double(a6[i]) * f6 + double(a7[i]) * f7);
 }
 
 // y += sum_k coefficients[k] K.col(slots[k]) by row blocks over the team, as
 // AddColumnsByRowBlocks (the same sums with any team).
-void AddKeptColumnsByRowBlocks(const Eigen::MatrixXd& K, const std::vector<int>& slots,
+void AddKeptColumnsByRowBlocks(const Eigen::MatrixXf& K, const std::vector<int>& slots,
                                const std::vector<double>& coefficients, int team, Eigen::VectorXd& y) {
   const Eigen::Index rows = K.rows();
 #pragma omp parallel num_threads(team) if (team > 1)
   {
     const auto [begin, end] = RowBlock(rows, omp_get_thread_num(), omp_get_num_threads());
-    for (size_t k = 0; k < slots.size() && begin < end; k += 4) {
-      const double* a[4];
-      double f[4];
-      for (size_t t = 0; t < 4; ++t) {  // past the end: the first column again, times 0
+    for (size_t k = 0; k < slots.size() && begin < end; k += 8) {
+      const float* a[8];
+      double f[8];
+      for (size_t t = 0; t < 8; ++t) {  // past the end: the first column again, times 0
         const bool in = k + t < slots.size();
         a[t] = K.data() + Eigen::Index(slots[in ? k + t : k]) * rows + begin;
         f[t] = in ? coefficients[k + t] : 0.0;
       }
-      AddFourColumns(int(end - begin), a[0], a[1], a[2], a[3], f[0], f[1], f[2], f[3], y.data() + begin);
+      AddEightColumns(int(end - begin), a, f, y.data() + begin);
     }
   }
 }
@@ -338,7 +336,7 @@ ComplianceContact::ComplianceContact(const TetMesh& mesh, std::vector<std::uniqu
     // overflow the cast; one that is not a positive size keeps none).
     const double rows = double(G_single_.rows()), nodes = double(G_single_.cols() / 3);
     const double MiB = options_.sed_kept_columns_MiB;
-    sed_kept_budget_ = MiB > 0 && rows > 0 ? Eigen::Index(std::min(std::floor(MiB * 1048576.0 / (8.0 * rows)), nodes)) : 0;
+    sed_kept_budget_ = MiB > 0 && rows > 0 ? Eigen::Index(std::min(std::floor(MiB * 1048576.0 / (4.0 * rows)), nodes)) : 0;
     if (sed_kept_budget_ > 0) sed_direction_.resize(size_t(nodes));
   }
   f_c_ = u_c_ = u_t_ = Eigen::VectorXd::Zero(3 * num_samples());
@@ -1128,10 +1126,13 @@ int ComplianceContact::KeptSedColumn(int node, const Eigen::Vector3d& f, double*
     } else {
       return -1;  // out of the budget: three columns
     }
-    // From G's float columns as the three-column product reads them: the same sums to
-    // rounding (ComplianceContact.KeptSedColumnsGiveTheThreeColumnSed: to 1e-12).
+    // From G's float columns as the three-column product reads them, summed in double and
+    // stored in single precision as G is (ComplianceContact.KeptSedColumnsGiveTheThreeColumnSed:
+    // the same SED to 1e-6).
     const float* g = G_single_.data() + 3 * Eigen::Index(node) * rows;
-    SetThreeColumns(int(rows), g, g + rows, g + 2 * rows, d.dir[0], d.dir[1], d.dir[2], sed_kept_.col(d.slot).data());
+    float* kept = sed_kept_.col(d.slot).data();
+    for (Eigen::Index i = 0; i < rows; ++i)
+      kept[i] = float(double(g[i]) * d.dir[0] + double(g[i + rows]) * d.dir[1] + double(g[i + 2 * rows]) * d.dir[2]);
     ++qp_counts_.sed_columns_kept;
   }
   *coefficient = along;

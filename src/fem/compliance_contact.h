@@ -76,8 +76,8 @@ struct ComplianceContactOptions {
   int sed_parallel_min_elements = 4000;
   /// Memory for the SED's kept columns [MiB]: a node whose force comes along the same
   /// direction as at the last SED (a plane's contacts, step after step) gets one column
-  /// G(:, node) d, so the SED's product reads one column of doubles for it instead of
-  /// three of floats. 0 = none (every node through its three columns).
+  /// G(:, node) d (single precision, as G), so the SED's product reads one column for it
+  /// instead of three. 0 = none (every node through its three columns).
   double sed_kept_columns_MiB = 64;
   /// Face contact: these points on skin faces take part in the contact as the candidate
   /// nodes do (the penalty law at their own positions), so that an object narrower than
@@ -306,7 +306,7 @@ class ComplianceContact {
   };
   Eigen::Index sed_kept_budget_ = 0;         // kept columns sed_kept_columns_MiB holds
   std::vector<SedDirection> sed_direction_;  // per node column of G (with a budget)
-  Eigen::MatrixXd sed_kept_;                 // kept columns (G's rows), sed_direction_'s slots
+  Eigen::MatrixXf sed_kept_;                 // kept columns (G's rows, single precision), sed_direction_'s slots
   std::vector<int> sed_kept_free_;           // slots given back by a node that turned
   std::vector<int> sed_kept_slots_;          // this SED's kept slots ...
   std::vector<double> sed_kept_coefficients_;  // ... and their coefficients

@@ -239,7 +239,8 @@ TEST(ComplianceContact, KeptColumnsReusedFactorAndCombinedPredictionsGiveTheCold
     EXPECT_LT((w.spring_force_N - c.spring_force_N).norm(), tolerance * c.spring_force_N.norm()) << k;
     const Eigen::MatrixXd uw = warm.candidate_displacements_m(), uc = cold.candidate_displacements_m();
     EXPECT_LT((uw - uc).norm(), tolerance * uc.norm()) << k;
-    EXPECT_LT(RelativeError(w.sed_Pa, c.sed_Pa), tolerance) << k;
+    // The warm plane's SED reads kept columns, rounded to float as G is (1.1e-8 seen).
+    EXPECT_LT(RelativeError(w.sed_Pa, c.sed_Pa), std::max(tolerance, 1e-7)) << k;
   }
   // The shortcuts ran: the repeated plane on the last factor and kept columns, the moving
   // sphere's accelerated forces predicted by combination.
@@ -251,9 +252,9 @@ TEST(ComplianceContact, KeptColumnsReusedFactorAndCombinedPredictionsGiveTheCold
 }
 
 // The SED's kept columns (a node whose force keeps its direction goes through one column
-// G(:, node) d instead of G's three) give the three-column SED to rounding, with node and
-// face contact and with a budget of three columns; they are computed only when a node's
-// direction repeats (a plane's, not a moving sphere's), and a node that turns goes back to
+// G(:, node) d instead of G's three, single precision as G) give the three-column SED to
+// G's precision, with node and face contact and with a budget of three columns; they are
+// computed only when a node's direction repeats (a plane's, not a moving sphere's), and a node that turns goes back to
 // three columns until its new direction repeats.
 TEST(ComplianceContact, KeptSedColumnsGiveTheThreeColumnSed) {
   const TetMesh mesh = Block();
@@ -262,7 +263,7 @@ TEST(ComplianceContact, KeptSedColumnsGiveTheThreeColumnSed) {
     ComplianceContactOptions o;
     if (std::string(variant) == "faces")
       o.face_samples = {{{0, 1, 2}, {0.5, 0.25, 0.25}}, {{3, 4, 5}, {0.2, 0.3, 0.5}}, {{7, 8, 9}, {0.4, 0.3, 0.3}}};
-    if (std::string(variant) == "three columns") o.sed_kept_columns_MiB = 3.5 * rows * 8 / 1048576;
+    if (std::string(variant) == "three columns") o.sed_kept_columns_MiB = 3.5 * rows * 4 / 1048576;
     ComplianceContactOptions none = o;
     none.sed_kept_columns_MiB = 0;
     ComplianceContact kept = MakeCompliance(mesh, o), plain = MakeCompliance(mesh, none);
@@ -271,7 +272,7 @@ TEST(ComplianceContact, KeptSedColumnsGiveTheThreeColumnSed) {
       const ComplianceStepResult& b = plain.Step(scene);
       ASSERT_TRUE(a.ok && a.converged && b.ok && b.converged) << variant;
       EXPECT_EQ(a.spring_force_N, b.spring_force_N) << variant;  // the SED does not feed back
-      EXPECT_LT(RelativeError(a.sed_Pa, b.sed_Pa), 1e-12) << variant;
+      EXPECT_LT(RelativeError(a.sed_Pa, b.sed_Pa), 1e-6) << variant;  // G's precision
     };
     auto reads_of = [&](const std::vector<geometry::RigidObject>& scene) {
       const std::uint64_t before = kept.qp_counts().sed_kept_reads;
@@ -310,7 +311,7 @@ TEST(ComplianceContact, KeptSedColumnsGiveTheThreeColumnSed) {
       const ComplianceStepResult& a = odd.Step({PlaneAbove(depth)});
       const ComplianceStepResult& b = plain.Step({PlaneAbove(depth)});
       ASSERT_TRUE(a.ok && b.ok) << budget_MiB;
-      EXPECT_LT(RelativeError(a.sed_Pa, b.sed_Pa), 1e-12) << budget_MiB;
+      EXPECT_LT(RelativeError(a.sed_Pa, b.sed_Pa), 1e-6) << budget_MiB;
     }
     EXPECT_EQ(odd.qp_counts().sed_columns_kept > 0, budget_MiB > 0) << budget_MiB;
   }
