@@ -183,7 +183,7 @@ TEST(FingertipCompliance, ScanAfterScanPressTakesAboutTwoSolvesOrOneUnderForceCo
 // PressToForce asks the contact solves for their force only and the SED once, at the
 // answer: the deferred SED must be the one a solve computes itself. (Two instances: a
 // second SED on one would read the kept columns of the nodes whose force direction
-// repeated, single precision like G: 3e-5 relative on this sphere.)
+// repeated, single precision like G: 1.1e-7 relative on this sphere.)
 TEST(FingertipCompliance, DeferredSedEqualsTheSolvesOwn) {
   FingertipCompliance immediate_cc(Model()), cc(Model());
   fem::ComplianceContact& contact = cc.contact();
