@@ -21,7 +21,7 @@ struct SyntheticSpec {
   std::string name, label;
   std::string objects_yaml;  // objects at t = 0 (lowest point kLift_mm above the pad), no motion
   double depth_mm;           // penetration into the pad at the hold
-  double slide_x_mm = 0;     // lateral travel during the hold (sliding case)
+  double slide_x_mm = 0;     // lateral travel during the hold (sliding case), pad frame (y below)
   double friction = 0;
   bool primitive = false;
   sensors::ContactPrimitive truth;  // shape, x, y, radius, yaw (force filled later)
@@ -29,14 +29,17 @@ struct SyntheticSpec {
   // thinner than the leader holds, at the leader's minimum radius (as the rig presses' truths
   // and the bridge press it: contact_object.h).
   std::string leader_objects_yaml;
+  double slide_y_mm = 0;
 };
 
-std::string Motion(double depth_mm, double slide_x_mm) {
+std::string Motion(double depth_mm, double slide_x_mm, double slide_y_mm) {
   char m[512];
   std::snprintf(m, sizeof m,
                 "motion: {keyframes: [{t_s: 0, offset_mm: [0, 0, 0]}, {t_s: %g, offset_mm: [0, 0, 0]}, "
-                "{t_s: %g, offset_mm: [0, 0, %g]}, {t_s: %g, offset_mm: [%g, 0, %g]}, {t_s: %g, offset_mm: [%g, 0, 0]}]}",
-                kRampStart_s, kRampEnd_s, -depth_mm, kHoldEnd_s, slide_x_mm, -depth_mm, kEnd_s, slide_x_mm);
+                "{t_s: %g, offset_mm: [0, 0, %g]}, {t_s: %g, offset_mm: [%g, %g, %g]}, "
+                "{t_s: %g, offset_mm: [%g, %g, 0]}]}",
+                kRampStart_s, kRampEnd_s, -depth_mm, kHoldEnd_s, slide_x_mm, slide_y_mm, -depth_mm, kEnd_s, slide_x_mm,
+                slide_y_mm);
   return m;
 }
 
@@ -157,12 +160,26 @@ std::vector<SyntheticSpec> RandomSpecs(int count, uint64_t seed) {
       s.push_back(FlatSpec(name, round2(uniform(0.02, 0.05) * 1e3) * 1e-3));
     } else {
       std::snprintf(name, sizeof name, "random_%02d_stroke", i);
-      SyntheticSpec spec = SphereSpec(name, round2(uniform(4, 10)), round2(uniform(-4, 0)), round2(uniform(-4, 4)),
-                                      round2(uniform(0.4, 0.7)));
-      spec.slide_x_mm = 3;
+      // Drawn in the order the former one-call draw took them (g++ evaluates arguments right
+      // to left), so seeds keep their strokes' spheres, places and depths.
+      const double d = round2(uniform(0.4, 0.7)), y = round2(uniform(-4, 4));
+      const double start_x = round2(uniform(-4, 0)), r = round2(uniform(4, 10));
+      // Mid-slide where a +x stroke from (start_x, y) has it; the direction any, from a
+      // stream of its own (the rig strokes along +x and -y; the main stream, and so every
+      // other drawn press, stays as it was when strokes went along +x only).
+      std::mt19937_64 direction_rng(CaseNoiseSeed(seed ^ 0x5354524F4B45ull, size_t(i)));
+      const double yaw_deg = std::round(std::uniform_real_distribution<double>(0, 360)(direction_rng));
+      const double c = std::cos(yaw_deg * M_PI / 180), sn = std::sin(yaw_deg * M_PI / 180);
+      const double mid_x = start_x + 1.5;
+      SyntheticSpec spec = SphereSpec(name, r, round2(mid_x - 1.5 * c), round2(y - 1.5 * sn), d);
+      spec.slide_x_mm = 3 * c;
+      spec.slide_y_mm = 3 * sn;
       spec.friction = 0.3;
-      spec.label += " sliding +x 3 mm (mu 0.3)";
-      spec.truth.x_mm += 1.5;  // mid-slide, as sliding_sphere's (the table's position error)
+      char slide[64];
+      std::snprintf(slide, sizeof slide, " sliding 3 mm at %g deg (mu 0.3)", yaw_deg);
+      spec.label += slide;
+      spec.truth.x_mm = mid_x;  // mid-slide, as sliding_sphere's (the table's position error)
+      spec.truth.y_mm = y;
       s.push_back(spec);
     }
   }
@@ -230,7 +247,7 @@ std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& p
       for (;;) {  // entries separated by '|'
         const size_t bar = objects_yaml.find('|', start);
         const std::string one = objects_yaml.substr(start, bar == std::string::npos ? std::string::npos : bar - start);
-        yaml += one + ", " + Motion(spec.depth_mm + kLift_mm, spec.slide_x_mm) + "}";
+        yaml += one + ", " + Motion(spec.depth_mm + kLift_mm, spec.slide_x_mm, spec.slide_y_mm) + "}";
         if (bar == std::string::npos) break;
         yaml += ", ";
         start = bar + 1;

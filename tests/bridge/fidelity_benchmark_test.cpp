@@ -270,6 +270,31 @@ TEST(FidelityCase, RandomSetIsSeededAndRigLike) {
   EXPECT_EQ(same_noise, 0);
 }
 
+// Drawn strokes slide in any direction (the rig's go along +x and -y), and the load the
+// simulated sensor carries at the peak scan drags along that direction.
+TEST(FidelityCase, RandomStrokesSlideInAnyDirection) {
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
+  const auto cases = SyntheticFidelityCases(profile, 3, sensors::PadMechanics::kLayer, 14);
+  std::vector<double> directions_deg;
+  for (const FidelityCase& c : cases) {
+    if (c.name.find("stroke") == std::string::npos) continue;
+    const size_t at = c.label.find(" at ");
+    ASSERT_NE(at, std::string::npos) << c.label;
+    const double yaw_deg = std::stod(c.label.substr(at + 4));
+    directions_deg.push_back(yaw_deg);
+    size_t peak = 0;
+    for (size_t k = 0; k < c.load_N.size(); ++k)
+      if (c.load_N[k].z() > c.load_N[peak].z()) peak = k;
+    const Eigen::Vector2d shear = c.load_N[peak].head<2>();
+    const Eigen::Vector2d slide(std::cos(yaw_deg * M_PI / 180), std::sin(yaw_deg * M_PI / 180));
+    EXPECT_GT(shear.norm(), 0.2 * c.load_N[peak].z()) << c.label;  // sliding: mu 0.3
+    EXPECT_GT(shear.normalized().dot(slide), std::cos(10 * M_PI / 180)) << c.label;
+  }
+  ASSERT_GE(directions_deg.size(), 3u);
+  const auto [lo, hi] = std::minmax_element(directions_deg.begin(), directions_deg.end());
+  EXPECT_GT(*hi - *lo, 90.0);
+}
+
 TEST(FidelityBenchmark, WithinTargetsChecksAllThreeAtTheirBounds) {
   MethodError e;
   e.peak_ratio = 0.8;
