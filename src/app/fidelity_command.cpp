@@ -1,10 +1,13 @@
 // sedbridge fidelity: the SED the bridge delivers against the SED of the same object pressed
 // on the leader's fingertip model (bridge/fidelity_benchmark.h), over recorded presses.
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "app/arg_parser.h"
 #include "app/command.h"
@@ -84,6 +87,8 @@ int RunFidelity(int argc, char** argv) {
   // Scored cases within all three targets, per method (by argmax, by peak region).
   int scored = 0, map_hits = 0, recon_hits = 0, recon_region_hits = 0;
   std::vector<std::string> no_truth;
+  // Per kind of object, in order of first appearance: scored, reconstructed within.
+  std::vector<std::pair<std::string, std::pair<int, int>>> by_kind;
   for (const auto& press : presses) {
     FidelityMaps maps;
     const FidelityRow r = bench.Run(press, &maps);
@@ -95,6 +100,11 @@ int RunFidelity(int argc, char** argv) {
       map_hits += map_within;
       recon_hits += recon_within;
       recon_region_hits += WithinTargets(r.recon_error, {}, true);
+      const std::string kind = ObjectKind(r);
+      auto it = std::find_if(by_kind.begin(), by_kind.end(), [&](const auto& k) { return k.first == kind; });
+      if (it == by_kind.end()) it = by_kind.insert(by_kind.end(), {kind, {0, 0}});
+      ++it->second.first;
+      it->second.second += recon_within;
     } else {
       no_truth.push_back(r.name + " (" + r.truth_press + ")");
     }
@@ -136,6 +146,13 @@ int RunFidelity(int argc, char** argv) {
               "cases: reconstructed contact %d (%d by peak region), pressure map %d\n",
               t.min_peak_ratio, t.max_peak_ratio, t.max_rel_l2, t.max_peak_offset_mm, scored, recon_hits,
               recon_region_hits, map_hits);
+  if (!by_kind.empty()) {
+    std::printf("reconstructed contact by object:");
+    for (size_t k = 0; k < by_kind.size(); ++k)
+      std::printf("%s %s %d of %d", k ? "," : "", by_kind[k].first.c_str(), by_kind[k].second.second,
+                  by_kind[k].second.first);
+    std::printf("\n");
+  }
   if (!no_truth.empty()) {
     std::printf("not scored, %zu: the object does not reach the measured force on the leader's pad:", no_truth.size());
     for (const auto& n : no_truth) std::printf("\n  %s", n.c_str());

@@ -69,6 +69,20 @@ bool WithinTargets(const MethodError& e, const FidelityTargets& t, bool by_peak_
          offset_mm <= t.max_peak_offset_mm;
 }
 
+std::string ObjectKind(const FidelityRow& row) {
+  if (!row.truth_is_primitive) return "other";
+  const sensors::ContactPrimitive& t = row.truth_object;
+  switch (t.shape) {
+    case sensors::ContactShape::kFlat:
+      return "flat";
+    case sensors::ContactShape::kCylinder:
+      return "rod";
+    case sensors::ContactShape::kSphere:
+      return std::hypot(t.shear_x_N, t.shear_y_N) > 0.05 * t.normal_force_N ? "stroke" : "sphere";
+  }
+  return "other";
+}
+
 namespace {
 
 // The default bridge config with the given cache and face contact.

@@ -86,6 +86,11 @@ struct FidelityRow {
   int scans = 0, fallbacks = 0;
 };
 
+/// The kind of object a row presses, for per-kind counts: "sphere", "rod", "flat", "stroke"
+/// (a sphere dragging the pad with a tangential load above 5 % of its normal load at the
+/// peak scan) or "other" (a box edge or corner, two spheres: not a primitive).
+std::string ObjectKind(const FidelityRow& row);
+
 /// The three Merkel-layer maps of one case [Pa], model.merkel_nodes order.
 struct FidelityMaps {
   Eigen::Matrix3Xd merkel_pad_mm;

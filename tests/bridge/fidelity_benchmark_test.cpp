@@ -295,6 +295,22 @@ TEST(FidelityCase, RandomStrokesSlideInAnyDirection) {
   EXPECT_GT(*hi - *lo, 90.0);
 }
 
+TEST(FidelityBenchmark, ObjectKindNamesStrokesByTheirTangentialLoad) {
+  FidelityRow row;
+  EXPECT_EQ(ObjectKind(row), "other");  // a box edge or corner, a pair
+  row.truth_is_primitive = true;
+  row.truth_object.shape = sensors::ContactShape::kSphere;
+  row.truth_object.normal_force_N = 1.0;
+  row.truth_object.shear_y_N = 0.04;
+  EXPECT_EQ(ObjectKind(row), "sphere");
+  row.truth_object.shear_x_N = -0.04;  // 0.057 N of 1 N: dragging
+  EXPECT_EQ(ObjectKind(row), "stroke");
+  row.truth_object.shape = sensors::ContactShape::kCylinder;
+  EXPECT_EQ(ObjectKind(row), "rod");
+  row.truth_object.shape = sensors::ContactShape::kFlat;
+  EXPECT_EQ(ObjectKind(row), "flat");
+}
+
 TEST(FidelityBenchmark, WithinTargetsChecksAllThreeAtTheirBounds) {
   MethodError e;
   e.peak_ratio = 0.8;
