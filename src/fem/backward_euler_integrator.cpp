@@ -16,6 +16,7 @@ BackwardEulerIntegrator::BackwardEulerIntegrator(NewtonSystem& system, const Eig
       mass_(node_mass_kg),
       newton_iterations_(settings.newton_iterations),
       rayleigh_alpha_1_s_(settings.rayleigh_alpha_1_s),
+      extrapolate_warm_start_(settings.extrapolate_warm_start),
       delta_(Eigen::VectorXd::Zero(3 * node_mass_kg.size())) {}
 
 StepReport BackwardEulerIntegrator::Step(double h, SimulationState& state) {
@@ -58,9 +59,18 @@ StepReport BackwardEulerIntegrator::Step(double h, SimulationState& state) {
                                m * (v1_.segment<3>(3 * i) - v0_.segment<3>(3 * i));
     }
     if (at_current_state) rhs_ -= h * h * system_.stiffness_times_velocity();
+    if (it == 0 && extrapolate_warm_start_ && h_last_s_ == h && h_before_s_ == h && dv_last_.size() == rhs_.size() &&
+        dv_before_.size() == rhs_.size())
+      delta_ = 2 * dv_last_ - dv_before_;  // the solver drops a guess worse than zero (PcgSolver)
     system_.Solve(rhs_, delta_, report);
     v1_ += delta_;
     report.max_step_m = h * delta_.cwiseAbs().maxCoeff();
+  }
+  if (extrapolate_warm_start_) {
+    dv_before_.swap(dv_last_);
+    dv_last_ = v1_ - v0_;
+    h_before_s_ = h_last_s_;
+    h_last_s_ = h;
   }
   state.v_m_s = v1_;
   x = x0_ + h * v1_;

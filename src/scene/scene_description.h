@@ -161,6 +161,7 @@ struct SceneDescription {
       d->Visit(Field("newton_iterations", &integrator.newton_iterations).AtLeast(1));
       d->Visit(Field("newton_tolerance_mm", &integrator.newton_tolerance_m).Positive().Scale(1e-3));
       d->Visit(Field("rayleigh_alpha_1_s", &integrator.rayleigh_alpha_1_s).NonNegative());
+      d->Visit(Field("extrapolate_warm_start", &integrator.extrapolate_warm_start));
       d->Visit(Field("rayleigh_beta_s", &rayleigh_beta_s).NonNegative());
     });
     a->Section("solver", [&](auto* so) {
