@@ -35,7 +35,7 @@ struct IntegratorSettings {
   /// Backward Euler: a step's first linear solve starts from the last two steps' velocity
   /// changes extrapolated (2 dv_n - dv_n-1: a press's acceleration changes smoothly), not
   /// from the last one's. An iterative solver then needs fewer iterations to its tolerance
-  /// (docs/performance.md, session 29), and a capped one ends nearer the exact solve.
+  /// while the motion is smooth (docs/performance.md, session 29).
   bool extrapolate_warm_start = true;
 };
 
