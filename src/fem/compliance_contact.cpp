@@ -23,7 +23,12 @@
 
 namespace sedbridge::fem {
 
-using namespace column_products;
+using column_products::AddColumns3;
+using column_products::AddColumnsByRowBlocks;
+using column_products::AddKeptColumnsByRowBlocks;
+using column_products::AddThreeColumns;
+using column_products::RowBlock;
+using column_products::SetThreeColumns;
 
 namespace {
 
