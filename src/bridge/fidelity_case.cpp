@@ -21,7 +21,7 @@ struct SyntheticSpec {
   std::string name, label;
   std::string objects_yaml;  // objects at t = 0 (lowest point kLift_mm above the pad), no motion
   double depth_mm;           // penetration into the pad at the hold
-  double slide_x_mm = 0;     // lateral travel during the hold (sliding case), pad frame (y below)
+  double slide_mm = 0;       // lateral travel during the hold (sliding case), along slide_yaw_deg
   double friction = 0;
   bool primitive = false;
   sensors::ContactPrimitive truth;  // shape, x, y, radius, yaw (force filled later)
@@ -29,10 +29,12 @@ struct SyntheticSpec {
   // thinner than the leader holds, at the leader's minimum radius (as the rig presses' truths
   // and the bridge press it: contact_object.h).
   std::string leader_objects_yaml;
-  double slide_y_mm = 0;
+  double slide_yaw_deg = 0;  // the slide's direction in the pad frame (0: +x)
 };
 
-std::string Motion(double depth_mm, double slide_x_mm, double slide_y_mm) {
+std::string Motion(double depth_mm, double slide_mm, double slide_yaw_deg) {
+  const double slide_x_mm = slide_mm * std::cos(slide_yaw_deg * M_PI / 180);
+  const double slide_y_mm = slide_mm * std::sin(slide_yaw_deg * M_PI / 180);
   char m[512];
   std::snprintf(m, sizeof m,
                 "motion: {keyframes: [{t_s: 0, offset_mm: [0, 0, 0]}, {t_s: %g, offset_mm: [0, 0, 0]}, "
@@ -172,8 +174,8 @@ std::vector<SyntheticSpec> RandomSpecs(int count, uint64_t seed) {
       const double c = std::cos(yaw_deg * M_PI / 180), sn = std::sin(yaw_deg * M_PI / 180);
       const double mid_x = start_x + 1.5;
       SyntheticSpec spec = SphereSpec(name, r, round2(mid_x - 1.5 * c), round2(y - 1.5 * sn), d);
-      spec.slide_x_mm = 3 * c;
-      spec.slide_y_mm = 3 * sn;
+      spec.slide_mm = 3;
+      spec.slide_yaw_deg = yaw_deg;
       spec.friction = 0.3;
       char slide[64];
       std::snprintf(slide, sizeof slide, " sliding 3 mm at %g deg (mu 0.3)", yaw_deg);
@@ -247,7 +249,7 @@ std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& p
       for (;;) {  // entries separated by '|'
         const size_t bar = objects_yaml.find('|', start);
         const std::string one = objects_yaml.substr(start, bar == std::string::npos ? std::string::npos : bar - start);
-        yaml += one + ", " + Motion(spec.depth_mm + kLift_mm, spec.slide_x_mm, spec.slide_y_mm) + "}";
+        yaml += one + ", " + Motion(spec.depth_mm + kLift_mm, spec.slide_mm, spec.slide_yaw_deg) + "}";
         if (bar == std::string::npos) break;
         yaml += ", ";
         start = bar + 1;

@@ -59,8 +59,7 @@ StepReport BackwardEulerIntegrator::Step(double h, SimulationState& state) {
                                m * (v1_.segment<3>(3 * i) - v0_.segment<3>(3 * i));
     }
     if (at_current_state) rhs_ -= h * h * system_.stiffness_times_velocity();
-    if (it == 0 && extrapolate_warm_start_ && h_last_s_ == h && h_before_s_ == h && dv_last_.size() == rhs_.size() &&
-        dv_before_.size() == rhs_.size())
+    if (it == 0 && extrapolate_warm_start_ && h_last_s_ == h && h_before_s_ == h)
       delta_ = 2 * dv_last_ - dv_before_;  // the solver drops a guess worse than zero (PcgSolver)
     system_.Solve(rhs_, delta_, report);
     v1_ += delta_;

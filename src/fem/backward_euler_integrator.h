@@ -30,7 +30,8 @@ class BackwardEulerIntegrator final : public Integrator {
   double assembled_dt_s_ = -1;  // the step the matrix M + h D + h^2 K was built for
   bool extrapolate_warm_start_;
   Eigen::VectorXd x0_, v0_, v1_, rhs_, delta_;  // per-step work; delta_ warm-starts the next solve
-  // The last two steps' velocity changes v1 - v0 and their time steps [s] (0: none yet).
+  // The last two steps' velocity changes v1 - v0 and their time steps [s] (0: no such step
+  // yet, so a time step equal to both says both changes are there).
   Eigen::VectorXd dv_last_, dv_before_;
   double h_last_s_ = 0, h_before_s_ = 0;
 };

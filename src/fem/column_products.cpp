@@ -19,6 +19,12 @@ void SetThreeColumns(int rows, const double* a0, const double* a1, const double*
   for (int i = 0; i < rows; ++i) y[i] = a0[i] * f0 + a1[i] * f1 + a2[i] * f2;
 }
 
+SEDBRIDGE_HOT_CLONES
+void SetThreeColumns(int rows, const float* a0, const float* a1, const float* a2, double f0, double f1, double f2,
+                     float* y) {
+  for (int i = 0; i < rows; ++i) y[i] = float(double(a0[i]) * f0 + double(a1[i]) * f1 + double(a2[i]) * f2);
+}
+
 // The same from single-precision columns (summed in double).
 SEDBRIDGE_HOT_CLONES
 void AddThreeColumns(int rows, const float* a0, const float* a1, const float* a2, double f0, double f1, double f2,
@@ -62,10 +68,8 @@ void AddEightColumns(int rows, const float* const* a, const double* f, double* y
 void AddKeptColumnsByRowBlocks(const Eigen::MatrixXf& K, const std::vector<int>& slots,
                                const std::vector<double>& coefficients, int team, Eigen::VectorXd& y) {
   const Eigen::Index rows = K.rows();
-#pragma omp parallel num_threads(team) if (team > 1)
-  {
-    const auto [begin, end] = RowBlock(rows, omp_get_thread_num(), omp_get_num_threads());
-    for (size_t k = 0; k < slots.size() && begin < end; k += 8) {
+  ForEachRowBlock(rows, team, [&](Eigen::Index begin, Eigen::Index end) {
+    for (size_t k = 0; k < slots.size(); k += 8) {
       const float* a[8];
       double f[8];
       for (size_t t = 0; t < 8; ++t) {  // past the end: the first column again, times 0
@@ -75,7 +79,7 @@ void AddKeptColumnsByRowBlocks(const Eigen::MatrixXf& K, const std::vector<int>&
       }
       AddEightColumns(int(end - begin), a, f, y.data() + begin);
     }
-  }
+  });
 }
 
 // y += sum_k A.middleCols<3>(3 columns[k]) forces.col(k): G's product for the SED, by row
@@ -85,11 +89,9 @@ void AddKeptColumnsByRowBlocks(const Eigen::MatrixXf& K, const std::vector<int>&
 void AddColumnsByRowBlocks(const Eigen::MatrixXf& A, const std::vector<int>& columns, const Eigen::Matrix3Xd& forces,
                            int team, Eigen::VectorXd& y) {
   const Eigen::Index rows = A.rows();
-#pragma omp parallel num_threads(team) if (team > 1)
-  {
-    const auto [begin, end] = RowBlock(rows, omp_get_thread_num(), omp_get_num_threads());
+  ForEachRowBlock(rows, team, [&](Eigen::Index begin, Eigen::Index end) {
     size_t k = 0;
-    for (; k + 4 <= columns.size() && begin < end; k += 4) {
+    for (; k + 4 <= columns.size(); k += 4) {
       const float* a[12];
       double f[12];
       for (int t = 0; t < 4; ++t) {
@@ -101,12 +103,12 @@ void AddColumnsByRowBlocks(const Eigen::MatrixXf& A, const std::vector<int>& col
       }
       AddFourColumnTriples(int(end - begin), a, f, y.data() + begin);
     }
-    for (; k < columns.size() && begin < end; ++k) {
+    for (; k < columns.size(); ++k) {
       const float* a = A.data() + 3 * Eigen::Index(columns[k]) * rows + begin;
       const auto f = forces.col(Eigen::Index(k));
       AddThreeColumns(int(end - begin), a, a + rows, a + 2 * rows, f[0], f[1], f[2], y.data() + begin);
     }
-  }
+  });
 }
 
 }  // namespace sedbridge::fem::column_products

@@ -6,6 +6,8 @@
 // the columns' precision; the row-block forms split one product over an OpenMP team with
 // every row summed in the same order (the same bits with any team).
 
+#include <omp.h>
+
 #include <Eigen/Core>
 #include <algorithm>
 #include <utility>
@@ -22,6 +24,9 @@ void AddThreeColumns(int rows, const float* a0, const float* a1, const float* a2
 /// y[i] = a0[i] f0 + a1[i] f1 + a2[i] f2, i < rows.
 void SetThreeColumns(int rows, const double* a0, const double* a1, const double* a2, double f0, double f1, double f2,
                      double* y);
+/// The same from and into single precision (summed in double, rounded once).
+void SetThreeColumns(int rows, const float* a0, const float* a1, const float* a2, double f0, double f1, double f2,
+                     float* y);
 /// y += the four column triples a[3 t .. 3 t + 2] times f[3 t .. 3 t + 2], t = 0..3, in that
 /// order: each row the same sums as four AddThreeColumns calls, with one pass over y
 /// instead of four (y's loads and stores were as much traffic as G's columns).
@@ -34,6 +39,17 @@ inline std::pair<Eigen::Index, Eigen::Index> RowBlock(Eigen::Index rows, int t, 
   const Eigen::Index chunk = ((rows + n - 1) / n + 7) / 8 * 8;
   const Eigen::Index begin = std::min(rows, t * chunk);
   return {begin, std::min(rows, begin + chunk)};
+}
+
+/// Calls block(begin, end) for each non-empty row block of `rows` over a team of `team`
+/// threads (team <= 1: once, [0, rows), on the caller's thread).
+template <typename Block>
+void ForEachRowBlock(Eigen::Index rows, int team, const Block& block) {
+#pragma omp parallel num_threads(team) if (team > 1)
+  {
+    const auto [begin, end] = RowBlock(rows, omp_get_thread_num(), omp_get_num_threads());
+    if (begin < end) block(begin, end);
+  }
 }
 
 /// y += A.middleCols<3>(3 j) * f as one fused pass over the rows (Eigen's generic 3-column

@@ -27,7 +27,7 @@ using column_products::AddColumns3;
 using column_products::AddColumnsByRowBlocks;
 using column_products::AddKeptColumnsByRowBlocks;
 using column_products::AddThreeColumns;
-using column_products::RowBlock;
+using column_products::ForEachRowBlock;
 using column_products::SetThreeColumns;
 
 namespace {
@@ -978,12 +978,10 @@ void ComplianceContact::ComputeSed() {
   const int count = int(sed_mu_Pa_.size());
   element_sed_.resize(count);
   const int team = count >= options_.sed_parallel_min_elements ? omp_get_max_threads() : 1;
-#pragma omp parallel num_threads(team) if (team > 1)
-  {
-    const auto [begin, end] = RowBlock(count, omp_get_thread_num(), omp_get_num_threads());
+  ForEachRowBlock(count, team, [&](Eigen::Index begin, Eigen::Index end) {
     LinearElementSeds(int(begin), int(end), count, sed_offset_.data(), sed_gradient_.data(), sed_mu_Pa_.data(),
                       sed_lambda_Pa_.data(), u_s_.data(), element_sed_.data());
-  }
+  });
   sed_->AverageToVertices(element_sed_, result_.sed_Pa);
   sed_current_ = true;
 }
@@ -1018,9 +1016,7 @@ int ComplianceContact::KeptSedColumn(int node, const Eigen::Vector3d& f, double*
     // stored in single precision as G is (ComplianceContact.KeptSedColumnsGiveTheThreeColumnSed:
     // the same SED to 1e-6).
     const float* g = G_single_.data() + 3 * Eigen::Index(node) * rows;
-    float* kept = sed_kept_.col(d.slot).data();
-    for (Eigen::Index i = 0; i < rows; ++i)
-      kept[i] = float(double(g[i]) * d.dir[0] + double(g[i + rows]) * d.dir[1] + double(g[i + 2 * rows]) * d.dir[2]);
+    SetThreeColumns(int(rows), g, g + rows, g + 2 * rows, d.dir[0], d.dir[1], d.dir[2], sed_kept_.col(d.slot).data());
     ++qp_counts_.sed_columns_kept;
   }
   *coefficient = along;
