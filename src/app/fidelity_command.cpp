@@ -47,6 +47,9 @@ int RunFidelity(int argc, char** argv) {
               "rig's elastomer as a 2.5 mm layer on a rigid base, fitted to the rig presses: fit-sensor --evaluate-pad)",
               "layer")
       .Option("random", "N", "--synthetic: N rig-like presses drawn at random instead of the fixed set", "0")
+      .Flag("rig-on-pad",
+            "the presses of --cases re-made on the simulated sensor with --pad (each object at its place, pressed "
+            "to its hold force): how far the simulated pad, and so --random's sets, stands in for the recorded sensor")
       .Option("seed", "S", "--synthetic: seed of the noise (and of --random's draws)", "1")
       .Flag("node-contact", "press on the leader's skin nodes only (bridge fe.face_contact: false), not its faces too")
       .Flag("no-plots", "skip the PNG plots");
@@ -59,14 +62,21 @@ int RunFidelity(int argc, char** argv) {
   std::filesystem::create_directories(out + "/maps");
   const auto profile = sensors::LoadNamedSensorProfile(args.Get("profile"));
   std::vector<FidelityCase> presses;
-  if (args.GetFlag("synthetic")) {
+  if (args.GetFlag("synthetic") || args.GetFlag("rig-on-pad")) {
     const auto pad = config::ParseEnum<sensors::PadMechanics>(args.Get("pad"), "--pad model");
     if (pad == sensors::PadMechanics::kWinkler)
       throw std::invalid_argument("--pad: the synthetic set needs the kernels (kernel, halfspace or layer), not winkler");
     std::printf("fidelity: simulating the synthetic set (pad model %s) ...\n", args.Get("pad").c_str());
     const long random = args.GetInt("random");
     if (random < 0 || random > 1000) throw UsageError("--random must be in 0..1000");
-    presses = SyntheticFidelityCases(profile, static_cast<uint64_t>(args.GetInt("seed")), pad, static_cast<int>(random));
+    const auto seed = static_cast<uint64_t>(args.GetInt("seed"));
+    if (args.GetFlag("rig-on-pad")) {
+      if (random > 0) throw UsageError("--rig-on-pad and --random choose different presses: give one");
+      presses = CalibrationPressesOnSimulatedPad(
+          sensors::LoadCalibrationPresses(config::ResolveResource(args.Get("cases")), profile), profile, seed, pad);
+    } else {
+      presses = SyntheticFidelityCases(profile, seed, pad, static_cast<int>(random));
+    }
   } else {
     for (const auto& p : sensors::LoadCalibrationPresses(config::ResolveResource(args.Get("cases")), profile))
       presses.push_back(FromCalibrationPress(p));

@@ -226,21 +226,27 @@ FidelityCase FromCalibrationPress(const sensors::CalibrationPress& press) {
   return c;
 }
 
-std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& profile, uint64_t seed,
-                                                 sensors::PadMechanics pad, int random_count) {
+namespace {
+
+sensors::PadModel SimulatedPad(sensors::PadMechanics pad) {
+  sensors::PadModel model;
+  if (pad == sensors::PadMechanics::kLayer) model = sensors::RigFittedLayerPad();
+  model.mechanics = pad;
+  return model;
+}
+
+// Presses every spec into the simulated sensor. per_case_noise: each press its own noise
+// stream (from `seed` and its index); else all share the stream `seed`.
+std::vector<FidelityCase> Simulate(const std::vector<SyntheticSpec>& specs, const sensors::SensorProfile& profile,
+                                   uint64_t seed, sensors::PadMechanics pad, bool per_case_noise) {
   std::vector<FidelityCase> cases;
-  const std::vector<SyntheticSpec> specs = random_count > 0 ? RandomSpecs(random_count, seed) : Specs();
   for (size_t index = 0; index < specs.size(); ++index) {
     const SyntheticSpec& spec = specs[index];
     sensors::SimulatedSensorConfig config;
     config.profile = profile;
-    if (pad == sensors::PadMechanics::kLayer) config.pad = sensors::RigFittedLayerPad();
-    config.pad.mechanics = pad;
+    config.pad = SimulatedPad(pad);
     config.pad.friction_coefficient = spec.friction;
-    // A drawn press gets its own noise stream: with one stream, every case saw the same noise
-    // at the same scan, and N drawn presses were not N independent draws. The fixed set
-    // keeps one stream, so its table compares with earlier runs.
-    config.noise.seed = random_count > 0 ? CaseNoiseSeed(seed, index) : seed;
+    config.noise.seed = per_case_noise ? CaseNoiseSeed(seed, index) : seed;
     config.noise.stddev_counts = 2;
     config.duration_s = kEnd_s + 0.1;
     auto parse_objects = [&](const std::string& objects_yaml) {
@@ -281,6 +287,59 @@ std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& p
     cases.push_back(std::move(c));
   }
   return cases;
+}
+
+}  // namespace
+
+std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& profile, uint64_t seed,
+                                                 sensors::PadMechanics pad, int random_count) {
+  // A drawn press gets its own noise stream: with one stream, every case saw the same noise
+  // at the same scan, and N drawn presses were not N independent draws. The fixed set keeps
+  // one stream, so its table compares with earlier runs.
+  return random_count > 0 ? Simulate(RandomSpecs(random_count, seed), profile, seed, pad, true)
+                          : Simulate(Specs(), profile, seed, pad, false);
+}
+
+std::vector<FidelityCase> CalibrationPressesOnSimulatedPad(const std::vector<sensors::CalibrationPress>& presses,
+                                                           const sensors::SensorProfile& profile, uint64_t seed,
+                                                           sensors::PadMechanics pad) {
+  // The depth at which the pad carries each press's hold force, as fit-sensor --evaluate-pad
+  // finds it.
+  const std::vector<sensors::PadPressReport> depths = sensors::EvaluatePadOnPresses(presses, profile, SimulatedPad(pad));
+  std::vector<SyntheticSpec> specs;
+  for (size_t i = 0; i < presses.size(); ++i) {
+    const sensors::ContactPrimitive& o = presses[i].object;
+    if (!depths[i].reached) continue;
+    const std::string name = presses[i].name.substr(0, presses[i].name.rfind('.'));
+    const double depth_mm = depths[i].depth_mm;
+    SyntheticSpec spec;
+    if (o.shape == sensors::ContactShape::kFlat) {
+      spec = FlatSpec(name, depth_mm);
+    } else if (o.shape == sensors::ContactShape::kCylinder) {
+      spec = RodSpec(name, o.radius_mm, o.yaw_deg, o.x_mm, o.y_mm, depth_mm);
+    } else {
+      const double traction = std::hypot(o.shear_x_N, o.shear_y_N) / std::max(o.normal_force_N, 1e-12);
+      if (traction > 0) {
+        // The rig's stroke holds a tangential load; the simulated pad makes one by sliding
+        // with friction: 3 mm along the load through the rig's place, friction = the load's
+        // ratio to the normal force.
+        const double yaw = std::atan2(o.shear_y_N, o.shear_x_N);
+        spec = SphereSpec(name, o.radius_mm, o.x_mm - 1.5 * std::cos(yaw), o.y_mm - 1.5 * std::sin(yaw), depth_mm);
+        spec.slide_mm = 3;
+        spec.slide_yaw_deg = yaw * 180 / M_PI;
+        spec.friction = traction;
+        spec.truth.x_mm = o.x_mm;
+        spec.truth.y_mm = o.y_mm;
+        char slide[64];
+        std::snprintf(slide, sizeof slide, " sliding 3 mm at %.0f deg (mu %g)", spec.slide_yaw_deg, traction);
+        spec.label += slide;
+      } else {
+        spec = SphereSpec(name, o.radius_mm, o.x_mm, o.y_mm, depth_mm);
+      }
+    }
+    specs.push_back(spec);
+  }
+  return Simulate(specs, profile, seed, pad, true);
 }
 
 }  // namespace sedbridge::bridge

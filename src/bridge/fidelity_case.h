@@ -61,4 +61,17 @@ std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& p
                                                  sensors::PadMechanics pad = sensors::PadMechanics::kLayer,
                                                  int random_count = 0);
 
+/// The calibration rig's presses re-made on the simulated sensor: each press's object, at
+/// its place, pressed into the simulated pad `pad` to the depth at which the pad carries the
+/// press's hold force (sensors::EvaluatePadOnPresses), with the synthetic set's timing and
+/// 2-count noise, a stream per press from `seed`. A stroke (the rig's tangential load) slides
+/// 3 mm along its load, centred on the rig's place, with friction equal to the load's ratio.
+/// Run beside the recorded presses, it says how far the simulated pad (and so the random
+/// sets) stands in for the rig: where the two read an object differently, a random set's
+/// result says more about the pad than about the bridge. Presses the pad cannot carry
+/// (EvaluatePadOnPresses' `reached` false) are left out.
+std::vector<FidelityCase> CalibrationPressesOnSimulatedPad(const std::vector<sensors::CalibrationPress>& presses,
+                                                           const sensors::SensorProfile& profile, uint64_t seed = 1,
+                                                           sensors::PadMechanics pad = sensors::PadMechanics::kLayer);
+
 }  // namespace sedbridge::bridge

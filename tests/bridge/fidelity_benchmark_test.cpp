@@ -295,6 +295,48 @@ TEST(FidelityCase, RandomStrokesSlideInAnyDirection) {
   EXPECT_GT(*hi - *lo, 90.0);
 }
 
+// `fidelity --rig-on-pad`: each rig press re-made on the simulated pad carries the press's
+// force at its hold, at the rig's place, and a rig stroke's tangential load comes from a
+// slide along it; a press the pad cannot carry is left out.
+TEST(FidelityCase, RigPressesOnTheSimulatedPadCarryTheirForces) {
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
+  const auto all =
+      sensors::LoadCalibrationPresses(config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), profile);
+  std::vector<sensors::CalibrationPress> presses;
+  for (const auto& p : all)  // a sphere, a rod, a flat and a stroke (+x)
+    if (p.name == "press_03.log" || p.name == "press_14.log" || p.name == "press_17.log" || p.name == "press_19.log")
+      presses.push_back(p);
+  ASSERT_EQ(presses.size(), 4u);
+  sensors::CalibrationPress unreachable = presses[0];  // a 5 mm sphere cannot carry 50 N within its radius
+  unreachable.name = "press_unreachable.log";
+  unreachable.object.normal_force_N = 50;
+  presses.push_back(unreachable);
+  const auto cases = CalibrationPressesOnSimulatedPad(presses, profile, 1, sensors::PadMechanics::kLayer);
+  ASSERT_EQ(cases.size(), 4u);
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const sensors::ContactPrimitive& o = presses[i].object;
+    const FidelityCase& c = cases[i];
+    EXPECT_EQ(c.name + ".log", presses[i].name);
+    ASSERT_TRUE(c.has_primitive);
+    EXPECT_EQ(c.primitive.shape, o.shape) << c.name;
+    EXPECT_EQ(c.primitive.radius_mm, o.radius_mm) << c.name;
+    EXPECT_NEAR(c.primitive.x_mm, o.x_mm, 1e-9) << c.name;
+    EXPECT_NEAR(c.primitive.y_mm, o.y_mm, 1e-9) << c.name;
+    double peak_N = 0;
+    size_t peak = 0;
+    for (size_t k = 0; k < c.load_N.size(); ++k)
+      if (c.load_N[k].z() > peak_N) peak_N = c.load_N[peak = k].z();
+    EXPECT_NEAR(peak_N, o.normal_force_N, 0.03 * o.normal_force_N) << c.name;
+    const double shear_ratio = c.load_N[peak].head<2>().norm() / peak_N;
+    if (c.name == "press_19") {
+      EXPECT_NEAR(shear_ratio, o.shear_x_N / o.normal_force_N, 0.03) << c.name;
+      EXPECT_GT(c.load_N[peak].x(), 0.9 * c.load_N[peak].head<2>().norm()) << c.name;  // along +x, as the rig's
+    } else {
+      EXPECT_LT(shear_ratio, 0.01) << c.name;
+    }
+  }
+}
+
 TEST(FidelityBenchmark, ObjectKindNamesStrokesByTheirTangentialLoad) {
   FidelityRow row;
   EXPECT_EQ(ObjectKind(row), "other");  // a box edge or corner, a pair
