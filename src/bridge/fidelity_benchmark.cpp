@@ -204,4 +204,41 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
   return row;
 }
 
+std::vector<FidelityBenchmark::ScanScore> FidelityBenchmark::RunThroughPress(const FidelityCase& press, int stride,
+                                                                              double min_force_share) {
+  std::vector<ScanScore> scores;
+  double peak_N = 0;
+  for (const Eigen::Vector3d& load : press.load_N) peak_N = std::max(peak_N, load.z());
+  if (!(peak_N > 0)) return scores;
+  const Eigen::Matrix3Xd& pad_mm = leader_->merkel_rest_pad_mm();
+  ContactReconstructor recon(profile_, reconstruction_);
+  int since = stride;
+  for (size_t k = 0; k < press.scans.size(); ++k) {
+    const ContactEstimate e = recon.Reconstruct(press.scans[k]);  // every scan, as the bridge runs
+    const Eigen::Vector3d& load = press.load_N[k];
+    if (load.z() < min_force_share * peak_N || ++since < stride) continue;
+    since = 0;
+    ScanScore s;
+    s.scan = k;
+    s.t_s = press.t_s[k];
+    s.force_N = load.z();
+    leader_->ResetWarmStart();
+    const auto truth = leader_->PressToForce(press.ObjectsAt(k), load.z(), {}, Eigen::Vector2d(load.x(), load.y()));
+    s.truth_valid = PressAnswered(truth, *leader_);
+    const Eigen::VectorXd truth_sed = leader_->sed_Pa();
+    s.recon_ok = e.ok && e.contact;
+    if (s.truth_valid && s.recon_ok) {
+      leader_->ResetWarmStart();
+      PressReconstructed(*leader_, e, press_, LeaderTangentialLoad_N(e));
+      s.truth_max_sed_Pa = truth_sed.maxCoeff();
+      s.recon_max_sed_Pa = leader_->sed_Pa().maxCoeff();
+      s.recon_radius_mm = e.primitive.radius_mm;
+      s.recon_error = Compare(pad_mm, leader_->sed_Pa(), truth_sed, *mapping_);
+    }
+    scores.push_back(s);
+  }
+  leader_->ResetWarmStart();
+  return scores;
+}
+
 }  // namespace sedbridge::bridge

@@ -118,6 +118,21 @@ class FidelityBenchmark {
 
   FidelityRow Run(const FidelityCase& c, FidelityMaps* maps);
 
+  /// One scan of a press scored as Run scores the peak: the truth pressed at that scan's
+  /// force and place, the reconstruction as the live bridge has it at that scan.
+  struct ScanScore {
+    size_t scan = 0;
+    double t_s = 0, force_N = 0;
+    bool truth_valid = false, recon_ok = false;
+    double truth_max_sed_Pa = 0, recon_max_sed_Pa = 0;
+    double recon_radius_mm = 0;
+    MethodError recon_error;
+  };
+  /// The whole press, not only its peak: every `stride`-th scan whose true normal force is
+  /// at least `min_force_share` of the press's peak (ramps, hold, release), the reconstructed
+  /// contact against the truth. What the leader feels while the press grows and lets go.
+  std::vector<ScanScore> RunThroughPress(const FidelityCase& c, int stride = 5, double min_force_share = 0.25);
+
  private:
   sensors::SensorProfile profile_;
   ReconstructionOptions reconstruction_;

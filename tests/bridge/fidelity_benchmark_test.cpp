@@ -337,6 +337,38 @@ TEST(FidelityCase, RigPressesOnTheSimulatedPadCarryTheirForces) {
   }
 }
 
+// `fidelity --through-press`: a press scored scan by scan through its ramp, hold and
+// release, not only at its peak. Rig press_03 (a 5 mm sphere, 0.8 N): every 5th scan from a
+// quarter of the peak force on, each with a truth and within the targets (measured 25 of 25).
+TEST(FidelityBenchmark, ThroughThePressEveryScoredScanHasItsOwnTruth) {
+  const RigBench rig;
+  const FidelityCase press = FromCalibrationPress(rig.presses[3]);
+  const auto scores = rig.bench->RunThroughPress(press, 5, 0.25);
+  double peak_N = 0;
+  for (const Eigen::Vector3d& load : press.load_N) peak_N = std::max(peak_N, load.z());
+  size_t eligible = 0;  // scans from a quarter of the peak force: 5 of every 5 scored once
+  for (const Eigen::Vector3d& load : press.load_N) eligible += load.z() >= 0.25 * peak_N;
+  ASSERT_GE(scores.size(), eligible / 5);
+  ASSERT_LE(scores.size(), eligible / 5 + 1);
+  int within = 0;
+  double lightest = peak_N, heaviest = 0, lightest_sed_Pa = 0, heaviest_sed_Pa = 0;
+  for (size_t i = 0; i < scores.size(); ++i) {
+    const auto& s = scores[i];
+    SCOPED_TRACE(s.scan);
+    EXPECT_GE(s.force_N, 0.25 * peak_N);
+    if (i > 0) EXPECT_GE(s.scan, scores[i - 1].scan + 5);
+    ASSERT_TRUE(s.truth_valid && s.recon_ok);
+    // The truth is pressed at the scan's own force: its SED follows the ramp.
+    if (s.force_N < lightest) lightest = s.force_N, lightest_sed_Pa = s.truth_max_sed_Pa;
+    if (s.force_N > heaviest) heaviest = s.force_N, heaviest_sed_Pa = s.truth_max_sed_Pa;
+    within += WithinTargets(s.recon_error);
+  }
+  EXPECT_LT(lightest, 0.4 * peak_N);  // the ramp and release are in, not only the hold
+  EXPECT_GT(heaviest, 0.95 * peak_N);
+  EXPECT_LT(lightest_sed_Pa, 0.8 * heaviest_sed_Pa);
+  EXPECT_GE(within, int(scores.size()) - 1);
+}
+
 TEST(FidelityBenchmark, ObjectKindNamesStrokesByTheirTangentialLoad) {
   FidelityRow row;
   EXPECT_EQ(ObjectKind(row), "other");  // a box edge or corner, a pair
