@@ -110,6 +110,7 @@ int RunFidelity(int argc, char** argv) {
   if (args.GetFlag("node-contact")) config.face_contact = false;
   const std::string model = args.GetOptional("model").value_or(config.model);
   const std::string out = args.Get("out");
+  if (args.GetInt("through-press") < 0) throw UsageError("--through-press must be 0 (off) or a stride of 1 or more");
   std::filesystem::create_directories(out + "/maps");
   const auto profile = sensors::LoadNamedSensorProfile(args.Get("profile"));
   std::vector<FidelityCase> presses;
@@ -117,7 +118,9 @@ int RunFidelity(int argc, char** argv) {
     const auto pad = config::ParseEnum<sensors::PadMechanics>(args.Get("pad"), "--pad model");
     if (pad == sensors::PadMechanics::kWinkler)
       throw std::invalid_argument("--pad: the synthetic set needs the kernels (kernel, halfspace or layer), not winkler");
-    std::printf("fidelity: simulating the synthetic set (pad model %s) ...\n", args.Get("pad").c_str());
+    std::printf("fidelity: simulating %s (pad model %s) ...\n",
+                args.GetFlag("rig-on-pad") ? "the rig's presses on the simulated sensor" : "the synthetic set",
+                args.Get("pad").c_str());
     const long random = args.GetInt("random");
     if (random < 0 || random > 1000) throw UsageError("--random must be in 0..1000");
     const auto seed = static_cast<uint64_t>(args.GetInt("seed"));

@@ -226,11 +226,11 @@ std::vector<FidelityBenchmark::ScanScore> FidelityBenchmark::RunThroughPress(con
     const auto truth = leader_->PressToForce(press.ObjectsAt(k), load.z(), {}, Eigen::Vector2d(load.x(), load.y()));
     s.truth_valid = PressAnswered(truth, *leader_);
     const Eigen::VectorXd truth_sed = leader_->sed_Pa();
+    s.truth_max_sed_Pa = truth_sed.maxCoeff();
     s.recon_ok = e.ok && e.contact;
     if (s.truth_valid && s.recon_ok) {
       leader_->ResetWarmStart();
       PressReconstructed(*leader_, e, press_, LeaderTangentialLoad_N(e));
-      s.truth_max_sed_Pa = truth_sed.maxCoeff();
       s.recon_max_sed_Pa = leader_->sed_Pa().maxCoeff();
       s.recon_radius_mm = e.primitive.radius_mm;
       s.recon_error = Compare(pad_mm, leader_->sed_Pa(), truth_sed, *mapping_);

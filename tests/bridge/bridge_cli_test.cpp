@@ -66,8 +66,8 @@ TEST(BridgeCli, RunOnARecordingStopsAfterItsDurationWithTheDisplayAtZero) {
 }
 
 // `fidelity` refuses what it cannot run before building anything: a pad model without the
-// kernels, an unknown one (the choices listed), a negative --random, --random with --rig-on-pad, and a config with
-// a key out of range (file, line and column).
+// kernels, an unknown one (the choices listed), a negative --random or --through-press,
+// --random with --rig-on-pad, and a config with a key out of range (file, line and column).
 TEST(BridgeCli, FidelityRefusesABadPadOrConfigSayingWhere) {
   const std::string dir = TempDir("fidelity");
   const std::string fidelity = std::string(SEDBRIDGE_BINARY) + " fidelity --no-plots --out " + dir;
@@ -84,6 +84,9 @@ TEST(BridgeCli, FidelityRefusesABadPadOrConfigSayingWhere) {
   out = RunCommand(fidelity + " --rig-on-pad --random 3", &status);
   EXPECT_NE(status, 0) << out;
   EXPECT_NE(out.find("--rig-on-pad and --random"), std::string::npos) << out;
+  out = RunCommand(fidelity + " --through-press -5", &status);
+  EXPECT_NE(status, 0) << out;
+  EXPECT_NE(out.find("--through-press"), std::string::npos) << out;
   const std::string config = dir + "/bad.yaml";
   std::ofstream(config) << "fe:\n  contact_tolerance: 5\n";
   out = RunCommand(fidelity + " --config " + config, &status);
