@@ -11,6 +11,9 @@ Reads DIR/fidelity.csv and DIR/maps/<case>.csv and writes
   DIR/fidelity_summary.png  per case: peak SED ratio and relative L2 error of both bridges,
                           with the issue's target bands
   DIR/fidelity_table.md   the same as a Markdown table (docs/bridge-fidelity.md)
+  DIR/fidelity_scans.png  with `--through-press`: per press, the reconstructed contact's peak
+                          SED ratio and L2 error at every scored scan over time, the true force
+                          beside them, the target bands shaded (DIR/fidelity_scans.csv)
 
 Run with /usr/bin/python3 (needs matplotlib; Debian: python3-matplotlib).
 """
@@ -146,6 +149,44 @@ def write_table(rows, out):
                     sum(1 for r in ok if within(r, "map", region))))
 
 
+def plot_through_press(scans, out):
+    cases = []  # presses with a truth to score against, in order
+    for r in scans:
+        if r["truth_valid"] == "1" and r["case"] not in cases:
+            cases.append(r["case"])
+    if not cases:
+        return
+    cols = min(5, len(cases))
+    rows_n = (len(cases) + cols - 1) // cols
+    fig, axes = plt.subplots(rows_n, cols, figsize=(3.2 * cols, 2.4 * rows_n), squeeze=False, sharey=True,
+                             constrained_layout=True)
+    for ax in axes.flat[len(cases):]:
+        ax.axis("off")
+    for ax, name in zip(axes.flat, cases):
+        mine = [r for r in scans if r["case"] == name and r["truth_valid"] == "1"]
+        t = [float(r["t_s"]) for r in mine]
+        scored = [r["recon_ok"] == "1" for r in mine]
+        ax.axhspan(0.8, 1.25, color="green", alpha=0.12)
+        ax.axhline(0.25, color="green", ls=":", lw=0.8)
+        ax.plot(t, [min(float(r["recon_peak_ratio"]), 3.0) if ok else float("nan") for r, ok in zip(mine, scored)],
+                "o-", ms=3, label="peak ratio")
+        ax.plot(t, [min(float(r["recon_rel_l2"]), 3.0) if ok else 1.0 for r, ok in zip(mine, scored)], "s--", ms=3,
+                label="L2 (fallback: 1)")
+        f = ax.twinx()
+        f.plot(t, [float(r["force_N"]) for r in mine], color="grey", lw=0.8)
+        f.set_ylim(bottom=0)
+        f.tick_params(labelsize=6, colors="grey")
+        within = sum(r["recon_within_targets"] == "1" for r in mine)
+        ax.set_title("%s: %d of %d within" % (name, within, len(mine)), fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.set_ylim(0, 2.5)
+    axes.flat[0].legend(fontsize=6, loc="upper left")
+    fig.suptitle("Through the presses: reconstructed contact against the truth at each scored scan "
+                 "(grey: true force, right axis; band: peak ratio 0.8-1.25; dotted: L2 0.25)", fontsize=9)
+    fig.savefig(out, dpi=80)
+    plt.close(fig)
+
+
 def main():
     if len(sys.argv) != 2:
         sys.exit(__doc__)
@@ -156,6 +197,10 @@ def main():
     plot_summary(rows, os.path.join(d, "fidelity_summary.png"))
     write_table(rows, os.path.join(d, "fidelity_table.md"))
     print("plots: %s/fidelity_summary.png, %s/maps/*.png" % (d, d))
+    scans_csv = os.path.join(d, "fidelity_scans.csv")
+    if os.path.exists(scans_csv) and os.path.getmtime(scans_csv) >= os.path.getmtime(os.path.join(d, "fidelity.csv")):
+        plot_through_press(read(scans_csv), os.path.join(d, "fidelity_scans.png"))
+        print("plots: %s/fidelity_scans.png" % d)
 
 
 if __name__ == "__main__":

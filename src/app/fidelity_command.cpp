@@ -100,7 +100,7 @@ int RunFidelity(int argc, char** argv) {
       .Option("seed", "S", "--synthetic: seed of the noise (and of --random's draws)", "1")
       .Option("through-press", "STRIDE",
               "also score every STRIDE-th scan of each press from a quarter of its peak force on (ramp, hold, "
-              "release), not only the peak: fidelity_scans.csv and a summary (0: off)",
+              "release), not only the peak: fidelity_scans.csv, a summary and fidelity_scans.png (0: off)",
               "0")
       .Flag("node-contact", "press on the leader's skin nodes only (bridge fe.face_contact: false), not its faces too")
       .Flag("no-plots", "skip the PNG plots");
