@@ -214,7 +214,7 @@ std::vector<FidelityBenchmark::ScanScore> FidelityBenchmark::RunThroughPress(con
   ContactReconstructor recon(profile_, reconstruction_);
   int since = stride;
   for (size_t k = 0; k < press.scans.size(); ++k) {
-    const ContactEstimate e = recon.Reconstruct(press.scans[k]);  // every scan, as the bridge runs
+    const ContactEstimate& e = recon.Reconstruct(press.scans[k]);  // every scan, as the bridge runs
     const Eigen::Vector3d& load = press.load_N[k];
     if (load.z() < min_force_share * peak_N || ++since < stride) continue;
     since = 0;

@@ -77,6 +77,20 @@ SyntheticSpec SphereSpec(const std::string& name, double r, double x, double y, 
   return spec;
 }
 
+// A stroke: `spec`, a sphere placed at the slide's start, slides kStroke_mm along yaw_deg
+// during the hold with `friction`; its truth is the mid-slide point.
+constexpr double kStroke_mm = 3;
+void MakeStroke(SyntheticSpec& spec, double yaw_deg, double friction, double mid_x_mm, double mid_y_mm) {
+  spec.slide_mm = kStroke_mm;
+  spec.slide_yaw_deg = yaw_deg;
+  spec.friction = friction;
+  spec.truth.x_mm = mid_x_mm;  // mid-slide, as sliding_sphere's (the table's position error)
+  spec.truth.y_mm = mid_y_mm;
+  char slide[64];
+  std::snprintf(slide, sizeof slide, " sliding %g mm at %g deg (mu %g)", kStroke_mm, yaw_deg, friction);
+  spec.label += slide;
+}
+
 SyntheticSpec RodSpec(const std::string& name, double r, double yaw, double x, double y, double d) {
   char label[64];
   std::snprintf(label, sizeof label, "rod R%g yaw %g (%g, %g)", r, yaw, x, y);
@@ -172,16 +186,9 @@ std::vector<SyntheticSpec> RandomSpecs(int count, uint64_t seed) {
       std::mt19937_64 direction_rng(CaseNoiseSeed(seed ^ 0x5354524F4B45ull, size_t(i)));
       const double yaw_deg = std::round(std::uniform_real_distribution<double>(0, 360)(direction_rng));
       const double c = std::cos(yaw_deg * M_PI / 180), sn = std::sin(yaw_deg * M_PI / 180);
-      const double mid_x = start_x + 1.5;
-      SyntheticSpec spec = SphereSpec(name, r, round2(mid_x - 1.5 * c), round2(y - 1.5 * sn), d);
-      spec.slide_mm = 3;
-      spec.slide_yaw_deg = yaw_deg;
-      spec.friction = 0.3;
-      char slide[64];
-      std::snprintf(slide, sizeof slide, " sliding 3 mm at %g deg (mu 0.3)", yaw_deg);
-      spec.label += slide;
-      spec.truth.x_mm = mid_x;  // mid-slide, as sliding_sphere's (the table's position error)
-      spec.truth.y_mm = y;
+      const double half_mm = kStroke_mm / 2, mid_x = start_x + half_mm;
+      SyntheticSpec spec = SphereSpec(name, r, round2(mid_x - half_mm * c), round2(y - half_mm * sn), d);
+      MakeStroke(spec, yaw_deg, 0.3, mid_x, y);
       s.push_back(spec);
     }
   }
@@ -321,18 +328,12 @@ std::vector<FidelityCase> CalibrationPressesOnSimulatedPad(const std::vector<sen
       const double traction = std::hypot(o.shear_x_N, o.shear_y_N) / std::max(o.normal_force_N, 1e-12);
       if (traction > 0) {
         // The rig's stroke holds a tangential load; the simulated pad makes one by sliding
-        // with friction: 3 mm along the load through the rig's place, friction = the load's
+        // with friction: along the load through the rig's place, friction = the load's
         // ratio to the normal force.
-        const double yaw = std::atan2(o.shear_y_N, o.shear_x_N);
-        spec = SphereSpec(name, o.radius_mm, o.x_mm - 1.5 * std::cos(yaw), o.y_mm - 1.5 * std::sin(yaw), depth_mm);
-        spec.slide_mm = 3;
-        spec.slide_yaw_deg = yaw * 180 / M_PI;
-        spec.friction = traction;
-        spec.truth.x_mm = o.x_mm;
-        spec.truth.y_mm = o.y_mm;
-        char slide[64];
-        std::snprintf(slide, sizeof slide, " sliding 3 mm at %.0f deg (mu %g)", spec.slide_yaw_deg, traction);
-        spec.label += slide;
+        const double yaw = std::atan2(o.shear_y_N, o.shear_x_N), half_mm = kStroke_mm / 2;
+        spec = SphereSpec(name, o.radius_mm, o.x_mm - half_mm * std::cos(yaw), o.y_mm - half_mm * std::sin(yaw),
+                          depth_mm);
+        MakeStroke(spec, yaw * 180 / M_PI, traction, o.x_mm, o.y_mm);
       } else {
         spec = SphereSpec(name, o.radius_mm, o.x_mm, o.y_mm, depth_mm);
       }

@@ -71,27 +71,21 @@ TEST(BridgeCli, RunOnARecordingStopsAfterItsDurationWithTheDisplayAtZero) {
 TEST(BridgeCli, FidelityRefusesABadPadOrConfigSayingWhere) {
   const std::string dir = TempDir("fidelity");
   const std::string fidelity = std::string(SEDBRIDGE_BINARY) + " fidelity --no-plots --out " + dir;
-  int status = -1;
-  std::string out = RunCommand(fidelity + " --synthetic --pad winkler", &status);
-  EXPECT_NE(status, 0) << out;
-  EXPECT_NE(out.find("--pad"), std::string::npos) << out;
-  out = RunCommand(fidelity + " --synthetic --pad bogus", &status);
-  EXPECT_NE(status, 0) << out;
-  EXPECT_NE(out.find("winkler, kernel, halfspace, layer"), std::string::npos) << out;
-  out = RunCommand(fidelity + " --synthetic --random -3", &status);
-  EXPECT_NE(status, 0) << out;
-  EXPECT_NE(out.find("--random"), std::string::npos) << out;
-  out = RunCommand(fidelity + " --rig-on-pad --random 3", &status);
-  EXPECT_NE(status, 0) << out;
-  EXPECT_NE(out.find("--rig-on-pad and --random"), std::string::npos) << out;
-  out = RunCommand(fidelity + " --through-press -5", &status);
-  EXPECT_NE(status, 0) << out;
-  EXPECT_NE(out.find("--through-press"), std::string::npos) << out;
+  // Each refused with a non-zero exit and a message naming what is wrong.
+  auto refused = [&](const std::string& options, const std::string& says) {
+    int status = -1;
+    const std::string out = RunCommand(fidelity + " " + options, &status);
+    EXPECT_NE(status, 0) << options << ": " << out;
+    EXPECT_NE(out.find(says), std::string::npos) << options << ": " << out;
+  };
+  refused("--synthetic --pad winkler", "--pad");
+  refused("--synthetic --pad bogus", "winkler, kernel, halfspace, layer");
+  refused("--synthetic --random -3", "--random");
+  refused("--rig-on-pad --random 3", "--rig-on-pad and --random");
+  refused("--through-press -5", "--through-press");
   const std::string config = dir + "/bad.yaml";
   std::ofstream(config) << "fe:\n  contact_tolerance: 5\n";
-  out = RunCommand(fidelity + " --config " + config, &status);
-  EXPECT_NE(status, 0) << out;
-  EXPECT_NE(out.find(config + ":2:22"), std::string::npos) << out;
+  refused("--config " + config, config + ":2:22");
   std::filesystem::remove_all(dir);
 }
 
