@@ -79,7 +79,7 @@ int RunFidelity(int argc, char** argv) {
                  "one Merkel map CSV per case and side-by-side plots.");
   args.Option("cases", "JSON", "presses to run", "config/sensors/rig_uskin_4x4/cases.json")
       .Option("config", "BRIDGE.yaml",
-              "the bridge judged: its fe.contact_tolerance, fe.face_contact, fe.two_contacts, fe.finite_rods, "
+              "the bridge judged: its fe.contact_tolerance, fe.face_contact, fe.two_contacts, fe.finite_rods, fe.radius_tracking, "
               "fe.compliance_cache, registration, traction and conditioning",
               "config/bridge/default.yaml")
       .Option("profile", "PROFILE", "sensor profile of the logs (needs a forward_model)", "uskin_4x4")

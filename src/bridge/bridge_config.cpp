@@ -46,6 +46,14 @@ const config::EnumNames<MerkelRegion>& NamesOf(MerkelRegion) {
 
 const char* ToString(MerkelRegion region) { return config::NameCStrOf(region); }
 
+const config::EnumNames<RadiusTracking>& NamesOf(RadiusTracking) {
+  static const config::EnumNames<RadiusTracking> names{{RadiusTracking::kSteady, "steady"},
+                                                       {RadiusTracking::kPosterior, "posterior"}};
+  return names;
+}
+
+const char* ToString(RadiusTracking tracking) { return config::NameCStrOf(tracking); }
+
 FeStepKind FeStepKindFromString(const std::string& name) { return config::ParseEnum<FeStepKind>(name, "fe.step"); }
 
 BridgeConfig LoadBridgeConfig(const std::string& path) { return Parse(config::LoadYamlFile(path)); }

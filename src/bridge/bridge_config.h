@@ -45,6 +45,16 @@ enum class MerkelRegion {
 const config::EnumNames<MerkelRegion>& NamesOf(MerkelRegion);
 const char* ToString(MerkelRegion region);
 
+/// How fe.step contact's reconstruction tracks an object's radius while it touches (bridge
+/// config `fe.radius_tracking`; ReconstructionOptions::radius_track_posterior).
+enum class RadiusTracking {
+  kSteady,     ///< "steady": each scan's fit stays near the last answer (sigma 0.15 in log R)
+  kPosterior,  ///< "posterior": while the contact moves, that width grows by what the scans
+               ///< so far left open about the radius (closer on light ramps, less steady)
+};
+const config::EnumNames<RadiusTracking>& NamesOf(RadiusTracking);
+const char* ToString(RadiusTracking tracking);
+
 /// Every key is named in Serialize, with its range; the member initialisers are the
 /// defaults. Channel names are checked after reading (lcm_io::CheckChannelNames).
 struct BridgeConfig {
@@ -63,6 +73,7 @@ struct BridgeConfig {
   bool face_contact = true;  ///< fe.face_contact: the leader press of fe.step contact touches skin faces too
   bool two_contacts = true;  ///< fe.two_contacts: fe.step contact may read a scan as two spheres at once
   bool finite_rods = true;   ///< fe.finite_rods: fe.step contact may read a rod that ends on the pad (an edge)
+  RadiusTracking radius_tracking = RadiusTracking::kSteady;  ///< fe.radius_tracking: steady | posterior
   /// fe.contact_tolerance: fe.step contact's leader press solves the penalty law to this
   /// fraction of its largest contact force (scene::PressToForceOptions::contact_relative_tolerance)
   double contact_tolerance = 1e-5;
@@ -105,6 +116,7 @@ struct BridgeConfig {
       f->Visit(Field("face_contact", &face_contact));
       f->Visit(Field("two_contacts", &two_contacts));
       f->Visit(Field("finite_rods", &finite_rods));
+      f->Visit(Field("radius_tracking", &radius_tracking));
       f->Visit(Field("contact_tolerance", &contact_tolerance).InRange(1e-12, 0.1));
       f->Visit(Field("merkel_region", &merkel_region));
     });

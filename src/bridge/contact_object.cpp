@@ -100,6 +100,7 @@ ReconstructionOptions ReconstructionOptionsOf(const BridgeConfig& config) {
   ReconstructionOptions options;
   options.fit_pairs = config.two_contacts;
   options.fit_finite_rods = config.finite_rods;
+  options.radius_track_posterior = config.radius_tracking == RadiusTracking::kPosterior;
   return options;
 }
 

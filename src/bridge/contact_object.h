@@ -69,7 +69,7 @@ scene::PressToForceOptions ReconstructedPressOptions();
 /// The same with the config's fe.contact_tolerance as its contact tolerance.
 scene::PressToForceOptions ReconstructedPressOptions(const BridgeConfig& config);
 /// The reconstruction of fe.step contact as a config sets it (fe.two_contacts,
-/// fe.finite_rods): one place for the bridge (MakeFeStep) and the fidelity benchmark.
+/// fe.finite_rods, fe.radius_tracking): one place for the bridge (MakeFeStep) and the fidelity benchmark.
 ReconstructionOptions ReconstructionOptionsOf(const BridgeConfig& config);
 
 /// The leader's fingertip for reconstructed contacts (bridge and fidelity benchmark), its

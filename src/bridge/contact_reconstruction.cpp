@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <Eigen/Cholesky>
 #include <unsupported/Eigen/NonLinearOptimization>
 
 #include "common/dynamic_size_functor.h"
@@ -141,6 +142,10 @@ struct ContactReconstructor::Fit {
   bool stopped = false;          // by FitBudget::hard_units (chi2 infinite if nothing was evaluated)
   double refused_units = 0;      // stopped: units of one evaluation where (an estimate)
   Prediction prediction;         // at the model's unknowns
+  /// Posterior variance of log R (single spheres and rods, LM fits): the inverse of the
+  /// weighted Gauss-Newton information at the last Jacobian, the radius prior included; NaN
+  /// when unknown.
+  double log_radius_var = std::numeric_limits<double>::quiet_NaN();
   double Penalized() const { return chi2 + 2.0 * unknowns; }
 };
 
@@ -215,7 +220,8 @@ bool ContactReconstructor::Plausible(const Hypothesis& h) const {
 
 ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start, int max_evaluations,
                                                          const FitBudget& budget, FitMode mode,
-                                                         const Prediction* known, double tracked_log_radius) const {
+                                                         const Prediction* known, double tracked_log_radius,
+                                                         double tracked_log_sigma) const {
   const bool shear = options_.fit_shear;
   const bool pair = start.pair;
   const ContactShape shape = pair ? ContactShape::kSphere : start.first.shape;
@@ -466,8 +472,8 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
   f.refresh = options_.jacobian_refresh;
   f.hard_units = budget.hard_units;
   // The radius prior: on the tracked radius (a single shape's warm fit), else the weak one.
-  const bool tracked = !pair && std::isfinite(tracked_log_radius) && options_.radius_track_log_sigma > 0;
-  const double prior_sigma = tracked ? options_.radius_track_log_sigma : options_.radius_prior_log_sigma;
+  const bool tracked = !pair && std::isfinite(tracked_log_radius) && tracked_log_sigma > 0;
+  const double prior_sigma = tracked ? tracked_log_sigma : options_.radius_prior_log_sigma;
   if (shape != ContactShape::kFlat && prior_sigma > 0) {
     f.prior_weight = 1.0 / prior_sigma;
     f.prior_mean = tracked ? tracked_log_radius : std::log(options_.radius_prior_mm);
@@ -593,10 +599,38 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
     fit.chi2 = data.allFinite() ? data.squaredNorm() : std::numeric_limits<double>::infinity();
     fit.prediction = prediction_at(u);
   }
+  // What this scan (and the prior) leave open about log R: (J^T W^2 J + prior)^-1 at the
+  // last Jacobian of the prediction. Saturated channels, one-sided, are left out.
+  if (options_.radius_track_posterior && !pair && shape != ContactShape::kFlat && f.last.jacobian.cols() == u.size() &&
+      f.last.jacobian.rows() == obs_.size()) {
+    Eigen::VectorXd w = weight_;
+    for (size_t k = 0; k < saturated_.size(); ++k)
+      if (saturated_[k]) w[3 * static_cast<Eigen::Index>(k) + 2] = 0;
+    const Eigen::MatrixXd jw = w.asDiagonal() * f.last.jacobian;
+    Eigen::MatrixXd information = jw.transpose() * jw;
+    information(kLogRadius, kLogRadius) += f.prior_weight * f.prior_weight;
+    const Eigen::LDLT<Eigen::MatrixXd> ldlt(information);
+    if (ldlt.info() == Eigen::Success && ldlt.isPositive()) {
+      const Eigen::VectorXd column = ldlt.solve(Eigen::VectorXd::Unit(u.size(), kLogRadius));
+      if (column.allFinite() && column[kLogRadius] > 0) fit.log_radius_var = column[kLogRadius];
+    }
+  }
   fit.evaluations = evaluations;
   fit.budget_used = budget_used;
   fit.refused_units = f.refused_units;
   return fit;
+}
+
+void ContactReconstructor::SetTrackedPrior() {
+  const double q = options_.radius_track_log_sigma;
+  if (!have_last_ || last_.pair || last_.first.shape == ContactShape::kFlat || !(q > 0)) {
+    track_log_r_ = std::numeric_limits<double>::quiet_NaN();
+    return;
+  }
+  track_log_r_ = std::log(last_.first.radius_mm);
+  // While a hold goes on its mean decides, and the last answer already holds its scans.
+  const bool moving = estimate_.averaged_scans <= 1;
+  track_log_sigma_ = options_.radius_track_posterior && moving ? std::sqrt(last_log_radius_var_ + q * q) : q;
 }
 
 int ContactReconstructor::AverageHold(const Eigen::VectorXd& readings_N, const std::vector<uint8_t>& valid,
@@ -742,6 +776,12 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
       if (have_last_) last_ = fit.model, last_prediction_ = fit.prediction;
       have_last_chi2_ = false;
     } else {
+      // The radius's posterior variance: this fit's, or (a force step, which holds the
+      // shape) the last one's; a new shape without one starts from the weak prior.
+      const bool same_shape = have_last_ && !last_.pair && !fit.model.pair &&
+                              last_.first.shape == fit.model.first.shape;
+      if (std::isfinite(fit.log_radius_var)) last_log_radius_var_ = fit.log_radius_var;
+      else if (!same_shape) last_log_radius_var_ = options_.radius_prior_log_sigma * options_.radius_prior_log_sigma;
       last_ = fit.model;
       last_prediction_ = fit.prediction;
       have_last_ = true;
@@ -817,6 +857,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
   // explains a scan within noise, a candidate of another size replaced the model by chance
   // (rig press_03, a 5 mm sphere, at 0.08 N: 12.5 mm for the warm fit's 3 mm, walked back to
   // 5.3 mm by 0.25 N; test RadiusHoldsStillWhileTheContactLoads).
+  SetTrackedPrior();
   const bool track_candidates = have_last_ && !last_.pair && last_.first.shape != ContactShape::kFlat &&
                                 options_.selection == ModelSelection::kAmortized && options_.radius_track_log_sigma > 0;
   bool warm_won = false;  // best is the warm fit (its chi2 has the tracked prior already)
@@ -824,7 +865,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     double p = f.Penalized();
     if (track_candidates && !warm && !f.model.pair && f.model.first.shape == last_.first.shape) {
       const double log_r = std::log(f.model.first.radius_mm);
-      const double tracked = (log_r - std::log(last_.first.radius_mm)) / options_.radius_track_log_sigma;
+      const double tracked = (log_r - track_log_r_) / track_log_sigma_;
       const double weak = options_.radius_prior_log_sigma > 0
                               ? (log_r - std::log(options_.radius_prior_mm)) / options_.radius_prior_log_sigma
                               : 0.0;
@@ -859,11 +900,9 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
       }
     }
     if (!quick) {
-      const double tracked = amortized && !last_.pair
-                                 ? std::log(last_.first.radius_mm)
-                                 : std::numeric_limits<double>::quiet_NaN();
+      const double tracked = amortized ? track_log_r_ : std::numeric_limits<double>::quiet_NaN();
       best = FitModel(last_, 0, amortized ? options_.warm_scan_evaluations : 0, FitMode::kLevenbergMarquardt,
-                      &last_prediction_, tracked);
+                      &last_prediction_, tracked, track_log_sigma_);
       tally(best);
     }
     warm_won = Plausible(best.model);

@@ -178,6 +178,16 @@ struct ReconstructionOptions {
   /// radii, still decides: each scan's fit steps from the last answer towards its minimum.
   /// Candidates (model selection) keep the weak prior. 0 = off.
   double radius_track_log_sigma = 0.15;
+  /// Amortized, bridge key fe.radius_tracking (steady: false, posterior: true): while the
+  /// contact moves (no hold mean), the tracked prior also carries what the scans so far left
+  /// open about the radius, sigma^2 = P + radius_track_log_sigma^2, P the last accepted fit's
+  /// posterior variance of log R (the inverse of its Gauss-Newton information, its prior
+  /// included). A light first touch, which hardly tells R, then does not fix the radius for
+  /// the ramp that follows (the rig's 1 mm rod press_13 read 2.1 mm at 0.54 N with the
+  /// steady prior); the price is a radius that moves with the noise while the scans cannot
+  /// tell it (a rod's |d log R| between scans up to 0.9, where steady keeps it below 0.3).
+  /// docs/bridge-fidelity.md §20.
+  bool radius_track_posterior = false;
 };
 
 /// What one scan says about the contact.
@@ -296,10 +306,15 @@ class ContactReconstructor {
   };
   /// known: the parts at `start` when they are known (its unknowns within round-off).
   /// @param tracked_log_radius  finite: the radius prior is centred here with
-  ///                            radius_track_log_sigma (the warm fit: the last answer's)
+  ///                            tracked_log_sigma (the warm fit: the last answer's)
   Fit FitModel(const Hypothesis& start, int max_evaluations = 0, const FitBudget& budget = {},
                FitMode mode = FitMode::kLevenbergMarquardt, const Prediction* known = nullptr,
-               double tracked_log_radius = std::numeric_limits<double>::quiet_NaN()) const;
+               double tracked_log_radius = std::numeric_limits<double>::quiet_NaN(),
+               double tracked_log_sigma = 0) const;
+  /// Sets this scan's tracked radius prior (track_log_r_, track_log_sigma_; NaN: none) from
+  /// the last answer: centred on its radius with radius_track_log_sigma, widened by its
+  /// posterior variance when radius_track_posterior and the contact moves.
+  void SetTrackedPrior();
   bool Plausible(const sensors::ContactPrimitive& p) const;
   bool Plausible(const Hypothesis& h) const;
 
@@ -324,6 +339,9 @@ class ContactReconstructor {
   bool have_last_ = false;
   Hypothesis last_;
   Prediction last_prediction_;  // at last_ (when valid)
+  double last_log_radius_var_ = 0;  // posterior variance of log R at last_ (single spheres, rods)
+  // This scan's tracked radius prior (NaN: none).
+  double track_log_r_ = std::numeric_limits<double>::quiet_NaN(), track_log_sigma_ = 0;
   bool have_last_chi2_ = false;
   double last_chi2_per_dof_ = 0;  // the last accepted fit's chi^2 per reading (its own scan's dof)
   int next_start_ = 0;   // amortized selection: next start to try

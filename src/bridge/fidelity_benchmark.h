@@ -109,7 +109,7 @@ class FidelityBenchmark {
                     const display::DisplayProfile& display, const std::string& cache_dir, bool face_contact = true);
   /// The bridge a config describes (`sedbridge fidelity --config`): its compliance cache,
   /// fe.face_contact, fe.contact_tolerance (the reconstructed press; the truth stays at the
-  /// method's own tolerance), fe.two_contacts, fe.finite_rods, registration, traction and
+  /// method's own tolerance), fe.two_contacts, fe.finite_rods, fe.radius_tracking, registration, traction and
   /// conditioning. Its sensor, display and fe.step are not used (the caller's profile and
   /// display; both bridges are always run).
   FidelityBenchmark(const std::string& model_name, const sensors::SensorProfile& profile,

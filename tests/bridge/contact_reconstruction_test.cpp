@@ -190,6 +190,38 @@ TEST(ContactReconstruction, RadiusHoldsStillWhileTheContactLoads) {
   }
 }
 
+// fe.radius_tracking: posterior (ReconstructionOptions::radius_track_posterior). A light first
+// touch hardly tells a thin rod's radius; the steady prior (sigma 0.15 in log R about the
+// last answer) then lets each ramp scan move it only a little, and the rig's 1 mm rod
+// press_13 crawled down from a 3 mm first guess through the whole ramp (2.1 mm at 0.54 N).
+// With the prior widened by what the scans so far left open, the ramp's scans correct it.
+TEST(ContactReconstruction, PosteriorTrackingLetsTheRampCorrectALightFirstTouch) {
+  ReconstructionOptions posterior;
+  posterior.radius_track_posterior = true;
+  const auto& press = Rig()[13];
+  ASSERT_EQ(press.object.shape, ContactShape::kCylinder);
+  auto ramp_error = [&](const ReconstructionOptions& options) {
+    ContactReconstructor r(Uskin(), options);
+    double sum = 0;
+    int count = 0;
+    for (size_t i = 0; i < press.scans.size() && press.t_s[i] <= sensors::PressProtocol().HoldMid_s(); ++i) {
+      const ContactEstimate& e = r.Reconstruct(press.scans[i]);
+      const double force_N = press.ObjectAt(press.t_s[i]).normal_force_N;
+      const bool ramp = force_N >= 0.25 && force_N < 0.95 * press.object.normal_force_N;
+      if (!ramp || !e.ok || e.primitive.shape != ContactShape::kCylinder) continue;
+      sum += std::abs(std::log(e.primitive.radius_mm / press.object.radius_mm));
+      ++count;
+    }
+    EXPECT_GT(count, 5);
+    return count > 0 ? sum / count : 0.0;
+  };
+  // Mean |log(R / 1 mm)| over the ramp from 0.25 N; measured 0.93 steady (2.1-3.1 mm),
+  // 0.08 posterior (0.82-1.45 mm).
+  const double steady = ramp_error({}), widened = ramp_error(posterior);
+  EXPECT_LT(widened, std::log(1.3));
+  EXPECT_LT(widened, 0.5 * steady);
+}
+
 // Objects of the rig's kinds at radii, places and forces it did not press, through the
 // rig's protocol (0.3 s unloaded, 0.7 s ramp, then the hold) rendered by the calibrated
 // model with 2-count noise: at 0.4 s into the hold the hold mean gives spheres' radii to

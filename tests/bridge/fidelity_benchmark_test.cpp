@@ -356,7 +356,9 @@ TEST(FidelityBenchmark, ThroughThePressEveryScoredScanHasItsOwnTruth) {
     const auto& s = scores[i];
     SCOPED_TRACE(s.scan);
     EXPECT_GE(s.force_N, 0.25 * peak_N);
-    if (i > 0) EXPECT_GE(s.scan, scores[i - 1].scan + 5);
+    if (i > 0) {
+      EXPECT_GE(s.scan, scores[i - 1].scan + 5);
+    }
     ASSERT_TRUE(s.truth_valid && s.recon_ok);
     // The truth is pressed at the scan's own force: its SED follows the ramp.
     if (s.force_N < lightest) lightest = s.force_N, lightest_sed_Pa = s.truth_max_sed_Pa;
