@@ -768,20 +768,24 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     estimate_.warm_started = warm;
     const bool plausible = Plausible(fit.model);
     estimate_.ok = std::isfinite(fit.chi2) && estimate_.rms_sigma <= options_.max_rms_sigma && plausible;
+    // The radius's posterior variance goes with last_: this fit's, or (a force step, which
+    // holds the shape) the last one's; a new shape without one starts from the weak prior.
+    auto keep_radius_variance = [&] {
+      const bool same_shape =
+          have_last_ && !last_.pair && !fit.model.pair && last_.first.shape == fit.model.first.shape;
+      if (std::isfinite(fit.log_radius_var)) last_log_radius_var_ = fit.log_radius_var;
+      else if (!same_shape) last_log_radius_var_ = options_.radius_prior_log_sigma * options_.radius_prior_log_sigma;
+    };
     if (!estimate_.ok) {
       estimate_.problem = !plausible ? "fit left the plausible domain" : "residual above max_rms_sigma";
       ++counters_.fallbacks;
       // Amortized selection keeps a plausible best guess to refine while it explores.
-      have_last_ = options_.selection == ModelSelection::kAmortized && plausible;
-      if (have_last_) last_ = fit.model, last_prediction_ = fit.prediction;
+      const bool keep = options_.selection == ModelSelection::kAmortized && plausible;
+      if (keep) keep_radius_variance(), last_ = fit.model, last_prediction_ = fit.prediction;
+      have_last_ = keep;
       have_last_chi2_ = false;
     } else {
-      // The radius's posterior variance: this fit's, or (a force step, which holds the
-      // shape) the last one's; a new shape without one starts from the weak prior.
-      const bool same_shape = have_last_ && !last_.pair && !fit.model.pair &&
-                              last_.first.shape == fit.model.first.shape;
-      if (std::isfinite(fit.log_radius_var)) last_log_radius_var_ = fit.log_radius_var;
-      else if (!same_shape) last_log_radius_var_ = options_.radius_prior_log_sigma * options_.radius_prior_log_sigma;
+      keep_radius_variance();
       last_ = fit.model;
       last_prediction_ = fit.prediction;
       have_last_ = true;
