@@ -30,9 +30,9 @@ void ScoreThroughPresses(FidelityBenchmark& bench, const std::vector<FidelityCas
   std::ofstream csv(out + "/fidelity_scans.csv");
   csv << "case,scan,t_s,force_N,truth_valid,recon_ok,recon_radius_mm,truth_max_sed_Pa,recon_max_sed_Pa,"
          "recon_peak_ratio,recon_rel_l2,recon_peak_offset_mm,recon_peak_region_offset_mm,recon_within_targets\n";
-  std::printf("through the presses (every %d%s scan from a quarter of the peak force):\n%-16s %6s %7s %9s %9s %9s\n",
-              stride, stride == 1 ? "" : "th", "case", "scans", "within", "L2 med", "L2 max", "peak max");
-  std::vector<double> all_l2;
+  std::printf("through the presses (every %d%s scan from a quarter of the peak force):\n%-16s %6s %7s %9s %9s %9s %9s\n",
+              stride, stride == 1 ? "" : "th", "case", "scans", "within", "L2 med", "L2 max", "peak max", "step max");
+  std::vector<double> all_l2, all_steps;
   int all_scored = 0, all_within = 0;
   for (const FidelityCase& press : presses) {
     const auto scores = bench.RunThroughPress(press, stride);
@@ -55,17 +55,29 @@ void ScoreThroughPresses(FidelityBenchmark& bench, const std::vector<FidelityCas
         worst_peak = s.recon_error.peak_ratio;
     }
     if (l2.empty()) continue;
+    const std::vector<double> steps = PeakRatioSteps(scores);
+    all_steps.insert(all_steps.end(), steps.begin(), steps.end());
     all_l2.insert(all_l2.end(), l2.begin(), l2.end());
     all_scored += int(l2.size());
     all_within += within;
     std::sort(l2.begin(), l2.end());
-    std::printf("%-16s %6zu %7d %9.3f %9.3f %9.2f\n", press.name.c_str(), l2.size(), within, l2[l2.size() / 2],
-                l2.back(), worst_peak);
+    std::printf("%-16s %6zu %7d %9.3f %9.3f %9.2f %9.3f\n", press.name.c_str(), l2.size(), within, l2[l2.size() / 2],
+                l2.back(), worst_peak, steps.empty() ? 0.0 : *std::max_element(steps.begin(), steps.end()));
   }
   std::sort(all_l2.begin(), all_l2.end());
   if (!all_l2.empty())
     std::printf("through the presses: %d of %d scans within all three targets; L2 median %.3f, p90 %.3f\n", all_within,
                 all_scored, all_l2[all_l2.size() / 2], all_l2[size_t(0.9 * double(all_l2.size() - 1))]);
+  // Steadiness beside accuracy: how much the delivered / true peak ratio moves between
+  // neighbouring scored scans (docs/bridge-fidelity.md §20).
+  std::sort(all_steps.begin(), all_steps.end());
+  if (!all_steps.empty()) {
+    auto at = [&](double q) { return all_steps[size_t(q * double(all_steps.size() - 1))]; };
+    const auto above = all_steps.end() - std::upper_bound(all_steps.begin(), all_steps.end(), 0.1);
+    std::printf("steadiness: |log| of the delivered / true peak SED ratio's step between neighbouring scored scans: "
+                "median %.4f, p99 %.3f, max %.3f; %td of %zu steps above 0.1\n",
+                at(0.5), at(0.99), all_steps.back(), above, all_steps.size());
+  }
   std::printf("wrote %s/fidelity_scans.csv\n", out.c_str());
 }
 
@@ -100,7 +112,8 @@ int RunFidelity(int argc, char** argv) {
       .Option("seed", "S", "--synthetic: seed of the noise (and of --random's draws)", "1")
       .Option("through-press", "STRIDE",
               "also score every STRIDE-th scan of each press from a quarter of its peak force on (ramp, hold, "
-              "release), not only the peak: fidelity_scans.csv, a summary and fidelity_scans.png (0: off)",
+              "release), not only the peak: fidelity_scans.csv, a summary with the delivered / true peak ratio's steadiness "
+              "between scored scans, and fidelity_scans.png (0: off)",
               "0")
       .Flag("node-contact", "press on the leader's skin nodes only (bridge fe.face_contact: false), not its faces too")
       .Flag("no-plots", "skip the PNG plots");

@@ -204,6 +204,19 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
   return row;
 }
 
+std::vector<double> PeakRatioSteps(const std::vector<FidelityBenchmark::ScanScore>& scores) {
+  auto ratio = [](const FidelityBenchmark::ScanScore& s) {
+    const bool scored = s.truth_valid && s.recon_ok && s.truth_max_sed_Pa > 0 && s.recon_max_sed_Pa > 0;
+    return scored ? s.recon_max_sed_Pa / s.truth_max_sed_Pa : std::numeric_limits<double>::quiet_NaN();
+  };
+  std::vector<double> steps;
+  for (size_t k = 1; k < scores.size(); ++k) {
+    const double before = ratio(scores[k - 1]), after = ratio(scores[k]);
+    if (std::isfinite(before) && std::isfinite(after)) steps.push_back(std::abs(std::log(after / before)));
+  }
+  return steps;
+}
+
 std::vector<FidelityBenchmark::ScanScore> FidelityBenchmark::RunThroughPress(const FidelityCase& press, int stride,
                                                                               double min_force_share) {
   std::vector<ScanScore> scores;

@@ -144,4 +144,12 @@ class FidelityBenchmark {
   std::unique_ptr<display::SedToCommandMapping> mapping_;
 };
 
+/// How steadily the delivered SED follows the truth from one scored scan of a press to the
+/// next: |log(r_k / r_{k-1})| with r = recon_max_sed_Pa / truth_max_sed_Pa, for each pair of
+/// neighbouring scores (in the order given) that are both scored (truth valid, the
+/// reconstruction ok, both peaks > 0). A bridge that follows the truth's own growth and
+/// decay steps near 0 however fast the press changes; a radius that flickers shows here as
+/// the leader feels it. Scores of one press, as RunThroughPress returns them.
+std::vector<double> PeakRatioSteps(const std::vector<FidelityBenchmark::ScanScore>& scores);
+
 }  // namespace sedbridge::bridge

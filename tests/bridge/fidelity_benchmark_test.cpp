@@ -337,6 +337,33 @@ TEST(FidelityCase, RigPressesOnTheSimulatedPadCarryTheirForces) {
   }
 }
 
+// `fidelity --through-press`'s steadiness line: the step of the delivered / true peak ratio
+// between neighbouring scored scans, none across a scan that is not scored.
+TEST(FidelityBenchmark, PeakRatioStepsFollowTheTruthsOwnGrowth) {
+  auto score = [](double truth_Pa, double recon_Pa, bool ok = true) {
+    FidelityBenchmark::ScanScore s;
+    s.truth_valid = true;
+    s.recon_ok = ok;
+    s.truth_max_sed_Pa = truth_Pa;
+    s.recon_max_sed_Pa = recon_Pa;
+    return s;
+  };
+  // A ramp the bridge follows at a steady 0.9 of the truth: no steps, however fast it grows.
+  EXPECT_EQ(PeakRatioSteps({score(100, 90), score(400, 360), score(1600, 1440)}), std::vector<double>({0.0, 0.0}));
+  // A radius that flickers: the ratio 1 -> 1.5 -> 1, steps log 1.5 each.
+  const auto flicker = PeakRatioSteps({score(1000, 1000), score(1000, 1500), score(1000, 1000)});
+  ASSERT_EQ(flicker.size(), 2u);
+  EXPECT_NEAR(flicker[0], std::log(1.5), 1e-12);
+  EXPECT_NEAR(flicker[1], std::log(1.5), 1e-12);
+  // A fallback scan, a truth the leader could not carry and an empty peak break the chain.
+  FidelityBenchmark::ScanScore no_truth = score(1000, 1000);
+  no_truth.truth_valid = false;
+  EXPECT_TRUE(PeakRatioSteps({score(1000, 1000), score(1000, 2000, false), score(1000, 1000)}).empty());
+  EXPECT_TRUE(PeakRatioSteps({score(1000, 1000), no_truth, score(1000, 3000)}).empty());
+  EXPECT_TRUE(PeakRatioSteps({score(0, 1000), score(1000, 1000)}).empty());
+  EXPECT_TRUE(PeakRatioSteps({}).empty());
+}
+
 // `fidelity --through-press`: a press scored scan by scan through its ramp, hold and
 // release, not only at its peak. Rig press_03 (a 5 mm sphere, 0.8 N): every 5th scan from a
 // quarter of the peak force on, each with a truth and within the targets (measured 25 of 25).
