@@ -185,7 +185,8 @@ struct ReconstructionOptions {
   /// included). A light first touch, which hardly tells R, then does not fix the radius for
   /// the ramp that follows (the rig's 1 mm rod press_13 read 2.1 mm at 0.54 N with the
   /// steady prior); the price is a radius that moves with the noise while the scans cannot
-  /// tell it (a rod's |d log R| between scans up to 0.9, where steady keeps it below 0.3).
+  /// tell it (a rod's |d log R| between scans up to 0.9, where steady keeps the warm fit's
+  /// steps below 0.3).
   /// docs/bridge-fidelity.md §20.
   bool radius_track_posterior = false;
 };
