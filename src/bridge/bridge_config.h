@@ -49,8 +49,8 @@ const char* ToString(MerkelRegion region);
 /// config `fe.radius_tracking`; ReconstructionOptions::radius_track_posterior).
 enum class RadiusTracking {
   kSteady,     ///< "steady": each scan's fit stays near the last answer (sigma 0.15 in log R)
-  kPosterior,  ///< "posterior": while the contact moves, that width grows by what the scans
-               ///< so far left open about the radius (closer on light ramps, less steady)
+  kPosterior,  ///< "posterior" (default): while the contact moves, that width grows by what
+               ///< the scans so far left open about the radius (closer on light ramps)
 };
 const config::EnumNames<RadiusTracking>& NamesOf(RadiusTracking);
 const char* ToString(RadiusTracking tracking);
@@ -73,7 +73,7 @@ struct BridgeConfig {
   bool face_contact = true;  ///< fe.face_contact: the leader press of fe.step contact touches skin faces too
   bool two_contacts = true;  ///< fe.two_contacts: fe.step contact may read a scan as two spheres at once
   bool finite_rods = true;   ///< fe.finite_rods: fe.step contact may read a rod that ends on the pad (an edge)
-  RadiusTracking radius_tracking = RadiusTracking::kSteady;  ///< fe.radius_tracking: steady | posterior
+  RadiusTracking radius_tracking = RadiusTracking::kPosterior;  ///< fe.radius_tracking: posterior | steady
   /// fe.contact_tolerance: fe.step contact's leader press solves the penalty law to this
   /// fraction of its largest contact force (scene::PressToForceOptions::contact_relative_tolerance)
   double contact_tolerance = 1e-5;

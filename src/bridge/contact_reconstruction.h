@@ -178,17 +178,17 @@ struct ReconstructionOptions {
   /// radii, still decides: each scan's fit steps from the last answer towards its minimum.
   /// Candidates (model selection) keep the weak prior. 0 = off.
   double radius_track_log_sigma = 0.15;
-  /// Amortized, bridge key fe.radius_tracking (steady: false, posterior: true): while the
-  /// contact moves (no hold mean), the tracked prior also carries what the scans so far left
-  /// open about the radius, sigma^2 = P + radius_track_log_sigma^2, P the last accepted fit's
-  /// posterior variance of log R (the inverse of its Gauss-Newton information, its prior
-  /// included). A light first touch, which hardly tells R, then does not fix the radius for
-  /// the ramp that follows (the rig's 1 mm rod press_13 read 2.1 mm at 0.54 N with the
-  /// steady prior); the price is a radius that moves with the noise while the scans cannot
+  /// Amortized, bridge key fe.radius_tracking (posterior: true, the default; steady: false):
+  /// while the contact moves (no hold mean), the tracked prior also carries what the scans so
+  /// far left open about the radius, sigma^2 = P + radius_track_log_sigma^2, P the last
+  /// accepted fit's posterior variance of log R (the inverse of its Gauss-Newton information,
+  /// its prior included). A light first touch, which hardly tells R, then does not fix the
+  /// radius for the ramp that follows (the rig's 1 mm rod press_13 read 2.1 mm at 0.54 N with
+  /// the steady prior). The radius itself then moves with the noise while the scans cannot
   /// tell it (a rod's |d log R| between scans up to 0.9, where steady keeps the warm fit's
-  /// steps below 0.3).
+  /// steps below 0.3), the delivered SED and the display's commands hardly more.
   /// docs/bridge-fidelity.md §20.
-  bool radius_track_posterior = false;
+  bool radius_track_posterior = true;
 };
 
 /// What one scan says about the contact.

@@ -88,11 +88,11 @@ TEST(BridgeConfig, UnknownKeyNamesFileLineColumn) {
   EXPECT_EQ(ParseBridgeConfig("fe: {merkel_region: display}\n", "b.yaml").merkel_region, MerkelRegion::kDisplay);
   EXPECT_EQ(ParseBridgeConfig("fe: {model: B}\n", "b.yaml").merkel_region, MerkelRegion::kLayer);
   ExpectErrorNaming("fe:\n  merkel_region: pad\n", "region.yaml", "region.yaml:2:", "merkel_region");
-  EXPECT_EQ(ParseBridgeConfig("fe: {model: B}\n", "b.yaml").radius_tracking, RadiusTracking::kSteady);
-  const BridgeConfig posterior = ParseBridgeConfig("fe: {radius_tracking: posterior}\n", "b.yaml");
-  EXPECT_EQ(posterior.radius_tracking, RadiusTracking::kPosterior);
-  EXPECT_TRUE(ReconstructionOptionsOf(posterior).radius_track_posterior);
-  EXPECT_FALSE(ReconstructionOptionsOf(ParseBridgeConfig("fe: {model: B}\n", "b.yaml")).radius_track_posterior);
+  EXPECT_EQ(ParseBridgeConfig("fe: {model: B}\n", "b.yaml").radius_tracking, RadiusTracking::kPosterior);
+  const BridgeConfig steady = ParseBridgeConfig("fe: {radius_tracking: steady}\n", "b.yaml");
+  EXPECT_EQ(steady.radius_tracking, RadiusTracking::kSteady);
+  EXPECT_FALSE(ReconstructionOptionsOf(steady).radius_track_posterior);
+  EXPECT_TRUE(ReconstructionOptionsOf(ParseBridgeConfig("fe: {model: B}\n", "b.yaml")).radius_track_posterior);
   ExpectErrorNaming("fe:\n  radius_tracking: kalman\n", "tracking.yaml", "tracking.yaml:2:", "radius_tracking");
 }
 
