@@ -142,10 +142,10 @@ struct ContactReconstructor::Fit {
   bool stopped = false;          // by FitBudget::hard_units (chi2 infinite if nothing was evaluated)
   double refused_units = 0;      // stopped: units of one evaluation where (an estimate)
   Prediction prediction;         // at the model's unknowns
-  /// Posterior variance of log R (single spheres and rods, LM fits): the inverse of the
-  /// weighted Gauss-Newton information at the last Jacobian, the radius prior included; NaN
-  /// when unknown.
-  double log_radius_var = std::numeric_limits<double>::quiet_NaN();
+  /// LM fits of single spheres and rods: the weight of the radius prior's residual, for the
+  /// radius's posterior variance (LogRadiusVariance); NaN for other fits (force steps, pairs,
+  /// flats), which give none.
+  double radius_prior_weight = std::numeric_limits<double>::quiet_NaN();
   double Penalized() const { return chi2 + 2.0 * unknowns; }
 };
 
@@ -599,26 +599,31 @@ ContactReconstructor::Fit ContactReconstructor::FitModel(const Hypothesis& start
     fit.chi2 = data.allFinite() ? data.squaredNorm() : std::numeric_limits<double>::infinity();
     fit.prediction = prediction_at(u);
   }
-  // What this scan (and the prior) leave open about log R: (J^T W^2 J + prior)^-1 at the
-  // last Jacobian of the prediction. Saturated channels, one-sided, are left out.
-  if (options_.radius_track_posterior && !pair && shape != ContactShape::kFlat && f.last.jacobian.cols() == u.size() &&
-      f.last.jacobian.rows() == obs_.size()) {
-    Eigen::VectorXd w = weight_;
-    for (size_t k = 0; k < saturated_.size(); ++k)
-      if (saturated_[k]) w[3 * static_cast<Eigen::Index>(k) + 2] = 0;
-    const Eigen::MatrixXd jw = w.asDiagonal() * f.last.jacobian;
-    Eigen::MatrixXd information = jw.transpose() * jw;
-    information(kLogRadius, kLogRadius) += f.prior_weight * f.prior_weight;
-    const Eigen::LDLT<Eigen::MatrixXd> ldlt(information);
-    if (ldlt.info() == Eigen::Success && ldlt.isPositive()) {
-      const Eigen::VectorXd column = ldlt.solve(Eigen::VectorXd::Unit(u.size(), kLogRadius));
-      if (column.allFinite() && column[kLogRadius] > 0) fit.log_radius_var = column[kLogRadius];
-    }
-  }
+  if (!pair && shape != ContactShape::kFlat) fit.radius_prior_weight = f.prior_weight;
   fit.evaluations = evaluations;
   fit.budget_used = budget_used;
   fit.refused_units = f.refused_units;
   return fit;
+}
+
+double ContactReconstructor::LogRadiusVariance(const Fit& fit) const {
+  // What the scan (and the prior) leave open about log R: (J^T W^2 J + prior)^-1 at the last
+  // Jacobian of the fit's prediction. Saturated channels, one-sided, are left out.
+  const Prediction& p = fit.prediction;
+  const Eigen::MatrixXd& jacobian = p.linearization.jacobian;
+  if (!std::isfinite(fit.radius_prior_weight) || !p.valid || jacobian.cols() != p.at.size() ||
+      jacobian.rows() != obs_.size())
+    return std::numeric_limits<double>::quiet_NaN();
+  Eigen::VectorXd w = weight_;
+  for (size_t k = 0; k < saturated_.size(); ++k)
+    if (saturated_[k]) w[3 * static_cast<Eigen::Index>(k) + 2] = 0;
+  const Eigen::MatrixXd jw = w.asDiagonal() * jacobian;
+  Eigen::MatrixXd information = jw.transpose() * jw;
+  information(kLogRadius, kLogRadius) += fit.radius_prior_weight * fit.radius_prior_weight;
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(information);
+  if (ldlt.info() != Eigen::Success || !ldlt.isPositive()) return std::numeric_limits<double>::quiet_NaN();
+  const Eigen::VectorXd column = ldlt.solve(Eigen::VectorXd::Unit(p.at.size(), kLogRadius));
+  return column.allFinite() && column[kLogRadius] > 0 ? column[kLogRadius] : std::numeric_limits<double>::quiet_NaN();
 }
 
 void ContactReconstructor::SetTrackedPrior() {
@@ -768,12 +773,15 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     estimate_.warm_started = warm;
     const bool plausible = Plausible(fit.model);
     estimate_.ok = std::isfinite(fit.chi2) && estimate_.rms_sigma <= options_.max_rms_sigma && plausible;
-    // The radius's posterior variance goes with last_: this fit's, or (a force step, which
-    // holds the shape) the last one's; a new shape without one starts from the weak prior.
+    // The radius's posterior variance goes with last_ (posterior tracking only; computed for
+    // the accepted fit alone): this fit's, or (a force step, which holds the shape) the last
+    // one's; a new shape without one starts from the weak prior.
     auto keep_radius_variance = [&] {
+      if (!options_.radius_track_posterior) return;
       const bool same_shape =
           have_last_ && !last_.pair && !fit.model.pair && last_.first.shape == fit.model.first.shape;
-      if (std::isfinite(fit.log_radius_var)) last_log_radius_var_ = fit.log_radius_var;
+      const double variance = LogRadiusVariance(fit);
+      if (std::isfinite(variance)) last_log_radius_var_ = variance;
       else if (!same_shape) last_log_radius_var_ = options_.radius_prior_log_sigma * options_.radius_prior_log_sigma;
     };
     if (!estimate_.ok) {
@@ -862,8 +870,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
   // (rig press_03, a 5 mm sphere, at 0.08 N: 12.5 mm for the warm fit's 3 mm, walked back to
   // 5.3 mm by 0.25 N; test RadiusHoldsStillWhileTheContactLoads).
   SetTrackedPrior();
-  const bool track_candidates = have_last_ && !last_.pair && last_.first.shape != ContactShape::kFlat &&
-                                options_.selection == ModelSelection::kAmortized && options_.radius_track_log_sigma > 0;
+  const bool track_candidates = options_.selection == ModelSelection::kAmortized && std::isfinite(track_log_r_);
   bool warm_won = false;  // best is the warm fit (its chi2 has the tracked prior already)
   auto penalized = [&](const Fit& f, bool warm) {
     double p = f.Penalized();

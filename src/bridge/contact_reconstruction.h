@@ -316,6 +316,10 @@ class ContactReconstructor {
   /// the last answer: centred on its radius with radius_track_log_sigma, widened by its
   /// posterior variance when radius_track_posterior and the contact moves.
   void SetTrackedPrior();
+  /// The posterior variance of log R that an accepted LM fit of a single sphere or rod leaves
+  /// (the inverse of its weighted Gauss-Newton information at its prediction's Jacobian, its
+  /// radius prior included); NaN for other fits.
+  double LogRadiusVariance(const Fit& fit) const;
   bool Plausible(const sensors::ContactPrimitive& p) const;
   bool Plausible(const Hypothesis& h) const;
 
