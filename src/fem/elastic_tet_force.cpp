@@ -472,6 +472,7 @@ int ElasticTetForce::AddCorotationalForceVectorized(const SystemState& state, Ei
   double* status = product_.status.data();
   double* inverted_flag = product_.inverted.data();
   const bool parallel = omp_get_max_threads() > 1 && size_t(count) >= kParallelAssemblyMinTets;
+  if (parallel) product_.ReserveTeam(omp_get_max_threads(), int(force_N.size()));
   int inverted = 0, scalar = 0;
 #pragma omp parallel if (parallel) reduction(+ : inverted, scalar)
   {
@@ -510,8 +511,7 @@ int ElasticTetForce::AddCorotationalForceVectorized(const SystemState& state, Ei
           for (int j = 0; j < 3; ++j) R(i, j) = rotation[(3 * i + j) * count + t];
       }
     }
-#pragma omp barrier
-    product_.AddNodeSums(y, -1.0, force_N);
+    product_.AddElementSums(y, begin, end, -1.0, force_N);
   }
   product_.rotations_current = true;
   scalar_rotations_ = scalar;
@@ -546,7 +546,8 @@ void ElasticTetForce::AddJacobianTimes(double stiffness_scale, double damping_sc
     return;
   }
   // Two passes, each free of write conflicts: every element's nodal products into its own
-  // slots (vectorized across elements), then every node sums its elements' slots.
+  // slots (vectorized across elements), then each thread adds its own elements' slots to the
+  // nodes (AddElementSums).
   const int count = int(elements_.size());
   EnsureProductArrays();
   if (!product_.rotations_current) {
@@ -556,6 +557,7 @@ void ElasticTetForce::AddJacobianTimes(double stiffness_scale, double damping_sc
     product_.rotations_current = true;
   }
   const bool parallel = omp_get_max_threads() > 1 && size_t(count) >= kParallelAssemblyMinTets;
+  if (parallel) product_.ReserveTeam(omp_get_max_threads(), int(out.size()));
   double* y = product_.element_out.data();
 #pragma omp parallel if (parallel)
   {
@@ -564,8 +566,7 @@ void ElasticTetForce::AddJacobianTimes(double stiffness_scale, double damping_sc
     ElementStiffnessTimes(begin, end, count, product_.offset.data(), product_.rotation.data(),
                           product_.rest_inverse.data(), product_.mu_volume.data(), product_.lambda_volume.data(), scale,
                           v.data(), y);
-#pragma omp barrier
-    product_.AddNodeSums(y, 1.0, out);
+    product_.AddElementSums(y, begin, end, 1.0, out);
   }
 }
 
@@ -574,16 +575,37 @@ void ElasticTetForce::EnsureProductArrays() {
   if (product_.rotation.size() != 9 * elements_.size()) product_.Build(mesh_, elements_);
 }
 
-void ElasticTetForce::ElementProductArrays::AddNodeSums(const double* y, double sign, Eigen::VectorXd& out) const {
-  const int count = int(mu_volume.size()), nodes = int(node_start.size()) - 1;
+void ElasticTetForce::ElementProductArrays::ReserveTeam(int threads, int dofs) {
+  const size_t stride = (size_t(dofs) + 7) / 8 * 8;  // whole cache lines: no line shared by two threads
+  if (threads > 1 && partial.size() < size_t(threads) * stride) partial.assign(size_t(threads) * stride, 0.0);
+  partial_stride = stride;
+}
+
+void ElasticTetForce::ElementProductArrays::AddElementSums(const double* y, int begin, int end, double sign,
+                                                          Eigen::VectorXd& out) {
+  const int count = int(mu_volume.size()), threads = omp_get_num_threads();
+  auto scatter = [&](double* to, double factor) {
+    for (int a = 0; a < 4; ++a)
+      for (int e = begin; e < end; ++e) {
+        double* node = to + offset[size_t(a * count + e)];
+        const double* slot = y + size_t(3 * a * count + e);
+        node[0] += factor * slot[0], node[1] += factor * slot[count], node[2] += factor * slot[2 * count];
+      }
+  };
+  if (threads == 1) {
+    scatter(out.data(), sign);
+    return;
+  }
+  const int dofs = int(out.size());
+  double* own = partial.data() + size_t(omp_get_thread_num()) * partial_stride;
+  std::fill(own, own + dofs, 0.0);
+  scatter(own, 1.0);
+#pragma omp barrier
 #pragma omp for schedule(static)
-  for (int i = 0; i < nodes; ++i) {
-    double s0 = 0, s1 = 0, s2 = 0;
-    for (int k = node_start[size_t(i)]; k < node_start[size_t(i) + 1]; ++k) {
-      const int slot = node_slot[size_t(k)];
-      s0 += y[slot], s1 += y[slot + count], s2 += y[slot + 2 * count];
-    }
-    out[3 * i] += sign * s0, out[3 * i + 1] += sign * s1, out[3 * i + 2] += sign * s2;
+  for (int i = 0; i < dofs; ++i) {
+    double sum = 0;
+    for (int p = 0; p < threads; ++p) sum += partial[size_t(p) * partial_stride + size_t(i)];
+    out[i] += sign * sum;
   }
 }
 
@@ -597,23 +619,14 @@ void ElasticTetForce::ElementProductArrays::Build(const TetMesh& mesh, const std
   element_out.assign(12 * size_t(count), 0.0);
   status.assign(size_t(count), 0);
   inverted.assign(size_t(count), 0);
-  node_start.assign(size_t(mesh.num_nodes()) + 1, 0);
   for (int t = 0; t < count; ++t) {
     const TetElement& e = elements[size_t(t)];
-    for (int a = 0; a < 4; ++a) {
-      offset[size_t(a * count + t)] = 3 * mesh.tets[size_t(t)][size_t(a)];
-      ++node_start[size_t(mesh.tets[size_t(t)][size_t(a)]) + 1];
-    }
+    for (int a = 0; a < 4; ++a) offset[size_t(a * count + t)] = 3 * mesh.tets[size_t(t)][size_t(a)];
     for (int i = 0; i < 3; ++i)
       for (int j = 0; j < 3; ++j) rest_inverse[size_t((3 * i + j) * count + t)] = e.rest_inverse(i, j);
     mu_volume[size_t(t)] = e.volume_m3 * e.mu_Pa;
     lambda_volume[size_t(t)] = e.volume_m3 * e.lambda_Pa;
   }
-  for (size_t i = 1; i < node_start.size(); ++i) node_start[i] += node_start[i - 1];
-  node_slot.resize(4 * size_t(count));
-  std::vector<int> fill(node_start.begin(), node_start.end() - 1);
-  for (int t = 0; t < count; ++t)
-    for (int a = 0; a < 4; ++a) node_slot[size_t(fill[size_t(mesh.tets[size_t(t)][size_t(a)])]++)] = 3 * a * count + t;
   rotations_current = false;
 }
 

@@ -136,12 +136,22 @@ class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
     // nodes before the next pass starts: [(3 a + k) * count + e].
     std::vector<double> element_out;
     std::vector<double> status, inverted;         // CorotationalForces' flags per element
-    std::vector<int> node_start, node_slot;      // per node: its (3 a * count + e) slots
+    // Per thread of a team, its elements' sums by degree of freedom (thread p's at
+    // p * partial_stride), for the team's reduction.
+    std::vector<double> partial;
+    size_t partial_stride = 0;
     bool rotations_current = false;
     void Build(const TetMesh& mesh, const std::vector<TetElement>& elements);
-    /// out[node] += sign * the sum of its slots of y (laid out as element_out). Inside a
-    /// parallel region its loop shares the nodes among the team (a worksharing loop).
-    void AddNodeSums(const double* y, double sign, Eigen::VectorXd& out) const;
+    /// Sizes `partial` for a team of up to `threads` (before the parallel region).
+    void ReserveTeam(int threads, int dofs);
+    /// out += sign * the sums of elements [begin, end)'s slots of y (laid out as element_out)
+    /// by node, for the calling thread's own elements. Alone: straight into out. In a team
+    /// (every thread calls it, after writing its own elements' y): each thread sums the slots
+    /// it wrote itself, still in its own cache, into its own partial sums, and the team then
+    /// adds the partial sums to out range by range. A node's slots gathered across the team
+    /// instead read half of them from the other core's cache, and cost two cores more than one
+    /// did (B_fine, docs/performance.md "Session 32").
+    void AddElementSums(const double* y, int begin, int end, double sign, Eigen::VectorXd& out);
   };
   ElementProductArrays product_;
   void EnsureProductArrays();
