@@ -38,8 +38,9 @@ double RelL2(const Eigen::VectorXd& a, const Eigen::VectorXd& ref) {
   return den > 0 ? (a - ref).norm() / den : (a.norm() > 0 ? 1.0 : 0.0);
 }
 
-MethodError Compare(const Eigen::Matrix3Xd& pad_mm, const Eigen::VectorXd& s, const Eigen::VectorXd& truth,
-                    const display::SedToCommandMapping& mapping) {
+}  // namespace
+
+MethodError CompareMerkelMaps(const Eigen::Matrix3Xd& pad_mm, const Eigen::VectorXd& s, const Eigen::VectorXd& truth) {
   MethodError e;
   Eigen::Index is = 0, it = 0;
   const double ms = s.maxCoeff(&is), mt = truth.maxCoeff(&it);
@@ -55,6 +56,14 @@ MethodError Compare(const Eigen::Matrix3Xd& pad_mm, const Eigen::VectorXd& s, co
   };
   e.peak_region_offset_mm =
       ms > 0 && mt > 0 ? std::max(to_region(s, ms, it), to_region(truth, mt, is)) : e.peak_offset_mm;
+  return e;
+}
+
+namespace {
+
+MethodError Compare(const Eigen::Matrix3Xd& pad_mm, const Eigen::VectorXd& s, const Eigen::VectorXd& truth,
+                    const display::SedToCommandMapping& mapping) {
+  MethodError e = CompareMerkelMaps(pad_mm, s, truth);
   const auto cs = mapping.Map(Field(pad_mm, s)).requested, ct = mapping.Map(Field(pad_mm, truth)).requested;
   e.command_rel_l2 = RelL2(Eigen::Map<const Eigen::VectorXd>(cs.data(), Eigen::Index(cs.size())),
                            Eigen::Map<const Eigen::VectorXd>(ct.data(), Eigen::Index(ct.size())));

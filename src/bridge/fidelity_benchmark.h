@@ -53,6 +53,11 @@ struct MethodError {
   double command_rel_l2 = 0;   ///< same as rel_l2, on the display command
 };
 
+/// Map `s` against `truth` (Merkel vertices, pad-frame positions pad_mm [mm], SED [Pa]): peak
+/// ratio, relative L2, peak offset and peak-region offset as the benchmark scores a case;
+/// command_rel_l2 is left 0 (no display mapping).
+MethodError CompareMerkelMaps(const Eigen::Matrix3Xd& pad_mm, const Eigen::VectorXd& s, const Eigen::VectorXd& truth);
+
 /// Issue 11's targets at the peak scan.
 struct FidelityTargets {
   double min_peak_ratio = 0.8, max_peak_ratio = 1.25;
