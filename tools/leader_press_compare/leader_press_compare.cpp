@@ -6,7 +6,8 @@
 // tell apart: a cube corner turned about its diagonal, a sphere read a little large.
 //
 //   leader_press_compare [--model B] [--force 0.5] [--cache-dir out/cache] [--node-contact]
-//                        [--csv FILE] FILE.yaml
+//                        [--csv FILE] [--maps FILE] FILE.yaml
+// (--maps: every press's Merkel map, for tools/plot_leader_press_compare.py)
 //
 // FILE.yaml (objects as in scenes, config/scenes/README.md; pad frame, touching at z = 0):
 //   force_N: 0.191                 # optional, --force overrides
@@ -50,6 +51,9 @@ constexpr const char* kUsage =
     "  --cache-dir DIR   compliance precompute cache (default: out/cache; \"\" = none)\n"
     "  --node-contact    press on the skin's nodes only, not its faces too\n"
     "  --csv FILE        also write the table as CSV\n"
+    "  --maps FILE       write every press's Merkel-layer SED map as CSV (x_mm, y_mm, z_mm in the\n"
+    "                    pad frame, then one column per press [Pa]); plot it side by side:\n"
+    "                    /usr/bin/python3 tools/plot_leader_press_compare.py FILE\n"
     "  --help            show this help\n"
     "\n"
     "FILE.yaml:\n"
@@ -77,7 +81,7 @@ struct Row {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string model_name = "B", cache_dir = "out/cache", csv_path, file;
+  std::string model_name = "B", cache_dir = "out/cache", csv_path, maps_path, file;
   double force_N = -1;
   bool face_contact = true;
   for (int i = 1; i < argc; ++i) {
@@ -108,6 +112,8 @@ int main(int argc, char** argv) {
       face_contact = false;
     } else if (a == "--csv") {
       csv_path = value("--csv");
+    } else if (a == "--maps") {
+      maps_path = value("--maps");
     } else if (!a.empty() && a[0] == '-') {
       std::fprintf(stderr, "leader_press_compare: unknown option '%s' (--help)\n", a.c_str());
       return 2;
@@ -168,13 +174,13 @@ int main(int argc, char** argv) {
       row.peak_Pa = sed->size() > 0 ? sed->maxCoeff() : 0.0;
       return row;
     };
-    Eigen::VectorXd truth, sed;
-    std::vector<Row> rows = {press("reference", reference, &truth)};
+    std::vector<Eigen::VectorXd> maps(candidates.size() + 1);  // the reference's first
+    std::vector<Row> rows = {press("reference", reference, &maps[0])};
     const Eigen::Matrix3Xd& pad_mm = leader.merkel_rest_pad_mm();
-    rows[0].error = bridge::CompareMerkelMaps(pad_mm, truth, truth);
-    for (const Candidate& c : candidates) {
-      rows.push_back(press(c.name, c.objects, &sed));
-      rows.back().error = bridge::CompareMerkelMaps(pad_mm, sed, truth);
+    rows[0].error = bridge::CompareMerkelMaps(pad_mm, maps[0], maps[0]);
+    for (size_t k = 0; k < candidates.size(); ++k) {
+      rows.push_back(press(candidates[k].name, candidates[k].objects, &maps[k + 1]));
+      rows.back().error = bridge::CompareMerkelMaps(pad_mm, maps[k + 1], maps[0]);
     }
     std::printf("%-28s %-12s %8s %10s %6s %6s %7s %9s %s\n", "objects", "press", "F_N", "peak_Pa", "ratio", "L2",
                 "off_mm", "region_mm", "within");
@@ -195,6 +201,18 @@ int main(int argc, char** argv) {
         csv << '"' << r.name << "\"," << r.status << ',' << r.force_N << ',' << r.peak_Pa << ',' << r.error.peak_ratio
             << ',' << r.error.rel_l2 << ',' << r.error.peak_offset_mm << ',' << r.error.peak_region_offset_mm << ','
             << (bridge::WithinTargets(r.error) ? 1 : 0) << '\n';
+    }
+    if (!maps_path.empty()) {
+      std::ofstream out(maps_path);
+      if (!out) throw std::runtime_error("cannot write " + maps_path);
+      out << "x_mm,y_mm,z_mm";
+      for (const Row& r : rows) out << ",\"" << r.name << '"';
+      out << '\n';
+      for (Eigen::Index v = 0; v < pad_mm.cols(); ++v) {
+        out << pad_mm(0, v) << ',' << pad_mm(1, v) << ',' << pad_mm(2, v);
+        for (const Eigen::VectorXd& m : maps) out << ',' << (v < m.size() ? m[v] : 0.0);
+        out << '\n';
+      }
     }
     return all_reached ? 0 : 1;
   } catch (const std::exception& e) {
