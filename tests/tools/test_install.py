@@ -66,6 +66,18 @@ class InstalledTree(unittest.TestCase):
                            capture_output=True, text=True, env=env_without_root())
         self.assertEqual(r.returncode, 0, r.stderr)
 
+    def test_leader_press_compare_runs_from_the_installed_tree(self):
+        # Its what-if files come with it (its C++ source does not), and it finds the models
+        # in the installed tree from an unrelated folder.
+        share = os.path.join(self.prefix, "share", "sedbridge", "tools", "leader_press_compare")
+        self.assertTrue(os.path.exists(os.path.join(share, "box_corner_yaw.yaml")))
+        self.assertFalse(os.path.exists(os.path.join(share, "leader_press_compare.cpp")))
+        r = subprocess.run([os.path.join(self.prefix, "bin", "leader_press_compare"), "--model", "B_coarse",
+                            "--cache-dir", "", "--force", "0.3", os.path.join(share, "two_spheres_radius.yaml")],
+                           cwd=self.elsewhere, capture_output=True, text=True, env=env_without_root(), timeout=240)
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        self.assertIn("R3.43 and R3.38", r.stdout)
+
     def test_replay_uses_the_installed_resources_even_after_a_move(self):
         out = self.replay(self.prefix, "out1")
         self.assertIn("with %s/share/sedbridge/config/bridge/default.yaml" % self.prefix, out)

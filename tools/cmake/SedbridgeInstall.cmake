@@ -1,5 +1,5 @@
 # `cmake --install build --prefix P` gives a tree that runs without the source:
-#   P/bin/sedbridge
+#   P/bin/sedbridge, sedbridge-display-driver, leader_press_compare
 #   P/share/sedbridge/{config,tools}          shipped configs, models, scripts (plots, lcm-spy)
 #   P/share/sedbridge/python/{sedbridge,sedbridge_lcm.py}   Python LCM types + runtime
 #   P/share/sedbridge/java/sedbridge_lcmtypes.jar           lcm-spy types (when a JDK built it)
@@ -12,12 +12,16 @@ set(SEDBRIDGE_INSTALL_DATA ${CMAKE_INSTALL_DATADIR}/sedbridge)
 
 # The bridge and the driver that runs beside the display (docs/two-host.md).
 install(TARGETS sedbridge sedbridge-display-driver RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+if(TARGET leader_press_compare)
+  install(TARGETS leader_press_compare RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+endif()
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/config DESTINATION ${SEDBRIDGE_INSTALL_DATA})
 # Scripts only: the model generator's and fidelity study's C++ sources and the CMake files stay behind.
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/tools DESTINATION ${SEDBRIDGE_INSTALL_DATA}
         USE_SOURCE_PERMISSIONS
         PATTERN fingertip_generator EXCLUDE
         PATTERN bridge_fidelity_study EXCLUDE
+        PATTERN leader_press_compare.cpp EXCLUDE
         PATTERN CMakeLists.txt EXCLUDE
         PATTERN __pycache__ EXCLUDE)
 install(DIRECTORY ${SEDBRIDGE_LCM_PYTHON_DIR}/ DESTINATION ${SEDBRIDGE_INSTALL_DATA}/python
