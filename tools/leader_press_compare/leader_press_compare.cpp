@@ -16,6 +16,7 @@
 //     - {name: "turned 30 deg", objects: [{shape: box, ...}]}
 // Exit status: 0 when every press reached the force, 1 when one did not, 2 for bad input.
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -169,7 +170,7 @@ int main(int argc, char** argv) {
       row.name = name;
       row.reached = bridge::PressAnswered(r, leader);
       row.status = row.reached ? "reached" : scene::ToString(r.status);
-      row.force_N = r.force_N;
+      row.force_N = std::abs(r.force_N) < 1e-9 ? 0.0 : r.force_N;  // no contact: 0, not a round-off's -0.0000
       *sed = leader.sed_Pa();
       row.peak_Pa = sed->size() > 0 ? sed->maxCoeff() : 0.0;
       return row;
