@@ -576,9 +576,8 @@ void ElasticTetForce::EnsureProductArrays() {
 }
 
 void ElasticTetForce::ElementProductArrays::ReserveTeam(int threads, int dofs) {
-  const size_t stride = (size_t(dofs) + 7) / 8 * 8;  // whole cache lines: no line shared by two threads
-  if (threads > 1 && partial.size() < size_t(threads) * stride) partial.assign(size_t(threads) * stride, 0.0);
-  partial_stride = stride;
+  const size_t size = size_t(threads) * PartialStride(dofs);
+  if (threads > 1 && partial.size() < size) partial.assign(size, 0.0);
 }
 
 void ElasticTetForce::ElementProductArrays::AddElementSums(const double* y, int begin, int end, double sign,
@@ -597,14 +596,15 @@ void ElasticTetForce::ElementProductArrays::AddElementSums(const double* y, int 
     return;
   }
   const int dofs = int(out.size());
-  double* own = partial.data() + size_t(omp_get_thread_num()) * partial_stride;
+  const size_t stride = PartialStride(dofs);
+  double* own = partial.data() + size_t(omp_get_thread_num()) * stride;
   std::fill(own, own + dofs, 0.0);
   scatter(own, 1.0);
 #pragma omp barrier
 #pragma omp for schedule(static)
   for (int i = 0; i < dofs; ++i) {
     double sum = 0;
-    for (int p = 0; p < threads; ++p) sum += partial[size_t(p) * partial_stride + size_t(i)];
+    for (int p = 0; p < threads; ++p) sum += partial[size_t(p) * stride + size_t(i)];
     out[i] += sign * sum;
   }
 }

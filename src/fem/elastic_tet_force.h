@@ -137,9 +137,10 @@ class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
     std::vector<double> element_out;
     std::vector<double> status, inverted;         // CorotationalForces' flags per element
     // Per thread of a team, its elements' sums by degree of freedom (thread p's at
-    // p * partial_stride), for the team's reduction.
+    // p * PartialStride(dofs)), for the team's reduction.
     std::vector<double> partial;
-    size_t partial_stride = 0;
+    /// Whole cache lines of doubles per thread's sums: no line shared by two threads.
+    static size_t PartialStride(int dofs) { return (size_t(dofs) + 7) / 8 * 8; }
     bool rotations_current = false;
     void Build(const TetMesh& mesh, const std::vector<TetElement>& elements);
     /// Sizes `partial` for a team of up to `threads` (before the parallel region).
