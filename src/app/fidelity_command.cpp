@@ -106,6 +106,10 @@ int RunFidelity(int argc, char** argv) {
               "rig's elastomer as a 2.5 mm layer on a rigid base, fitted to the rig presses: fit-sensor --evaluate-pad)",
               "layer")
       .Option("random", "N", "--synthetic: N rig-like presses drawn at random instead of the fixed set", "0")
+      .Option("random-ranges", "RANGES",
+              "--random's draws: rig (sizes, places and depths like the rig's presses) or wide (past them: spheres "
+              "1.5-20 mm within 7 mm of the centre, rods 0.4-4 mm, forces from under 0.1 N to several N)",
+              "rig")
       .Flag("rig-on-pad",
             "the presses of --cases re-made on the simulated sensor with --pad (each object at its place, pressed "
             "to its hold force): how far the simulated pad, and so --random's sets, stands in for the recorded sensor")
@@ -139,10 +143,13 @@ int RunFidelity(int argc, char** argv) {
     const auto seed = static_cast<uint64_t>(args.GetInt("seed"));
     if (args.GetFlag("rig-on-pad")) {
       if (random > 0) throw UsageError("--rig-on-pad and --random choose different presses: give one");
+      if (args.Has("random-ranges")) throw UsageError("--random-ranges draws --random's presses: give --random N, not --rig-on-pad");
       presses = CalibrationPressesOnSimulatedPad(
           sensors::LoadCalibrationPresses(config::ResolveResource(args.Get("cases")), profile), profile, seed, pad);
     } else {
-      presses = SyntheticFidelityCases(profile, seed, pad, static_cast<int>(random));
+      if (random == 0 && args.Has("random-ranges")) throw UsageError("--random-ranges needs --random N");
+      const auto ranges = config::ParseEnum<RandomRanges>(args.Get("random-ranges"), "--random-ranges");
+      presses = SyntheticFidelityCases(profile, seed, pad, static_cast<int>(random), ranges);
     }
   } else {
     for (const auto& p : sensors::LoadCalibrationPresses(config::ResolveResource(args.Get("cases")), profile))

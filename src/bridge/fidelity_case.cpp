@@ -151,10 +151,24 @@ uint64_t CaseNoiseSeed(uint64_t seed, size_t index) {
   return z ^ (z >> 31);
 }
 
-// Rig-like presses drawn at random: spheres, rods, flats and strokes like the rig's, at
-// sizes, places, yaws and depths it did not use (depths giving about the rig's 0.3-1.5 N on
-// the rig-fitted layer pad).
-std::vector<SyntheticSpec> RandomSpecs(int count, uint64_t seed) {
+// The bounds of one RandomRanges (see there).
+struct DrawBounds {
+  double sphere_r_mm[2], sphere_xy_mm, sphere_depth_mm[2];
+  double rod_r_mm[2], rod_xy_mm, rod_depth_mm[2];
+  double flat_depth_mm[2];
+};
+
+DrawBounds BoundsOf(RandomRanges ranges) {
+  if (ranges == RandomRanges::kWide) return {{1.5, 20.0}, 7.0, {0.15, 1.1}, {0.4, 4.0}, 6.0, {0.05, 0.45}, {0.01, 0.08}};
+  return {{2.0, 15.0}, 6.0, {0.3, 0.8}, {0.5, 3.0}, 4.0, {0.1, 0.3}, {0.02, 0.05}};
+}
+
+// Presses drawn at random: spheres, rods, flats and strokes like the rig's, at sizes,
+// places, yaws and depths it did not use (kRig: depths giving about the rig's 0.3-1.5 N on
+// the rig-fitted layer pad). Both ranges draw the same sequence, so a seed's presses are the
+// same kinds in the same order, only scaled to the other bounds.
+std::vector<SyntheticSpec> RandomSpecs(int count, uint64_t seed, RandomRanges ranges) {
+  const DrawBounds bounds = BoundsOf(ranges);
   std::mt19937_64 rng(seed);
   auto uniform = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
   auto round2 = [](double v) { return std::round(v * 100) / 100; };  // names and labels stay short
@@ -163,17 +177,20 @@ std::vector<SyntheticSpec> RandomSpecs(int count, uint64_t seed) {
     char name[64];
     const double kind = uniform(0, 1);
     if (kind < 0.45) {
-      const double r = round2(std::exp(uniform(std::log(2.0), std::log(15.0))));
+      const double r = round2(std::exp(uniform(std::log(bounds.sphere_r_mm[0]), std::log(bounds.sphere_r_mm[1]))));
       std::snprintf(name, sizeof name, "random_%02d_sphere", i);
-      s.push_back(SphereSpec(name, r, round2(uniform(-6, 6)), round2(uniform(-6, 6)), round2(uniform(0.3, 0.8))));
+      s.push_back(SphereSpec(name, r, round2(uniform(-bounds.sphere_xy_mm, bounds.sphere_xy_mm)),
+                             round2(uniform(-bounds.sphere_xy_mm, bounds.sphere_xy_mm)),
+                             round2(uniform(bounds.sphere_depth_mm[0], bounds.sphere_depth_mm[1]))));
     } else if (kind < 0.8) {
-      const double r = round2(std::exp(uniform(std::log(0.5), std::log(3.0))));
+      const double r = round2(std::exp(uniform(std::log(bounds.rod_r_mm[0]), std::log(bounds.rod_r_mm[1]))));
       std::snprintf(name, sizeof name, "random_%02d_rod", i);
-      s.push_back(RodSpec(name, r, std::round(uniform(0, 180)), round2(uniform(-4, 4)), round2(uniform(-4, 4)),
-                          round2(uniform(0.1, 0.3))));
+      s.push_back(RodSpec(name, r, std::round(uniform(0, 180)), round2(uniform(-bounds.rod_xy_mm, bounds.rod_xy_mm)),
+                          round2(uniform(-bounds.rod_xy_mm, bounds.rod_xy_mm)),
+                          round2(uniform(bounds.rod_depth_mm[0], bounds.rod_depth_mm[1]))));
     } else if (kind < 0.88) {
       std::snprintf(name, sizeof name, "random_%02d_flat", i);
-      s.push_back(FlatSpec(name, round2(uniform(0.02, 0.05) * 1e3) * 1e-3));
+      s.push_back(FlatSpec(name, round2(uniform(bounds.flat_depth_mm[0], bounds.flat_depth_mm[1]) * 1e3) * 1e-3));
     } else {
       std::snprintf(name, sizeof name, "random_%02d_stroke", i);
       // Drawn in the order the former one-call draw took them (g++ evaluates arguments right
@@ -298,12 +315,17 @@ std::vector<FidelityCase> Simulate(const std::vector<SyntheticSpec>& specs, cons
 
 }  // namespace
 
+const config::EnumNames<RandomRanges>& NamesOf(RandomRanges) {
+  static const config::EnumNames<RandomRanges> names{{RandomRanges::kRig, "rig"}, {RandomRanges::kWide, "wide"}};
+  return names;
+}
+
 std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& profile, uint64_t seed,
-                                                 sensors::PadMechanics pad, int random_count) {
+                                                 sensors::PadMechanics pad, int random_count, RandomRanges ranges) {
   // A drawn press gets its own noise stream: with one stream, every case saw the same noise
   // at the same scan, and N drawn presses were not N independent draws. The fixed set keeps
   // one stream, so its table compares with earlier runs.
-  return random_count > 0 ? Simulate(RandomSpecs(random_count, seed), profile, seed, pad, true)
+  return random_count > 0 ? Simulate(RandomSpecs(random_count, seed, ranges), profile, seed, pad, true)
                           : Simulate(Specs(), profile, seed, pad, false);
 }
 

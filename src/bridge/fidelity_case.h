@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "common/enum_names.h"
 #include "common/geometry/rigid_object.h"
 #include "sensors/simulated/simulated_sensor.h"
 #include "sensors/calibration_press.h"
@@ -43,6 +44,19 @@ struct FidelityCase {
   std::vector<geometry::RigidObject> ObjectsAt(size_t k) const;
 };
 
+/// What the random presses of SyntheticFidelityCases are drawn from.
+enum class RandomRanges {
+  /// Like the rig's presses: spheres 2-15 mm within 6 mm of the pad centre (x and y),
+  /// 0.3-0.8 mm deep; rods 0.5-3 mm within 4 mm, 0.1-0.3 mm deep; flats 0.02-0.05 mm;
+  /// strokes of 4-10 mm spheres (the sets every change since session 18 was judged by).
+  kRig,
+  /// Past the rig's: spheres 1.5-20 mm within 7 mm, 0.15-1.1 mm deep; rods 0.4-4 mm within
+  /// 6 mm, 0.05-0.45 mm deep; flats 0.01-0.08 mm; strokes as kRig. Forces from under 0.1 N
+  /// to several N on the layer pad: where the bridge holds outside what it was calibrated on.
+  kWide,
+};
+const config::EnumNames<RandomRanges>& NamesOf(RandomRanges);
+
 /// A calibration-rig press as a case.
 FidelityCase FromCalibrationPress(const sensors::CalibrationPress& press);
 
@@ -50,16 +64,17 @@ FidelityCase FromCalibrationPress(const sensors::CalibrationPress& press);
 /// and the pad mechanics `pad` (kKernel: Winkler pressure, a contact law the rig presses do
 /// not fit; kHalfSpace: the elastic half-space's, Hertz's for a sphere; kLayer: the rig's
 /// elastomer as a layer on a rigid base, sensors::RigFittedLayerPad()).
-/// random_count > 0: instead of the fixed set, that many rig-like presses drawn with `seed`
-/// (spheres 2-15 mm, rods 0.5-3 mm at any yaw, flats, strokes; places, sizes and depths the
-/// rig did not use): the closest thing here to presses of this sensor not seen before. Each
+/// random_count > 0: instead of the fixed set, that many presses drawn with `seed` from
+/// `ranges` (spheres, rods at any yaw, flats, strokes; places, sizes and depths the rig did
+/// not use): the closest thing here to presses of this sensor not seen before. Each
 /// drawn press has its own sensor-noise stream (from `seed` and its index); the fixed set's
 /// presses share the stream `seed`. The simulated sensor sees every object as it is; a rod or
 /// sphere thinner than the leader holds (kLeaderMinRodRadius_mm, kLeaderMinSphereRadius_mm)
 /// is pressed on the leader for the truth at that minimum, as the rig presses' truths are.
 std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& profile, uint64_t seed = 1,
                                                  sensors::PadMechanics pad = sensors::PadMechanics::kLayer,
-                                                 int random_count = 0);
+                                                 int random_count = 0,
+                                                 RandomRanges ranges = RandomRanges::kRig);
 
 /// The calibration rig's presses re-made on the simulated sensor: each press's object, at
 /// its place, pressed into the simulated pad `pad` to the depth at which the pad carries the

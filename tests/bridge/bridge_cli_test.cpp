@@ -67,7 +67,8 @@ TEST(BridgeCli, RunOnARecordingStopsAfterItsDurationWithTheDisplayAtZero) {
 
 // `fidelity` refuses what it cannot run before building anything: a pad model without the
 // kernels, an unknown one (the choices listed), a negative --random or --through-press,
-// --random with --rig-on-pad, and a config with a key out of range (file, line and column).
+// --random with --rig-on-pad, --random-ranges without --random or with an unknown name, and
+// a config with a key out of range (file, line and column).
 TEST(BridgeCli, FidelityRefusesABadPadOrConfigSayingWhere) {
   const std::string dir = TempDir("fidelity");
   const std::string fidelity = std::string(SEDBRIDGE_BINARY) + " fidelity --no-plots --out " + dir;
@@ -82,6 +83,9 @@ TEST(BridgeCli, FidelityRefusesABadPadOrConfigSayingWhere) {
   refused("--synthetic --pad bogus", "winkler, kernel, halfspace, layer");
   refused("--synthetic --random -3", "--random");
   refused("--rig-on-pad --random 3", "--rig-on-pad and --random");
+  refused("--synthetic --random-ranges wide", "--random-ranges needs --random");
+  refused("--rig-on-pad --random-ranges wide", "--random-ranges");
+  refused("--synthetic --random 3 --random-ranges huge", "rig, wide");
   refused("--through-press -5", "--through-press");
   const std::string config = dir + "/bad.yaml";
   std::ofstream(config) << "fe:\n  contact_tolerance: 5\n";

@@ -270,6 +270,42 @@ TEST(FidelityCase, RandomSetIsSeededAndRigLike) {
   EXPECT_EQ(same_noise, 0);
 }
 
+// `--random-ranges wide` draws the same kinds in the same order as the rig ranges from a
+// seed, at sizes and depths past the rig's: over 40 presses, spheres larger than 15 mm or
+// smaller than 2 mm and rods thicker than 3 mm appear, and the pad carries both lighter and
+// heavier presses than the rig ranges give it.
+TEST(FidelityCase, WideRandomRangesGoPastTheRigs) {
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
+  const auto rig = SyntheticFidelityCases(profile, 7, sensors::PadMechanics::kLayer, 40, RandomRanges::kRig);
+  const auto wide = SyntheticFidelityCases(profile, 7, sensors::PadMechanics::kLayer, 40, RandomRanges::kWide);
+  ASSERT_EQ(rig.size(), wide.size());
+  auto peak_N = [](const FidelityCase& c) {
+    double f = 0;
+    for (const Eigen::Vector3d& load : c.load_N) f = std::max(f, load.z());
+    return f;
+  };
+  int past_sphere = 0, past_rod = 0;
+  double rig_min = 1e9, rig_max = 0, wide_min = 1e9, wide_max = 0;
+  for (size_t i = 0; i < rig.size(); ++i) {
+    EXPECT_EQ(rig[i].name, wide[i].name);  // the same kind at the same index
+    rig_min = std::min(rig_min, peak_N(rig[i])), rig_max = std::max(rig_max, peak_N(rig[i]));
+    wide_min = std::min(wide_min, peak_N(wide[i])), wide_max = std::max(wide_max, peak_N(wide[i]));
+    if (!wide[i].has_primitive) continue;
+    const sensors::ContactPrimitive& p = wide[i].primitive;
+    if (p.shape == sensors::ContactShape::kSphere && (p.radius_mm > 15 || p.radius_mm < 2)) ++past_sphere;
+    if (p.shape == sensors::ContactShape::kCylinder && p.radius_mm > 3) ++past_rod;
+    if (p.shape == sensors::ContactShape::kSphere) {
+      EXPECT_GE(p.radius_mm, 1.5) << wide[i].label;
+      EXPECT_LE(p.radius_mm, 20.0) << wide[i].label;
+    }
+  }
+  EXPECT_GE(past_sphere, 1);
+  EXPECT_GE(past_rod, 1);
+  EXPECT_LT(wide_min, rig_min);
+  EXPECT_GT(wide_max, rig_max);
+  EXPECT_EQ(config::EnumFromName<RandomRanges>("wide"), RandomRanges::kWide);
+}
+
 // Drawn strokes slide in any direction (the rig's go along +x and -y), and the load the
 // simulated sensor carries at the peak scan drags along that direction.
 TEST(FidelityCase, RandomStrokesSlideInAnyDirection) {
