@@ -143,7 +143,8 @@ int RunFidelity(int argc, char** argv) {
     const auto seed = static_cast<uint64_t>(args.GetInt("seed"));
     if (args.GetFlag("rig-on-pad")) {
       if (random > 0) throw UsageError("--rig-on-pad and --random choose different presses: give one");
-      if (args.Has("random-ranges")) throw UsageError("--random-ranges draws --random's presses: give --random N, not --rig-on-pad");
+      if (args.Has("random-ranges"))
+        throw UsageError("--random-ranges draws --random's presses: give --random N, not --rig-on-pad");
       presses = CalibrationPressesOnSimulatedPad(
           sensors::LoadCalibrationPresses(config::ResolveResource(args.Get("cases")), profile), profile, seed, pad);
     } else {

@@ -159,7 +159,8 @@ struct DrawBounds {
 };
 
 DrawBounds BoundsOf(RandomRanges ranges) {
-  if (ranges == RandomRanges::kWide) return {{1.5, 20.0}, 7.0, {0.15, 1.1}, {0.4, 4.0}, 6.0, {0.05, 0.45}, {0.01, 0.08}};
+  if (ranges == RandomRanges::kWide)
+    return {{1.5, 20.0}, 7.0, {0.15, 1.1}, {0.4, 4.0}, 6.0, {0.05, 0.45}, {0.01, 0.08}};
   return {{2.0, 15.0}, 6.0, {0.3, 0.8}, {0.5, 3.0}, 4.0, {0.1, 0.3}, {0.02, 0.05}};
 }
 
