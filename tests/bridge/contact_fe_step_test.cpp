@@ -103,6 +103,61 @@ TEST(ContactFeStep, ExampleLogPublishesContactEstimates) {
   EXPECT_NE(r.fe_counters.find("pressed on the leader"), std::string::npos);
 }
 
+// The hard case "the display never exceeds its limits" with the reconstructed contact: the
+// example's sphere pressed on the leader asks for more than a display whose safety max is
+// lowered to 4 kPa allows; every published command stays within [0, 4 kPa], rises no faster
+// than the slew rate between commands, and some reach the ceiling (the limiter is at work).
+TEST(ContactFeStep, ReconstructedPressesNeverDriveTheDisplayPastItsLimits) {
+  const BridgeConfig config = ContactConfig();
+  display::DisplayProfile display = testing::ConfigDisplay(config);
+  const double max = 4.0;
+  ASSERT_GT(display.safety.max, max);
+  display.safety.max = max;
+  for (double& m : display.safety.max_per_actuator) m = std::min(m, max);
+  const double slew_per_s = display.safety.slew_rate_per_s;
+  sensors::CandumpLogSource source(testing::ExampleLogPath());
+  std::vector<lcmt_display_command> got;
+  struct Sink {
+    std::vector<lcmt_display_command>* out;
+    void On(const lcm::ReceiveBuffer*, const std::string&, const lcmt_display_command* m) { out->push_back(*m); }
+  } sink{&got};
+  lcm::LCM* lcm = nullptr;
+  ReplayOptions options;
+  auto drain = [&] {
+    while (lcm && lcm->handleTimeout(0) > 0) {
+    }
+  };
+  options.on_start = [&](BridgePipeline& p) {
+    lcm = &p.display().publisher().lcm();
+    lcm->subscribe(config.lcm.channels.command, &Sink::On, &sink);
+  };
+  options.on_scan = [&](const ScanOutcome&, BridgePipeline&) { drain(); };
+  options.on_finish = [&](BridgePipeline&) {
+    drain();
+    lcm = nullptr;
+  };
+  const ReplayResult r = RunReplay(config, sensors::LoadNamedSensorProfile(config.sensor_profile), display, nullptr,
+                                   source, options);
+  EXPECT_NE(r.fe_counters.find("pressed on the leader"), std::string::npos);
+  ASSERT_GE(got.size(), size_t(r.counters.steps));
+  int at_ceiling = 0;
+  for (size_t i = 0; i < got.size(); ++i) {
+    ASSERT_EQ(got[i].num_actuators, 16);
+    for (int a = 0; a < got[i].num_actuators; ++a) {
+      const double v = got[i].value[size_t(a)];
+      ASSERT_TRUE(std::isfinite(v));
+      EXPECT_GE(v, 0.0) << "command " << i;
+      EXPECT_LE(v, max + 1e-6) << "command " << i;
+      at_ceiling += v >= max - 1e-6;
+      if (i > 0) {
+        const double dt_s = 1e-6 * double(got[i].utime - got[i - 1].utime);
+        EXPECT_LE(v - got[i - 1].value[size_t(a)], slew_per_s * dt_s + 1e-4) << "command " << i << " actuator " << a;
+      }
+    }
+  }
+  EXPECT_GT(at_ceiling, 0);
+}
+
 // fe.merkel_region: display computes the SED only where the display samples it: the same
 // commands as the whole layer, scan for scan, from a fraction of its vertices (the contact
 // press and its pressure-map fallback alike).
