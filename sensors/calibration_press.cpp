@@ -24,7 +24,13 @@ double PressProtocol::LoadFraction(double t) const {
   return 0;
 }
 
-ContactPrimitive CalibrationPress::ObjectAt(double t, const PressProtocol& protocol) const {
+double PressProtocol::FromRigTime_s(double t_rig_s) const {
+  const PressProtocol rig;
+  if (unloaded_s == rig.unloaded_s && ramp_s == rig.ramp_s) return t_rig_s;  // to the bit
+  return unloaded_s + (t_rig_s - rig.unloaded_s) * (ramp_s / rig.ramp_s);
+}
+
+ContactPrimitive CalibrationPress::ObjectAt(double t) const {
   ContactPrimitive c = object;
   const double f = protocol.LoadFraction(t);
   c.normal_force_N *= f;
@@ -106,10 +112,12 @@ struct PressCaseKeys {
 
 struct CasesFile {
   std::vector<PressCaseKeys> cases;
+  PressProtocol protocol;  ///< every press's; keys left out keep the rig's
 
   template <typename Archive>
   void Serialize(Archive* a) {
     a->Visit(Field("cases", &cases).Required());
+    a->Visit(Field("protocol", &protocol));
   }
 };
 
@@ -167,6 +175,7 @@ std::vector<CalibrationPress> LoadCalibrationPresses(const std::string& cases_js
     p.name = absolute ? c.log.substr(c.log.rfind('/') + 1) : c.log;
     p.log_path = absolute ? c.log : dir + "/" + c.log;
     p.object = PeakObject(c);
+    p.protocol = file.protocol;
     DecodeLog(doc.file, profile, &p);
     presses.push_back(std::move(p));
   }

@@ -14,13 +14,17 @@
 #include <string>
 #include <vector>
 
+#include "common/name_value.h"
 #include "sensors/scan.h"
 #include "sensors/sensor_profile.h"
 #include "sensors/tactile_forward_model.h"
 
 namespace sedbridge::sensors {
 
-/// The rig's load protocol [s].
+/// A calibration press's load over time [s]: unloaded, a linear ramp of the normal force
+/// to its peak, a hold, a linear release, unloaded again. The defaults are the shipped rig's
+/// (config/sensors/rig_uskin_4x4); a cases file whose stage ran another protocol says so
+/// with a top-level `protocol:` (config/sensors/README.md).
 struct PressProtocol {
   double unloaded_s = 0.3;
   double ramp_s = 0.7;
@@ -30,6 +34,18 @@ struct PressProtocol {
   double LoadFraction(double t_s) const;
   /// Middle of the hold [s].
   double HoldMid_s() const { return unloaded_s + ramp_s + 0.5 * hold_s; }
+  /// The time in this protocol at the point of the ramp where the rig's protocol
+  /// (PressProtocol{}) is at t_rig_s: windows placed on the rig's ramp (fit-sensor's ramp
+  /// windows) read other protocols at the same load fraction. t_rig_s itself for the rig's.
+  double FromRigTime_s(double t_rig_s) const;
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    a->Visit(config::Field("unloaded_s", &unloaded_s).Unit("s").NonNegative());
+    a->Visit(config::Field("ramp_s", &ramp_s).Unit("s").Positive());
+    a->Visit(config::Field("hold_s", &hold_s).Unit("s").Positive());
+    a->Visit(config::Field("release_s", &release_s).Unit("s").NonNegative());
+  }
 };
 
 struct CalibrationPress {
@@ -39,8 +55,9 @@ struct CalibrationPress {
   std::vector<double> t_s;        ///< scan times since the first scan
   std::vector<Eigen::VectorXd> readings_N;  ///< per scan, 3 x #taxels (x, y, z per taxel) [N]
   std::vector<Scan> scans;        ///< the assembled scans themselves
-  /// The object at time t (force and traction scaled by the protocol).
-  ContactPrimitive ObjectAt(double t_s, const PressProtocol& protocol = {}) const;
+  PressProtocol protocol;         ///< the cases file's (the rig's by default)
+  /// The object at time t (force and traction scaled by the press's protocol).
+  ContactPrimitive ObjectAt(double t_s) const;
   /// Mean reading over scans with t in [t0, t1] (3 x #taxels) [N].
   Eigen::VectorXd MeanReadings(double t0_s, double t1_s) const;
 };

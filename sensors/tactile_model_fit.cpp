@@ -139,14 +139,16 @@ Problem MakeProblem(const std::vector<CalibrationPress>& presses, const SensorPr
   if (profile.axes != 3) throw std::invalid_argument("fit-sensor needs a three-axis profile");
   Problem pr{&presses, &profile, fixed, {}, {}};
   pr.inv_sigma = InverseNoise(profile, options.noise_counts);
-  const PressProtocol protocol;
-  const auto [hold_begin, hold_end] = HoldWindow(protocol);
   for (size_t i = 0; i < presses.size(); ++i) {
+    const PressProtocol& protocol = presses[i].protocol;
+    const auto [hold_begin, hold_end] = HoldWindow(protocol);
     pr.windows.push_back({static_cast<int>(i), protocol.HoldMid_s(), presses[i].MeanReadings(hold_begin, hold_end)});
     if (hold_only) continue;
-    for (double t : options.ramp_times_s)
+    for (double t_rig : options.ramp_times_s) {
+      const double t = protocol.FromRigTime_s(t_rig);
       pr.windows.push_back({static_cast<int>(i), t,
                             presses[i].MeanReadings(t - options.window_half_s, t + options.window_half_s)});
+    }
   }
   return pr;
 }
@@ -295,11 +297,11 @@ struct RodHoldFunctor : common::DynamicSizeFunctor {
 std::vector<RodRadiusReport> FitRodRadii(const std::vector<CalibrationPress>& presses, const SensorProfile& profile,
                                          const TactileModelParams& params, const FitOptions& options) {
   const TactileForwardModel model(profile, params);
-  const auto [hold_begin, hold_end] = HoldWindow(PressProtocol{});
   const Eigen::VectorXd inv_sigma = InverseNoise(profile, options.noise_counts);
   std::vector<RodRadiusReport> out;
   for (const CalibrationPress& press : presses) {
     if (press.object.shape != ContactShape::kCylinder) continue;
+    const auto [hold_begin, hold_end] = HoldWindow(press.protocol);
     int scans = 0;
     for (double t : press.t_s) scans += t >= hold_begin && t <= hold_end;
     if (scans == 0) continue;

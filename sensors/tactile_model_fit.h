@@ -21,7 +21,8 @@ namespace sedbridge::sensors {
 struct FitOptions {
   double noise_counts = 2;   ///< single-scan noise (1 sigma) of every raw reading [counts]
   int max_evaluations = 4000;
-  /// Ramp windows (load fraction at their centre) besides the hold.
+  /// Ramp windows besides the hold: their centres in the rig's protocol (PressProtocol{});
+  /// a press with another protocol is read at the same load fractions (FromRigTime_s).
   std::vector<double> ramp_times_s = {0.5, 0.8};
   double window_half_s = 0.02;
   /// Called with a line as each stage of the fit starts (a fit takes ~20 s on 21 presses);

@@ -71,7 +71,10 @@ def main():
 
     cases_dir = os.path.dirname(os.path.abspath(args.cases))
     try:
-        cases = json.load(open(args.cases))["cases"]
+        cases_file = json.load(open(args.cases))
+        cases = cases_file["cases"]
+        # What every press shares (the stage's `protocol`) goes into each fold's file too.
+        shared = {k: v for k, v in cases_file.items() if k != "cases"}
         profile_text = open(args.profile).read()
     except (OSError, ValueError, KeyError) as e:
         raise SystemExit(f"rig_cross_validation: {e}")
@@ -104,7 +107,7 @@ def main():
             p.write(fold_profile(profile_text, open(os.path.join(d, "fitted.yaml")).read()))
         fold_cases = [dict(c, log=os.path.join(cases_dir, c["log"])) for c in fold]
         with open(os.path.join(d, "cases.json"), "w") as cj:
-            json.dump({"cases": fold_cases}, cj, indent=1)
+            json.dump({**shared, "cases": fold_cases}, cj, indent=1)
         print(f"[{time.time() - t0:5.0f} s] fold {f + 1}/{k}: fidelity of the held-out presses", file=sys.stderr,
               flush=True)
         run(d, "fidelity.log", [args.sedbridge, "fidelity", "--cases", os.path.join(d, "cases.json"), "--profile",

@@ -17,7 +17,8 @@ constexpr double kRodHalfLength_m = 30e-3;
 constexpr int kBisections = 40;
 constexpr double kForceTolerance = 1e-4;  // relative
 // The light-load window: on the ramp at 0.29 of the hold force (fit-sensor's first ramp
-// window), where a small object's patch is smallest against the layer.
+// window; its centre in the rig's protocol, PressProtocol::FromRigTime_s for another), where
+// a small object's patch is smallest against the layer.
 constexpr double kRampWindow_s = 0.5, kRampHalf_s = 0.02;
 
 double Travel_m(const ContactPrimitive& object) {
@@ -59,11 +60,11 @@ std::vector<PadPressReport> EvaluatePadOnPresses(const std::vector<CalibrationPr
   Eigen::VectorXd inv_sigma(3 * n);
   for (int k = 0; k < n; ++k)
     for (int a = 0; a < 3; ++a) inv_sigma[3 * k + a] = 1.0 / (noise_counts * NewtonsPerCount(profile, k, a));
-  const PressProtocol protocol;
-  const double hold = protocol.HoldMid_s(), half = 0.4 * protocol.hold_s;
-
   std::vector<PadPressReport> out;
   for (const CalibrationPress& press : presses) {
+    const PressProtocol& protocol = press.protocol;
+    const double hold = protocol.HoldMid_s(), half = 0.4 * protocol.hold_s;
+    const double ramp_window_s = protocol.FromRigTime_s(kRampWindow_s);
     PadPressReport rep;
     rep.name = press.name;
     SimulatedSensorConfig config;
@@ -112,8 +113,8 @@ std::vector<PadPressReport> EvaluatePadOnPresses(const std::vector<CalibrationPr
       return true;
     };
     rep.reached = window(press.object, hold - half, hold + half, rep.rms_sigma, &rep.depth_mm) &&
-                  window(press.ObjectAt(kRampWindow_s, protocol), kRampWindow_s - kRampHalf_s,
-                         kRampWindow_s + kRampHalf_s, rep.ramp_rms_sigma, nullptr);
+                  window(press.ObjectAt(ramp_window_s), ramp_window_s - kRampHalf_s, ramp_window_s + kRampHalf_s,
+                         rep.ramp_rms_sigma, nullptr);
     out.push_back(rep);
   }
   return out;

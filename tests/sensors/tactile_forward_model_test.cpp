@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -210,6 +211,89 @@ std::string CasesError(const std::string& cases_json) {
     return std::string(e.what()).substr(path.size());
   }
   return "";
+}
+
+// A cases file whose stage ran another protocol says so (`protocol:`, keys left out keep
+// the rig's): every press's load over time follows it, and a ramp window placed on the rig's
+// ramp lands at the same load fraction.
+TEST(CalibrationPress, ProtocolKeySetsEveryPressesLoadOverTime) {
+  const std::string log =
+      std::filesystem::absolute(config::ResolveResource("config/sensors/rig_uskin_4x4/press_03.log")).lexically_normal().string();
+  const std::string path = sedbridge::testing::ScratchDir() + "/cases_protocol.json";
+  {
+    std::ofstream f(path);
+    f << "{\"protocol\": {\"unloaded_s\": 0.5, \"hold_s\": 0.6}, \"cases\": [{\"object\": {\"shape\": \"sphere\", "
+         "\"position_mm\": [0, 0], \"radius_mm\": 5}, \"force_N\": 0.8, \"log\": \"" << log << "\"}]}";
+  }
+  const auto presses = LoadCalibrationPresses(path, Uskin());
+  ASSERT_EQ(presses.size(), 1u);
+  const PressProtocol& p = presses[0].protocol;
+  EXPECT_EQ(p.unloaded_s, 0.5);
+  EXPECT_EQ(p.ramp_s, PressProtocol{}.ramp_s);
+  EXPECT_EQ(p.hold_s, 0.6);
+  EXPECT_EQ(presses[0].ObjectAt(0.45).normal_force_N, 0.0);
+  EXPECT_NEAR(presses[0].ObjectAt(0.85).normal_force_N, 0.4, 1e-12);   // half way up the ramp
+  EXPECT_NEAR(presses[0].ObjectAt(1.7).normal_force_N, 0.8, 1e-12);    // in the 0.6 s hold
+  EXPECT_NEAR(p.FromRigTime_s(0.5), 0.7, 1e-12);  // 2/7 of the ramp in both
+  EXPECT_EQ(PressProtocol{}.FromRigTime_s(0.5), 0.5);
+  // The rig's own cases file has none: the rig's protocol.
+  const auto rig = LoadCalibrationPresses(config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), Uskin());
+  EXPECT_EQ(rig[0].protocol.unloaded_s, PressProtocol{}.unloaded_s);
+}
+
+// The same press recorded 0.2 s later (20 more unloaded scans first) reads the same once its
+// cases file says so: the fit's hold window then holds the same scans; without the key the
+// window starts on the ramp.
+TEST(CalibrationPress, ALaterStartReadsTheSameWithItsProtocol) {
+  const std::string orig = config::ResolveResource("config/sensors/rig_uskin_4x4/press_03.log");
+  const std::string dir = sedbridge::testing::ScratchDir();
+  const std::string late = dir + "/press_03_late.log";
+  {
+    std::ifstream in(orig);
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    ASSERT_GT(lines.size(), 320u);
+    std::ofstream out(late);
+    for (size_t i = 0; i < 320; ++i) out << lines[i] << "\n";  // 20 scans of 16 frames, unloaded
+    for (const std::string& line : lines) {  // "(SSSSSSSSSS.UUUUUU) can0 ID#DATA", 0.2 s later
+      const size_t dot = line.find('.'), close = line.find(')');
+      long long sec = std::stoll(line.substr(1, dot - 1)), us = std::stoll(line.substr(dot + 1, close - dot - 1)) + 200000;
+      sec += us / 1000000, us %= 1000000;
+      char stamp[32];
+      std::snprintf(stamp, sizeof stamp, "(%lld.%06lld)", sec, us);
+      out << stamp << line.substr(close + 1) << "\n";
+    }
+  }
+  auto cases = [&](const std::string& name, const std::string& log, const std::string& protocol) {
+    const std::string path = dir + "/" + name;
+    std::ofstream f(path);
+    f << "{" << protocol << "\"cases\": [{\"object\": {\"shape\": \"sphere\", \"position_mm\": [0, 0], "
+         "\"radius_mm\": 5}, \"force_N\": 0.8, \"log\": \"" << log << "\"}]}";
+    f.close();
+    return LoadCalibrationPresses(path, Uskin());
+  };
+  const SensorProfile profile = Uskin();
+  const auto original = cases("cases_orig.json", std::filesystem::absolute(orig).string(), "");
+  const auto told = cases("cases_late.json", late, "\"protocol\": {\"unloaded_s\": 0.5}, ");
+  const auto untold = cases("cases_late_untold.json", late, "");
+  ASSERT_EQ(told[0].scans.size(), original[0].scans.size() + 20);
+  for (double t : {0.2, 0.6, 1.25, 1.65, 1.9})
+    EXPECT_NEAR(told[0].ObjectAt(t + 0.2).normal_force_N, original[0].ObjectAt(t).normal_force_N, 1e-12) << t;
+  const PressFitReport a = EvaluateTactileModel(original, profile, profile.forward_model)[0];
+  const PressFitReport b = EvaluateTactileModel(told, profile, profile.forward_model)[0];
+  const PressFitReport c = EvaluateTactileModel(untold, profile, profile.forward_model)[0];
+  for (int axis = 0; axis < 3; ++axis) EXPECT_NEAR(b.rms_sigma[axis], a.rms_sigma[axis], 0.05) << axis;
+  EXPECT_NEAR(b.measured_sum_z_N, a.measured_sum_z_N, 1e-3 * a.measured_sum_z_N);
+  EXPECT_LT(c.measured_sum_z_N, 0.99 * a.measured_sum_z_N);  // the ramp's lighter scans in the window
+  EXPECT_GT(c.rms_sigma[2], 2 * a.rms_sigma[2]);
+}
+
+TEST(CalibrationPress, ProtocolKeysAreCheckedWhereTheyStand) {
+  EXPECT_NE(CasesError("{\"protocol\": {\"ramp_s\": 0}, \"cases\": []}").find(":1:25: 'ramp_s' must be > 0 (got 0)"),
+            std::string::npos)
+      << CasesError("{\"protocol\": {\"ramp_s\": 0}, \"cases\": []}");
+  EXPECT_NE(CasesError("{\"protocol\": {\"ramp\": 1}, \"cases\": []}").find("unknown key 'ramp'"), std::string::npos)
+      << CasesError("{\"protocol\": {\"ramp\": 1}, \"cases\": []}");
 }
 
 TEST(CalibrationPress, CaseKeysAreCheckedWhereTheyStand) {

@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
 """tools/rig_cross_validation.py without running a fit: the fold profile keeps what the fit
-does not write and takes the fit's kernels; a failing fit-sensor names its fold and log."""
+does not write and takes the fit's kernels; a failing fit-sensor names its fold and log; the
+cases file's shared keys (`protocol`) reach each fold's cases file."""
 import importlib.util
+import json
 import os
 import subprocess
 import sys
@@ -63,6 +65,32 @@ with tempfile.TemporaryDirectory() as work:
     r = subprocess.run([sys.executable, TOOL, "--folds", "1", "--out", work], capture_output=True, text=True, cwd=ROOT)
     check(r.returncode != 0 and "--folds" in r.stderr and "Traceback" not in r.stderr,
           f"--folds 1 is refused: {r.stderr.strip()}")
+
+# A cases file's shared keys (the stage's `protocol`) reach each fold's cases file: a stand-in
+# sedbridge whose fit-sensor writes a forward_model block and whose fidelity fails, so the
+# tool stops right after writing fold 1's cases.
+with tempfile.TemporaryDirectory() as work:
+    fake = os.path.join(work, "fake_sedbridge")
+    with open(fake, "w") as f:
+        f.write("#!/bin/sh\ncmd=$1\nout=\nwhile [ $# -gt 0 ]; do [ \"$1\" = --out ] && out=$2; shift; done\n"
+                "[ \"$cmd\" = fit-sensor ] && printf 'forward_model:\\n  contact_modulus_kPa: 300.0\\n' > \"$out\" && exit 0\n"
+                "exit 1\n")
+    os.chmod(fake, 0o755)
+    cases = os.path.join(work, "cases.json")
+    with open(cases, "w") as f:
+        json.dump({"protocol": {"unloaded_s": 0.5},
+                   "cases": [{"object": {"shape": "flat", "position_mm": [0, 0]}, "force_N": 1, "log": "a.log"},
+                             {"object": {"shape": "flat", "position_mm": [0, 0]}, "force_N": 1, "log": "b.log"}]}, f)
+    r = subprocess.run([sys.executable, TOOL, "--sedbridge", fake, "--out", os.path.join(work, "out"), "--folds", "2",
+                        "--cases", cases, "--profile", os.path.join(ROOT, "config/sensors/uskin_4x4.yaml")],
+                       capture_output=True, text=True)
+    fold_cases = os.path.join(work, "out", "fold_0", "cases.json")
+    check(r.returncode != 0 and "fidelity.log" in r.stderr and os.path.exists(fold_cases),
+          f"the stand-in's fidelity stops the tool after fold 1's cases: {r.stderr.strip()}")
+    if os.path.exists(fold_cases):
+        written = json.load(open(fold_cases))
+        check(written.get("protocol") == {"unloaded_s": 0.5} and len(written["cases"]) == 1 and
+              os.path.isabs(written["cases"][0]["log"]), f"the fold's cases keep the protocol: {written}")
 
 print("ok" if not failures else f"{len(failures)} failed")
 sys.exit(1 if failures else 0)
