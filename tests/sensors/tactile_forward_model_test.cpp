@@ -180,18 +180,31 @@ TEST(CalibrationPress, BadCasesFileNamesTheLocation) {
   }
 }
 
+// The rig's press_03 (a 5 mm sphere at the centre, 0.8 N) as a one-press cases file `name`
+// in the scratch folder, its log at `log`, with `top_level` keys before `cases` (e.g.
+// "\"protocol\": {...}, "), loaded.
+std::vector<CalibrationPress> LoadOneSpherePress(const std::string& name, const std::string& log,
+                                                 const std::string& top_level = "") {
+  const std::string path = sedbridge::testing::ScratchDir() + "/" + name;
+  {
+    std::ofstream f(path);
+    f << "{" << top_level << "\"cases\": [{\"object\": {\"shape\": \"sphere\", \"position_mm\": [0, 0], "
+         "\"radius_mm\": 5}, \"force_N\": 0.8, \"log\": \"" << log << "\"}]}";
+  }
+  return LoadCalibrationPresses(path, Uskin());
+}
+
+std::string RigPress03Path() {
+  return std::filesystem::absolute(config::ResolveResource("config/sensors/rig_uskin_4x4/press_03.log"))
+      .lexically_normal()
+      .string();
+}
+
 // A cases file may name logs kept elsewhere by absolute path (a held-out selection of the
 // rig's presses in a scratch folder): used as given, named by the file's own name.
 TEST(CalibrationPress, AbsoluteLogPathsAreUsedAsGiven) {
-  const std::string log =
-      std::filesystem::absolute(config::ResolveResource("config/sensors/rig_uskin_4x4/press_03.log")).lexically_normal().string();
-  const std::string path = sedbridge::testing::ScratchDir() + "/cases_abs.json";
-  {
-    std::ofstream f(path);
-    f << "{\"cases\": [{\"object\": {\"shape\": \"sphere\", \"position_mm\": [0, 0], \"radius_mm\": 5}, "
-         "\"force_N\": 0.8, \"log\": \"" << log << "\"}]}";
-  }
-  const auto presses = LoadCalibrationPresses(path, Uskin());
+  const std::string log = RigPress03Path();
+  const auto presses = LoadOneSpherePress("cases_abs.json", log);
   ASSERT_EQ(presses.size(), 1u);
   EXPECT_EQ(presses[0].name, "press_03.log");
   EXPECT_EQ(presses[0].log_path, log);
@@ -217,15 +230,8 @@ std::string CasesError(const std::string& cases_json) {
 // the rig's): every press's load over time follows it, and a ramp window placed on the rig's
 // ramp lands at the same load fraction.
 TEST(CalibrationPress, ProtocolKeySetsEveryPressesLoadOverTime) {
-  const std::string log =
-      std::filesystem::absolute(config::ResolveResource("config/sensors/rig_uskin_4x4/press_03.log")).lexically_normal().string();
-  const std::string path = sedbridge::testing::ScratchDir() + "/cases_protocol.json";
-  {
-    std::ofstream f(path);
-    f << "{\"protocol\": {\"unloaded_s\": 0.5, \"hold_s\": 0.6}, \"cases\": [{\"object\": {\"shape\": \"sphere\", "
-         "\"position_mm\": [0, 0], \"radius_mm\": 5}, \"force_N\": 0.8, \"log\": \"" << log << "\"}]}";
-  }
-  const auto presses = LoadCalibrationPresses(path, Uskin());
+  const auto presses =
+      LoadOneSpherePress("cases_protocol.json", RigPress03Path(), "\"protocol\": {\"unloaded_s\": 0.5, \"hold_s\": 0.6}, ");
   ASSERT_EQ(presses.size(), 1u);
   const PressProtocol& p = presses[0].protocol;
   EXPECT_EQ(p.unloaded_s, 0.5);
@@ -245,7 +251,7 @@ TEST(CalibrationPress, ProtocolKeySetsEveryPressesLoadOverTime) {
 // cases file says so: the fit's hold window then holds the same scans; without the key the
 // window starts on the ramp.
 TEST(CalibrationPress, ALaterStartReadsTheSameWithItsProtocol) {
-  const std::string orig = config::ResolveResource("config/sensors/rig_uskin_4x4/press_03.log");
+  const std::string orig = RigPress03Path();
   const std::string dir = sedbridge::testing::ScratchDir();
   const std::string late = dir + "/press_03_late.log";
   {
@@ -264,18 +270,10 @@ TEST(CalibrationPress, ALaterStartReadsTheSameWithItsProtocol) {
       out << stamp << line.substr(close + 1) << "\n";
     }
   }
-  auto cases = [&](const std::string& name, const std::string& log, const std::string& protocol) {
-    const std::string path = dir + "/" + name;
-    std::ofstream f(path);
-    f << "{" << protocol << "\"cases\": [{\"object\": {\"shape\": \"sphere\", \"position_mm\": [0, 0], "
-         "\"radius_mm\": 5}, \"force_N\": 0.8, \"log\": \"" << log << "\"}]}";
-    f.close();
-    return LoadCalibrationPresses(path, Uskin());
-  };
   const SensorProfile profile = Uskin();
-  const auto original = cases("cases_orig.json", std::filesystem::absolute(orig).string(), "");
-  const auto told = cases("cases_late.json", late, "\"protocol\": {\"unloaded_s\": 0.5}, ");
-  const auto untold = cases("cases_late_untold.json", late, "");
+  const auto original = LoadOneSpherePress("cases_orig.json", orig);
+  const auto told = LoadOneSpherePress("cases_late.json", late, "\"protocol\": {\"unloaded_s\": 0.5}, ");
+  const auto untold = LoadOneSpherePress("cases_late_untold.json", late);
   ASSERT_EQ(told[0].scans.size(), original[0].scans.size() + 20);
   for (double t : {0.2, 0.6, 1.25, 1.65, 1.9})
     EXPECT_NEAR(told[0].ObjectAt(t + 0.2).normal_force_N, original[0].ObjectAt(t).normal_force_N, 1e-12) << t;
