@@ -54,6 +54,34 @@ struct RigSetup {
   PadRegistration registration{profile.taxels, config.registration};
 };
 
+// The example log replayed through `config` onto `display`, every message published on
+// `channel` collected (drained after each scan and once more at the end).
+template <typename Message>
+ReplayResult ReplayExampleCollecting(const BridgeConfig& config, const display::DisplayProfile& display,
+                                     const std::string& channel, std::vector<Message>* got) {
+  struct Sink {
+    std::vector<Message>* out;
+    void On(const lcm::ReceiveBuffer*, const std::string&, const Message* m) { out->push_back(*m); }
+  } sink{got};
+  sensors::CandumpLogSource source(testing::ExampleLogPath());
+  lcm::LCM* lcm = nullptr;
+  auto drain = [&] {
+    while (lcm && lcm->handleTimeout(0) > 0) {
+    }
+  };
+  ReplayOptions options;
+  options.on_start = [&](BridgePipeline& p) {
+    lcm = &p.display().publisher().lcm();
+    lcm->subscribe(channel, &Sink::On, &sink);
+  };
+  options.on_scan = [&](const ScanOutcome&, BridgePipeline&) { drain(); };
+  options.on_finish = [&](BridgePipeline&) {
+    drain();
+    lcm = nullptr;  // dies with the pipeline
+  };
+  return RunReplay(config, sensors::LoadNamedSensorProfile(config.sensor_profile), display, nullptr, source, options);
+}
+
 // fe.contact_tolerance reaches the leader press the bridge builds (MakeFeStep).
 TEST(ContactFeStep, ContactToleranceKeyReachesTheLeaderPress) {
   BridgeConfig config = ContactConfig();
@@ -68,23 +96,9 @@ TEST(ContactFeStep, ContactToleranceKeyReachesTheLeaderPress) {
 
 TEST(ContactFeStep, ExampleLogPublishesContactEstimates) {
   const BridgeConfig config = ContactConfig();
-  sensors::CandumpLogSource source(testing::ExampleLogPath());
   std::vector<lcmt_contact_estimate> got;
-  struct Sink {
-    std::vector<lcmt_contact_estimate>* out;
-    void On(const lcm::ReceiveBuffer*, const std::string&, const lcmt_contact_estimate* m) { out->push_back(*m); }
-  } sink{&got};
-  lcm::LCM* lcm = nullptr;
-  ReplayOptions options;
-  options.on_start = [&](BridgePipeline& p) {
-    lcm = &p.display().publisher().lcm();
-    lcm->subscribe(config.lcm.channels.contact, &Sink::On, &sink);
-  };
-  options.on_scan = [&](const ScanOutcome&, BridgePipeline&) {
-    while (lcm && lcm->handleTimeout(0) > 0) {
-    }
-  };
-  const ReplayResult r = testing::ReplayWithConfigProfiles(config, source, options);
+  const ReplayResult r =
+      ReplayExampleCollecting(config, testing::ConfigDisplay(config), config.lcm.channels.contact, &got);
   ASSERT_EQ(got.size(), size_t(r.counters.steps));
   int spheres = 0, none = 0;
   for (const auto& m : got) {
@@ -115,29 +129,8 @@ TEST(ContactFeStep, ReconstructedPressesNeverDriveTheDisplayPastItsLimits) {
   display.safety.max = max;
   for (double& m : display.safety.max_per_actuator) m = std::min(m, max);
   const double slew_per_s = display.safety.slew_rate_per_s;
-  sensors::CandumpLogSource source(testing::ExampleLogPath());
   std::vector<lcmt_display_command> got;
-  struct Sink {
-    std::vector<lcmt_display_command>* out;
-    void On(const lcm::ReceiveBuffer*, const std::string&, const lcmt_display_command* m) { out->push_back(*m); }
-  } sink{&got};
-  lcm::LCM* lcm = nullptr;
-  ReplayOptions options;
-  auto drain = [&] {
-    while (lcm && lcm->handleTimeout(0) > 0) {
-    }
-  };
-  options.on_start = [&](BridgePipeline& p) {
-    lcm = &p.display().publisher().lcm();
-    lcm->subscribe(config.lcm.channels.command, &Sink::On, &sink);
-  };
-  options.on_scan = [&](const ScanOutcome&, BridgePipeline&) { drain(); };
-  options.on_finish = [&](BridgePipeline&) {
-    drain();
-    lcm = nullptr;
-  };
-  const ReplayResult r = RunReplay(config, sensors::LoadNamedSensorProfile(config.sensor_profile), display, nullptr,
-                                   source, options);
+  const ReplayResult r = ReplayExampleCollecting(config, display, config.lcm.channels.command, &got);
   EXPECT_NE(r.fe_counters.find("pressed on the leader"), std::string::npos);
   ASSERT_GE(got.size(), size_t(r.counters.steps));
   int at_ceiling = 0;
