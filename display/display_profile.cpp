@@ -125,12 +125,6 @@ void CheckMapping(MapReader& r, const DisplayProfile& p) {
 
 }  // namespace
 
-const config::EnumNames<DisplayKind>& NamesOf(DisplayKind) {
-  static const config::EnumNames<DisplayKind> names{
-      {DisplayKind::kSuction, "suction"}, {DisplayKind::kPin, "pin"}, {DisplayKind::kElectrotactile, "electrotactile"}};
-  return names;
-}
-
 const config::EnumNames<SamplingMethod>& NamesOf(SamplingMethod) {
   static const config::EnumNames<SamplingMethod> names{{SamplingMethod::kInterpolate, "interpolate"},
                                                        {SamplingMethod::kMaxWithinRadius, "max_within_radius"},
@@ -138,30 +132,44 @@ const config::EnumNames<SamplingMethod>& NamesOf(SamplingMethod) {
   return names;
 }
 
-std::string ToString(DisplayKind kind) { return config::NameOf(kind); }
+namespace {
 
-std::string UnitOf(DisplayKind kind) {
-  switch (kind) {
-    case DisplayKind::kSuction: return "kPa";
-    case DisplayKind::kPin: return "mm";
-    case DisplayKind::kElectrotactile: return "mA";
-  }
-  return "?";
+// The node of `key` itself (not its value) in `map`: where a message about the whole block
+// points. Null when absent.
+YAML::Node KeyNode(const YAML::Node& map, const std::string& key) {
+  for (auto it = map.begin(); it != map.end(); ++it)
+    if (it->first.IsScalar() && it->first.Scalar() == key) return it->first;
+  return YAML::Node();
 }
 
-namespace {
+// Checked before the keys inside `device` are read, so that the message gives the reason
+// (the kind) rather than the first key it does not know.
+void RefuseDeviceOnElectrotactile(const MapReader& r) {
+  if (!r.Has("device") || !r.Has("kind")) return;
+  const YAML::Node kind = r.node()["kind"];
+  if (!kind.IsScalar() || kind.Scalar() != config::NameOf(DisplayKind::kElectrotactile)) return;
+  r.Fail(KeyNode(r.node(), "device"),
+         "electrotactile has no mechanical load: its rendering is against the SA1 rate estimate; remove 'device'");
+}
 
 DisplayProfile Parse(const config::YamlDocument& doc) {
   MapReader r(doc.root, doc.file);
   DisplayProfile p;
   p.file = doc.file;
+  RefuseDeviceOnElectrotactile(r);
   config::YamlReadArchive archive(&r);
   p.Serialize(&archive);
   CheckUnitAndRange(r, p);
   MapReader actuators = r.Child("actuators");
   ReadActuators(actuators, p);
+  p.actuators_at = config::LocationOf(KeyNode(doc.root, "actuators"), doc.file);
   MapReader safety = r.Child("safety");
   CheckSafety(safety, p);
+  if (r.Has("device")) {
+    p.device_at = config::LocationOf(KeyNode(doc.root, "device"), doc.file);
+    MapReader device = r.Child("device");
+    CompleteDisplayDevice(device, p);
+  }
   MapReader mapping = r.Child("mapping");
   CheckMapping(mapping, p);
   r.Finish();

@@ -9,18 +9,13 @@
 #include <string>
 #include <vector>
 
+#include "common/config_error.h"
 #include "common/enum_names.h"
 #include "common/name_value.h"
+#include "display/display_device.h"
+#include "display/display_kind.h"
 
 namespace sedbridge::display {
-
-enum class DisplayKind {
-  kSuction,         ///< suction-pressure array; unit kPa of suction below ambient
-  kPin,             ///< pin array; unit mm of pin height above the rest plane
-  kElectrotactile,  ///< electrode array; unit mA of stimulation current
-};
-/// "suction", "pin", "electrotactile" (key `kind`).
-const config::EnumNames<DisplayKind>& NamesOf(DisplayKind);
 
 /// How the SED field is sampled at an actuator site (all within `radius_mm` in x-y).
 enum class SamplingMethod {
@@ -111,9 +106,16 @@ struct DisplayProfile {
   double range_min = 0, range_max = 0;  ///< what the device accepts [unit]
   SafetyParams safety;
   MappingParams mapping;
+  /// The device model (key `device`, suction and pin only); see has_device_model().
+  DisplayDevice device;
   std::string file;         ///< where it was loaded from (for messages)
+  /// Where the `actuators` and `device` keys are (device_at: line 0 when absent), so a
+  /// later check (CheckDeviceFitsPad) can name them.
+  config::SourceLocation actuators_at, device_at;
 
   std::size_t size() const { return x_mm.size(); }
+  /// True when the profile has a `device` block (device.footprints has one per actuator).
+  bool has_device_model() const { return !device.footprints.empty(); }
 
   /// Every key of a display profile (config/displays/README.md). `actuators` (a grid or a
   /// list of sites) is hand-read by display_profile.cpp, which also checks every bound that
@@ -129,6 +131,8 @@ struct DisplayProfile {
       s->HandRead("grid");
       s->HandRead("positions_mm");
     });
+    // Optional; completed and checked against kind and actuators by CompleteDisplayDevice.
+    a->Section("device", [&](auto* d) { device.Serialize(d); });
     std::array<double, 2> range{range_min, range_max};
     a->Visit(Field("range", &range).Required().NonNegative());  // min < max
     range_min = range[0];
@@ -154,10 +158,5 @@ DisplayProfile LoadNamedDisplayProfile(const std::string& name_or_path);
 /// Parses YAML text (tests, embedded profiles); `file` names it in messages. Throws
 /// config::ConfigError.
 DisplayProfile ParseDisplayProfile(const std::string& yaml_text, const std::string& file);
-
-/// "suction", "pin", "electrotactile" (NameOf(kind)).
-std::string ToString(DisplayKind kind);
-/// The unit every profile of that kind must use.
-std::string UnitOf(DisplayKind kind);
 
 }  // namespace sedbridge::display
