@@ -6,7 +6,6 @@
 #include <stdexcept>
 #include <string>
 
-#include "bridge/contact_object.h"
 #include "bridge/reduced_linear_fe_step.h"
 #include "bridge/scene_fe_step.h"
 #include "common/thread_cpu_time.h"
@@ -106,6 +105,20 @@ void ContactFeStep::FillMessage(const TaxelValues& values, bool fallback, double
   message_.residual_rms_sigma = static_cast<float>(estimate_.rms_sigma);
   message_.fallback = fallback ? 1 : 0;
   message_.indentation_mm = static_cast<float>(indentation_mm);
+}
+
+scene::PressToForceOptions ReconstructedPressOptions(const BridgeConfig& config) {
+  scene::PressToForceOptions options = ReconstructedPressOptions();
+  options.contact_relative_tolerance = config.contact_tolerance;
+  return options;
+}
+
+ReconstructionOptions ReconstructionOptionsOf(const BridgeConfig& config) {
+  ReconstructionOptions options;
+  options.fit_pairs = config.two_contacts;
+  options.fit_finite_rods = config.finite_rods;
+  options.radius_track_posterior = config.radius_tracking == RadiusTracking::kPosterior;
+  return options;
 }
 
 const MerkelSedResult& ContactFeStep::Fallback(const TaxelValues& values, const StageTimes& times) {

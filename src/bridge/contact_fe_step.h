@@ -14,11 +14,12 @@
 #include <memory>
 #include <string>
 
-#include "bridge/contact_object.h"
-#include "bridge/contact_reconstruction.h"
+#include "bridge/bridge_config.h"
 #include "bridge/fe_step.h"
 #include "bridge/latency_stats.h"
 #include "bridge/pad_registration.h"
+#include "contact/contact_object.h"
+#include "contact/contact_reconstruction.h"
 #include "model/fingertip_model.h"
 
 namespace sedbridge::scene {
@@ -26,6 +27,28 @@ class FingertipCompliance;
 }
 
 namespace sedbridge::bridge {
+
+// The contact stage's names the bridge speaks (src/contact/).
+using contact::ContactEstimate;
+using contact::ContactReconstructor;
+using contact::kLeaderMinRodRadius_mm;
+using contact::kLeaderMinSphereRadius_mm;
+using contact::LeaderComplianceOptions;
+using contact::LeaderPress;
+using contact::LeaderTangentialLoad_N;
+using contact::ModelSelection;
+using contact::PressAnswered;
+using contact::PressReconstructed;
+using contact::ReconstructedPressOptions;
+using contact::ReconstructionOptions;
+using contact::ToRigidObject;
+using contact::ToRigidObjects;
+
+/// The leader press's options with the config's fe.contact_tolerance as its contact tolerance.
+scene::PressToForceOptions ReconstructedPressOptions(const BridgeConfig& config);
+/// The reconstruction of fe.step contact as a config sets it (fe.two_contacts,
+/// fe.finite_rods, fe.radius_tracking): one place for the bridge (MakeFeStep) and the fidelity benchmark.
+ReconstructionOptions ReconstructionOptionsOf(const BridgeConfig& config);
 
 struct ContactStepCounters {
   int64_t steps = 0;

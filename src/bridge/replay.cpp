@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "bridge/contact_fe_step.h"
-#include "bridge/contact_object.h"
+#include "contact/contact_object.h"
 #include "bridge/reduced_linear_fe_step.h"
 #include "bridge/scene_fe_step.h"
 #include "common/wall_clock.h"

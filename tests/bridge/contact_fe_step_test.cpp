@@ -14,7 +14,7 @@
 #include <sstream>
 #include <lcm/lcm-cpp.hpp>
 
-#include "bridge/contact_object.h"
+#include "contact/contact_object.h"
 #include "bridge/fidelity_case.h"
 #include "bridge/reduced_linear_fe_step.h"
 #include "bridge/replay.h"
