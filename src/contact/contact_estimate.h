@@ -32,4 +32,12 @@ struct ContactEstimate {
   }
 };
 
+/// What the contact stage reports for one scan (CONTACT_ESTIMATE).
+struct ContactReport {
+  int64_t scan_utime = 0;      ///< the scan's time [us]
+  ContactEstimate estimate;    ///< leader pad frame
+  bool fallback = false;       ///< the pressure map answered the scan
+  double indentation_mm = 0;   ///< the leader press's indentation (0 when not pressed)
+};
+
 }  // namespace sedbridge::contact
