@@ -73,16 +73,6 @@ double Coverage1d(double c, double h, double half) {
 
 }  // namespace
 
-const config::EnumNames<ContactShape>& NamesOf(ContactShape) {
-  static const config::EnumNames<ContactShape> names{
-      {ContactShape::kSphere, "sphere"}, {ContactShape::kCylinder, "cylinder"}, {ContactShape::kFlat, "flat"}};
-  return names;
-}
-
-ContactShape ContactShapeFromName(const std::string& name) { return config::ParseEnum<ContactShape>(name, "contact shape"); }
-
-const char* ContactShapeName(ContactShape shape) { return config::NameCStrOf(shape); }
-
 TactileForwardModel::TactileForwardModel(const SensorProfile& profile, const TactileModelParams& params)
     : TactileForwardModel(profile.taxels, profile.taxel_width_mm, profile.taxel_height_mm, params) {
   if (profile.axes != 3)

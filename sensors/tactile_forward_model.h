@@ -32,33 +32,11 @@
 #include <string>
 #include <vector>
 
-#include "common/enum_names.h"
+#include "sensors/contact_primitive.h"
 #include "sensors/sensor_profile.h"
 #include "sensors/tactile_model_params.h"
 
 namespace sedbridge::sensors {
-
-/// The contact shapes the model and the reconstruction know.
-enum class ContactShape { kSphere, kCylinder, kFlat };
-
-/// "sphere", "cylinder", "flat": the one name table (common/enum_names.h).
-const config::EnumNames<ContactShape>& NamesOf(ContactShape);
-/// "sphere" | "cylinder" | "flat"; throws std::invalid_argument for anything else.
-ContactShape ContactShapeFromName(const std::string& name);
-const char* ContactShapeName(ContactShape shape);
-
-/// One object pressed onto the sensor pad, in the pad frame.
-struct ContactPrimitive {
-  ContactShape shape = ContactShape::kSphere;
-  double x_mm = 0;        ///< sphere: lowest point; cylinder: a point on the axis (a finite rod: its centre); flat: unused
-  double y_mm = 0;
-  double radius_mm = 5;   ///< sphere/cylinder radius
-  double yaw_deg = 0;     ///< cylinder axis direction (cos yaw, sin yaw, 0)
-  double length_mm = 0;   ///< cylinder: its length, centred on (x, y) [mm]; 0 = crosses the whole pad
-  double normal_force_N = 0;  ///< pressing force (>= 0)
-  double shear_x_N = 0;   ///< total tangential force on the pad (object drags the pad along +x)
-  double shear_y_N = 0;
-};
 
 /// One offset of the forward model's kernel table: what a unit load on a cell gives a taxel
 /// at that offset (taxel-area averaged), one 64-byte cache line.

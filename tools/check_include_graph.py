@@ -4,7 +4,12 @@
 Rules, checked on every quoted #include of the tree at ROOT:
   * sensors/ and display/ include nothing from src/ except src/common (the one base every
     stage may use);
-  * src/common includes nothing from another stage (a base depends on no stage).
+  * src/common includes nothing from another stage (a base depends on no stage);
+  * src/contact (the contact stage) includes from src/ only common, fem, model, scene and
+    itself: not the bridge, the app or LCM, which use it;
+  * src/lcm puts structs on the wire: it may read the contact stage's plain structs, not
+    the bridge or the app;
+  * src/bridge may include every stage but the app.
 An include "X/..." is a src/ include when src/X is a folder (the build's include roots are
 src/ and the project root, so "fem/tet_mesh.h" is src/fem/tet_mesh.h).
 
@@ -30,7 +35,14 @@ def violations(root):
     src = os.path.join(root, "src")
     src_stages = {d for d in os.listdir(src) if os.path.isdir(os.path.join(src, d))}
     # folder checked -> stages it may include from src/
-    allowed = {"sensors": {"common"}, "display": {"common"}, os.path.join("src", "common"): {"common"}}
+    allowed = {
+        "sensors": {"common"},
+        "display": {"common"},
+        os.path.join("src", "common"): {"common"},
+        os.path.join("src", "contact"): {"common", "fem", "model", "scene", "contact"},
+        os.path.join("src", "lcm"): {"common", "contact", "lcm"},
+        os.path.join("src", "bridge"): {"common", "fem", "model", "scene", "contact", "lcm", "bridge"},
+    }
     found = []
     for folder, may in allowed.items():
         for dirpath, _, files in os.walk(os.path.join(root, folder)):
@@ -57,9 +69,10 @@ def main():
     for v in found:
         print(v)
     if found:
-        print("include graph: %d arrow(s) back into src/ (see tools/check_include_graph.py)" % len(found))
+        print("include graph: %d arrow(s) against the stage order (see tools/check_include_graph.py)" % len(found))
         return 1
-    print("include graph: sensors/, display/ and src/common include nothing from src/ but src/common")
+    print("include graph: sensors/, display/ and src/common include nothing from src/ but src/common; "
+          "contact, lcm and bridge keep their stage order")
     return 0
 
 

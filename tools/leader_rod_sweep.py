@@ -6,7 +6,7 @@ of its mesh, not of the rod: a rod thinner than the points' spacing slips betwee
 press fails) or touches them in a spot or two (its Merkel SED peaks far above a thicker rod's).
 This sweep presses rods of RADII at every pose (POSITIONS x yaws every YAW_STEP degrees) and
 FORCES through `sedbridge fidelity --cases` (its truth column is the rod pressed directly on the
-leader, as the bridge presses every rod: at least bridge/contact_object.h's
+leader, as the bridge presses every rod: at least contact/contact_object.h's
 kLeaderMinRodRadius_mm) and compares each radius's peak SED with the largest radius's at the
 same pose and force. docs/bridge-fidelity.md §16 is its run.
 

@@ -1,10 +1,10 @@
 #pragma once
-// A contact primitive (sensors/tactile_forward_model.h) as a rigid scene object resting on
+// A contact primitive (sensors/contact_primitive.h) as a rigid scene object resting on
 // the pad plane z = 0 at first touch (pad frame): what the simulated pad and the leader's
 // fingertip press.
 
 #include "common/geometry/rigid_object.h"
-#include "sensors/tactile_forward_model.h"
+#include "sensors/contact_primitive.h"
 
 namespace sedbridge::sensors {
 

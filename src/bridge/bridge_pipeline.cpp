@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "lcm/contact_estimate_message.h"
 #include "lcm/tactile_scan_message.h"
 
 namespace sedbridge::bridge {
@@ -116,9 +117,9 @@ ScanOutcome BridgePipeline::ProcessScan(const sensors::Scan& scan, int64_t now_u
   outcome.max_command = c.value.empty() ? 0 : *std::max_element(c.value.begin(), c.value.end());
   outcome.stepped = true;
   // After the command, so the contact report stays out of the scan-to-command latency.
-  if (const lcmt_contact_estimate* m = fe_->contact_message()) {
+  if (const contact::ContactReport* report = fe_->contact_report()) {
     const StageTimer timer(stage_ms, Stage::kPublish);
-    lcmt_contact_estimate msg = *m;
+    lcmt_contact_estimate msg = lcm_io::ToLcm(*report);
     msg.utime = now_utime;
     display_->publisher().Publish(display_->publisher().channels().contact, msg);
   }

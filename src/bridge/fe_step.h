@@ -9,8 +9,8 @@
 
 #include "bridge/fe_frame.h"
 #include "bridge/taxel_values.h"
-#include "sedbridge/lcmt_contact_estimate.hpp"
-#include "fem/simulation.h"
+#include "contact/contact_estimate.h"
+#include "fem/step_report.h"
 
 namespace sedbridge::bridge {
 
@@ -36,9 +36,10 @@ class FeStep {
   virtual std::string Describe() const = 0;
   /// One line of implementation counters for the run summary ("" = nothing to say).
   virtual std::string CountersLine() const { return ""; }
-  /// The last step's reconstructed contact (leader pad frame), or null when this step
-  /// does not reconstruct contacts.
-  virtual const lcmt_contact_estimate* contact_message() const { return nullptr; }
+  /// The last step's reconstructed contact (leader pad frame) and how it was answered, or
+  /// null when this step does not reconstruct contacts (lcm/contact_estimate_message.h puts
+  /// it on the wire).
+  virtual const contact::ContactReport* contact_report() const { return nullptr; }
   /// The deformed mesh and its fields after the last Step() (rest before the first), for
   /// VTU frames. False when this step keeps no full displacement field.
   virtual bool Frame(FeFrame* frame) const {

@@ -7,7 +7,7 @@
 #include <limits>
 
 #include "bridge/bridge_config.h"
-#include "bridge/contact_object.h"
+#include "bridge/contact_fe_step.h"
 #include "bridge/reduced_linear_fe_step.h"
 #include "bridge/scene_fe_step.h"
 #include "bridge/taxel_values.h"

@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "bridge/bridge_config.h"
-#include "bridge/contact_reconstruction.h"
+#include "bridge/contact_fe_step.h"
 #include "bridge/fidelity_case.h"
 #include "display/display_profile.h"
 #include "scene/fingertip_compliance.h"

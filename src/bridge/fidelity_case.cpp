@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <random>
 
-#include "bridge/contact_object.h"
+#include "bridge/contact_fe_step.h"
 #include "common/yaml_reader.h"
 #include "sensors/scan_assembler.h"
 #include "sensors/simulated/pad_rig_check.h"

@@ -9,7 +9,8 @@
 #include <stdexcept>
 
 #include "bridge/contact_fe_step.h"
-#include "bridge/contact_object.h"
+#include "contact/contact_object.h"
+#include "lcm/contact_estimate_message.h"
 #include "bridge/reduced_linear_fe_step.h"
 #include "bridge/scene_fe_step.h"
 #include "common/wall_clock.h"
@@ -185,7 +186,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
       peak_field = pipeline.last_field();
       peak_command = pipeline.last_command();
       peak_values = pipeline.last_values();
-      if (const lcmt_contact_estimate* m = pipeline.fe().contact_message()) peak_contact = *m, have_peak_contact = true;
+      if (const contact::ContactReport* m = pipeline.fe().contact_report()) peak_contact = lcm_io::ToLcm(*m), have_peak_contact = true;
     }
     if (pvd && o.stepped && (result.rows.size() - 1) % size_t(options.vtu_every) == 0)
       write_vtu(result.rows.size() - 1, scan.utime);

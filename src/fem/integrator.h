@@ -12,6 +12,7 @@
 
 #include "common/enum_names.h"
 #include "common/stage_times.h"
+#include "fem/step_report.h"
 
 namespace sedbridge::fem {
 
@@ -37,24 +38,6 @@ struct IntegratorSettings {
   /// from the last one's. An iterative solver then needs fewer iterations to its tolerance
   /// while the motion is smooth (docs/performance.md, session 29).
   bool extrapolate_warm_start = true;
-};
-
-struct StepReport {
-  double t_s = 0;
-  int newton_iterations = 0;
-  int linear_iterations = 0;     ///< summed over Newton iterations
-  double linear_residual = 0;    ///< worst relative residual
-  int solver_fallbacks = 0;      ///< PCG fallbacks to the direct solver in this step
-  int tangent_fallbacks = 0;     ///< Newton iterations whose exact tangent did not factorize
-                                 ///< and were solved with the definite one (UseDefiniteJacobian)
-  bool converged = true;         ///< linear solves and (quasi-static) Newton converged
-  int inverted_elements = 0;     ///< det F <= 0 at the end of the step
-  double max_step_m = 0;         ///< max |dx| of the last Newton iteration
-  bool finite = true;            ///< state is free of NaN/Inf (else it was rolled back)
-  int threads = 0;               ///< OpenMP team the step ran on (its own choice or the caller's)
-  /// Wall time of this step's assembly and solve (factorization included); the callers add
-  /// the stages around it (boundary condition, SED).
-  StageTimes stage_ms;
 };
 
 /// Positions, velocities (3 * #nodes, stacked per node) and time of the simulation.

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -212,6 +213,336 @@ bool FingertipCompliance::TouchesOutsidePatch(const std::vector<geometry::RigidO
   return AnyInside(objects_model, outside_skin_);
 }
 
+// One PressToForce call: its objects, target and options, the evaluations so far (the last
+// two aim the next) and the result being built. Its methods are the stages of the search, in
+// the order Run takes them: the press at indentation 0, the starting depth, one
+// force-controlled solve, the first evaluation there, the bracket, and the root find.
+class FingertipCompliance::PressCall {
+ public:
+  PressCall(FingertipCompliance& fingertip, const std::vector<geometry::RigidObject>& objects_pad, double target_N,
+            const PressToForceOptions& opt, const Eigen::Vector2d& tangential_pad_N)
+      : fc_(fingertip), contact_(*fingertip.contact_), objects_pad_(objects_pad), target_N_(target_N), opt_(opt),
+        tangential_pad_N_(tangential_pad_N), tol_(opt.relative_tolerance * target_N) {
+    r_.target_force_N = target_N;
+  }
+
+  PressToForceResult Run() {
+    if (!PosesAtTouch()) return r_;
+    // Friction anchors belong to a stepped scene, not to a hypothesis being pressed.
+    if (fc_.options_.contact.friction_anisotropy > 0) contact_.ResetWarmStart();
+    t_model_ = fc_.TangentialToModel(tangential_pad_N_);
+    if (auto done = AtZero()) return *done;
+    StartDepth();
+    if (auto done = ForceControlled()) return *done;
+    if (auto done = FromStartDepth()) return *done;
+    if (auto done = Bracket()) return *done;
+    return RootFind();
+  }
+
+ private:
+  static constexpr const char* kEdge = "contact reaches the edge of the candidate patch (object near the pad's edge)";
+
+  bool PosesAtTouch() {
+    for (const auto& o : objects_pad_) {
+      touch_.push_back(o.trajectory.Pose(0.0));
+      if (!touch_.back().matrix().allFinite()) {
+        r_.message = "non-finite object pose";
+        return false;
+      }
+    }
+    return true;
+  }
+
+  // The objects at indentation d [mm] (translated by -d along z_pad) in the model frame.
+  std::vector<geometry::RigidObject> AtDepth(double d_mm) const {
+    std::vector<geometry::RigidObject> moved = objects_pad_;
+    for (size_t k = 0; k < moved.size(); ++k)
+      moved[k].trajectory = geometry::Trajectory(Eigen::Translation3d(0, 0, -d_mm * 1e-3) * touch_[k]);
+    return fc_.ToModel(moved);
+  }
+  // The same, as the contact state's.
+  void Place(double d_mm) {
+    last_model_ = AtDepth(d_mm);
+    fc_.state_indentation_mm_ = d_mm;
+  }
+  // Normal force at indentation d [mm].
+  double ForceAt(double d_mm) {
+    Place(d_mm);
+    // The root find needs only the force: the SED once, at the answer (Finish).
+    const fem::ComplianceStepResult& s = contact_.Step(last_model_, 0.0, t_model_, /*compute_sed=*/false);
+    ++r_.iterations;
+    if (!s.ok) solve_failed_ = true;
+    if (!s.converged) solve_unconverged_ = true;
+    return s.ok ? fc_.normal_force_N() : 0.0;
+  }
+  double Evaluate(double d_mm) {
+    const double f = ForceAt(d_mm);
+    r_.indentation_mm = d_mm;
+    d_prev_ = d_last_, f_prev_ = f_last_, d_last_ = d_mm, f_last_ = f;
+    return f;
+  }
+  // Exponent and aim of the next step: measured from this call's last two evaluations, else
+  // the last answer's; aimed at the target itself once an exponent is measured (a good aim
+  // lands within the tolerance, saving the solve a bracket would cost), else past it.
+  double Exponent() const { return LocalExponent(d_prev_, f_prev_, d_last_, f_last_, fc_.last_exponent_); }
+  double Aim() const {
+    return LocalExponent(d_prev_, f_prev_, d_last_, f_last_, 0.0) > 0 || fc_.exponent_measured_
+               ? 1.0 + 0.25 * opt_.relative_tolerance
+               : kBracketOvershoot;
+  }
+
+  PressToForceResult Finish(PressStatus status, double d_mm, double f_N, const std::string& why) {
+    // The contact state must be the answer's: re-solve where the answer is if the last
+    // evaluation was elsewhere.
+    if (r_.indentation_mm != d_mm || r_.iterations == 0) f_N = ForceAt(d_mm);
+    contact_.ComputeSed();
+    r_.indentation_mm = d_mm;
+    r_.force_N = f_N;
+    r_.status = status;
+    std::set<int> nodes;
+    for (const auto& c : contact_.last().contacts) nodes.insert(c.node);
+    r_.active_nodes = int(nodes.size());
+    if (status == PressStatus::kReached && fc_.TouchesOutsidePatch(last_model_)) {
+      r_.status = PressStatus::kPatchEdge;
+      r_.message = kEdge;
+    } else if (status == PressStatus::kReached && solve_unconverged_) {
+      r_.status = PressStatus::kNotConverged;
+      r_.message = "a contact solve did not converge";
+    } else {
+      r_.message = why;
+    }
+    r_.reached = r_.status == PressStatus::kReached;
+    if (r_.reached) {
+      fc_.last_indentation_mm_ = d_mm, fc_.last_target_N_ = target_N_;
+      const double m = LocalExponent(d_prev_, f_prev_, d_last_, f_last_, 0.0);
+      if (m > 0) fc_.last_exponent_ = m, fc_.exponent_measured_ = true;
+    }
+    return r_;
+  }
+
+  // At indentation 0 the force is zero unless a candidate is inside an object at rest
+  // (no force, no displacement): then no solve is needed there.
+  std::optional<PressToForceResult> AtZero() {
+    if (!fc_.AnyInside(AtDepth(0.0), contact_.candidate_nodes())) return std::nullopt;
+    f_lo_ = Evaluate(0.0);
+    if (solve_failed_) return Finish(PressStatus::kInvalidInput, 0.0, 0.0, contact_.last().error);
+    if (std::abs(f_lo_ - target_N_) <= tol_) return Finish(PressStatus::kReached, 0.0, f_lo_, "");
+    if (f_lo_ > target_N_)
+      return Finish(PressStatus::kAboveTarget, 0.0, f_lo_, "objects press harder than the target at indentation 0");
+    return std::nullopt;
+  }
+
+  // Bracket by marching from the contact state's own indentation (the last answer, when
+  // the objects are pressed scan after scan) in steps of at most max_step_mm (see there).
+  // A state left by other objects can put this one's skin nodes on the far side of it
+  // (tunnelled): its force then fails to grow with the indentation. Then start again from
+  // no contact at indentation 0, once.
+  void StartDepth() {
+    const double state = fc_.state_indentation_mm_;
+    f_zero_ = f_lo_;
+    if (state < 0) contact_.ResetWarmStart();
+    d_ = std::clamp(state > 0 ? state : 0.0, 0.0, opt_.max_indentation_mm);
+    // The state is the last answer (scan after scan): start where its power law puts the new
+    // target, at most max_step_mm away (thin objects: see there).
+    if (state > 0 && state == fc_.last_indentation_mm_ && fc_.last_target_N_ > 0)
+      d_ = std::clamp(PowerLawDepth_mm(state, fc_.last_target_N_, target_N_, fc_.last_exponent_),
+                      std::max(0.0, state - opt_.max_step_mm), std::min(opt_.max_indentation_mm, state + opt_.max_step_mm));
+  }
+
+  // From no contact state (a touch's first scan) the force-controlled step would walk the
+  // objects to the skin max_step_mm an outer iteration (18 of them, 1.1 ms, for the rig's
+  // sphere at the pad's corner, whose lowest point is 2.9 mm above the skin there), and its
+  // last move onto the skin could land a thin rod in another equilibrium than a continuous
+  // push (ColdPressOfAThinRodFindsTheSlowMarchsEquilibrium). With no force the skin is at
+  // rest, and moving the objects by the clearance at rest touches nothing: start where those
+  // moves meet the skin.
+  double ApproachAtRest() const {
+    double start_mm = 0;
+    for (int k = 0; k < kMaxApproachSteps && start_mm < opt_.max_indentation_mm; ++k) {
+      const double clearance_mm = fc_.ClearanceAtRest_mm(AtDepth(start_mm));
+      start_mm = std::min(opt_.max_indentation_mm, start_mm + clearance_mm);
+      if (!(clearance_mm > kApproachClearance_mm)) break;
+    }
+    return start_mm;
+  }
+  // One force-controlled contact solve of the objects (poses at touch, model frame) from
+  // indentation from_mm; *d_mm: where it left them.
+  const fem::ComplianceStepResult& ForceControlledSolve(const std::vector<geometry::RigidObject>& at_touch,
+                                                        double from_mm, double* d_mm) {
+    fem::ComplianceContact::ForceControl control;
+    control.direction_unit = -fc_.model_.pad_frame.model_from_pad.linear().col(2);
+    control.target_N = target_N_;
+    control.offset_m = from_mm * 1e-3;
+    control.max_change_m = std::max(1e-3, opt_.max_step_mm) * 1e-3;
+    control.max_offset_m = opt_.max_indentation_mm * 1e-3;
+    const fem::ComplianceStepResult& s = contact_.StepToForce(at_touch, control, t_model_, /*compute_sed=*/false);
+    ++r_.iterations;
+    *d_mm = control.offset_m * 1e3;
+    return s;
+  }
+  // One force-controlled solve from the starting depth: the indentation comes with the
+  // contact forces. Only from a state without force at indentation 0 (f_zero = 0), and
+  // frictionless.
+  std::optional<PressToForceResult> ForceControlled() {
+    if (!(opt_.force_control && f_zero_ == 0 && !(fc_.options_.contact.friction_anisotropy > 0) &&
+          !fc_.options_.contact.exact_contact))
+      return std::nullopt;
+    const double start_mm = d_ == 0 && !contact_.HasContactForces() ? ApproachAtRest() : d_;
+    const std::vector<geometry::RigidObject> at_touch = fc_.ToModel(objects_pad_);  // poses at t = 0
+    const fem::ComplianceContact::WarmStart before = contact_.SaveWarmStart();
+    double d_mm = 0;  // where the force-controlled step left the objects
+    const fem::ComplianceStepResult* s = &ForceControlledSolve(at_touch, start_mm, &d_mm);
+    // The last answer's contacts do not touch these objects where they start (the estimate
+    // moved: the rig's pad-corner sphere, whose warm contacts were on the finger's side,
+    // then walked 24 moves to the 5 mm bound, 6.5 ms): press them from no contact instead.
+    if (s->stale_warm_start) {
+      contact_.ResetWarmStart();
+      s = &ForceControlledSolve(at_touch, ApproachAtRest(), &d_mm);
+    }
+    const double f_N = s->ok ? fc_.normal_force_N() : 0.0;
+    if (s->ok && s->converged && !s->contacts.empty() && std::abs(f_N - target_N_) <= tol_) {
+      Place(d_mm);
+      r_.indentation_mm = d_mm;
+      r_.force_controlled = true;
+      return Finish(PressStatus::kReached, d_mm, f_N, "");
+    }
+    // Not answered (not converged, out of depth, patch edge or no contact): the root find
+    // below, from the state force control started from.
+    contact_.RestoreWarmStart(before);
+    return std::nullopt;
+  }
+
+  void Restart() {
+    contact_.ResetWarmStart();
+    restarted_ = true;
+    d_ = 0;
+    f_ = f_zero_;
+  }
+  // The force at the starting depth (from a state that tunnelled: from no contact).
+  std::optional<PressToForceResult> FromStartDepth() {
+    f_ = f_zero_;
+    restarted_ = d_ <= 0;
+    if (d_ > 0) {
+      f_ = Evaluate(d_);
+      if (solve_failed_) return Finish(PressStatus::kInvalidInput, d_, f_, contact_.last().error);
+      if (std::abs(f_ - target_N_) <= tol_) return Finish(PressStatus::kReached, d_, f_, "");
+      if (f_ <= 0 || contact_.last().contacts.empty()) Restart();
+    }
+    return std::nullopt;
+  }
+
+  // [lo, hi] around the target, by power-law steps up from below it or back from above it.
+  std::optional<PressToForceResult> Bracket() {
+    hi_ = d_, f_hi_ = f_;
+    std::optional<PressToForceResult> done = f_ < target_N_ ? BracketUp() : BracketDown();
+    if (done) return done;
+    if (std::abs(f_hi_ - target_N_) <= tol_) return Finish(PressStatus::kReached, hi_, f_hi_, "");
+    return std::nullopt;
+  }
+  std::optional<PressToForceResult> BracketUp() {
+    const double step_max = std::max(1e-3, opt_.max_step_mm);
+    lo_ = d_, f_lo_ = f_;
+    for (;;) {
+      // Below the target and already touching skin outside the patch: pushing deeper only
+      // leaves the patch further (e.g. an object beside the finger).
+      if (lo_ > 0 && fc_.TouchesOutsidePatch(last_model_)) return Finish(PressStatus::kPatchEdge, lo_, f_lo_, kEdge);
+      if (lo_ >= opt_.max_indentation_mm) {
+        if (contact_.last().contacts.empty())
+          return Finish(PressStatus::kNoContact, lo_, f_lo_, "nothing touches the patch up to max_indentation_mm");
+        return Finish(PressStatus::kMaxDepth, lo_, f_lo_, "target not reached at max_indentation_mm");
+      }
+      if (r_.iterations >= opt_.max_iterations)
+        return Finish(PressStatus::kNotConverged, lo_, f_lo_, "bracketing ran out of iterations");
+      // The power-law estimate (F ~ d^m) at or a little past the target, capped at max_step_mm.
+      double step = step_max;
+      if (f_lo_ > 0 && lo_ > 0) {
+        step = std::clamp(PowerLawDepth_mm(lo_, f_lo_, Aim() * target_N_, Exponent()) - lo_, kMinBracketStep_mm, step_max);
+      } else if (f_lo_ == 0 && (r_.iterations == 0 || contact_.last().contacts.empty())) {
+        // Nothing pressed yet, so the skin is at rest: nothing can touch before the objects
+        // have moved by the clearance, and the solves on the way would only confirm it (the
+        // rig's pad-corner sphere marched 25 of them to the finger's side, ~0.5 ms).
+        step = std::max(step, fc_.ClearanceAtRest_mm(AtDepth(lo_)));
+      }
+      hi_ = std::min(opt_.max_indentation_mm, lo_ + step);
+      f_hi_ = Evaluate(hi_);
+      if (solve_failed_) return Finish(PressStatus::kInvalidInput, hi_, f_hi_, contact_.last().error);
+      if (std::abs(f_hi_ - target_N_) <= tol_) return Finish(PressStatus::kReached, hi_, f_hi_, "");
+      if (f_hi_ < f_lo_ && !restarted_) {  // deeper and weaker: tunnelled (see StartDepth)
+        Restart();
+        lo_ = 0, f_lo_ = f_zero_;
+        continue;
+      }
+      if (f_hi_ >= target_N_) return std::nullopt;
+      lo_ = hi_, f_lo_ = f_hi_;
+    }
+  }
+  std::optional<PressToForceResult> BracketDown() {
+    const double step_max = std::max(1e-3, opt_.max_step_mm);
+    for (;;) {
+      if (hi_ <= 0)
+        return Finish(PressStatus::kAboveTarget, 0.0, f_hi_, "objects press harder than the target at indentation 0");
+      if (r_.iterations >= opt_.max_iterations)
+        return Finish(PressStatus::kNotConverged, hi_, f_hi_, "bracketing ran out of iterations");
+      // The power-law estimate at or a little short of the target, at most max_step_mm back.
+      const double step =
+          std::clamp(hi_ - PowerLawDepth_mm(hi_, f_hi_, target_N_ / Aim(), Exponent()), kMinBracketStep_mm, step_max);
+      lo_ = std::max(0.0, hi_ - step);
+      f_lo_ = Evaluate(lo_);
+      if (solve_failed_) return Finish(PressStatus::kInvalidInput, lo_, f_lo_, contact_.last().error);
+      if (std::abs(f_lo_ - target_N_) <= tol_) return Finish(PressStatus::kReached, lo_, f_lo_, "");
+      if (f_lo_ <= target_N_) break;
+      hi_ = lo_, f_hi_ = f_lo_;
+    }
+    if (std::abs(f_lo_ - target_N_) <= tol_) return Finish(PressStatus::kReached, lo_, f_lo_, "");
+    return std::nullopt;
+  }
+
+  // Illinois (regula falsi that halves the stale end's weight): secant speed on a
+  // monotone force curve with kinks where contacts join, never leaves the bracket.
+  PressToForceResult RootFind() {
+    int stale = 0;
+    while (r_.iterations < opt_.max_iterations) {
+      double d = hi_ - (f_hi_ - target_N_) * (hi_ - lo_) / (f_hi_ - f_lo_);
+      if (!(d > lo_ && d < hi_)) d = 0.5 * (lo_ + hi_);
+      const double f = Evaluate(d);
+      if (solve_failed_) return Finish(PressStatus::kInvalidInput, d, f, contact_.last().error);
+      if (std::abs(f - target_N_) <= tol_) return Finish(PressStatus::kReached, d, f, "");
+      if (hi_ - lo_ < kCollapsedBracket_mm)
+        return Finish(PressStatus::kNotConverged, d, f, "bracket collapsed before the force matched");
+      if (f < target_N_) {
+        lo_ = d, f_lo_ = f;
+        if (stale == -1) f_hi_ = target_N_ + 0.5 * (f_hi_ - target_N_);
+        stale = -1;
+      } else {
+        hi_ = d, f_hi_ = f;
+        if (stale == 1) f_lo_ = target_N_ + 0.5 * (f_lo_ - target_N_);
+        stale = 1;
+      }
+    }
+    return Finish(PressStatus::kNotConverged, r_.indentation_mm, contact_.last().ok ? fc_.normal_force_N() : 0.0,
+                  "root find ran out of iterations");
+  }
+
+  FingertipCompliance& fc_;
+  fem::ComplianceContact& contact_;
+  const std::vector<geometry::RigidObject>& objects_pad_;
+  const double target_N_;
+  const PressToForceOptions& opt_;
+  const Eigen::Vector2d tangential_pad_N_;
+  const double tol_;
+  PressToForceResult r_;
+  std::vector<Eigen::Isometry3d> touch_;          // the objects' poses at touch (t = 0)
+  std::vector<geometry::RigidObject> last_model_;  // the objects where the contact state has them
+  Eigen::Vector3d t_model_ = Eigen::Vector3d::Zero();
+  bool solve_failed_ = false, solve_unconverged_ = false;
+  // The last two evaluations (depth, force) of this call: their power law aims the next.
+  double d_prev_ = -1, f_prev_ = 0, d_last_ = -1, f_last_ = 0;
+  double f_zero_ = 0;       // force at indentation 0
+  double d_ = 0, f_ = 0;    // the starting depth and its force
+  bool restarted_ = false;  // from no contact at indentation 0 (once)
+  double lo_ = 0, f_lo_ = 0, hi_ = 0, f_hi_ = 0;  // the bracket
+};
+
 PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry::RigidObject>& objects_pad,
                                                      double target_N, const PressToForceOptions& opt,
                                                      const Eigen::Vector2d& tangential_pad_N) {
@@ -233,262 +564,7 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
     ~ToleranceScope() { contact.set_relative_tolerance(configured); }
   } tolerance_scope{*contact_, contact_->options().relative_tolerance};
   if (opt.contact_relative_tolerance > 0) contact_->set_relative_tolerance(opt.contact_relative_tolerance);
-  std::vector<Eigen::Isometry3d> touch;
-  for (const auto& o : objects_pad) {
-    touch.push_back(o.trajectory.Pose(0.0));
-    if (!touch.back().matrix().allFinite()) {
-      r.message = "non-finite object pose";
-      return r;
-    }
-  }
-  // Friction anchors belong to a stepped scene, not to a hypothesis being pressed.
-  if (options_.contact.friction_anisotropy > 0) contact_->ResetWarmStart();
-  std::vector<geometry::RigidObject> last_model;
-  const Eigen::Vector3d t_model = TangentialToModel(tangential_pad_N);
-  bool solve_failed = false, solve_unconverged = false;
-  // The objects at indentation d [mm] (translated by -d along z_pad) in the model frame.
-  auto at_depth = [&](double d_mm) {
-    std::vector<geometry::RigidObject> moved = objects_pad;
-    for (size_t k = 0; k < moved.size(); ++k)
-      moved[k].trajectory = geometry::Trajectory(Eigen::Translation3d(0, 0, -d_mm * 1e-3) * touch[k]);
-    return ToModel(moved);
-  };
-  // The same, as the contact state's.
-  auto place = [&](double d_mm) {
-    last_model = at_depth(d_mm);
-    state_indentation_mm_ = d_mm;
-  };
-  // Normal force at indentation d [mm].
-  auto force_at = [&](double d_mm) {
-    place(d_mm);
-    // The root find needs only the force: the SED once, at the answer (finish).
-    const fem::ComplianceStepResult& s = contact_->Step(last_model, 0.0, t_model, /*compute_sed=*/false);
-    ++r.iterations;
-    if (!s.ok) solve_failed = true;
-    if (!s.converged) solve_unconverged = true;
-    return s.ok ? normal_force_N() : 0.0;
-  };
-  // The last two evaluations (depth, force) of this call: their power law aims the next.
-  double d_prev = -1, f_prev = 0, d_last = -1, f_last = 0;
-  const char* kEdge = "contact reaches the edge of the candidate patch (object near the pad's edge)";
-  auto finish = [&](PressStatus status, double d_mm, double f_N, const std::string& why) {
-    // The contact state must be the answer's: re-solve where the answer is if the last
-    // evaluation was elsewhere.
-    if (r.indentation_mm != d_mm || r.iterations == 0) f_N = force_at(d_mm);
-    contact_->ComputeSed();
-    r.indentation_mm = d_mm;
-    r.force_N = f_N;
-    r.status = status;
-    std::set<int> nodes;
-    for (const auto& c : contact_->last().contacts) nodes.insert(c.node);
-    r.active_nodes = int(nodes.size());
-    if (status == PressStatus::kReached && TouchesOutsidePatch(last_model)) {
-      r.status = PressStatus::kPatchEdge;
-      r.message = kEdge;
-    } else if (status == PressStatus::kReached && solve_unconverged) {
-      r.status = PressStatus::kNotConverged;
-      r.message = "a contact solve did not converge";
-    } else {
-      r.message = why;
-    }
-    r.reached = r.status == PressStatus::kReached;
-    if (r.reached) {
-      last_indentation_mm_ = d_mm, last_target_N_ = target_N;
-      const double m = LocalExponent(d_prev, f_prev, d_last, f_last, 0.0);
-      if (m > 0) last_exponent_ = m, exponent_measured_ = true;
-    }
-    return r;
-  };
-  const double tol = opt.relative_tolerance * target_N;
-  auto evaluate = [&](double d_mm) {
-    const double f = force_at(d_mm);
-    r.indentation_mm = d_mm;
-    d_prev = d_last, f_prev = f_last, d_last = d_mm, f_last = f;
-    return f;
-  };
-  // Exponent and aim of the next step: measured from this call's last two evaluations, else
-  // the last answer's; aimed at the target itself once an exponent is measured (a good aim
-  // lands within the tolerance, saving the solve a bracket would cost), else past it.
-  auto exponent = [&] { return LocalExponent(d_prev, f_prev, d_last, f_last, last_exponent_); };
-  auto aim = [&] {
-    return LocalExponent(d_prev, f_prev, d_last, f_last, 0.0) > 0 || exponent_measured_
-               ? 1.0 + 0.25 * opt.relative_tolerance
-               : kBracketOvershoot;
-  };
-
-  // At indentation 0 the force is zero unless a candidate is inside an object at rest
-  // (no force, no displacement): then no solve is needed there.
-  double lo = 0, f_lo = 0;
-  if (AnyInside(at_depth(0.0), contact_->candidate_nodes())) {
-    f_lo = evaluate(0.0);
-    if (solve_failed) return finish(PressStatus::kInvalidInput, 0.0, 0.0, contact_->last().error);
-    if (std::abs(f_lo - target_N) <= tol) return finish(PressStatus::kReached, 0.0, f_lo, "");
-    if (f_lo > target_N)
-      return finish(PressStatus::kAboveTarget, 0.0, f_lo, "objects press harder than the target at indentation 0");
-  }
-
-  // Bracket by marching from the contact state's own indentation (the last answer, when
-  // the objects are pressed scan after scan) in steps of at most max_step_mm (see there).
-  // A state left by other objects can put this one's skin nodes on the far side of it
-  // (tunnelled): its force then fails to grow with the indentation. Then start again from
-  // no contact at indentation 0, once.
-  const double state = state_indentation_mm_;
-  const double f_zero = f_lo;
-  if (state < 0) contact_->ResetWarmStart();
-  double d = std::clamp(state > 0 ? state : 0.0, 0.0, opt.max_indentation_mm);
-  // The state is the last answer (scan after scan): start where its power law puts the new
-  // target, at most max_step_mm away (thin objects: see there).
-  if (state > 0 && state == last_indentation_mm_ && last_target_N_ > 0)
-    d = std::clamp(PowerLawDepth_mm(state, last_target_N_, target_N, last_exponent_), std::max(0.0, state - opt.max_step_mm),
-                   std::min(opt.max_indentation_mm, state + opt.max_step_mm));
-  // One force-controlled solve from there: the indentation comes with the contact forces.
-  // Only from a state without force at indentation 0 (f_zero = 0), and frictionless.
-  if (opt.force_control && f_zero == 0 && !(options_.contact.friction_anisotropy > 0) &&
-      !options_.contact.exact_contact) {
-    // From no contact state (a touch's first scan) the step would walk the objects to the
-    // skin max_step_mm an outer iteration (18 of them, 1.1 ms, for the rig's sphere at the
-    // pad's corner, whose lowest point is 2.9 mm above the skin there), and its last move
-    // onto the skin could land a thin rod in another equilibrium than a continuous push
-    // (ColdPressOfAThinRodFindsTheSlowMarchsEquilibrium). With no force the skin is at rest,
-    // and moving the objects by the clearance at rest touches nothing: start where those
-    // moves meet the skin.
-    auto approach_at_rest = [&] {
-      double start_mm = 0;
-      for (int k = 0; k < kMaxApproachSteps && start_mm < opt.max_indentation_mm; ++k) {
-        const double clearance_mm = ClearanceAtRest_mm(at_depth(start_mm));
-        start_mm = std::min(opt.max_indentation_mm, start_mm + clearance_mm);
-        if (!(clearance_mm > kApproachClearance_mm)) break;
-      }
-      return start_mm;
-    };
-    const double start_mm = d == 0 && !contact_->HasContactForces() ? approach_at_rest() : d;
-    const std::vector<geometry::RigidObject> at_touch = ToModel(objects_pad);  // poses at t = 0
-    const fem::ComplianceContact::WarmStart before = contact_->SaveWarmStart();
-    double d_mm = 0;  // where the force-controlled step left the objects
-    auto force_controlled = [&](double from_mm) -> const fem::ComplianceStepResult& {
-      fem::ComplianceContact::ForceControl control;
-      control.direction_unit = -model_.pad_frame.model_from_pad.linear().col(2);
-      control.target_N = target_N;
-      control.offset_m = from_mm * 1e-3;
-      control.max_change_m = std::max(1e-3, opt.max_step_mm) * 1e-3;
-      control.max_offset_m = opt.max_indentation_mm * 1e-3;
-      const fem::ComplianceStepResult& s = contact_->StepToForce(at_touch, control, t_model, /*compute_sed=*/false);
-      ++r.iterations;
-      d_mm = control.offset_m * 1e3;
-      return s;
-    };
-    const fem::ComplianceStepResult* s = &force_controlled(start_mm);
-    // The last answer's contacts do not touch these objects where they start (the estimate
-    // moved: the rig's pad-corner sphere, whose warm contacts were on the finger's side,
-    // then walked 24 moves to the 5 mm bound, 6.5 ms): press them from no contact instead.
-    if (s->stale_warm_start) {
-      contact_->ResetWarmStart();
-      s = &force_controlled(approach_at_rest());
-    }
-    const double f_N = s->ok ? normal_force_N() : 0.0;
-    if (s->ok && s->converged && !s->contacts.empty() && std::abs(f_N - target_N) <= tol) {
-      place(d_mm);
-      r.indentation_mm = d_mm;
-      r.force_controlled = true;
-      return finish(PressStatus::kReached, d_mm, f_N, "");
-    }
-    // Not answered (not converged, out of depth, patch edge or no contact): the root find
-    // below, from the state force control started from.
-    contact_->RestoreWarmStart(before);
-  }
-  double f = f_zero;
-  bool restarted = d <= 0;
-  auto restart = [&] {
-    contact_->ResetWarmStart();
-    restarted = true;
-    d = 0;
-    f = f_zero;
-  };
-  if (d > 0) {
-    f = evaluate(d);
-    if (solve_failed) return finish(PressStatus::kInvalidInput, d, f, contact_->last().error);
-    if (std::abs(f - target_N) <= tol) return finish(PressStatus::kReached, d, f, "");
-    if (f <= 0 || contact_->last().contacts.empty()) restart();
-  }
-  const double step_max = std::max(1e-3, opt.max_step_mm);
-  double hi = d, f_hi = f;
-  if (f < target_N) {
-    lo = d, f_lo = f;
-    for (;;) {
-      // Below the target and already touching skin outside the patch: pushing deeper only
-      // leaves the patch further (e.g. an object beside the finger).
-      if (lo > 0 && TouchesOutsidePatch(last_model)) return finish(PressStatus::kPatchEdge, lo, f_lo, kEdge);
-      if (lo >= opt.max_indentation_mm) {
-        if (contact_->last().contacts.empty())
-          return finish(PressStatus::kNoContact, lo, f_lo, "nothing touches the patch up to max_indentation_mm");
-        return finish(PressStatus::kMaxDepth, lo, f_lo, "target not reached at max_indentation_mm");
-      }
-      if (r.iterations >= opt.max_iterations)
-        return finish(PressStatus::kNotConverged, lo, f_lo, "bracketing ran out of iterations");
-      // The power-law estimate (F ~ d^m) at or a little past the target, capped at max_step_mm.
-      double step = step_max;
-      if (f_lo > 0 && lo > 0) {
-        step = std::clamp(PowerLawDepth_mm(lo, f_lo, aim() * target_N, exponent()) - lo, kMinBracketStep_mm, step_max);
-      } else if (f_lo == 0 && (r.iterations == 0 || contact_->last().contacts.empty())) {
-        // Nothing pressed yet, so the skin is at rest: nothing can touch before the objects
-        // have moved by the clearance, and the solves on the way would only confirm it (the
-        // rig's pad-corner sphere marched 25 of them to the finger's side, ~0.5 ms).
-        step = std::max(step, ClearanceAtRest_mm(at_depth(lo)));
-      }
-      hi = std::min(opt.max_indentation_mm, lo + step);
-      f_hi = evaluate(hi);
-      if (solve_failed) return finish(PressStatus::kInvalidInput, hi, f_hi, contact_->last().error);
-      if (std::abs(f_hi - target_N) <= tol) return finish(PressStatus::kReached, hi, f_hi, "");
-      if (f_hi < f_lo && !restarted) {  // deeper and weaker: tunnelled (see above)
-        restart();
-        lo = 0, f_lo = f_zero;
-        continue;
-      }
-      if (f_hi >= target_N) break;
-      lo = hi, f_lo = f_hi;
-    }
-  } else {
-    for (;;) {
-      if (hi <= 0)
-        return finish(PressStatus::kAboveTarget, 0.0, f_hi, "objects press harder than the target at indentation 0");
-      if (r.iterations >= opt.max_iterations)
-        return finish(PressStatus::kNotConverged, hi, f_hi, "bracketing ran out of iterations");
-      // The power-law estimate at or a little short of the target, at most max_step_mm back.
-      const double step =
-          std::clamp(hi - PowerLawDepth_mm(hi, f_hi, target_N / aim(), exponent()), kMinBracketStep_mm, step_max);
-      lo = std::max(0.0, hi - step);
-      f_lo = evaluate(lo);
-      if (solve_failed) return finish(PressStatus::kInvalidInput, lo, f_lo, contact_->last().error);
-      if (std::abs(f_lo - target_N) <= tol) return finish(PressStatus::kReached, lo, f_lo, "");
-      if (f_lo <= target_N) break;
-      hi = lo, f_hi = f_lo;
-    }
-    if (std::abs(f_lo - target_N) <= tol) return finish(PressStatus::kReached, lo, f_lo, "");
-  }
-  if (std::abs(f_hi - target_N) <= tol) return finish(PressStatus::kReached, hi, f_hi, "");
-
-  // Illinois (regula falsi that halves the stale end's weight): secant speed on a
-  // monotone force curve with kinks where contacts join, never leaves the bracket.
-  int stale = 0;
-  while (r.iterations < opt.max_iterations) {
-    double d = hi - (f_hi - target_N) * (hi - lo) / (f_hi - f_lo);
-    if (!(d > lo && d < hi)) d = 0.5 * (lo + hi);
-    const double f = evaluate(d);
-    if (solve_failed) return finish(PressStatus::kInvalidInput, d, f, contact_->last().error);
-    if (std::abs(f - target_N) <= tol) return finish(PressStatus::kReached, d, f, "");
-    if (hi - lo < kCollapsedBracket_mm) return finish(PressStatus::kNotConverged, d, f, "bracket collapsed before the force matched");
-    if (f < target_N) {
-      lo = d, f_lo = f;
-      if (stale == -1) f_hi = target_N + 0.5 * (f_hi - target_N);
-      stale = -1;
-    } else {
-      hi = d, f_hi = f;
-      if (stale == 1) f_lo = target_N + 0.5 * (f_lo - target_N);
-      stale = 1;
-    }
-  }
-  return finish(PressStatus::kNotConverged, r.indentation_mm, contact_->last().ok ? normal_force_N() : 0.0,
-                "root find ran out of iterations");
+  return PressCall(*this, objects_pad, target_N, opt, tangential_pad_N).Run();
 }
 
 }  // namespace sedbridge::scene

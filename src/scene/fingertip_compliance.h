@@ -137,6 +137,8 @@ class FingertipCompliance {
   const model::FingertipModel& model() const { return model_; }
 
  private:
+  /// One PressToForce call: the search's state and its stages (fingertip_compliance.cpp).
+  class PressCall;
   /// Contact pairs of the last step touching the patch edge, or skin outside the patch at
   /// rest positions: the candidate set is then too small for this contact.
   bool TouchesOutsidePatch(const std::vector<geometry::RigidObject>& objects_model) const;

@@ -1,4 +1,4 @@
-// Contact reconstruction (bridge/contact_reconstruction.h) and the sensor forward model it
+// Contact reconstruction (contact/contact_reconstruction.h) and the sensor forward model it
 // inverts (sensors/tactile_forward_model.h): what each contact model costs.
 // Run (Release build):
 //   build/tests/bench/reconstruction_benchmark
@@ -21,7 +21,7 @@
 #include <chrono>
 #include <vector>
 
-#include "bridge/contact_reconstruction.h"
+#include "contact/contact_reconstruction.h"
 #include "common/resource_path.h"
 #include "sensors/calibration_press.h"
 
@@ -65,11 +65,11 @@ void ForwardModel(benchmark::State& state) {
 BENCHMARK(ForwardModel)->ArgName("sphere_rod_finite_flat")->DenseRange(0, 3)->Unit(benchmark::kMicrosecond);
 
 // Every scan of `press` through a fresh reconstructor with `options`; per-scan counters.
-void RunPress(benchmark::State& state, const sensors::CalibrationPress& press, const bridge::ReconstructionOptions& options) {
+void RunPress(benchmark::State& state, const sensors::CalibrationPress& press, const contact::ReconstructionOptions& options) {
   std::vector<double> ms;
   int64_t evaluations = 0, fallbacks = 0, scans = 0;
   for (auto _ : state) {
-    bridge::ContactReconstructor r(Profile(), options);
+    contact::ContactReconstructor r(Profile(), options);
     for (const auto& scan : press.scans) {
       const auto t0 = std::chrono::steady_clock::now();
       benchmark::DoNotOptimize(r.Reconstruct(scan).primitive.normal_force_N);
@@ -89,7 +89,7 @@ void RunPress(benchmark::State& state, const sensors::CalibrationPress& press, c
 }
 
 void ReconstructPress(benchmark::State& state) {
-  bridge::ReconstructionOptions options;
+  contact::ReconstructionOptions options;
   options.fit_finite_rods = (state.range(1) & 1) != 0;
   options.fit_pairs = (state.range(1) & 2) != 0;
   options.force_step_first = state.range(2) != 0;
@@ -99,14 +99,14 @@ void ReconstructPress(benchmark::State& state) {
 // The candidate budget while the current model explains the scan
 // (ReconstructionOptions::explained_candidate_evaluations; 0 = the full candidate budget).
 void ReconstructPressExplainedBudget(benchmark::State& state) {
-  bridge::ReconstructionOptions options;
+  contact::ReconstructionOptions options;
   options.explained_candidate_evaluations = static_cast<int>(state.range(1));
   RunPress(state, Rig()[static_cast<size_t>(state.range(0))], options);
 }
 // Finite-difference Jacobians every LM iteration (jacobian_refresh 1) or Broyden updates of
 // the pose columns between them (4, the default).
 void ReconstructPressJacobian(benchmark::State& state) {
-  bridge::ReconstructionOptions options;
+  contact::ReconstructionOptions options;
   options.jacobian_refresh = static_cast<int>(state.range(1));
   RunPress(state, Rig()[static_cast<size_t>(state.range(0))], options);
 }

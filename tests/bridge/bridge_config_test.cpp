@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "bridge/contact_object.h"
+#include "bridge/contact_fe_step.h"
 #include "bridge/latency_stats.h"
 #include "bridge/pipeline_status.h"
 #include "common/config_error.h"

@@ -14,7 +14,7 @@
 #include <sstream>
 #include <lcm/lcm-cpp.hpp>
 
-#include "bridge/contact_object.h"
+#include "contact/contact_object.h"
 #include "bridge/fidelity_case.h"
 #include "bridge/reduced_linear_fe_step.h"
 #include "bridge/replay.h"
@@ -22,6 +22,7 @@
 #include "bridge_test_util.h"
 #include "display/sed_to_command_mapping.h"
 #include "sedbridge/lcmt_display_command.hpp"
+#include "lcm/contact_estimate_message.h"
 #include "sedbridge/lcmt_contact_estimate.hpp"
 #include "sensors/calibration_press.h"
 #include "sensors/candump_log.h"
@@ -365,7 +366,7 @@ TEST(ContactFeStep, TwoSpheresArePressedTogether) {
     // The leader is pressed to the pair's total, within the press's tolerance.
     EXPECT_NEAR(applied_N, e.normal_force_N(), 2e-3 * e.normal_force_N()) << "scan " << k;
     EXPECT_EQ(ToRigidObjects(e).size(), 2u);
-    if (e.normal_force_N() > peak_force_N) peak_force_N = e.normal_force_N(), at_peak = *reusing->contact_message();
+    if (e.normal_force_N() > peak_force_N) peak_force_N = e.normal_force_N(), at_peak = lcm_io::ToLcm(*reusing->contact_report());
   }
   // Measured 62 of the 70 contact scans, no fit fallback (without the pair's quick check
   // when the current model stops explaining the scan: 50, and 12 fallbacks).

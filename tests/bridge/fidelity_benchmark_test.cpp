@@ -11,7 +11,7 @@
 #include <memory>
 #include <vector>
 
-#include "bridge/contact_object.h"
+#include "contact/contact_object.h"
 #include "bridge/fidelity_case.h"
 #include "common/yaml_reader.h"
 #include "sensors/tactile_model_fit.h"

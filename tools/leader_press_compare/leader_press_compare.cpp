@@ -26,7 +26,7 @@
 #include <string>
 #include <vector>
 
-#include "bridge/contact_object.h"
+#include "contact/contact_object.h"
 #include "bridge/fidelity_benchmark.h"
 #include "common/config_error.h"
 #include "common/geometry/rigid_object.h"
@@ -162,14 +162,14 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "leader_press_compare: model %s, %.4g N, %zu candidates; building the leader's compliance ...\n",
                  model_name.c_str(), force_N, candidates.size());
     const model::FingertipModel model = model::LoadFingertipModel(model_name);
-    scene::FingertipCompliance leader(model, bridge::LeaderComplianceOptions(cache_dir, face_contact));
+    scene::FingertipCompliance leader(model, contact::LeaderComplianceOptions(cache_dir, face_contact));
     const scene::PressToForceOptions options;  // the benchmark truth's: the method's own tolerances
     auto press = [&](const std::string& name, const std::vector<geometry::RigidObject>& objects, Eigen::VectorXd* sed) {
       leader.ResetWarmStart();
       const scene::PressToForceResult r = leader.PressToForce(objects, force_N, options);
       Row row;
       row.name = name;
-      row.reached = bridge::PressAnswered(r, leader);
+      row.reached = contact::PressAnswered(r, leader);
       row.status = row.reached ? "reached" : scene::ToString(r.status);
       row.force_N = std::abs(r.force_N) < 1e-9 ? 0.0 : r.force_N;  // no contact: 0, not a round-off's -0.0000
       *sed = leader.sed_Pa();

@@ -3,15 +3,16 @@
 // model: the same shape, posed in the leader's pad frame at first touch (lowest point on
 // the pad plane z = 0), ready for scene::FingertipCompliance::PressToForce.
 
+#include <Eigen/Core>
+#include <string>
 #include <vector>
 
-#include "bridge/bridge_config.h"
-#include "bridge/contact_reconstruction.h"
+#include "contact/contact_estimate.h"
 #include "common/geometry/rigid_object.h"
 #include "scene/fingertip_compliance.h"
-#include "sensors/tactile_forward_model.h"
+#include "sensors/contact_primitive.h"
 
-namespace sedbridge::bridge {
+namespace sedbridge::contact {
 
 /// Thinnest rod and sphere pressed on the leader [mm]. The leader's skin carries contact
 /// points about 1.5 mm apart (nodes and face centroids, §11 of docs/bridge-fidelity.md): a
@@ -66,12 +67,6 @@ LeaderPress PressReconstructed(scene::FingertipCompliance& leader, const Contact
 /// taxels), so the last digits cost contact solves (a third of them at hold) and buy
 /// nothing; the SED then differs from the 1e-6 answer by about 1e-3 relative.
 scene::PressToForceOptions ReconstructedPressOptions();
-/// The same with the config's fe.contact_tolerance as its contact tolerance.
-scene::PressToForceOptions ReconstructedPressOptions(const BridgeConfig& config);
-/// The reconstruction of fe.step contact as a config sets it (fe.two_contacts,
-/// fe.finite_rods, fe.radius_tracking): one place for the bridge (MakeFeStep) and the fidelity benchmark.
-ReconstructionOptions ReconstructionOptionsOf(const BridgeConfig& config);
-
 /// The leader's fingertip for reconstructed contacts (bridge and fidelity benchmark), its
 /// precompute cached in `cache_dir` ("" = none). face_contact (bridge key fe.face_contact,
 /// default true): contact points on the skin faces too
@@ -100,4 +95,4 @@ inline constexpr double kShearFloor = 0.01;
 bool PressAnswered(const scene::PressToForceResult& press, const scene::FingertipCompliance& leader,
                    double tolerance = 0.01);
 
-}  // namespace sedbridge::bridge
+}  // namespace sedbridge::contact

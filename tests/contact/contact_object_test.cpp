@@ -1,6 +1,6 @@
 // The leader press of a reconstructed contact (contact_object.h): its relaxed force
 // tolerance gives the tight press's answer to the tolerance it promises, for fewer solves.
-#include "bridge/contact_object.h"
+#include "contact/contact_object.h"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include "model/fingertip_model.h"
 #include "sensors/simulated/primitive_object.h"
 
-namespace sedbridge::bridge {
+namespace sedbridge::contact {
 namespace {
 
 // A hold as the bridge sees it: one object, scan after scan, its force estimate wandering
@@ -82,9 +82,9 @@ TEST(ContactObject, ShearWithinCrosstalkDoesNotReachTheLeader) {
 }
 
 }  // namespace
-}  // namespace sedbridge::bridge
+}  // namespace sedbridge::contact
 
-namespace sedbridge::bridge {
+namespace sedbridge::contact {
 namespace {
 
 // Rods and spheres thinner than the leader's minimum radii are pressed at that radius;
@@ -209,4 +209,4 @@ TEST(ContactObject, TooThinForTheLeaderIsPressedThicker) {
 }
 
 }  // namespace
-}  // namespace sedbridge::bridge
+}  // namespace sedbridge::contact

@@ -1,4 +1,4 @@
-#include "bridge/contact_object.h"
+#include "contact/contact_object.h"
 
 #include <algorithm>
 #include <cmath>
@@ -6,7 +6,7 @@
 
 #include "sensors/simulated/primitive_object.h"
 
-namespace sedbridge::bridge {
+namespace sedbridge::contact {
 namespace {
 // A rod long enough to cross the sensor pad (20 mm), not the whole finger.
 constexpr double kRodHalfLength_m = 10e-3;
@@ -90,18 +90,4 @@ scene::PressToForceOptions ReconstructedPressOptions() {
   return options;
 }
 
-scene::PressToForceOptions ReconstructedPressOptions(const BridgeConfig& config) {
-  scene::PressToForceOptions options = ReconstructedPressOptions();
-  options.contact_relative_tolerance = config.contact_tolerance;
-  return options;
-}
-
-ReconstructionOptions ReconstructionOptionsOf(const BridgeConfig& config) {
-  ReconstructionOptions options;
-  options.fit_pairs = config.two_contacts;
-  options.fit_finite_rods = config.finite_rods;
-  options.radius_track_posterior = config.radius_tracking == RadiusTracking::kPosterior;
-  return options;
-}
-
-}  // namespace sedbridge::bridge
+}  // namespace sedbridge::contact

@@ -1,7 +1,7 @@
 // Contact reconstruction on the calibration rig's presses and on the hard cases of issue 11
 // (contact appearing/vanishing, sliding across taxels, two contacts, saturation, NaN, a fit
 // that diverges).
-#include "bridge/contact_reconstruction.h"
+#include "contact/contact_reconstruction.h"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include "common/resource_path.h"
 #include "sensors/calibration_press.h"
 
-namespace sedbridge::bridge {
+namespace sedbridge::contact {
 namespace {
 
 using sensors::ContactPrimitive;
@@ -733,9 +733,9 @@ TEST(ContactReconstruction, AnExpensiveCandidateWaitsWhileTheModelExplainsTheSca
 }
 
 }  // namespace
-}  // namespace sedbridge::bridge
+}  // namespace sedbridge::contact
 
-namespace sedbridge::bridge {
+namespace sedbridge::contact {
 namespace {
 
 // Objects the rig did not press: random spheres, rods and flats over the pad at random
@@ -875,4 +875,4 @@ TEST(ContactReconstruction, ExplainedScansExploreWithASmallerBudget) {
 }
 
 }  // namespace
-}  // namespace sedbridge::bridge
+}  // namespace sedbridge::contact

@@ -1,0 +1,40 @@
+#pragma once
+// The contact primitive: one object pressed onto a pad (sphere, rod, flat), with its pose,
+// size and load. The central concept of the contact path: the sensor's forward model
+// predicts readings from it, contact reconstruction (src/contact/) recovers it from a scan,
+// and the leader press and the simulated pad press its rigid object.
+//
+// Why here: the lowest layer every user may include (tools/check_include_graph.py). The
+// forward model in sensors/ needs it, and sensors/ includes nothing from src/ but
+// src/common, which holds no stage's concepts; so the primitive lives in sensors/, in a
+// header of its own with nothing of the forward model in it.
+
+#include <string>
+
+#include "common/enum_names.h"
+
+namespace sedbridge::sensors {
+
+/// The contact shapes the model and the reconstruction know.
+enum class ContactShape { kSphere, kCylinder, kFlat };
+
+/// "sphere", "cylinder", "flat": the one name table (common/enum_names.h).
+const config::EnumNames<ContactShape>& NamesOf(ContactShape);
+/// "sphere" | "cylinder" | "flat"; throws std::invalid_argument for anything else.
+ContactShape ContactShapeFromName(const std::string& name);
+const char* ContactShapeName(ContactShape shape);
+
+/// One object pressed onto the sensor pad, in the pad frame.
+struct ContactPrimitive {
+  ContactShape shape = ContactShape::kSphere;
+  double x_mm = 0;        ///< sphere: lowest point; cylinder: a point on the axis (a finite rod: its centre); flat: unused
+  double y_mm = 0;
+  double radius_mm = 5;   ///< sphere/cylinder radius
+  double yaw_deg = 0;     ///< cylinder axis direction (cos yaw, sin yaw, 0)
+  double length_mm = 0;   ///< cylinder: its length, centred on (x, y) [mm]; 0 = crosses the whole pad
+  double normal_force_N = 0;  ///< pressing force (>= 0)
+  double shear_x_N = 0;   ///< total tangential force on the pad (object drags the pad along +x)
+  double shear_y_N = 0;
+};
+
+}  // namespace sedbridge::sensors

@@ -1,0 +1,43 @@
+#pragma once
+// What the contact stage says about one scan: the reconstructed contact (ContactEstimate),
+// and what it reports for the scan (ContactReport: CONTACT_ESTIMATE on LCM, written by
+// src/lcm/contact_estimate_message.h). Plain structs: any stage may hold them.
+
+#include <cstdint>
+#include <string>
+
+#include "sensors/contact_primitive.h"
+
+namespace sedbridge::contact {
+
+/// What one scan says about the contact.
+struct ContactEstimate {
+  bool contact = false;       ///< something presses (force >= min_force_N)
+  bool ok = false;            ///< contact and a trustworthy fit (else: fall back)
+  /// Pad frame; normal_force_N = 0 when no contact. With two contacts: the first sphere, its
+  /// own normal force, and the whole tangential force.
+  sensors::ContactPrimitive primitive;
+  bool two_contacts = false;  ///< a second sphere touches at the same time
+  sensors::ContactPrimitive second;  ///< the second sphere (its normal force; no shear)
+  double rms_sigma = 0;       ///< RMS residual in single-scan noise units (about 1 = within noise)
+  int averaged_scans = 1;     ///< scans in the hold mean that was fitted (1: this scan alone)
+  int evaluations = 0;        ///< forward-model evaluations this scan
+  int evaluation_cost = 0;    ///< the same weighted by patch size, as the amortized budgets count them
+  bool warm_started = false;  ///< the last scan's estimate was refined, no model selection
+  std::string problem;        ///< why not ok
+
+  /// The whole pressing force [N] (both spheres of a pair).
+  double normal_force_N() const {
+    return primitive.normal_force_N + (two_contacts ? second.normal_force_N : 0.0);
+  }
+};
+
+/// What the contact stage reports for one scan (CONTACT_ESTIMATE).
+struct ContactReport {
+  int64_t scan_utime = 0;      ///< the scan's time [us]
+  ContactEstimate estimate;    ///< leader pad frame
+  bool fallback = false;       ///< the pressure map answered the scan
+  double indentation_mm = 0;   ///< the leader press's indentation (0 when not pressed)
+};
+
+}  // namespace sedbridge::contact

@@ -1,0 +1,46 @@
+#pragma once
+// Model selection: which shape explains a scan. Starts of every shape (spheres, rods across
+// the pad, rods that end on it, flats, two spheres at once) from the moments of the normal
+// readings; the least penalized residual (chi^2 + 2 x #unknowns) wins. The selection itself
+// (full: every start at once; amortized: one candidate at a time within a budget, continued
+// by the next scan) runs in ContactReconstructor (model_selection.cpp).
+
+#include "contact/contact_parameters.h"
+#include "contact/reconstruction_options.h"
+
+namespace sedbridge::contact {
+
+/// Moments of the normal readings of a scan: their sum, centroid and spread.
+struct NormalMoments {
+  double sum_z = 0;             ///< sum of the normal readings [N]
+  double mx = 0, my = 0;        ///< centroid [mm]
+  double principal_yaw_deg = 0;  ///< direction of the largest spread
+  double principal_var_mm2 = 0;  ///< spread along it [mm^2]
+  double minor_var_mm2 = 0;      ///< spread across it [mm^2]
+};
+
+/// One start of the selection: a shape, its radius and yaw (the rest from the moments).
+struct SelectionStart {
+  sensors::ContactShape shape;
+  double radius_mm, yaw_deg;
+  bool pair = false, finite = false;
+};
+
+/// A scan's starts: spheres of 3 and 10 mm, rods of 1, 1.5 (across) and 3 mm along the
+/// principal direction, the flat; then the finite rod (fit_finite_rods) and the pair last
+/// (fit_pairs).
+struct SelectionStarts {
+  SelectionStart start[8];
+  int count = 0;
+  int pair = 0;  ///< index of the pair's start (== count without fit_pairs)
+};
+SelectionStarts MakeStarts(const ReconstructionOptions& options, const NormalMoments& moments);
+
+/// A start's first guess: `guess` (centroid, force) with the start's shape, radius and yaw. A
+/// finite rod: centred on the centroid, as long as the readings spread. A pair: two 3 mm
+/// spheres, each with half the force, on the principal axis either side of the centroid, as
+/// far apart as the readings spread.
+Hypothesis StartHypothesis(const ReconstructionOptions& options, const sensors::ContactPrimitive& guess,
+                           const NormalMoments& moments, const SelectionStart& start);
+
+}  // namespace sedbridge::contact

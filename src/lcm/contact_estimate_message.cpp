@@ -1,0 +1,37 @@
+#include "lcm/contact_estimate_message.h"
+
+namespace sedbridge::lcm_io {
+
+lcmt_contact_estimate ToLcm(const contact::ContactReport& report) {
+  const contact::ContactEstimate& e = report.estimate;
+  const sensors::ContactPrimitive& p = e.primitive;
+  lcmt_contact_estimate m{};
+  m.utime = report.scan_utime;
+  m.source_scan_utime = report.scan_utime;
+  m.shape = !e.contact                                    ? 0
+            : e.two_contacts                              ? 4
+            : p.shape == sensors::ContactShape::kSphere   ? 1
+            : p.shape == sensors::ContactShape::kCylinder ? 2
+                                                          : 3;
+  m.x_mm = static_cast<float>(p.x_mm);
+  m.y_mm = static_cast<float>(p.y_mm);
+  m.radius_mm = static_cast<float>(p.radius_mm);
+  m.yaw_deg = static_cast<float>(p.yaw_deg);
+  m.length_mm = static_cast<float>(p.length_mm);
+  m.normal_force_N = static_cast<float>(p.normal_force_N);
+  m.shear_x_N = static_cast<float>(p.shear_x_N);
+  m.shear_y_N = static_cast<float>(p.shear_y_N);
+  if (e.two_contacts) {
+    const sensors::ContactPrimitive& q = e.second;
+    m.x2_mm = static_cast<float>(q.x_mm);
+    m.y2_mm = static_cast<float>(q.y_mm);
+    m.radius2_mm = static_cast<float>(q.radius_mm);
+    m.normal_force2_N = static_cast<float>(q.normal_force_N);
+  }
+  m.residual_rms_sigma = static_cast<float>(e.rms_sigma);
+  m.fallback = report.fallback ? 1 : 0;
+  m.indentation_mm = static_cast<float>(report.indentation_mm);
+  return m;
+}
+
+}  // namespace sedbridge::lcm_io
