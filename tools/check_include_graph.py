@@ -4,7 +4,9 @@
 Rules, checked on every quoted #include of the tree at ROOT:
   * sensors/ and display/ include nothing from src/ except src/common (the one base every
     stage may use);
-  * src/common includes nothing from another stage (a base depends on no stage).
+  * src/common includes nothing from another stage (a base depends on no stage);
+  * no runtime stage of src/ includes src/fidelity: the offline benchmark is for the app,
+    the tools and the tests, and stays off the runtime libraries.
 An include "X/..." is a src/ include when src/X is a folder (the build's include roots are
 src/ and the project root, so "fem/tet_mesh.h" is src/fem/tet_mesh.h).
 
@@ -31,6 +33,8 @@ def violations(root):
     src_stages = {d for d in os.listdir(src) if os.path.isdir(os.path.join(src, d))}
     # folder checked -> stages it may include from src/
     allowed = {"sensors": {"common"}, "display": {"common"}, os.path.join("src", "common"): {"common"}}
+    for stage in sorted(src_stages - {"common", "fidelity", "app"}):
+        allowed[os.path.join("src", stage)] = src_stages - {"fidelity"}
     found = []
     for folder, may in allowed.items():
         for dirpath, _, files in os.walk(os.path.join(root, folder)):
@@ -59,7 +63,8 @@ def main():
     if found:
         print("include graph: %d arrow(s) back into src/ (see tools/check_include_graph.py)" % len(found))
         return 1
-    print("include graph: sensors/, display/ and src/common include nothing from src/ but src/common")
+    print("include graph: sensors/, display/ and src/common include nothing from src/ but src/common; "
+          "no runtime stage includes src/fidelity")
     return 0
 
 

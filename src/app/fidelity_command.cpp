@@ -1,5 +1,5 @@
 // sedbridge fidelity: the SED the bridge delivers against the SED of the same object pressed
-// on the leader's fingertip model (bridge/fidelity_benchmark.h), over recorded presses.
+// on the leader's fingertip model (fidelity/fidelity_benchmark.h), over recorded presses.
 
 #include <algorithm>
 #include <cmath>
@@ -14,14 +14,15 @@
 #include "app/command.h"
 #include "app/plot_runner.h"
 #include "bridge/bridge_config.h"
-#include "bridge/fidelity_benchmark.h"
 #include "common/resource_path.h"
 #include "display/display_profile.h"
+#include "fidelity/fidelity_benchmark.h"
 
 namespace sedbridge::app {
 namespace {
 
 using namespace sedbridge::bridge;
+using namespace sedbridge::fidelity;
 
 // `--through-press`: every stride-th scan of each press scored against its truth, the
 // reconstructed contact only (the pressure map misses everywhere: docs/bridge-fidelity.md).
