@@ -7,9 +7,12 @@ Rules, checked on every quoted #include of the tree at ROOT:
   * src/common includes nothing from another stage (a base depends on no stage);
   * src/contact (the contact stage) includes from src/ only common, fem, model, scene and
     itself: not the bridge, the app or LCM, which use it;
+  * src/render (display rendering) likewise: common, fem, model, scene and itself;
   * src/lcm puts structs on the wire: it may read the contact stage's plain structs, not
     the bridge or the app;
-  * src/bridge may include every stage but the app.
+  * src/bridge may include every stage but the app and the benchmark;
+  * no runtime stage of src/ includes src/fidelity or src/app: the offline benchmark is for
+    the app, the tools and the tests, and stays off the runtime libraries.
 An include "X/..." is a src/ include when src/X is a folder (the build's include roots are
 src/ and the project root, so "fem/tet_mesh.h" is src/fem/tet_mesh.h).
 
@@ -40,9 +43,12 @@ def violations(root):
         "display": {"common"},
         os.path.join("src", "common"): {"common"},
         os.path.join("src", "contact"): {"common", "fem", "model", "scene", "contact"},
+        os.path.join("src", "render"): {"common", "fem", "model", "scene", "render"},
         os.path.join("src", "lcm"): {"common", "contact", "lcm"},
-        os.path.join("src", "bridge"): {"common", "fem", "model", "scene", "contact", "lcm", "bridge"},
+        os.path.join("src", "bridge"): {"common", "fem", "model", "scene", "contact", "render", "lcm", "bridge"},
     }
+    for stage in sorted(src_stages - {"common", "fidelity", "app"}):
+        allowed.setdefault(os.path.join("src", stage), src_stages - {"fidelity", "app"})
     found = []
     for folder, may in allowed.items():
         for dirpath, _, files in os.walk(os.path.join(root, folder)):
@@ -72,7 +78,7 @@ def main():
         print("include graph: %d arrow(s) against the stage order (see tools/check_include_graph.py)" % len(found))
         return 1
     print("include graph: sensors/, display/ and src/common include nothing from src/ but src/common; "
-          "contact, lcm and bridge keep their stage order")
+          "contact, render, lcm and bridge keep their stage order; no runtime stage includes src/fidelity")
     return 0
 
 

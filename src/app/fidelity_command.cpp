@@ -1,5 +1,5 @@
 // sedbridge fidelity: the SED the bridge delivers against the SED of the same object pressed
-// on the leader's fingertip model (bridge/fidelity_benchmark.h), over recorded presses.
+// on the leader's fingertip model (fidelity/fidelity_benchmark.h), over recorded presses.
 
 #include <algorithm>
 #include <cmath>
@@ -14,14 +14,15 @@
 #include "app/command.h"
 #include "app/plot_runner.h"
 #include "bridge/bridge_config.h"
-#include "bridge/fidelity_benchmark.h"
 #include "common/resource_path.h"
 #include "display/display_profile.h"
+#include "fidelity/fidelity_benchmark.h"
 
 namespace sedbridge::app {
 namespace {
 
 using namespace sedbridge::bridge;
+using namespace sedbridge::fidelity;
 
 // `--through-press`: every stride-th scan of each press scored against its truth, the
 // reconstructed contact only (the pressure map misses everywhere: docs/bridge-fidelity.md).
@@ -81,14 +82,8 @@ void ScoreThroughPresses(FidelityBenchmark& bench, const std::vector<FidelityCas
   std::printf("wrote %s/fidelity_scans.csv\n", out.c_str());
 }
 
-int RunFidelity(int argc, char** argv) {
-  ArgParser args("sedbridge fidelity",
-                 "Fidelity benchmark: for every recorded press (cases.json + candump logs of the\n"
-                 "follower's sensor with known objects and forces) compares, at the scan of peak force,\n"
-                 "the Merkel-layer SED of the object pressed directly on the leader's model (truth)\n"
-                 "with what the bridge delivers: the pressure-map boundary condition (map) and the\n"
-                 "reconstructed contact pressed on the leader's model (recon). Writes fidelity.csv,\n"
-                 "one Merkel map CSV per case and side-by-side plots.");
+// The options of `sedbridge fidelity`.
+void AddFidelityOptions(ArgParser& args) {
   args.Option("cases", "JSON", "presses to run", "config/sensors/rig_uskin_4x4/cases.json")
       .Option("config", "BRIDGE.yaml",
               "the bridge judged: its fe.contact_tolerance, fe.face_contact, fe.two_contacts, fe.finite_rods, fe.radius_tracking, "
@@ -121,15 +116,10 @@ int RunFidelity(int argc, char** argv) {
               "0")
       .Flag("node-contact", "press on the leader's skin nodes only (bridge fe.face_contact: false), not its faces too")
       .Flag("no-plots", "skip the PNG plots");
-  if (!args.Parse(argc, argv)) return 0;
-  BridgeConfig config = LoadBridgeConfig(config::ResolveResource(args.Get("config")));
-  if (auto dir = args.GetOptional("cache-dir")) config.compliance_cache_dir = *dir;
-  if (args.GetFlag("node-contact")) config.face_contact = false;
-  const std::string model = args.GetOptional("model").value_or(config.model);
-  const std::string out = args.Get("out");
-  if (args.GetInt("through-press") < 0) throw UsageError("--through-press must be 0 (off) or a stride of 1 or more");
-  std::filesystem::create_directories(out + "/maps");
-  const auto profile = sensors::LoadNamedSensorProfile(args.Get("profile"));
+}
+
+// The presses --cases, --synthetic (with --random) or --rig-on-pad ask for.
+std::vector<FidelityCase> SelectPresses(const ArgParser& args, const sensors::SensorProfile& profile) {
   std::vector<FidelityCase> presses;
   if (args.GetFlag("synthetic") || args.GetFlag("rig-on-pad")) {
     const auto pad = config::ParseEnum<sensors::PadMechanics>(args.Get("pad"), "--pad model");
@@ -156,6 +146,113 @@ int RunFidelity(int argc, char** argv) {
     for (const auto& p : sensors::LoadCalibrationPresses(config::ResolveResource(args.Get("cases")), profile))
       presses.push_back(FromCalibrationPress(p));
   }
+  return presses;
+}
+
+// The scored cases within all three targets, per method (by argmax, by peak region) and per
+// kind of object; the cases without a valid truth apart.
+struct TargetTally {
+  int scored = 0, map_hits = 0, recon_hits = 0, recon_region_hits = 0;
+  std::vector<std::string> no_truth;
+  // Per kind of object, in order of first appearance: scored, reconstructed within.
+  std::vector<std::pair<std::string, std::pair<int, int>>> by_kind;
+
+  void Add(const FidelityRow& r) {
+    // Without a valid truth nothing is scored (two near-zero maps would agree).
+    if (!r.truth_valid) {
+      no_truth.push_back(r.name + " (" + r.truth_press + ")");
+      return;
+    }
+    const bool recon_within = WithinTargets(r.recon_error);
+    ++scored;
+    map_hits += WithinTargets(r.map_error);
+    recon_hits += recon_within;
+    recon_region_hits += WithinTargets(r.recon_error, {}, true);
+    const std::string kind = ObjectKind(r);
+    auto it = std::find_if(by_kind.begin(), by_kind.end(), [&](const auto& k) { return k.first == kind; });
+    if (it == by_kind.end()) it = by_kind.insert(by_kind.end(), {kind, {0, 0}});
+    ++it->second.first;
+    it->second.second += recon_within;
+  }
+
+  void Print() const {
+    const FidelityTargets t;
+    std::printf("within all three targets (peak ratio %.2f-%.2f, rel. L2 <= %.2f, peak offset <= %.1f mm), of %d "
+                "scored cases: reconstructed contact %d (%d by peak region), pressure map %d\n",
+                t.min_peak_ratio, t.max_peak_ratio, t.max_rel_l2, t.max_peak_offset_mm, scored, recon_hits,
+                recon_region_hits, map_hits);
+    if (!by_kind.empty()) {
+      std::printf("reconstructed contact by object:");
+      for (size_t k = 0; k < by_kind.size(); ++k)
+        std::printf("%s %s %d of %d", k ? "," : "", by_kind[k].first.c_str(), by_kind[k].second.second,
+                    by_kind[k].second.first);
+      std::printf("\n");
+    }
+    if (!no_truth.empty()) {
+      std::printf("not scored, %zu: the object does not reach the measured force on the leader's pad:",
+                  no_truth.size());
+      for (const auto& n : no_truth) std::printf("\n  %s", n.c_str());
+      std::printf("\n");
+    }
+  }
+};
+
+// One case: its line on stdout, its row of fidelity.csv and its Merkel maps in maps/NAME.csv.
+void ReportCase(const FidelityRow& r, const FidelityMaps& maps, std::ofstream& csv, const std::string& out) {
+  const bool map_within = r.truth_valid && WithinTargets(r.map_error);
+  const bool recon_within = r.truth_valid && WithinTargets(r.recon_error);
+  const auto& t = r.truth_object;
+  const auto& e = r.recon_object;
+  const auto& e2 = r.recon_second;
+  const char* recon_shape = r.recon_two_contacts ? "two_spheres" : sensors::ContactShapeName(e.shape);
+  const double recon_force_N = e.normal_force_N + (r.recon_two_contacts ? e2.normal_force_N : 0.0);
+  std::printf("%-16s %-8s %6.3f | %-8s %6.2f %5.2f %6.3f | map: %5.2f %5.2f %5.2f | recon: %5.2f %5.2f %5.2f%s\n",
+              r.name.c_str(), r.truth_is_primitive ? sensors::ContactShapeName(t.shape) : "other", t.normal_force_N,
+              recon_shape, e.radius_mm, std::hypot(e.x_mm - t.x_mm, e.y_mm - t.y_mm),
+              recon_force_N, r.map_error.peak_ratio, r.map_error.rel_l2, r.map_error.peak_offset_mm,
+              r.recon_error.peak_ratio, r.recon_error.rel_l2, r.recon_error.peak_offset_mm,
+              !r.truth_valid ? "  (no valid truth: not scored)" : r.recon_ok ? "" : "  (fallback)");
+  std::fflush(stdout);
+  char line[2048];
+  std::snprintf(line, sizeof line,
+                "%s,\"%s\",%s,%g,%g,%g,%g,%g,%d,%s,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%s,%s,%g,%g,%d,%d,%d,%g,%g,%g,%g,%g\n",
+                r.name.c_str(), r.label.c_str(), r.truth_is_primitive ? sensors::ContactShapeName(t.shape) : "other", t.x_mm, t.y_mm, t.radius_mm, t.yaw_deg,
+                t.normal_force_N, r.recon_ok ? 1 : 0, recon_shape, e.x_mm, e.y_mm,
+                e.radius_mm, e.yaw_deg, recon_force_N, e.shear_x_N, e.shear_y_N, r.recon_rms_sigma,
+                r.truth_max_sed_Pa, r.map_max_sed_Pa, r.recon_max_sed_Pa, r.map_error.peak_ratio,
+                r.map_error.rel_l2, r.map_error.peak_offset_mm, r.map_error.command_rel_l2,
+                r.recon_error.peak_ratio, r.recon_error.rel_l2, r.recon_error.peak_offset_mm,
+                r.recon_error.command_rel_l2, r.recon_median_us, r.recon_max_us, r.truth_press.c_str(),
+                r.recon_press.c_str(), r.map_error.peak_region_offset_mm, r.recon_error.peak_region_offset_mm,
+                r.truth_valid ? 1 : 0, map_within ? 1 : 0, recon_within ? 1 : 0, e2.x_mm, e2.y_mm, e2.radius_mm,
+                e2.normal_force_N, e.length_mm);
+  csv << line;
+  std::ofstream m(out + "/maps/" + r.name + ".csv");
+  m << "x_mm,y_mm,z_mm,truth_sed_Pa,map_sed_Pa,recon_sed_Pa\n";
+  for (Eigen::Index i = 0; i < maps.truth.size(); ++i)
+    m << maps.merkel_pad_mm(0, i) << ',' << maps.merkel_pad_mm(1, i) << ',' << maps.merkel_pad_mm(2, i) << ','
+      << maps.truth[i] << ',' << maps.map[i] << ',' << maps.recon[i] << '\n';
+}
+
+int RunFidelity(int argc, char** argv) {
+  ArgParser args("sedbridge fidelity",
+                 "Fidelity benchmark: for every recorded press (cases.json + candump logs of the\n"
+                 "follower's sensor with known objects and forces) compares, at the scan of peak force,\n"
+                 "the Merkel-layer SED of the object pressed directly on the leader's model (truth)\n"
+                 "with what the bridge delivers: the pressure-map boundary condition (map) and the\n"
+                 "reconstructed contact pressed on the leader's model (recon). Writes fidelity.csv,\n"
+                 "one Merkel map CSV per case and side-by-side plots.");
+  AddFidelityOptions(args);
+  if (!args.Parse(argc, argv)) return 0;
+  BridgeConfig config = LoadBridgeConfig(config::ResolveResource(args.Get("config")));
+  if (auto dir = args.GetOptional("cache-dir")) config.compliance_cache_dir = *dir;
+  if (args.GetFlag("node-contact")) config.face_contact = false;
+  const std::string model = args.GetOptional("model").value_or(config.model);
+  const std::string out = args.Get("out");
+  if (args.GetInt("through-press") < 0) throw UsageError("--through-press must be 0 (off) or a stride of 1 or more");
+  std::filesystem::create_directories(out + "/maps");
+  const auto profile = sensors::LoadNamedSensorProfile(args.Get("profile"));
+  const std::vector<FidelityCase> presses = SelectPresses(args, profile);
   std::printf("fidelity: %zu presses, model %s, bridge config %s (fe.contact_tolerance %g), building the leader's "
               "compliance ...\n",
               presses.size(), model.c_str(), args.Get("config").c_str(), config.contact_tolerance);
@@ -169,80 +266,15 @@ int RunFidelity(int argc, char** argv) {
          "recon2_x_mm,recon2_y_mm,recon2_radius_mm,recon2_force_N,recon_length_mm\n";
   std::printf("%-16s %-8s %6s | %-8s %6s %5s %6s | map: %5s %5s %5s | recon: %5s %5s %5s\n", "case", "object", "F_N",
               "recon", "R_mm", "dxy", "F_N", "peak", "L2", "off", "peak", "L2", "off");
-  // Scored cases within all three targets, per method (by argmax, by peak region).
-  int scored = 0, map_hits = 0, recon_hits = 0, recon_region_hits = 0;
-  std::vector<std::string> no_truth;
-  // Per kind of object, in order of first appearance: scored, reconstructed within.
-  std::vector<std::pair<std::string, std::pair<int, int>>> by_kind;
+  TargetTally tally;
   for (const auto& press : presses) {
     FidelityMaps maps;
     const FidelityRow r = bench.Run(press, &maps);
-    // Without a valid truth nothing is scored (two near-zero maps would agree).
-    const bool map_within = r.truth_valid && WithinTargets(r.map_error);
-    const bool recon_within = r.truth_valid && WithinTargets(r.recon_error);
-    if (r.truth_valid) {
-      ++scored;
-      map_hits += map_within;
-      recon_hits += recon_within;
-      recon_region_hits += WithinTargets(r.recon_error, {}, true);
-      const std::string kind = ObjectKind(r);
-      auto it = std::find_if(by_kind.begin(), by_kind.end(), [&](const auto& k) { return k.first == kind; });
-      if (it == by_kind.end()) it = by_kind.insert(by_kind.end(), {kind, {0, 0}});
-      ++it->second.first;
-      it->second.second += recon_within;
-    } else {
-      no_truth.push_back(r.name + " (" + r.truth_press + ")");
-    }
-    const auto& t = r.truth_object;
-    const auto& e = r.recon_object;
-    const auto& e2 = r.recon_second;
-    const char* recon_shape = r.recon_two_contacts ? "two_spheres" : sensors::ContactShapeName(e.shape);
-    const double recon_force_N = e.normal_force_N + (r.recon_two_contacts ? e2.normal_force_N : 0.0);
-    std::printf("%-16s %-8s %6.3f | %-8s %6.2f %5.2f %6.3f | map: %5.2f %5.2f %5.2f | recon: %5.2f %5.2f %5.2f%s\n",
-                r.name.c_str(), r.truth_is_primitive ? sensors::ContactShapeName(t.shape) : "other", t.normal_force_N,
-                recon_shape, e.radius_mm, std::hypot(e.x_mm - t.x_mm, e.y_mm - t.y_mm),
-                recon_force_N, r.map_error.peak_ratio, r.map_error.rel_l2, r.map_error.peak_offset_mm,
-                r.recon_error.peak_ratio, r.recon_error.rel_l2, r.recon_error.peak_offset_mm,
-                !r.truth_valid ? "  (no valid truth: not scored)" : r.recon_ok ? "" : "  (fallback)");
-    std::fflush(stdout);
-    char line[2048];
-    std::snprintf(line, sizeof line,
-                  "%s,\"%s\",%s,%g,%g,%g,%g,%g,%d,%s,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%s,%s,%g,%g,%d,%d,%d,%g,%g,%g,%g,%g\n",
-                  r.name.c_str(), r.label.c_str(), r.truth_is_primitive ? sensors::ContactShapeName(t.shape) : "other", t.x_mm, t.y_mm, t.radius_mm, t.yaw_deg,
-                  t.normal_force_N, r.recon_ok ? 1 : 0, recon_shape, e.x_mm, e.y_mm,
-                  e.radius_mm, e.yaw_deg, recon_force_N, e.shear_x_N, e.shear_y_N, r.recon_rms_sigma,
-                  r.truth_max_sed_Pa, r.map_max_sed_Pa, r.recon_max_sed_Pa, r.map_error.peak_ratio,
-                  r.map_error.rel_l2, r.map_error.peak_offset_mm, r.map_error.command_rel_l2,
-                  r.recon_error.peak_ratio, r.recon_error.rel_l2, r.recon_error.peak_offset_mm,
-                  r.recon_error.command_rel_l2, r.recon_median_us, r.recon_max_us, r.truth_press.c_str(),
-                  r.recon_press.c_str(), r.map_error.peak_region_offset_mm, r.recon_error.peak_region_offset_mm,
-                  r.truth_valid ? 1 : 0, map_within ? 1 : 0, recon_within ? 1 : 0, e2.x_mm, e2.y_mm, e2.radius_mm,
-                  e2.normal_force_N, e.length_mm);
-    csv << line;
-    std::ofstream m(out + "/maps/" + r.name + ".csv");
-    m << "x_mm,y_mm,z_mm,truth_sed_Pa,map_sed_Pa,recon_sed_Pa\n";
-    for (Eigen::Index i = 0; i < maps.truth.size(); ++i)
-      m << maps.merkel_pad_mm(0, i) << ',' << maps.merkel_pad_mm(1, i) << ',' << maps.merkel_pad_mm(2, i) << ','
-        << maps.truth[i] << ',' << maps.map[i] << ',' << maps.recon[i] << '\n';
+    tally.Add(r);
+    ReportCase(r, maps, csv, out);
   }
   csv.close();
-  const FidelityTargets t;
-  std::printf("within all three targets (peak ratio %.2f-%.2f, rel. L2 <= %.2f, peak offset <= %.1f mm), of %d scored "
-              "cases: reconstructed contact %d (%d by peak region), pressure map %d\n",
-              t.min_peak_ratio, t.max_peak_ratio, t.max_rel_l2, t.max_peak_offset_mm, scored, recon_hits,
-              recon_region_hits, map_hits);
-  if (!by_kind.empty()) {
-    std::printf("reconstructed contact by object:");
-    for (size_t k = 0; k < by_kind.size(); ++k)
-      std::printf("%s %s %d of %d", k ? "," : "", by_kind[k].first.c_str(), by_kind[k].second.second,
-                  by_kind[k].second.first);
-    std::printf("\n");
-  }
-  if (!no_truth.empty()) {
-    std::printf("not scored, %zu: the object does not reach the measured force on the leader's pad:", no_truth.size());
-    for (const auto& n : no_truth) std::printf("\n  %s", n.c_str());
-    std::printf("\n");
-  }
+  tally.Print();
   std::printf("wrote %s/fidelity.csv and %s/maps/\n", out.c_str(), out.c_str());
   if (const long stride = args.GetInt("through-press"); stride > 0) ScoreThroughPresses(bench, presses, int(stride), out);
   if (!args.GetFlag("no-plots")) RunPlotScript("plot_fidelity.py", {out});

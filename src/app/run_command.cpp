@@ -11,7 +11,7 @@
 #include "app/stop_signals.h"
 #include "bridge/bridge_config.h"
 #include "bridge/live_bridge.h"
-#include "bridge/replay.h"
+#include "bridge/make_fe_step.h"
 #include "bridge/scene_fe_step.h"
 #include "common/resource_path.h"
 #include "display/display_profile.h"

@@ -59,76 +59,101 @@ void BridgePipeline::Reject(RejectReason reason, const std::string& why, int64_t
   outcome->latency_us = 0;
 }
 
+// The stages of one scan, in order, as MuJoCo's mj_step: each records its own counters and
+// stage time; a stage that rejects the scan ends it (the display already sent to zero).
 ScanOutcome BridgePipeline::ProcessScan(const sensors::Scan& scan, int64_t now_utime, int64_t receive_wall_utime) {
   ScanOutcome outcome;
   if (shut_down_) {
     outcome.problem = "shut down";
     return outcome;
   }
+  CountScan(now_utime);
+  PublishScan(scan, &outcome);
+  if (ConditionScan(scan, now_utime, &outcome) && StepFe(scan, now_utime, &outcome)) {
+    SendToDisplay(now_utime, receive_wall_utime, &outcome);
+    PublishContact(now_utime, &outcome);
+    RecordStageTimes(outcome.stage_ms);
+    if (fault_state_ == FaultState::kFault) fault_state_ = FaultState::kOk, fault_message_.clear();
+  }
+  MaybePublishStatus(now_utime);
+  return outcome;
+}
+
+void BridgePipeline::CountScan(int64_t now_utime) {
   if (window_start_utime_ < 0) window_start_utime_ = now_utime;
   ++counters_.scans;
   ++window_scans_;
-  StageTimes& stage_ms = outcome.stage_ms;
-  if (config_.publish_scans) {
-    const StageTimer timer(stage_ms, Stage::kPublish);
-    display_->publisher().Publish(display_->publisher().channels().tactile_scan, lcm_io::ToLcm(scan, profile_.name));
-  }
+}
 
+void BridgePipeline::PublishScan(const sensors::Scan& scan, ScanOutcome* outcome) {
+  if (!config_.publish_scans) return;
+  const StageTimer timer(outcome->stage_ms, Stage::kPublish);
+  display_->publisher().Publish(display_->publisher().channels().tactile_scan, lcm_io::ToLcm(scan, profile_.name));
+}
+
+bool BridgePipeline::ConditionScan(const sensors::Scan& scan, int64_t now_utime, ScanOutcome* outcome) {
   fault_field_.source_scan_utime = scan.utime;
-  StageTimer conditioning_timer(stage_ms, Stage::kConditioning);
+  StageTimer conditioning_timer(outcome->stage_ms, Stage::kConditioning);
   const ConditioningReport cr = conditioner_.Condition(scan, &values_);
   conditioning_timer.Stop();
   counters_.nonfinite_values += cr.nonfinite_values;
   counters_.invalid_taxels += cr.invalid_taxels;
   window_invalid_ += cr.invalid_taxels;
-  outcome.invalid_taxels = cr.invalid_taxels;
+  outcome->invalid_taxels = cr.invalid_taxels;
   if (!cr.usable) {
-    Reject(cr.reject_reason, cr.reason, now_utime, &outcome);
-    MaybePublishStatus(now_utime);
-    return outcome;
+    Reject(cr.reject_reason, cr.reason, now_utime, outcome);
+    return false;
   }
-  outcome.total_force_N = values_.total_force_N;
+  outcome->total_force_N = values_.total_force_N;
+  return true;
+}
 
+bool BridgePipeline::StepFe(const sensors::Scan& scan, int64_t now_utime, ScanOutcome* outcome) {
   const MerkelSedResult& r = fe_->Step(values_);
-  outcome.report = r.report;
+  outcome->report = r.report;
   last_report_ = r.report;
-  outcome.applied_force_N = r.applied_force_N;
-  stage_ms.Add(r.report.stage_ms);
+  outcome->applied_force_N = r.applied_force_N;
+  outcome->stage_ms.Add(r.report.stage_ms);
   if (!r.ok || !r.sed_Pa || static_cast<size_t>(r.sed_Pa->size()) != field_.sed_Pa.size()) {
     ++counters_.fe_failures;
-    if (r.ok) Reject(RejectReason::kSedSizeMismatch, "SED size mismatch", now_utime, &outcome);
-    else Reject(RejectReason::kFeStepFailed, r.error, now_utime, &outcome);
-    MaybePublishStatus(now_utime);
-    return outcome;
+    if (r.ok) Reject(RejectReason::kSedSizeMismatch, "SED size mismatch", now_utime, outcome);
+    else Reject(RejectReason::kFeStepFailed, r.error, now_utime, outcome);
+    return false;
   }
   ++counters_.steps;
   ++window_steps_;
   field_.utime = now_utime;
   field_.source_scan_utime = scan.utime;
   Eigen::Map<Eigen::VectorXd>(field_.sed_Pa.data(), r.sed_Pa->size()) = *r.sed_Pa;
-  outcome.max_sed_Pa = display::MaxFiniteSed(field_);
+  outcome->max_sed_Pa = display::MaxFiniteSed(field_);
+  return true;
+}
 
+void BridgePipeline::SendToDisplay(int64_t now_utime, int64_t receive_wall_utime, ScanOutcome* outcome) {
   const display::DisplayCommand& c = display_->OnSedField(field_, now_utime);
-  stage_ms.Add(display_->last_stage_ms());
-  outcome.latency_us = wall_clock_() - receive_wall_utime;
-  latency_.Add(outcome.latency_us);
+  outcome->stage_ms.Add(display_->last_stage_ms());
+  outcome->latency_us = wall_clock_() - receive_wall_utime;
+  latency_.Add(outcome->latency_us);
   ++counters_.commands;
   ++window_commands_;
-  outcome.max_command = c.value.empty() ? 0 : *std::max_element(c.value.begin(), c.value.end());
-  outcome.stepped = true;
+  outcome->max_command = c.value.empty() ? 0 : *std::max_element(c.value.begin(), c.value.end());
+  outcome->stepped = true;
+}
+
+void BridgePipeline::PublishContact(int64_t now_utime, ScanOutcome* outcome) {
   // After the command, so the contact report stays out of the scan-to-command latency.
-  if (const contact::ContactReport* report = fe_->contact_report()) {
-    const StageTimer timer(stage_ms, Stage::kPublish);
-    lcmt_contact_estimate msg = lcm_io::ToLcm(*report);
-    msg.utime = now_utime;
-    display_->publisher().Publish(display_->publisher().channels().contact, msg);
-  }
+  const contact::ContactReport* report = fe_->contact_report();
+  if (!report) return;
+  const StageTimer timer(outcome->stage_ms, Stage::kPublish);
+  lcmt_contact_estimate msg = lcm_io::ToLcm(*report);
+  msg.utime = now_utime;
+  display_->publisher().Publish(display_->publisher().channels().contact, msg);
+}
+
+void BridgePipeline::RecordStageTimes(const StageTimes& stage_ms) {
   // Per stage over the scans that ran it (a contact step presses only when there is contact).
   for (int i = 0; i < kNumStages; ++i)
     if (stage_ms.ms[size_t(i)] > 0) stage_stats_[size_t(i)].AddMs(stage_ms.ms[size_t(i)]);
-  if (fault_state_ == FaultState::kFault) fault_state_ = FaultState::kOk, fault_message_.clear();
-  MaybePublishStatus(now_utime);
-  return outcome;
 }
 
 void BridgePipeline::Tick(int64_t now_utime) {

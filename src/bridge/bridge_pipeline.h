@@ -118,6 +118,16 @@ class BridgePipeline {
   const std::string& fault_message() const { return fault_message_; }
 
  private:
+  // The stages of ProcessScan, in order. ConditionScan and StepFe return false when they
+  // rejected the scan (Reject: counted, display to its safe state).
+  void CountScan(int64_t now_utime);
+  void PublishScan(const sensors::Scan& scan, ScanOutcome* outcome);
+  bool ConditionScan(const sensors::Scan& scan, int64_t now_utime, ScanOutcome* outcome);
+  bool StepFe(const sensors::Scan& scan, int64_t now_utime, ScanOutcome* outcome);
+  void SendToDisplay(int64_t now_utime, int64_t receive_wall_utime, ScanOutcome* outcome);
+  void PublishContact(int64_t now_utime, ScanOutcome* outcome);
+  void RecordStageTimes(const StageTimes& stage_ms);
+
   void Reject(RejectReason reason, const std::string& why, int64_t now_utime, ScanOutcome* outcome);
   void MaybePublishStatus(int64_t now_utime);
 

@@ -5,16 +5,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
-#include <optional>
 #include <stdexcept>
 
-#include "bridge/contact_fe_step.h"
-#include "contact/contact_object.h"
+#include "bridge/make_fe_step.h"
 #include "lcm/contact_estimate_message.h"
-#include "bridge/reduced_linear_fe_step.h"
-#include "bridge/scene_fe_step.h"
 #include "common/wall_clock.h"
-#include "display/sed_to_command_mapping.h"
 #include "scene/vtu_writer.h"
 #include "sensors/frame_pump.h"
 #include "sensors/scan_assembler.h"
@@ -29,52 +24,6 @@ constexpr size_t kProgressEveryScans = 1000;
 constexpr double kAtCeilingFraction = 1 - 1e-6;
 
 }  // namespace
-
-model::MerkelVertexFilter DisplayFootprint(const display::DisplayProfile& display) {
-  auto mapping = std::make_shared<const display::SedToCommandMapping>(display);
-  char what[256];
-  std::snprintf(what, sizeof what,
-                "fe.merkel_region: display, the %zu sites of display '%s' within %g mm in x-y and z in [%g, %g] mm: "
-                "do they lie on the leader's pad?",
-                mapping->size(), display.name.c_str(), mapping->params().radius_mm, mapping->params().z_min_mm,
-                mapping->params().z_max_mm);
-  return {[mapping](const Eigen::Vector3d& p_mm) { return mapping->Reads(p_mm.x(), p_mm.y(), p_mm.z()); }, what};
-}
-
-std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::SensorProfile& profile,
-                                   bool full_field, const display::DisplayProfile* display) {
-  model::MerkelVertexFilter region;
-  std::optional<display::DisplayProfile> loaded;  // the config's display, read once for the nested steps
-  if (config.merkel_region == MerkelRegion::kDisplay) {
-    if (!display) display = &loaded.emplace(display::LoadNamedDisplayProfile(config.display_profile));
-    region = DisplayFootprint(*display);
-  }
-  if (config.fe_step == FeStepKind::kContact && (!profile.has_forward_model || profile.axes != 3)) {
-    std::fprintf(stderr,
-                 "note: fe.step contact needs a three-axis sensor profile with a calibrated forward_model ('%s' has "
-                 "none); using the pressure map (fe.step reduced)\n",
-                 profile.name.c_str());
-    BridgeConfig map = config;
-    map.fe_step = FeStepKind::kReduced;
-    return MakeFeStep(map, profile, false, display);
-  }
-  if (config.fe_step == FeStepKind::kContact) {
-    // The pressure map stays as the fallback for scans the reconstruction cannot explain.
-    BridgeConfig map = config;
-    map.fe_step = FeStepKind::kReduced;
-    scene::FingertipComplianceOptions leader = LeaderComplianceOptions(config.compliance_cache_dir, config.face_contact);
-    leader.contact.full_field = full_field;
-    return std::make_unique<ContactFeStep>(config.model, profile, PadRegistration(profile.taxels, config.registration),
-                                           MakeFeStep(map, profile, false, display), std::move(leader),
-                                           ReconstructionOptionsOf(config), ReconstructedPressOptions(config), region);
-  }
-  if (config.fe_step == FeStepKind::kReduced)
-    return std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, config.preset), profile,
-                                                 PadRegistration(profile.taxels, config.registration), config.traction,
-                                                 region);
-  return std::make_unique<SceneFeStep>(BridgeSceneDescription(config.model, config.preset), profile,
-                                       PadRegistration(profile.taxels, config.registration), config.traction, region);
-}
 
 void WriteSummaryCsv(const std::string& path, const std::vector<ReplayRow>& rows) {
   std::ofstream f(path);
@@ -108,6 +57,168 @@ void WriteStageCsv(const std::string& path, const std::vector<ReplayRow>& rows) 
   if (!f) throw std::runtime_error("write failed: " + path);
 }
 
+namespace {
+
+// Where the pipeline publishes: options.lcm_url, and the LCM log in the out folder (made here).
+lcm_io::LcmSettings ReplayLcmSettings(const BridgeConfig& config, const ReplayOptions& options) {
+  lcm_io::LcmSettings lcm = config.lcm;
+  lcm.url = options.lcm_url;
+  lcm.log_path.clear();
+  if (!options.out_dir.empty()) {
+    std::filesystem::create_directories(options.out_dir);
+    if (options.write_lcm_log) lcm.log_path = (std::filesystem::path(options.out_dir) / "bridge.lcmlog").string();
+  }
+  return lcm;
+}
+
+sensors::AssemblerOptions ReplayAssemblerOptions(const BridgeConfig& config, const ReplayOptions& options) {
+  sensors::AssemblerOptions assembler_options;
+  assembler_options.tare_scans = config.tare_scans;
+  assembler_options.interface = options.can_interface;
+  return assembler_options;
+}
+
+ReplayRow RowOf(const sensors::Scan& scan, const ScanOutcome& o) {
+  ReplayRow row;
+  row.utime = scan.utime;
+  row.total_force_N = o.total_force_N;
+  row.applied_force_N = o.applied_force_N;
+  row.max_sed_Pa = o.max_sed_Pa;
+  row.max_command = o.max_command;
+  row.latency_ms = o.latency_us * 1e-3;
+  row.stepped = o.stepped;
+  row.invalid_taxels = o.invalid_taxels;
+  row.stage_ms = o.stage_ms;
+  return row;
+}
+
+// What the scan of peak SED left, for the peak_*.csv files.
+struct PeakSnapshot {
+  double sed_Pa = -1;
+  display::SedField field;
+  display::DisplayCommand command;
+  TaxelValues values;
+  bool have_contact = false;
+  lcmt_contact_estimate contact{};
+
+  void Take(BridgePipeline& pipeline, double max_sed_Pa) {
+    sed_Pa = max_sed_Pa;
+    field = pipeline.last_field();
+    command = pipeline.last_command();
+    values = pipeline.last_values();
+    if (const contact::ContactReport* m = pipeline.fe().contact_report()) contact = lcm_io::ToLcm(*m), have_contact = true;
+  }
+};
+
+// Optional VTU frames of whatever the FE step can show (FeStep::Frame), every
+// options.vtu_every-th stepped scan, listed in frames.pvd.
+class VtuFrames {
+ public:
+  VtuFrames(FeStep& fe, const ReplayOptions& options) : fe_(fe), out_dir_(options.out_dir), every_(options.vtu_every) {
+    const bool has_frames = fe_.Frame(&frame_);
+    if (every_ > 0 && !has_frames)
+      std::fprintf(stderr, "note: --vtu-every: this FE step keeps no full displacement field, no frames written\n");
+    if (every_ > 0 && has_frames && !out_dir_.empty())
+      pvd_ = std::make_unique<scene::PvdCollection>((std::filesystem::path(out_dir_) / "frames.pvd").string(),
+                                                    "time since the first scan [s] (log time)");
+  }
+
+  /// After row `index` (utime, applied force) of a run whose first scan is at first_utime.
+  void AfterScan(bool stepped, size_t index, int64_t utime, int64_t first_utime, double applied_force_N) {
+    if (!pvd_ || !stepped || index % size_t(every_) != 0) return;
+    if (!fe_.Frame(&frame_)) return;
+    char name[64];
+    std::snprintf(name, sizeof name, "frame_%06zu.vtu", index);
+    const double t_s = (utime - first_utime) * 1e-6;
+    scene::WriteVtu((std::filesystem::path(out_dir_) / name).string(), *frame_.mesh, frame_.positions_m,
+                    frame_.point_fields, {},
+                    {{"time_s", t_s}, {"scan", double(index)}, {"applied_force_N", applied_force_N}});
+    pvd_->Add(t_s, name);
+  }
+
+ private:
+  FeStep& fe_;
+  std::string out_dir_;
+  int every_;
+  FeFrame frame_;
+  std::unique_ptr<scene::PvdCollection> pvd_;
+};
+
+// The run's counters, latency and stage medians from the pipeline, the assembler and the
+// source, once the display is shut down.
+void CollectCounters(BridgePipeline& pipeline, const sensors::ScanAssembler& assembler,
+                     const sensors::FrameSource& source, ReplayResult* result) {
+  result->counters = pipeline.counters();
+  result->latency = pipeline.latency().Run();
+  result->stage_p50_ms = pipeline.RunStageMedians_ms();
+  result->bad_frames = assembler.counters();
+  result->source_stats = source.Stats();
+  result->published = pipeline.display().publisher().published();
+  result->publish_errors = pipeline.display().publisher().publish_errors();
+}
+
+// Saturation in the SED -> command mapping is silent (the limiter's `clamped` only flags
+// requests above its maximum), so count it here for the summary and the plots.
+void CountCeiling(const display::DisplayProfile& dp, const display::DisplayCommand& peak_command,
+                  ReplayResult* result) {
+  result->display_actuators = static_cast<int>(dp.size());
+  result->command_ceiling = std::min(dp.mapping.saturation, dp.safety.max);
+  result->ceiling_is_mapping = dp.mapping.saturation <= dp.safety.max;
+  const double at = result->command_ceiling * kAtCeilingFraction;
+  for (double v : peak_command.value) result->peak_actuators_at_ceiling += v >= at ? 1 : 0;
+  for (const ReplayRow& r : result->rows) result->scans_at_ceiling += r.max_command >= at ? 1 : 0;
+}
+
+// The reconstructed contact at the peak, with its Hertz contact size on the sensor (sphere:
+// radius; rod: half-width) for the plot.
+void WritePeakContactCsv(const std::string& path, const lcmt_contact_estimate& m,
+                         const sensors::SensorProfile& profile) {
+  const bool sphere = m.shape == 1 || m.shape == 4;
+  auto half_width_mm = [&](double force_N, double radius_mm) {
+    if (!profile.has_forward_model || !(force_N > 0) || !(sphere || m.shape == 2)) return 0.0;
+    const double E = profile.forward_model.contact_modulus_kPa * 1e-3;  // N/mm^2
+    return sphere ? std::cbrt(3.0 * force_N * radius_mm / (4.0 * E))
+                  : std::sqrt(4.0 * force_N / profile.forward_model.pad_size_mm * radius_mm / (3.14159265358979 * E));
+  };
+  static const char* const kShapes[] = {"none", "sphere", "cylinder", "flat", "two_spheres"};
+  std::ofstream con(path);
+  con << "shape,x_mm,y_mm,radius_mm,yaw_deg,normal_force_N,shear_x_N,shear_y_N,residual_rms_sigma,fallback,"
+         "contact_half_width_mm,x2_mm,y2_mm,radius2_mm,normal_force2_N,contact2_half_width_mm,length_mm\n";
+  con << kShapes[std::clamp<int>(m.shape, 0, 4)] << ',' << m.x_mm << ',' << m.y_mm << ',' << m.radius_mm << ','
+      << m.yaw_deg << ',' << m.normal_force_N << ',' << m.shear_x_N << ',' << m.shear_y_N << ','
+      << m.residual_rms_sigma << ',' << int(m.fallback) << ',' << half_width_mm(m.normal_force_N, m.radius_mm) << ','
+      << m.x2_mm << ',' << m.y2_mm << ',' << m.radius2_mm << ',' << m.normal_force2_N << ','
+      << half_width_mm(m.normal_force2_N, m.radius2_mm) << ',' << m.length_mm << '\n';
+}
+
+// The files of ReplayOptions::out_dir (replay.h) but bridge.lcmlog and the VTU frames.
+void WriteReplayFiles(const std::filesystem::path& dir, const ReplayResult& result, const PeakSnapshot& peak,
+                      const display::DisplayProfile& dp, const BridgeConfig& config,
+                      const sensors::SensorProfile& profile) {
+  WriteSummaryCsv((dir / "summary.csv").string(), result.rows);
+  WriteStageCsv((dir / "stage_ms.csv").string(), result.rows);
+  std::ofstream sed((dir / "peak_merkel_sed.csv").string());
+  sed << "x_mm,y_mm,z_mm,sed_Pa\n";
+  for (size_t k = 0; k < peak.field.sed_Pa.size(); ++k)
+    sed << peak.field.x_mm[k] << ',' << peak.field.y_mm[k] << ',' << peak.field.z_mm[k] << ','
+        << peak.field.sed_Pa[k] << '\n';
+  std::ofstream cmd((dir / "peak_command.csv").string());
+  cmd << "actuator,x_mm,y_mm,value\n";
+  for (size_t k = 0; k < dp.x_mm.size(); ++k)
+    cmd << k << ',' << dp.x_mm[k] << ',' << dp.y_mm[k] << ','
+        << (k < peak.command.value.size() ? peak.command.value[k] : 0.0) << '\n';
+  std::ofstream tax((dir / "peak_taxels.csv").string());
+  tax << "taxel,x_mm,y_mm,pressure_Pa\n";
+  const PadRegistration reg(profile.taxels, config.registration);
+  for (size_t k = 0; k < peak.values.pressure_Pa.size() && k < profile.taxels.size(); ++k) {
+    const Eigen::Vector2d p = reg.ToPad({profile.taxels[k].x_mm, profile.taxels[k].y_mm});
+    tax << k << ',' << p.x() << ',' << p.y() << ',' << peak.values.pressure_Pa[k] << '\n';
+  }
+  if (peak.have_contact) WritePeakContactCsv((dir / "peak_contact.csv").string(), peak.contact, profile);
+}
+
+}  // namespace
+
 ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile& profile,
                        const display::DisplayProfile& display_profile, std::unique_ptr<FeStep> fe,
                        sensors::FrameSource& source, const ReplayOptions& options) {
@@ -116,52 +227,15 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   const auto t_setup = Clock::now();
   if (!fe) fe = MakeFeStep(config, profile, options.vtu_every > 0 && !options.out_dir.empty(), &display_profile);
   result.fe_description = fe->Describe();
-
-  lcm_io::LcmSettings lcm = config.lcm;
-  lcm.url = options.lcm_url;
-  lcm.log_path.clear();
-  if (!options.out_dir.empty()) {
-    std::filesystem::create_directories(options.out_dir);
-    if (options.write_lcm_log) lcm.log_path = (std::filesystem::path(options.out_dir) / "bridge.lcmlog").string();
-  }
-  BridgePipeline pipeline(config, profile, display_profile, std::move(fe), lcm);
+  BridgePipeline pipeline(config, profile, display_profile, std::move(fe), ReplayLcmSettings(config, options));
   result.display_unit = pipeline.display().controller().profile().unit;
-  sensors::AssemblerOptions assembler_options;
-  assembler_options.tare_scans = config.tare_scans;
-  assembler_options.interface = options.can_interface;
-  sensors::ScanAssembler assembler(profile, assembler_options);
+  sensors::ScanAssembler assembler(profile, ReplayAssemblerOptions(config, options));
   result.setup_s = std::chrono::duration<double>(Clock::now() - t_setup).count();
   if (options.on_start) options.on_start(pipeline);
 
-  // Peak-SED snapshot for the CSVs.
-  double peak_sed = -1;
-  display::SedField peak_field;
-  display::DisplayCommand peak_command;
-  TaxelValues peak_values;
-  bool have_peak_contact = false;
-  lcmt_contact_estimate peak_contact{};
+  PeakSnapshot peak;
+  VtuFrames frames(pipeline.fe(), options);
   int64_t last_utime = 0;
-
-  // Optional VTU frames of whatever the FE step can show (FeStep::Frame).
-  FeFrame frame;
-  const bool has_frames = pipeline.fe().Frame(&frame);
-  std::unique_ptr<scene::PvdCollection> pvd;
-  if (options.vtu_every > 0 && !has_frames)
-    std::fprintf(stderr, "note: --vtu-every: this FE step keeps no full displacement field, no frames written\n");
-  if (options.vtu_every > 0 && has_frames && !options.out_dir.empty())
-    pvd = std::make_unique<scene::PvdCollection>((std::filesystem::path(options.out_dir) / "frames.pvd").string(),
-                                                 "time since the first scan [s] (log time)");
-  auto write_vtu = [&](size_t index, int64_t utime) {
-    if (!pipeline.fe().Frame(&frame)) return;
-    char name[64];
-    std::snprintf(name, sizeof name, "frame_%06zu.vtu", index);
-    const double t_s = (utime - result.rows.front().utime) * 1e-6;
-    scene::WriteVtu((std::filesystem::path(options.out_dir) / name).string(), *frame.mesh, frame.positions_m,
-                    frame.point_fields, {},
-                    {{"time_s", t_s}, {"scan", double(index)}, {"applied_force_N", result.rows.back().applied_force_N}});
-    pvd->Add(t_s, name);
-  };
-
   // One scan through the pipeline, its row, the peak snapshot and the optional VTU frame.
   int64_t last_scan_wall = WallClockUtime();
   auto process = [&](const sensors::Scan& scan, int64_t receive_wall) {
@@ -169,27 +243,13 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
     const ScanOutcome o = pipeline.ProcessScan(scan, scan.utime, receive_wall);
     last_utime = scan.utime;
     last_scan_wall = receive_wall;
-    ReplayRow row;
-    row.utime = scan.utime;
-    row.total_force_N = o.total_force_N;
-    row.applied_force_N = o.applied_force_N;
-    row.max_sed_Pa = o.max_sed_Pa;
-    row.max_command = o.max_command;
-    row.latency_ms = o.latency_us * 1e-3;
-    row.stepped = o.stepped;
-    row.invalid_taxels = o.invalid_taxels;
-    row.stage_ms = o.stage_ms;
-    result.rows.push_back(row);
-    if (o.stepped && o.max_sed_Pa > peak_sed) {
-      peak_sed = o.max_sed_Pa;
-      result.peak_index = static_cast<int>(result.rows.size()) - 1;
-      peak_field = pipeline.last_field();
-      peak_command = pipeline.last_command();
-      peak_values = pipeline.last_values();
-      if (const contact::ContactReport* m = pipeline.fe().contact_report()) peak_contact = lcm_io::ToLcm(*m), have_peak_contact = true;
+    result.rows.push_back(RowOf(scan, o));
+    const size_t index = result.rows.size() - 1;
+    if (o.stepped && o.max_sed_Pa > peak.sed_Pa) {
+      peak.Take(pipeline, o.max_sed_Pa);
+      result.peak_index = static_cast<int>(index);
     }
-    if (pvd && o.stepped && (result.rows.size() - 1) % size_t(options.vtu_every) == 0)
-      write_vtu(result.rows.size() - 1, scan.utime);
+    frames.AfterScan(o.stepped, index, scan.utime, result.rows.front().utime, result.rows.back().applied_force_N);
     if (options.on_scan) options.on_scan(o, pipeline);
     if (options.progress && result.rows.size() % kProgressEveryScans == 0)
       std::fprintf(stderr, "  %zu scans (log time %.2f s)\n", result.rows.size(),
@@ -227,69 +287,10 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   result.fe_counters = pipeline.fe().CountersLine();
   if (options.on_finish) options.on_finish(pipeline);
 
-  result.counters = pipeline.counters();
-  result.latency = pipeline.latency().Run();
-  result.stage_p50_ms = pipeline.RunStageMedians_ms();
-  result.bad_frames = assembler.counters();
-  result.source_stats = source.Stats();
-  result.published = pipeline.display().publisher().published();
-  result.publish_errors = pipeline.display().publisher().publish_errors();
-  {
-    // Saturation in the SED -> command mapping is silent (the limiter's `clamped` only flags
-    // requests above its maximum), so count it here for the summary and the plots.
-    const display::DisplayProfile& dp = pipeline.display().controller().profile();
-    result.display_actuators = static_cast<int>(dp.size());
-    result.command_ceiling = std::min(dp.mapping.saturation, dp.safety.max);
-    result.ceiling_is_mapping = dp.mapping.saturation <= dp.safety.max;
-    const double at = result.command_ceiling * kAtCeilingFraction;
-    for (double v : peak_command.value) result.peak_actuators_at_ceiling += v >= at ? 1 : 0;
-    for (const ReplayRow& r : result.rows) result.scans_at_ceiling += r.max_command >= at ? 1 : 0;
-  }
-
-  if (!options.out_dir.empty()) {
-    const std::filesystem::path dir(options.out_dir);
-    WriteSummaryCsv((dir / "summary.csv").string(), result.rows);
-    WriteStageCsv((dir / "stage_ms.csv").string(), result.rows);
-    std::ofstream sed((dir / "peak_merkel_sed.csv").string());
-    sed << "x_mm,y_mm,z_mm,sed_Pa\n";
-    for (size_t k = 0; k < peak_field.sed_Pa.size(); ++k)
-      sed << peak_field.x_mm[k] << ',' << peak_field.y_mm[k] << ',' << peak_field.z_mm[k] << ','
-          << peak_field.sed_Pa[k] << '\n';
-    const display::DisplayProfile& dp = pipeline.display().controller().profile();
-    std::ofstream cmd((dir / "peak_command.csv").string());
-    cmd << "actuator,x_mm,y_mm,value\n";
-    for (size_t k = 0; k < dp.x_mm.size(); ++k)
-      cmd << k << ',' << dp.x_mm[k] << ',' << dp.y_mm[k] << ','
-          << (k < peak_command.value.size() ? peak_command.value[k] : 0.0) << '\n';
-    std::ofstream tax((dir / "peak_taxels.csv").string());
-    tax << "taxel,x_mm,y_mm,pressure_Pa\n";
-    const PadRegistration reg(profile.taxels, config.registration);
-    for (size_t k = 0; k < peak_values.pressure_Pa.size() && k < profile.taxels.size(); ++k) {
-      const Eigen::Vector2d p = reg.ToPad({profile.taxels[k].x_mm, profile.taxels[k].y_mm});
-      tax << k << ',' << p.x() << ',' << p.y() << ',' << peak_values.pressure_Pa[k] << '\n';
-    }
-    if (have_peak_contact) {
-      // The reconstructed contact at the peak, with its Hertz contact size on the sensor
-      // (sphere: radius; rod: half-width) for the plot.
-      const auto& m = peak_contact;
-      const bool sphere = m.shape == 1 || m.shape == 4;
-      auto half_width_mm = [&](double force_N, double radius_mm) {
-        if (!profile.has_forward_model || !(force_N > 0) || !(sphere || m.shape == 2)) return 0.0;
-        const double E = profile.forward_model.contact_modulus_kPa * 1e-3;  // N/mm^2
-        return sphere ? std::cbrt(3.0 * force_N * radius_mm / (4.0 * E))
-                      : std::sqrt(4.0 * force_N / profile.forward_model.pad_size_mm * radius_mm / (3.14159265358979 * E));
-      };
-      static const char* const kShapes[] = {"none", "sphere", "cylinder", "flat", "two_spheres"};
-      std::ofstream con((dir / "peak_contact.csv").string());
-      con << "shape,x_mm,y_mm,radius_mm,yaw_deg,normal_force_N,shear_x_N,shear_y_N,residual_rms_sigma,fallback,"
-             "contact_half_width_mm,x2_mm,y2_mm,radius2_mm,normal_force2_N,contact2_half_width_mm,length_mm\n";
-      con << kShapes[std::clamp<int>(m.shape, 0, 4)] << ',' << m.x_mm << ',' << m.y_mm << ',' << m.radius_mm << ','
-          << m.yaw_deg << ',' << m.normal_force_N << ',' << m.shear_x_N << ',' << m.shear_y_N << ','
-          << m.residual_rms_sigma << ',' << int(m.fallback) << ',' << half_width_mm(m.normal_force_N, m.radius_mm)
-          << ',' << m.x2_mm << ',' << m.y2_mm << ',' << m.radius2_mm << ',' << m.normal_force2_N << ','
-          << half_width_mm(m.normal_force2_N, m.radius2_mm) << ',' << m.length_mm << '\n';
-    }
-  }
+  CollectCounters(pipeline, assembler, source, &result);
+  const display::DisplayProfile& dp = pipeline.display().controller().profile();
+  CountCeiling(dp, peak.command, &result);
+  if (!options.out_dir.empty()) WriteReplayFiles(options.out_dir, result, peak, dp, config, profile);
   return result;
 }
 

@@ -28,23 +28,10 @@
 #include "bridge/fe_step.h"
 #include "bridge/latency_stats.h"
 #include "display/display_profile.h"
-#include "model/fingertip_model.h"
 #include "sensors/frame_source.h"
 #include "sensors/sensor_profile.h"
 
 namespace sedbridge::bridge {
-
-/// The FE step a config asks for: SceneFeStep (fe.step: scene), ReducedLinearFeStep
-/// (fe.step: reduced), both on BridgeSceneDescription(model, preset), or ContactFeStep
-/// (fe.step: contact, with the reduced step as its fallback).
-/// `full_field`: the step keeps what VTU frames of the whole mesh need (contact step only).
-/// `display`: with fe.merkel_region: display, the profile whose sampling footprint bounds
-/// the Merkel layer (null: config.display_profile is loaded).
-std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::SensorProfile& profile,
-                                   bool full_field = false, const display::DisplayProfile* display = nullptr);
-
-/// The Merkel vertices `display`'s mapping reads (display::SedToCommandMapping::Reads).
-model::MerkelVertexFilter DisplayFootprint(const display::DisplayProfile& display);
 
 struct ReplayOptions {
   std::string out_dir;             ///< "" = no files (tests)

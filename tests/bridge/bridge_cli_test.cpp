@@ -4,22 +4,19 @@
 
 #include <unistd.h>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
 
+#include "tests/common/child_process.h"
+
 namespace {
 
+// Output (stdout and stderr) of `command`; its exit status in *status.
 std::string RunCommand(const std::string& command, int* status) {
-  std::string out;
-  FILE* p = ::popen((command + " 2>&1").c_str(), "r");
-  if (!p) return out;
-  std::array<char, 4096> buf;
-  while (size_t n = std::fread(buf.data(), 1, buf.size(), p)) out.append(buf.data(), n);
-  *status = ::pclose(p);
-  return out;
+  const sedbridge::testing::ShellResult r = sedbridge::testing::RunShell(command);
+  *status = r.status;
+  return r.output;
 }
 
 std::string TempDir(const std::string& name) {

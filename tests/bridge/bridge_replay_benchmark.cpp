@@ -6,6 +6,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "bridge/make_fe_step.h"
 #include "bridge/replay.h"
 #include "bridge/scene_fe_step.h"
 #include "bridge_test_util.h"

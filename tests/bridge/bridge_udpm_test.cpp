@@ -5,13 +5,11 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/common/child_process.h"
 #include "tests/common/lcm_multicast_probe.h"
 
-#include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <filesystem>
 #include <string>
 
@@ -20,8 +18,6 @@
 #include "sedbridge/lcmt_display_command.hpp"
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 std::string TestUrl() { return "udpm://239.255.76.67:" + std::to_string(20000 + (::getpid() + 7) % 20000) + "?ttl=0"; }
 
@@ -54,30 +50,16 @@ TEST(BridgeUdpm, ReplayPublishesToAnotherProcess) {
 
   const std::string out = (std::filesystem::temp_directory_path() / ("sedbridge_udpm_" + std::to_string(::getpid()))).string();
   const std::string root = SEDBRIDGE_SOURCE_DIR;
-  const pid_t child = ::fork();
+  // Paced at 4x the recorded rate so the subscriber is never flooded.
+  const pid_t child = sedbridge::testing::Spawn({SEDBRIDGE_BINARY, "replay", root + "/config/bridge/example_press.log",
+                                                 "--config", root + "/tests/bridge/data/b_coarse.yaml", "--speed", "4",
+                                                 "--lcm-url", url, "--out", out, "--no-plots", "--quiet"});
   ASSERT_GE(child, 0);
-  if (child == 0) {
-    // Paced at 4x the recorded rate so the subscriber is never flooded.
-    ::execl(SEDBRIDGE_BINARY, SEDBRIDGE_BINARY, "replay", (root + "/config/bridge/example_press.log").c_str(),
-            "--config", (root + "/tests/bridge/data/b_coarse.yaml").c_str(), "--speed", "4", "--lcm-url",
-            url.c_str(), "--out", out.c_str(), "--no-plots", "--quiet", static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
-  int status = 0;
-  pid_t done = 0;
-  const auto end = Clock::now() + std::chrono::seconds(60);
-  while (Clock::now() < end) {
-    lcm.handleTimeout(20);
-    if ((done = ::waitpid(child, &status, WNOHANG)) == child) break;
-  }
-  if (done != child) {
-    ::kill(child, SIGKILL);
-    ::waitpid(child, &status, 0);
-    FAIL() << "replay did not finish in 60 s";
-  }
+  const int status = sedbridge::testing::WaitExit(child, 60, [&] { lcm.handleTimeout(20); });
+  if (status == -1) FAIL() << "replay did not finish in 60 s";
   for (int i = 0; i < 10; ++i) lcm.handleTimeout(20);  // the tail still in the socket
   std::filesystem::remove_all(out);
-  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "replay failed";
+  ASSERT_EQ(status, 0) << "replay failed";
   // 300 scan commands + 3 shutdown commands; UDP on loopback may still drop a few. A paced
   // replay also ticks the display (watchdog) whenever the log is silent for a tick period
   // (5 ms at 200 Hz): at most one per period of the ~0.75 s run.

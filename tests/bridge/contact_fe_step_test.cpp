@@ -15,12 +15,13 @@
 #include <lcm/lcm-cpp.hpp>
 
 #include "contact/contact_object.h"
-#include "bridge/fidelity_case.h"
+#include "bridge/make_fe_step.h"
 #include "bridge/reduced_linear_fe_step.h"
 #include "bridge/replay.h"
 #include "bridge/scene_fe_step.h"
 #include "bridge_test_util.h"
 #include "display/sed_to_command_mapping.h"
+#include "fidelity/fidelity_case.h"
 #include "sedbridge/lcmt_display_command.hpp"
 #include "lcm/contact_estimate_message.h"
 #include "sedbridge/lcmt_contact_estimate.hpp"
@@ -338,8 +339,9 @@ TEST(ContactFeStep, APressThatCannotReachItsForceIsNotTriedAgainForTheSameObject
 // pair's press with the same answer as solving every scan.
 TEST(ContactFeStep, TwoSpheresArePressedTogether) {
   const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
-  const std::vector<FidelityCase> cases = SyntheticFidelityCases(profile);
-  const auto it = std::find_if(cases.begin(), cases.end(), [](const FidelityCase& c) { return c.name == "two_spheres"; });
+  const std::vector<fidelity::FidelityCase> cases = fidelity::SyntheticFidelityCases(profile);
+  const auto it =
+      std::find_if(cases.begin(), cases.end(), [](const fidelity::FidelityCase& c) { return c.name == "two_spheres"; });
   ASSERT_NE(it, cases.end());
   const BridgeConfig config = ContactConfig();
   const PadRegistration registration(profile.taxels, config.registration);

@@ -5,21 +5,17 @@
 
 #include <gtest/gtest.h>
 
-#include <fcntl.h>
 #include <signal.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <ostream>
-#include <sstream>
 #include <string>
-#include <thread>
 #include <vector>
 
+#include "tests/common/child_process.h"
 #include "tests/common/lcm_log_check.h"
 
 namespace {
@@ -27,6 +23,10 @@ namespace {
 namespace fs = std::filesystem;
 using sedbridge::testing::AllZero;
 using sedbridge::testing::ReadLog;
+using sedbridge::testing::Slurp;
+using sedbridge::testing::Spawn;
+using sedbridge::testing::WaitExit;
+using sedbridge::testing::WaitFor;
 
 std::string TempDir(const std::string& name) {
   const fs::path d = fs::temp_directory_path() / ("sedbridge_exit_" + name + "_" + std::to_string(::getpid()));
@@ -35,51 +35,14 @@ std::string TempDir(const std::string& name) {
   return d.string();
 }
 
-// Starts the program with stdout+stderr into `dir`/out.txt; returns its pid.
-pid_t Spawn(const std::vector<std::string>& args, const std::string& dir) {
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    const int fd = ::open((dir + "/out.txt").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    ::dup2(fd, 1);
-    ::dup2(fd, 2);
-    std::vector<char*> argv;
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
-  return pid;
-}
-
 // Waits (up to `limit_s`) until `path` holds more than `bytes`: the run is in its loop.
 bool WaitForBytes(const std::string& path, std::uintmax_t bytes, double limit_s) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_s);
-  while (std::chrono::steady_clock::now() < end) {
-    std::error_code ec;
-    if (fs::exists(path, ec) && fs::file_size(path, ec) > bytes) return true;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  return false;
-}
-
-// Exit status, or -1 if it did not end within `limit_s` (then it is killed).
-int WaitExit(pid_t pid, double limit_s) {
-  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_s);
-  int status = 0;
-  while (std::chrono::steady_clock::now() < end) {
-    if (::waitpid(pid, &status, WNOHANG) == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -2;
-    std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  ::kill(pid, SIGKILL);
-  ::waitpid(pid, &status, 0);
-  return -1;
-}
-
-std::string Slurp(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
+  return WaitFor(
+      [&] {
+        std::error_code ec;
+        return fs::exists(path, ec) && fs::file_size(path, ec) > bytes;
+      },
+      limit_s);
 }
 
 // B_coarse on memq://, LCM log in `dir`.
@@ -146,7 +109,7 @@ class ExitPaths : public ::testing::TestWithParam<Case> {};
 TEST_P(ExitPaths, SignalPublishesAFinalZeroAndClosesTheLog) {
   const Case c = GetParam();
   const std::string dir = TempDir(c.command + std::to_string(c.signal));
-  const pid_t pid = Spawn(CommandFor(c.command, dir), dir);
+  const pid_t pid = Spawn(CommandFor(c.command, dir), dir + "/out.txt");
   ASSERT_GT(pid, 0);
   // In its loop once the log has grown (model loaded, commands flowing).
   const bool running = WaitForBytes(dir + "/bridge.lcmlog", 8192, 120);
@@ -185,9 +148,9 @@ TEST(ExitPaths, LiveReplayPausedMidPressRampsToZeroOnItsOwnTicks) {
   const std::string log = dir + "/paused.log";
   WriteShiftedLog(log, 1700000001500000LL, 3000000);
   const std::string bin = SEDBRIDGE_BINARY;
-  const pid_t pid = Spawn({bin, "replay", log, "--config", WriteConfig(dir), "--speed", "2", "--out", dir, "--no-plots",
-                           "--quiet"},
-                          dir);
+  const pid_t pid = Spawn(
+      {bin, "replay", log, "--config", WriteConfig(dir), "--speed", "2", "--out", dir, "--no-plots", "--quiet"},
+      dir + "/out.txt");
   const int status = WaitExit(pid, 120);
   ASSERT_EQ(status, 0) << Slurp(dir + "/out.txt");
   const auto check = ReadLog(dir + "/bridge.lcmlog");

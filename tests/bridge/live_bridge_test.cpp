@@ -8,7 +8,7 @@
 #include <atomic>
 #include <thread>
 
-#include "bridge/replay.h"
+#include "bridge/make_fe_step.h"
 #include "bridge_test_util.h"
 #include "common/wall_clock.h"
 #include "sensors/scan_assembler.h"

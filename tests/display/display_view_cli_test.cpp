@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "lcm/display_session.h"
+#include "tests/common/child_process.h"
 
 namespace sedbridge::display {
 using namespace sedbridge::lcm_io;  // LCM messages in and out
@@ -20,21 +21,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct ShellResult {
-  std::string output;
-  int status = -1;
-};
-
-ShellResult Sh(const std::string& cmd) {
-  ShellResult r;
-  FILE* p = ::popen((cmd + " 2>&1").c_str(), "r");
-  if (!p) return r;
-  char buf[4096];
-  while (std::size_t n = std::fread(buf, 1, sizeof buf, p)) r.output.append(buf, n);
-  const int st = ::pclose(p);
-  r.status = WIFEXITED(st) ? WEXITSTATUS(st) : -1;
-  return r;
-}
+using sedbridge::testing::RunShell;
+using sedbridge::testing::ShellResult;
 
 class DisplayViewCli : public ::testing::Test {
  protected:
@@ -70,7 +58,7 @@ class DisplayViewCli : public ::testing::Test {
 // --once on a log shows the frame with the largest command, not the final all-zero shutdown
 // frame, says which frame it is, and draws the SED on one scale for the whole log.
 TEST_F(DisplayViewCli, TerminalOnceShowsThePeakFrameAndSaysWhich) {
-  const ShellResult r = Sh(std::string(SEDBRIDGE_BINARY) + " display-view --log " + log_ +
+  const ShellResult r = RunShell(std::string(SEDBRIDGE_BINARY) + " display-view --log " + log_ +
                    " --once --no-color");
   ASSERT_EQ(r.status, 0) << r.output;
   EXPECT_NE(r.output.find("pin_6x4"), std::string::npos) << r.output;
@@ -81,7 +69,7 @@ TEST_F(DisplayViewCli, TerminalOnceShowsThePeakFrameAndSaysWhich) {
 }
 
 TEST_F(DisplayViewCli, MidRunFrameShowsAStrongerCentre) {
-  const ShellResult r = Sh(std::string(SEDBRIDGE_BINARY) + " display-view --log " + log_ +
+  const ShellResult r = RunShell(std::string(SEDBRIDGE_BINARY) + " display-view --log " + log_ +
                            " --speed 0 --fps 1000 --no-color");
   ASSERT_EQ(r.status, 0) << r.output;
   // Frame of command 30 (0.3 s into a steady press): read the 6x4 pin heights back.
@@ -102,16 +90,16 @@ TEST_F(DisplayViewCli, MidRunFrameShowsAStrongerCentre) {
 }
 
 TEST_F(DisplayViewCli, BadArgumentsAreUsageErrors) {
-  EXPECT_EQ(Sh(std::string(SEDBRIDGE_BINARY) + " display-view --png-dir x").status, 2);
-  EXPECT_EQ(Sh(std::string(SEDBRIDGE_BINARY) + " display-view --bogus").status, 2);
-  EXPECT_EQ(Sh(std::string(SEDBRIDGE_BINARY) + " display-view --log /nonexistent.lcmlog").status, 1);
+  EXPECT_EQ(RunShell(std::string(SEDBRIDGE_BINARY) + " display-view --png-dir x").status, 2);
+  EXPECT_EQ(RunShell(std::string(SEDBRIDGE_BINARY) + " display-view --bogus").status, 2);
+  EXPECT_EQ(RunShell(std::string(SEDBRIDGE_BINARY) + " display-view --log /nonexistent.lcmlog").status, 1);
 }
 
 TEST_F(DisplayViewCli, WritesPngFrames) {
-  if (Sh("/usr/bin/python3 -c 'import matplotlib'").status != 0)
+  if (RunShell("/usr/bin/python3 -c 'import matplotlib'").status != 0)
     GTEST_SKIP() << "/usr/bin/python3 has no matplotlib (Debian: python3-matplotlib)";
   const fs::path frames = dir_ / "frames";
-  const ShellResult r = Sh(std::string(SEDBRIDGE_BINARY) + " display-view --log " + log_ +
+  const ShellResult r = RunShell(std::string(SEDBRIDGE_BINARY) + " display-view --log " + log_ +
                    " --fps 4 --png-dir " + frames.string());
   ASSERT_EQ(r.status, 0) << r.output;
   int pngs = 0;
@@ -122,10 +110,10 @@ TEST_F(DisplayViewCli, WritesPngFrames) {
 }
 
 TEST_F(DisplayViewCli, WritesAGifToAPathWithQuotesAndSpaces) {
-  if (Sh("/usr/bin/python3 -c 'import matplotlib, PIL'").status != 0)
+  if (RunShell("/usr/bin/python3 -c 'import matplotlib, PIL'").status != 0)
     GTEST_SKIP() << "/usr/bin/python3 lacks matplotlib or Pillow (python3-matplotlib, python3-pil)";
   const fs::path gif = dir_ / "it's a run.gif";
-  const ShellResult r = Sh(std::string(SEDBRIDGE_BINARY) + " display-view --log " + log_ +
+  const ShellResult r = RunShell(std::string(SEDBRIDGE_BINARY) + " display-view --log " + log_ +
                            " --fps 4 --animation \"" + gif.string() + "\"");
   ASSERT_EQ(r.status, 0) << r.output;
   ASSERT_TRUE(fs::exists(gif)) << r.output;

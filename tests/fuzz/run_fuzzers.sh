@@ -23,7 +23,7 @@ if [ ! -f "$build/CMakeCache.txt" ]; then
       exit 1
     }
 fi
-targets="yaml_configs msh lcm_decode limiter_driver"
+targets="yaml_configs msh lcm_decode limiter_driver candump_line frame_decoder"
 cmake --build "$build" -j2 --target $(for t in $targets; do printf 'fuzz_%s ' "$t"; done)
 rm -f "$build"/crash-* "$build"/leak-* "$build"/timeout-* "$build"/oom-*
 for target in $targets; do

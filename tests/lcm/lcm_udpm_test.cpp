@@ -5,10 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/common/child_process.h"
 #include "tests/common/lcm_multicast_probe.h"
 
 #include <poll.h>
-#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -94,26 +94,20 @@ TEST(LcmUdpm, RoundTripBetweenTwoProcesses) {
   c.display_id = "suction_4x4";
   c.unit = "kPa";
   c.value = {12.5, 0.0};
-  int status = 0;
-  pid_t done = 0;
   // UDP may drop: keep sending every 20 ms until the child has its five, for at most 6 s.
-  const auto end = Clock::now() + std::chrono::seconds(6);
-  for (int64_t seq = 0; Clock::now() < end; ++seq) {
+  int64_t seq = 0;
+  const int status = sedbridge::testing::WaitExit(child, 6, [&] {
     c.sequence = seq;
     c.utime = 1000 + seq;
+    ++seq;
     out.Publish(out.channels().command, ToLcm(c));
-    if ((done = ::waitpid(child, &status, WNOHANG)) == child) break;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
-  }
-  if (done != child) {
-    ::kill(child, SIGKILL);
-    ::waitpid(child, &status, 0);
-    FAIL() << "subscriber did not finish in time";
-  }
+  });
+  if (status == -1) FAIL() << "subscriber did not finish in time";
   int64_t report[3] = {0, 0, 0};
   ASSERT_TRUE(WaitReadable(result[0], 1000));
   ASSERT_EQ(::read(result[0], report, sizeof(report)), static_cast<ssize_t>(sizeof(report)));
-  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+  EXPECT_EQ(status, 0);
   EXPECT_GE(report[0], 5);
   EXPECT_GE(report[1], 4);  // sequences arrived in order from the publisher's counter
   EXPECT_EQ(report[2], 12500);
@@ -145,13 +139,8 @@ TEST(LcmUdpm, LcmLogplayerReplaysOurLog) {
   Counter counter;
   lcm.subscribe("SEDBRIDGE_TEST_COMMAND", &Counter::On, &counter);
 
-  const pid_t child = ::fork();
+  const pid_t child = sedbridge::testing::Spawn({player, "--lcm-url=" + url, path});
   ASSERT_GE(child, 0);
-  if (child == 0) {
-    const std::string url_arg = "--lcm-url=" + url;
-    ::execl(player, player, url_arg.c_str(), path.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
   int status = 0;
   bool exited = false;
   const auto end = Clock::now() + std::chrono::seconds(5);
@@ -159,15 +148,8 @@ TEST(LcmUdpm, LcmLogplayerReplaysOurLog) {
     lcm.handleTimeout(50);
     if (!exited && ::waitpid(child, &status, WNOHANG) == child) exited = true;
   }
-  if (!exited) {
-    // lcm-logplayer exits by itself at the end of the log; give it a moment, then stop it.
-    for (int i = 0; i < 40 && ::waitpid(child, &status, WNOHANG) != child; ++i)
-      std::this_thread::sleep_for(std::chrono::milliseconds(50));
-    if (::kill(child, 0) == 0) {
-      ::kill(child, SIGKILL);
-      ::waitpid(child, &status, 0);
-    }
-  }
+  // lcm-logplayer exits by itself at the end of the log; give it a moment, then stop it.
+  if (!exited) sedbridge::testing::WaitExit(child, 2.0);
   std::filesystem::remove(path);
   // UDP on loopback rarely drops; most of the 20 must arrive, the last one in order.
   EXPECT_GE(counter.count, 15);

@@ -12,16 +12,12 @@
 #include <vector>
 
 #include "scene/vtu_writer.h"
+#include "tests/common/child_process.h"
 
 namespace sedbridge::scene {
 namespace {
 
-std::string Slurp(const std::string& path) {
-  std::ifstream f(path);
-  std::stringstream s;
-  s << f.rdbuf();
-  return s.str();
-}
+using sedbridge::testing::Slurp;
 
 // The numbers of the first <DataArray> after `marker` (e.g. "<Points>").
 std::vector<double> ArrayAfter(const std::string& xml, const std::string& marker) {

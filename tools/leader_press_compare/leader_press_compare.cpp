@@ -1,7 +1,7 @@
 // leader_press_compare: presses a reference object and candidate objects on the leader's
 // fingertip model (the compliance method's penalty contact, linear quasi-static, bone fixed,
 // as the fidelity benchmark's truth) to one normal force, and scores each candidate's Merkel
-// SED map against the reference's with the benchmark's metrics (bridge::CompareMerkelMaps).
+// SED map against the reference's with the benchmark's metrics (fidelity::CompareMerkelMaps).
 // It answers "would the leader feel the difference?" for objects the follower's sensor cannot
 // tell apart: a cube corner turned about its diagonal, a sphere read a little large.
 //
@@ -27,10 +27,10 @@
 #include <vector>
 
 #include "contact/contact_object.h"
-#include "bridge/fidelity_benchmark.h"
 #include "common/config_error.h"
 #include "common/geometry/rigid_object.h"
 #include "common/yaml_reader.h"
+#include "fidelity/fidelity_benchmark.h"
 #include "model/fingertip_model.h"
 #include "scene/fingertip_compliance.h"
 
@@ -76,8 +76,8 @@ struct Row {
   std::string name, status;
   double force_N = 0, peak_Pa = 0;
   bool reached = false;
-  bridge::MethodError error;
-  bool within() const { return bridge::WithinTargets(error); }
+  fidelity::MethodError error;
+  bool within() const { return fidelity::WithinTargets(error); }
 };
 
 }  // namespace
@@ -179,10 +179,10 @@ int main(int argc, char** argv) {
     std::vector<Eigen::VectorXd> maps(candidates.size() + 1);  // the reference's first
     std::vector<Row> rows = {press("reference", reference, &maps[0])};
     const Eigen::Matrix3Xd& pad_mm = leader.merkel_rest_pad_mm();
-    rows[0].error = bridge::CompareMerkelMaps(pad_mm, maps[0], maps[0]);
+    rows[0].error = fidelity::CompareMerkelMaps(pad_mm, maps[0], maps[0]);
     for (size_t k = 0; k < candidates.size(); ++k) {
       rows.push_back(press(candidates[k].name, candidates[k].objects, &maps[k + 1]));
-      rows.back().error = bridge::CompareMerkelMaps(pad_mm, maps[k + 1], maps[0]);
+      rows.back().error = fidelity::CompareMerkelMaps(pad_mm, maps[k + 1], maps[0]);
     }
     std::printf("%-28s %-12s %8s %10s %6s %6s %7s %9s %s\n", "objects", "press", "F_N", "peak_Pa", "ratio", "L2",
                 "off_mm", "region_mm", "within");

@@ -1,6 +1,6 @@
 // The fidelity benchmark on calibration-rig presses of the uSkin-like sensor: the
 // reconstructed contact meets issue 11's targets where the pressure map misses them.
-#include "bridge/fidelity_benchmark.h"
+#include "fidelity/fidelity_benchmark.h"
 
 #include <gtest/gtest.h>
 
@@ -12,14 +12,16 @@
 #include <vector>
 
 #include "contact/contact_object.h"
-#include "bridge/fidelity_case.h"
-#include "common/yaml_reader.h"
-#include "sensors/tactile_model_fit.h"
 #include "common/resource_path.h"
+#include "common/yaml_reader.h"
 #include "display/display_profile.h"
+#include "fidelity/fidelity_case.h"
+#include "sensors/tactile_model_fit.h"
 
-namespace sedbridge::bridge {
+namespace sedbridge::fidelity {
 namespace {
+
+using namespace sedbridge::bridge;  // the leader press, contact objects and configs the benchmark runs
 
 // The uskin_4x4 rig presses and a benchmark on model B with the suction display.
 struct RigBench {
@@ -63,9 +65,9 @@ TEST(FidelityBenchmark, RigPressesMeetTheTargetsWithReconstructedContact) {
 }
 
 }  // namespace
-}  // namespace sedbridge::bridge
+}  // namespace sedbridge::fidelity
 
-namespace sedbridge::bridge {
+namespace sedbridge::fidelity {
 namespace {
 
 // Rods of 0.6, 1 and 2.5 mm, pressed on the leader with face contact (LeaderComplianceOptions):
@@ -96,9 +98,9 @@ TEST(FidelityBenchmark, RigRodsMeetTheTargetsWithReconstructedContact) {
 }
 
 }  // namespace
-}  // namespace sedbridge::bridge
+}  // namespace sedbridge::fidelity
 
-namespace sedbridge::bridge {
+namespace sedbridge::fidelity {
 namespace {
 
 // press_11 (a 3.5 mm sphere at the pad's corner, 0.3 N): on the leader's pad the sphere cannot
@@ -470,4 +472,4 @@ TEST(FidelityBenchmark, WithinTargetsChecksAllThreeAtTheirBounds) {
 }
 
 }  // namespace
-}  // namespace sedbridge::bridge
+}  // namespace sedbridge::fidelity

@@ -22,8 +22,8 @@
 
 #include "bridge/bridge_config.h"
 #include "bridge/contact_fe_step.h"
-#include "bridge/fidelity_case.h"
 #include "display/display_profile.h"
+#include "fidelity/fidelity_case.h"
 #include "scene/fingertip_compliance.h"
 
 namespace sedbridge::scene {
@@ -35,11 +35,12 @@ struct FingertipModel;
 namespace sedbridge::display {
 class SedToCommandMapping;
 }
-
 namespace sedbridge::bridge {
-
 class FeStep;
 class ScanConditioner;
+}  // namespace sedbridge::bridge
+
+namespace sedbridge::fidelity {
 
 struct MethodError {
   double peak_ratio = 0;       ///< max SED / max truth SED
@@ -118,7 +119,7 @@ class FidelityBenchmark {
   /// conditioning. Its sensor, display and fe.step are not used (the caller's profile and
   /// display; both bridges are always run).
   FidelityBenchmark(const std::string& model_name, const sensors::SensorProfile& profile,
-                    const display::DisplayProfile& display, const BridgeConfig& config);
+                    const display::DisplayProfile& display, const bridge::BridgeConfig& config);
   ~FidelityBenchmark();
 
   FidelityRow Run(const FidelityCase& c, FidelityMaps* maps);
@@ -140,12 +141,12 @@ class FidelityBenchmark {
 
  private:
   sensors::SensorProfile profile_;
-  ReconstructionOptions reconstruction_;
+  bridge::ReconstructionOptions reconstruction_;
   scene::PressToForceOptions press_;
   std::unique_ptr<model::FingertipModel> model_;
   std::unique_ptr<scene::FingertipCompliance> leader_;
-  std::unique_ptr<FeStep> map_step_;
-  std::unique_ptr<ScanConditioner> conditioner_;
+  std::unique_ptr<bridge::FeStep> map_step_;
+  std::unique_ptr<bridge::ScanConditioner> conditioner_;
   std::unique_ptr<display::SedToCommandMapping> mapping_;
 };
 
@@ -157,4 +158,4 @@ class FidelityBenchmark {
 /// the leader feels it. Scores of one press, as RunThroughPress returns them.
 std::vector<double> PeakRatioSteps(const std::vector<FidelityBenchmark::ScanScore>& scores);
 
-}  // namespace sedbridge::bridge
+}  // namespace sedbridge::fidelity

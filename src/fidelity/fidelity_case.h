@@ -24,7 +24,7 @@
 #include "sensors/scan.h"
 #include "sensors/sensor_profile.h"
 
-namespace sedbridge::bridge {
+namespace sedbridge::fidelity {
 
 struct FidelityCase {
   std::string name;    ///< e.g. "press_03" or "edge_r1_yaw30"
@@ -89,4 +89,4 @@ std::vector<FidelityCase> CalibrationPressesOnSimulatedPad(const std::vector<sen
                                                            const sensors::SensorProfile& profile, uint64_t seed = 1,
                                                            sensors::PadMechanics pad = sensors::PadMechanics::kLayer);
 
-}  // namespace sedbridge::bridge
+}  // namespace sedbridge::fidelity

@@ -1,4 +1,4 @@
-#include "bridge/fidelity_case.h"
+#include "fidelity/fidelity_case.h"
 
 #include <cmath>
 #include <cstdio>
@@ -10,7 +10,7 @@
 #include "sensors/simulated/pad_rig_check.h"
 #include "sensors/simulated/simulated_sensor.h"
 
-namespace sedbridge::bridge {
+namespace sedbridge::fidelity {
 namespace {
 
 // Synthetic press timing [s]: approach, ramp down, hold, release.
@@ -73,7 +73,8 @@ SyntheticSpec SphereSpec(const std::string& name, double r, double x, double y, 
   char label[64];
   std::snprintf(label, sizeof label, "sphere R%g (%g, %g)", r, x, y);
   SyntheticSpec spec{name, label, SphereYaml(r, x, y), d, 0, 0, true, Primitive(sensors::ContactShape::kSphere, x, y, r), {}};
-  if (r < kLeaderMinSphereRadius_mm) spec.leader_objects_yaml = SphereYaml(kLeaderMinSphereRadius_mm, x, y);
+  if (r < bridge::kLeaderMinSphereRadius_mm)
+    spec.leader_objects_yaml = SphereYaml(bridge::kLeaderMinSphereRadius_mm, x, y);
   return spec;
 }
 
@@ -96,7 +97,8 @@ SyntheticSpec RodSpec(const std::string& name, double r, double yaw, double x, d
   std::snprintf(label, sizeof label, "rod R%g yaw %g (%g, %g)", r, yaw, x, y);
   SyntheticSpec spec{name, label, RodYaml(r, yaw, x, y), d, 0, 0, true,
                      Primitive(sensors::ContactShape::kCylinder, x, y, r, yaw), {}};
-  if (r < kLeaderMinRodRadius_mm) spec.leader_objects_yaml = RodYaml(kLeaderMinRodRadius_mm, yaw, x, y);
+  if (r < bridge::kLeaderMinRodRadius_mm)
+    spec.leader_objects_yaml = RodYaml(bridge::kLeaderMinRodRadius_mm, yaw, x, y);
   return spec;
 }
 
@@ -245,7 +247,7 @@ FidelityCase FromCalibrationPress(const sensors::CalibrationPress& press) {
     const sensors::ContactPrimitive at = press.ObjectAt(t);
     c.load_N.emplace_back(at.shear_x_N, at.shear_y_N, at.normal_force_N);
   }
-  c.objects = {ToRigidObject(o)};
+  c.objects = {bridge::ToRigidObject(o)};
   c.has_primitive = true;
   c.primitive = o;
   return c;
@@ -366,4 +368,4 @@ std::vector<FidelityCase> CalibrationPressesOnSimulatedPad(const std::vector<sen
   return Simulate(specs, profile, seed, pad, true);
 }
 
-}  // namespace sedbridge::bridge
+}  // namespace sedbridge::fidelity
