@@ -202,6 +202,8 @@ class ComplianceContact {
   /// (see the file comment; a face sample's force reaches G through its nodes).
   const Eigen::MatrixXd& compliance_m_N() const { return op_->W(); }
   const Eigen::MatrixXd& sed_node_map_m_N() const { return op_->G(); }
+  /// The Merkel SED's mapping (its last displacements, element strains, vertex average).
+  const ComplianceSedMap& sed_map() const { return *sed_map_; }
   /// The precomputed operator (W, G, the cache) this contact solves with.
   const ComplianceOperator& compliance_operator() const { return *op_; }
 

@@ -97,6 +97,46 @@ void ComplianceSedMap::ComputeSed(Eigen::VectorXd& vertex_sed_Pa) {
   sed_->AverageToVertices(element_sed_Pa_, vertex_sed_Pa);
 }
 
+void ComplianceSedMap::ElementStrains(const Eigen::VectorXd& u, Eigen::VectorXd& strain) const {
+  const int count = int(mu_Pa_.size());
+  strain.resize(6 * Eigen::Index(count));
+  for (int e = 0; e < count; ++e) {
+    double H[3][3] = {};  // displacement gradient sum_a u_a g_a^T
+    for (int a = 0; a < 4; ++a) {
+      const double* ua = u.data() + offset_[size_t(a * count + e)];
+      for (int q = 0; q < 3; ++q) {
+        const double g = gradient_[size_t((3 * a + q) * count + e)];
+        for (int r = 0; r < 3; ++r) H[r][q] += ua[r] * g;
+      }
+    }
+    double* s = strain.data() + 6 * Eigen::Index(e);
+    s[0] = H[0][0], s[1] = H[1][1], s[2] = H[2][2];
+    s[3] = 0.5 * (H[0][1] + H[1][0]), s[4] = 0.5 * (H[0][2] + H[2][0]), s[5] = 0.5 * (H[1][2] + H[2][1]);
+  }
+}
+
+void ComplianceSedMap::VertexAverage(std::vector<int>& start, std::vector<int>& element, std::vector<double>& weight) const {
+  // The evaluator's average is linear in the element SEDs: read it off unit fields.
+  const Eigen::Index elements = Eigen::Index(mu_Pa_.size()), vertices = Eigen::Index(sed_->vertices().size());
+  std::vector<std::vector<std::pair<int, double>>> rows;
+  rows.resize(size_t(vertices));
+  Eigen::VectorXd unit = Eigen::VectorXd::Zero(elements), vertex;
+  for (Eigen::Index e = 0; e < elements; ++e) {
+    unit[e] = 1.0;
+    sed_->AverageToVertices(unit, vertex);
+    unit[e] = 0.0;
+    for (Eigen::Index v = 0; v < vertices; ++v)
+      if (vertex[v] != 0) rows[size_t(v)].push_back({int(e), vertex[v]});
+  }
+  start.assign(1, 0);
+  element.clear();
+  weight.clear();
+  for (const auto& row : rows) {
+    for (const auto& [e, w] : row) element.push_back(e), weight.push_back(w);
+    start.push_back(int(element.size()));
+  }
+}
+
 int ComplianceSedMap::KeptColumn(int node, const Eigen::Vector3d& f, double* coefficient) {
   const Eigen::Index rows = G_single_.rows();
   const double size = f.norm();

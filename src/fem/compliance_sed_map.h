@@ -50,6 +50,17 @@ class ComplianceSedMap {
   /// Vertex SED [Pa] in the order of vertices(), from the last displacements.
   void ComputeSed(Eigen::VectorXd& vertex_sed_Pa);
 
+  /// The SED nodes' displacements [m] of the last ComputeDisplacements.
+  const Eigen::VectorXd& displacements_m() const { return u_s_m_; }
+  /// Small strain of every SED element [-] (6 per element: xx yy zz xy xz yz, tensor
+  /// components; elements in the evaluator's order) from SED-node displacements u_s [m].
+  void ElementStrains(const Eigen::VectorXd& u_s_m, Eigen::VectorXd& strain) const;
+  const std::vector<double>& element_mu_Pa() const { return mu_Pa_; }
+  const std::vector<double>& element_lambda_Pa() const { return lambda_Pa_; }
+  /// The vertex average as a sparse map: vertex v's SED is the sum over k in
+  /// [start[v], start[v+1]) of weight[k] * the SED of element element[k].
+  void VertexAverage(std::vector<int>& start, std::vector<int>& element, std::vector<double>& weight) const;
+
   /// SED columns G(:, node) d computed (kept for reuse) and node forces read through one.
   std::uint64_t columns_kept() const { return columns_kept_; }
   std::uint64_t kept_reads() const { return kept_reads_; }
