@@ -1,12 +1,9 @@
 #pragma once
 // Contact at haptic rates by the compliance method (the idea of SOFA's
-// PrecomputedConstraintCorrection): for a linear, quasi-static model with the bone fixed the
-// displacement is u = K^-1 f, and contact forces act only on a known set of candidate
-// nodes (the skin facing the pad). So two dense blocks of K^-1, computed once (one
-// back-substitution per candidate dof) and cached on disk, answer every step:
-//   W = H K^-1 H^T   3c x 3c   candidate displacements from candidate forces (compliance)
-//   G = S K^-1 H^T   3s x 3c   displacements of the s nodes the Merkel-layer SED reads
-// A step solves the paper's penalty law f_i = k max(0, -phi(x_i)) n(x_i) (SDF and normal at
+// PrecomputedConstraintCorrection): the contact solver. Its operator (W = H K^-1 H^T over
+// the candidate nodes, G = S K^-1 H^T to the SED's nodes, precomputed and cached:
+// fem/compliance_operator.h) and its SED mapping (fem/compliance_sed_map.h) are their own
+// classes; this one holds the step. A step solves the paper's penalty law f_i = k max(0, -phi(x_i)) n(x_i) (SDF and normal at
 // the CURRENT node position x = X + u, as PenaltyContactForce in a quasi-static solve) on
 // this small system: with the gaps linearized at the current positions it is a convex QP
 // in the contacts' normal force magnitudes (primal active set); outer iterations move the
@@ -26,22 +23,15 @@
 #include <string>
 #include <vector>
 
+#include "fem/compliance_operator.h"
+#include "fem/compliance_sed_map.h"
 #include "fem/dense_cholesky.h"
 #include "fem/force_term.h"
 #include "fem/penalty_contact_force.h"
-#include "fem/strain_energy_density.h"
 #include "fem/tet_mesh.h"
 #include "common/geometry/rigid_object.h"
 
 namespace sedbridge::fem {
-
-/// A contact point on a skin face: position and displacement are the weighted sums of its
-/// nodes' (indices into the candidate nodes, weights >= 0 summing to 1); its force goes to
-/// them with the same weights.
-struct ContactSample {
-  std::array<int, 3> candidate{};
-  std::array<double, 3> weight{};
-};
 
 struct ComplianceContactOptions {
   double stiffness_N_m = 1e4;      ///< k_contact per node (paper: 1e4 N/m)
@@ -192,9 +182,9 @@ class ComplianceContact {
   size_t num_anchors() const;
 
   /// Contact points: the candidate nodes, then options.face_samples.
-  int num_samples() const { return int(rest_c_.cols()); }
+  int num_samples() const { return op_->num_samples(); }
   /// The contact points' rest positions [m], 3 x num_samples().
-  const Eigen::Matrix3Xd& sample_rest_positions_m() const { return rest_c_; }
+  const Eigen::Matrix3Xd& sample_rest_positions_m() const { return op_->sample_rest_positions_m(); }
   /// Displacement of each candidate after the last step [m], 3 x #candidates.
   Eigen::Map<const Eigen::Matrix3Xd> candidate_displacements_m() const;
   /// Positions of all nodes where the last step defines them (candidates and SED nodes;
@@ -202,16 +192,20 @@ class ComplianceContact {
   const Eigen::VectorXd& positions_m() const { return x_; }
   /// Every node's position after the last step [m], 3 * #nodes (options.full_field only;
   /// empty otherwise).
-  Eigen::VectorXd full_positions_m() const;
+  Eigen::VectorXd full_positions_m() const { return op_->FullPositions(loaded_, f_c_); }
 
-  const std::vector<int>& candidate_nodes() const { return candidates_; }
-  const std::vector<int>& sed_vertices() const;
+  const std::vector<int>& candidate_nodes() const { return op_->candidate_nodes(); }
+  const std::vector<int>& sed_vertices() const { return sed_map_->vertices(); }
   /// Nodes whose displacement the SED needs (those of the elements around sed_vertices).
-  const std::vector<int>& sed_nodes() const { return sed_nodes_; }
+  const std::vector<int>& sed_nodes() const { return sed_map_->sed_nodes(); }
   /// W [m/N] over the num_samples() contact points and G [m/N] over the candidate nodes
   /// (see the file comment; a face sample's force reaches G through its nodes).
-  const Eigen::MatrixXd& compliance_m_N() const { return W_; }
-  const Eigen::MatrixXd& sed_node_map_m_N() const { return G_; }
+  const Eigen::MatrixXd& compliance_m_N() const { return op_->W(); }
+  const Eigen::MatrixXd& sed_node_map_m_N() const { return op_->G(); }
+  /// The Merkel SED's mapping (its last displacements, element strains, vertex average).
+  const ComplianceSedMap& sed_map() const { return *sed_map_; }
+  /// The precomputed operator (W, G, the cache) this contact solves with.
+  const ComplianceOperator& compliance_operator() const { return *op_; }
 
   const ComplianceContactOptions& options() const { return options_; }
   /// The solve's tolerance (ComplianceContactOptions::relative_tolerance) for the steps
@@ -220,37 +214,67 @@ class ComplianceContact {
   void set_relative_tolerance(double tolerance);
   /// Wall time of the precompute (or cache load) [s] and where it came from.
   double precompute_s() const { return precompute_s_; }
-  bool loaded_from_cache() const { return loaded_from_cache_; }
+  bool loaded_from_cache() const { return op_->loaded_from_cache(); }
   /// Cache file used (empty without cache_dir).
-  const std::string& cache_file() const { return cache_file_; }
+  const std::string& cache_file() const { return op_->cache_file(); }
   /// Why an existing cache file was not used (empty if none was rejected).
-  const std::string& cache_rejected_reason() const { return cache_rejected_; }
+  const std::string& cache_rejected_reason() const { return op_->cache_rejected_reason(); }
 
  private:
+  // Exact contact's gap tolerance is relative_tolerance times this length [m].
+  static constexpr double kExactGapScale_m = 1e-3;
+  // Exact contact: compliance added to the QP matrix, relative to its largest diagonal
+  // entry [-]. Far below any physical compliance (the answer does not move), large enough to
+  // keep the matrix definite when two contacts push one node along dependent normals.
+  static constexpr double kExactContactRegularization = 1e-12;
+  // Floor of the largest contact force used to scale the penalty gap tolerance [N]: before
+  // any force is known the tolerance must still be positive.
+  static constexpr double kMinForceScale_N = 1e-12;
+  // A point whose gap is known to exceed this [m] is not evaluated again within a step (it
+  // can only come into contact by moving that far; the QP sees the bound as its gap).
+  static constexpr double kFarGap_m = 0.5e-3;
+  // Force control: a row whose direction turns less than this [-] toward the push cannot
+  // start carrying the force (its force would be huge, its gap closing from far away).
+  static constexpr double kMinPush = 1e-3;
+
+  // One Solve's state besides the members: force control's offset along its direction and
+  // its Anderson history, and this iteration's measures of the penalty law.
+  struct SolveState {
+    ForceControl* control = nullptr;
+    double offset = 0;
+    double previous_mapped_offset = 0;  // the offset's mapped value at the last iteration
+    bool offset_capped = false;         // the last move was cut to max_change_m
+    bool have_previous = false;         // Anderson history valid (same contacts as last iteration)
+    bool previous_prediction_valid = false;  // previous_prediction_ = W (last QP's mapped forces)
+    bool warm_forces = false;           // force control from forces of the last step
+    double warm_gap_m = 0;              // least gap of a warm force, at the start
+    double largest = 0, mismatch = 0, gap_error = 0, turn = 0;
+    double pushed_N = 0;                // force control: sum k depth n . direction
+  };
   const ComplianceStepResult& Solve(const std::vector<geometry::RigidObject>& objects, double t_s,
                                     const Eigen::Vector3d& tangential_force_N, bool compute_sed, ForceControl* control);
-  void Precompute(const SystemMatrix& K);
-  bool LoadCache(std::uint64_t key);
-  /// W over nodes + face samples (the QP's blocks), sample positions.
-  void AddFaceSamples();
-  // With face samples the products with W, G and F run over the nodes: a force on a sample
-  // goes to its nodes (B^T f), the node columns take it there, and displacements at the
-  // samples are B u (207-row columns on B instead of 570).
-  void AddSampleForce(int sample, const Eigen::Vector3d& f) const;  // into node_force_
-  /// Calls take(node, force) for every node with a force in node_force_, in the order they
-  /// got one, and clears them.
-  template <typename Take>
-  void TakeNodeForces(const Take& take) const;
-  /// y += A node_force_ over the nodes with a force (A: W_nodes_ or F_), which are then
-  /// cleared.
-  template <typename Matrix>
-  void ApplyNodeForces(const Matrix& A, Eigen::VectorXd& y) const;
-  /// u_samples += B u_nodes.
-  void AddToSamples(const Eigen::VectorXd& u_nodes, Eigen::VectorXd& u_samples) const;
-  /// u_samples += W f, the forces force(item) at samples sample_of(item) over `items`.
-  template <typename Items, typename SampleOf, typename Force>
-  void AddWTimes(const Items& items, const SampleOf& sample_of, const Force& force, Eigen::VectorXd& u_samples);
-  void SaveCache(std::uint64_t key) const;
+  // Solve's stages, in order.
+  /// Clears the result, checks the inputs, sizes the pairs for these objects and poses them.
+  bool BeginSolve(const std::vector<geometry::RigidObject>& objects, double t_s,
+                  const Eigen::Vector3d& tangential_force_N, SolveState& state);
+  /// Poses the objects at their base pose plus force control's offset.
+  void PlaceObjects(const SolveState& state);
+  /// 1. The forces of the current pairs on the samples (normal, tangential share, friction)
+  /// and the displacements they give; returns the tangential load per unit normal force.
+  Eigen::Vector3d LoadCurrentForces(const Eigen::Vector3d& tangential_force_N);
+  /// 2. Gaps and normals at the current positions, and how far the forces are from the
+  /// law. False on a non-finite signed distance (result_.error set).
+  bool EvaluateGaps(const std::vector<geometry::RigidObject>& objects, int iteration, SolveState& state);
+  /// The convergence test of the penalty law (or exact contact, or force control).
+  bool LawIsMet(const SolveState& state) const;
+  /// Anderson acceleration of depth 1 on the pairs' force vectors after a QP; returns its
+  /// coefficient (0: none).
+  double AccelerateForces(const Eigen::Vector3d& tangential_force_N, SolveState& state);
+  /// Force control: moves the objects by the QP's offset change (capped, accelerated).
+  /// False when the offset left its bounds (the solve stops).
+  bool MoveObjects(double accelerated_gamma, SolveState& state);
+  /// The contacts and forces the final positions give (as PenaltyContactForce).
+  void ReportContacts(const Eigen::Vector3d& tangential_force_N);
   /// u_c = W f_c over the candidates whose force is non-zero. normal_forces_only: f_c is
   /// exactly the pairs' l_p n_p (no friction, no tangential load), so cached columns of T
   /// can serve.
@@ -266,10 +290,24 @@ class ComplianceContact {
   void AddColumnsOfT(const Items& items, const SlotOf& slot_of, const CoefficientOf& coefficient_of,
                      Eigen::VectorXd& y) const;
   /// One convex QP for the normal forces with the gaps linearized at the current
-  /// positions (see the .cpp); updates lambda_N_. False on NaN.
+  /// positions (see compliance_contact_qp.cpp); updates lambda_N_. False on NaN.
   /// With `control`: the force along its direction is its target, and qp_offset_change_m_
   /// is how far the objects move for it (the multiplier of that constraint).
   bool SolveLinearizedQp(int num_objects, const Eigen::Vector3d& tau, const ForceControl* control = nullptr);
+  // SolveLinearizedQp's stages.
+  /// The QP's rows (normal rows of every pair, then friction rows) and the held tangential
+  /// load's displacements u_t_; returns the number of rows.
+  int BuildQpRows(int num_objects, const Eigen::Vector3d& tau);
+  /// Force control: the rows' push along its direction and a start that carries the target.
+  /// False when no row can carry it.
+  bool StartForceControl(int rows, const ForceControl& control);
+  /// u_new_ = u_t + sum over the passive rows of l_r W dir_r (from T where a row has its column).
+  void PredictDisplacements(const Eigen::VectorXd& l);
+  /// The primal active-set iterations; returns whether the active set settled. False in
+  /// *ok on NaN or a singular matrix.
+  bool RunActiveSet(int rows, const ForceControl* control, double* delta, bool* ok);
+  /// The QP's row forces back to the pairs (normal forces, friction springs).
+  void TakeQpForces();
   /// QP matrix entry of rows r and q (their slots of T, -1: none), compliance not included.
   double QpEntry(int r, int slot_r, int q, int slot_q) const;
   /// Brings factor_ to the passive rows (passive_, passive_slot_; `rows` QP rows): kept as
@@ -277,49 +315,16 @@ class ComplianceContact {
   /// passive_slot_ then follow the factor's row order. False if the matrix is not positive
   /// definite.
   bool UpdateFactor(int rows);
+  /// The Merkel SED's forces (the loaded samples' forces, through the nodes with face
+  /// samples) into the SED map.
+  void AddSedForces();
 
   const TetMesh& mesh_;
   std::vector<std::unique_ptr<ForceTerm>> terms_;
-  std::vector<int> candidates_;
-  std::vector<int> sample_node_;  // per contact sample: its node (a face sample's first vertex)
-  std::vector<int> sed_nodes_;
   ComplianceContactOptions options_;
-  std::unique_ptr<VertexSedEvaluator> sed_;
-  // The SED elements (in the order of sed_->elements()), structure of arrays: node a's
-  // offset 3 * (index into sed_nodes_) at [a * count + e], shape gradient (a, q) at
-  // [(3 a + q) * count + e], Lame parameters per element.
-  std::vector<int> sed_offset_;
-  std::vector<double> sed_gradient_, sed_mu_Pa_, sed_lambda_Pa_;
-  Eigen::VectorXd element_sed_;
-  Eigen::MatrixXd W_, G_, F_;  // F_: K^-1 H^T for every dof (full_field only)
-  // Face samples: W over the nodes only; G_ and F_ stay over the nodes.
-  Eigen::MatrixXd W_nodes_;
-  Eigen::MatrixXf G_single_;  // G_ rounded to float: the SED's products read it
-  /// The SED's kept column for G's column node `node` (ComplianceContactOptions::
-  /// sed_kept_columns_MiB) when its force f is along the direction it had at the last SED:
-  /// its slot in sed_kept_, with f = coefficient * that direction (to 1e-12 relative). -1:
-  /// take f through G's three columns.
-  int KeptSedColumn(int node, const Eigen::Vector3d& f, double* coefficient);
-  struct SedDirection {
-    Eigen::Vector3d dir = Eigen::Vector3d::Zero();  // unit; zero: none seen
-    int slot = -1;                                 // its column in sed_kept_, -1: none
-  };
-  Eigen::Index sed_kept_budget_ = 0;         // kept columns sed_kept_columns_MiB holds
-  std::vector<SedDirection> sed_direction_;  // per node column of G (with a budget)
-  Eigen::MatrixXf sed_kept_;                 // kept columns (G's rows, single precision), sed_direction_'s slots
-  std::vector<int> sed_kept_free_;           // slots given back by a node that turned
-  std::vector<int> sed_kept_slots_;          // this SED's kept slots ...
-  std::vector<double> sed_kept_coefficients_;  // ... and their coefficients
-  std::vector<int> sed_triple_columns_;      // this SED's nodes through three columns ...
-  Eigen::Matrix3Xd sed_forces_;              // ... and their forces
-  // Scratch of the products through the nodes (B^T f); mutable: full_positions_m() is const.
-  mutable Eigen::VectorXd node_force_;
-  mutable std::vector<int> forced_nodes_;
-  mutable std::vector<char> node_forced_;
-  Eigen::VectorXd node_u_;
+  std::unique_ptr<ComplianceSedMap> sed_map_;
+  std::unique_ptr<ComplianceOperator> op_;
   double precompute_s_ = 0;
-  bool loaded_from_cache_ = false;
-  std::string cache_file_, cache_rejected_;
 
   // Per-step state: contact pairs p = candidate * #objects + object.
   int num_objects_ = -1;
@@ -333,7 +338,7 @@ class ComplianceContact {
   Eigen::VectorXd f_c_, u_c_, u_t_;   // candidate forces, displacements, tangential part
   std::vector<int> active_, loaded_;  // pairs penetrating now; candidates with a force
   Eigen::MatrixXd J_;  // the QP's matrix when it is factored anew (lower triangle)
-  Eigen::VectorXd rhs_, z_, y_, u_new_, u_s_, push_passive_;
+  Eigen::VectorXd rhs_, z_, y_, u_new_, push_passive_;
   Eigen::VectorXd prediction_, previous_prediction_;  // QPs' W mapped (Anderson's combination)
   // T: W dir_r for QP rows r, one column per slot (3 x #samples rows), kept while the row's
   // sample and direction stay the same: the QP's matrix is gathered from it (J(a, b) =
@@ -382,7 +387,6 @@ class ComplianceContact {
   std::vector<int> passive_, before_add_, kept_;
   std::vector<char> in_passive_;
   double largest_ = 0;
-  Eigen::Matrix3Xd rest_c_;
   std::vector<Eigen::Isometry3d> pose_, pose_inverse_, base_pose_;  // per object, this step
   Eigen::VectorXd row_push_;        // force control: dir . row direction per QP row
   double qp_offset_change_m_ = 0;   // force control: the QP's move of the objects

@@ -10,6 +10,7 @@
 #include "common/hot_clones.h"
 #include "fem/rotation_extraction.h"
 #include "fem/rotation_step4.h"
+#include "fem/tet_sed.h"
 
 namespace sedbridge::fem {
 
@@ -30,22 +31,13 @@ namespace {
 using rotation_step4::Doubles4;
 using rotation_step4::Mask4;
 
-// sigma:eps/2 = mu eps:eps + lambda/2 tr(eps)^2 of eps = sym(G) - I, four elements at a
-// time (G = R^T F corotational, F linear), with the four elements' mu and lambda [Pa].
+// The SED of four elements at a time (G = R^T F corotational, F linear), with the four
+// elements' mu and lambda [Pa] (fem/tet_sed.h).
 inline __attribute__((always_inline)) void SmallStrainSed4(const Doubles4 (&G)[3][3], const double* mu,
                                                           const double* lambda, Doubles4& sed) {
-  using V = Doubles4;
-  const V zero = {0, 0, 0, 0}, one = {1, 1, 1, 1};
-  V eps[3][3];
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) eps[i][j] = 0.5 * (G[i][j] + G[j][i]) - (i == j ? one : zero);
-  const V tr = eps[0][0] + eps[1][1] + eps[2][2];
-  V mu4, lambda4;
+  Doubles4 mu4, lambda4;
   rotation_step4::Load4(mu4, mu), rotation_step4::Load4(lambda4, lambda);
-  V eps2 = zero;
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) eps2 += eps[i][j] * eps[i][j];
-  sed = 0.5 * (lambda4 * tr * tr) + mu4 * eps2;
+  StretchSed<Doubles4>(G, mu4, lambda4, sed);
 }
 
 // Corotational SED of elements [begin, end) of a SedArrays layout (`count` entries), four at
@@ -104,10 +96,10 @@ int LinearSedBy4(int begin, int end, int count, const int* offset, const double*
 
 double ElementSed(const TetElement& e, const Eigen::Matrix3d& F, const Eigen::Matrix3d& R) {
   const Eigen::Matrix3d G = R.transpose() * F;
-  const Eigen::Matrix3d eps = 0.5 * (G + G.transpose()) - Eigen::Matrix3d::Identity();
-  const double tr = eps.trace();
-  const Eigen::Matrix3d sigma = e.lambda_Pa * tr * Eigen::Matrix3d::Identity() + 2.0 * e.mu_Pa * eps;
-  return 0.5 * (sigma.array() * eps.array()).sum();
+  const double g[3][3] = {{G(0, 0), G(0, 1), G(0, 2)}, {G(1, 0), G(1, 1), G(1, 2)}, {G(2, 0), G(2, 1), G(2, 2)}};
+  double sed_Pa = 0;
+  StretchSed<double>(g, e.mu_Pa, e.lambda_Pa, sed_Pa);
+  return sed_Pa;
 }
 
 VertexSedEvaluator::VertexSedEvaluator(const ElasticTetForce& elastic, std::vector<int> vertices,

@@ -1,0 +1,83 @@
+#pragma once
+// The display's commands by inverse FE: the command vector u, each entry in [0, max_i],
+// whose Merkel SED on the leader's model (render/display_influence.h) is closest to the
+// target SED the bridge computed. The renderer proposes; the safety limiter after it
+// disposes (display/safety_limiter.h), and the leader-side driver keeps its own limits.
+//
+// The measure: least squares on square roots of SED, r_v = sqrt(S_v(u) + s0) -
+// sqrt(T_v + S_v(0) + s0). SED spans three decades over a press (tens of Pa at its rim,
+// thousands at its peak): plain SED residuals would fit the peak alone, relative ones the
+// faint rim alone. The square root of SED scales with strain (SED is quadratic in it), so
+// the fit weighs the field as the layer's deformation does; s0 keeps it smooth at zero.
+// S_v(0) is the preload's own SED: the target is what the object adds, the display
+// renders it on top of the pad resting on the display.
+//
+// The solver: Gauss-Newton with box constraints (projected: a variable at a bound whose
+// gradient pushes it outward stays there, the rest take the Newton step, then a
+// backtracking line search on the projected path), warm-started from the last scan's
+// commands (and so their bound set). A few iterations a scan: the target moves little
+// between scans.
+
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "render/display_influence.h"
+
+namespace sedbridge::render {
+
+struct InverseRendererOptions {
+  /// s0 of the measure [Pa]: SED differences well below it weigh little.
+  double sed_floor_Pa = 10.0;
+  int max_iterations = 8;
+  /// Converged when a step moves no command by more than this fraction of its maximum
+  /// (1e-4: far below what a device resolves), or the cost stops falling.
+  double command_tolerance = 1e-4;
+  /// Levenberg damping of the Gauss-Newton matrix, relative to its largest diagonal.
+  double damping = 1e-9;
+};
+
+struct RenderResult {
+  bool fault = false;        ///< non-finite target: every command 0
+  bool converged = false;
+  int iterations = 0;
+  int evaluations = 0;       ///< SED fields evaluated (line-search trials included)
+  double cost = 0;           ///< 1/2 sum r_v^2 at the answer [Pa]
+  int at_upper_bound = 0;    ///< commands at their maximum
+};
+
+class InverseRenderer {
+ public:
+  /// @param influence   the display's influence on the leader's Merkel layer (kept by value)
+  /// @param max_command per actuator [command unit], >= 0 (the profile's safety limits)
+  /// Throws std::invalid_argument on a size mismatch or a negative/non-finite maximum.
+  InverseRenderer(DisplayInfluence influence, Eigen::VectorXd max_command, InverseRendererOptions options = {});
+
+  /// Commands for the target vertex SED [Pa] (#vertices of the influence, in its order).
+  /// Negative targets count as 0. A non-finite entry gives all zeros and `fault`.
+  const Eigen::VectorXd& Render(const Eigen::VectorXd& target_sed_Pa);
+  const Eigen::VectorXd& commands() const { return u_; }
+  const RenderResult& last() const { return result_; }
+  const DisplayInfluence& influence() const { return influence_; }
+  /// Forgets the warm start (the next scan starts from all zeros).
+  void Reset() { u_.setZero(); }
+
+ private:
+  /// r (residuals) and J (their Jacobian) at u; returns 1/2 |r|^2.
+  double Residuals(const Eigen::VectorXd& u, bool with_jacobian);
+  /// The Gauss-Newton step on the variables free at u (the others 0).
+  void FreeStep(const Eigen::VectorXd& u);
+  /// The best point on the projected path u + a step, a = 1, 1/2, ...; false if none lowers
+  /// the cost.
+  bool LineSearch(double cost, Eigen::VectorXd& u, double* new_cost);
+
+  DisplayInfluence influence_;
+  Eigen::VectorXd max_;
+  InverseRendererOptions options_;
+  Eigen::VectorXd u_, previous_, target_root_, sed_, r_, step_, trial_, gradient_;
+  Eigen::MatrixXd dS_, J_, H_;
+  std::vector<int> free_;
+  RenderResult result_;
+};
+
+}  // namespace sedbridge::render

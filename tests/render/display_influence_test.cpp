@@ -1,0 +1,74 @@
+#include "render/display_influence.h"
+
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+#include "fem/tet_sed.h"
+#include "render_test_util.h"
+
+namespace sedbridge::render {
+namespace {
+
+// Element SED of eps0 + E u straight from the tensor formula (fem/tet_sed.h), averaged.
+Eigen::VectorXd DirectSed(const ElementStrainInfluence& in, const Eigen::VectorXd& u) {
+  const Eigen::Index elements = in.mu_Pa.size();
+  Eigen::VectorXd element(elements);
+  const Eigen::VectorXd eps = in.preload_strain + in.strain_per_command * u;
+  for (Eigen::Index e = 0; e < elements; ++e) {
+    const double* s = eps.data() + kStrainComponents * e;
+    fem::SymmetricStrainSed<double>(s[0], s[1], s[2], s[3], s[4], s[5], in.mu_Pa[e], in.lambda_Pa[e], element[e]);
+  }
+  Eigen::VectorXd vertex = Eigen::VectorXd::Zero(Eigen::Index(in.vertex_start.size()) - 1);
+  for (Eigen::Index v = 0; v < vertex.size(); ++v)
+    for (int k = in.vertex_start[size_t(v)]; k < in.vertex_start[size_t(v) + 1]; ++k)
+      vertex[v] += in.vertex_weight[size_t(k)] * element[in.vertex_element[size_t(k)]];
+  return vertex;
+}
+
+TEST(DisplayInfluence, QuadraticFormIsTheElementSedOfTheSuperposedStrain) {
+  const ElementStrainInfluence in = testing::SyntheticInfluence(6, 40, 2e-3);
+  const DisplayInfluence influence(in);
+  for (int trial = 0; trial < 4; ++trial) {
+    const Eigen::VectorXd u = (Eigen::VectorXd::Random(6).array() + 1.0).matrix() * 5.0;
+    Eigen::VectorXd sed;
+    influence.Sed(u, sed);
+    const Eigen::VectorXd direct = DirectSed(in, u);
+    EXPECT_LE((sed - direct).norm(), 1e-12 * direct.norm()) << trial;
+  }
+  Eigen::VectorXd zero_sed;
+  influence.Sed(Eigen::VectorXd::Zero(6), zero_sed);
+  EXPECT_LE((zero_sed - influence.preload_sed_Pa()).norm(), 1e-12 * zero_sed.norm());
+  EXPECT_GT(zero_sed.minCoeff(), 0.0);  // the preload strains every element
+}
+
+TEST(DisplayInfluence, JacobianMatchesFiniteDifferences) {
+  const DisplayInfluence influence(testing::SyntheticInfluence(5, 30, 1e-3));
+  const Eigen::VectorXd u = Eigen::VectorXd::LinSpaced(5, 1.0, 9.0);
+  Eigen::VectorXd sed, plus, minus;
+  Eigen::MatrixXd J;
+  influence.SedAndJacobian(u, sed, J);
+  const double h = 1e-4;
+  for (int a = 0; a < 5; ++a) {
+    Eigen::VectorXd up = u, um = u;
+    up[a] += h, um[a] -= h;
+    influence.Sed(up, plus);
+    influence.Sed(um, minus);
+    EXPECT_LE((J.col(a) - (plus - minus) / (2 * h)).norm(), 1e-6 * J.col(a).norm() + 1e-12) << a;
+  }
+}
+
+TEST(DisplayInfluence, InconsistentSizesAreRefused) {
+  ElementStrainInfluence in = testing::SyntheticInfluence(4, 10, 0.0);
+  in.preload_strain.conservativeResize(7);
+  EXPECT_THROW(DisplayInfluence{in}, std::invalid_argument);
+  in = testing::SyntheticInfluence(4, 10, 0.0);
+  in.vertex_element[3] = 99;
+  EXPECT_THROW(DisplayInfluence{in}, std::invalid_argument);
+  in = testing::SyntheticInfluence(4, 10, 0.0);
+  in.strain_per_command(0, 0) = std::nan("");
+  EXPECT_THROW(DisplayInfluence{in}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace sedbridge::render

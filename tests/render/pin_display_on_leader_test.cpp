@@ -1,0 +1,78 @@
+#include "render/pin_display_on_leader.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "display/display_profile.h"
+#include "model/fingertip_model.h"
+#include "render/inverse_renderer.h"
+
+namespace sedbridge::render {
+namespace {
+
+// Face contact: a 0.5 mm pin is narrower than the skin-node spacing.
+scene::FingertipComplianceOptions FaceContact() {
+  scene::FingertipComplianceOptions options;
+  options.face_samples = true;
+  return options;
+}
+
+struct Leader {
+  model::FingertipModel model = model::LoadFingertipModel("B_coarse");
+  scene::FingertipCompliance fingertip{model, FaceContact()};
+};
+
+double RelativeL2(const Eigen::VectorXd& a, const Eigen::VectorXd& reference) {
+  return (a - reference).norm() / reference.norm();
+}
+
+// The pin_6x4 display on B_coarse: what the linear influence (about the preloaded plate)
+// says a command vector does against the full contact solve of the same pins.
+TEST(PinDisplayOnLeader, LinearInfluenceAgreesWithTheFullContactWhereTheLoadIsLinear) {
+  Leader leader;
+  const display::DisplayProfile profile = display::LoadNamedDisplayProfile("pin_6x4");
+  ASSERT_TRUE(profile.has_device_model());
+  PinDisplayOnLeader display(leader.fingertip, profile.device);
+  EXPECT_GT(display.preload_depth_mm(), 0.0);
+  const double h_ref = 0.2;
+  const DisplayInfluence influence(display.Influence(h_ref));
+  const int n = display.num_actuators();
+
+  // With every pin at rest the influence is the preloaded plate itself.
+  Eigen::VectorXd full, linear;
+  ASSERT_TRUE(display.Press(Eigen::VectorXd::Zero(n), full)) << display.error();
+  EXPECT_LE(RelativeL2(influence.preload_sed_Pa(), full), 1e-9);
+
+  struct Case {
+    const char* name;
+    Eigen::VectorXd heights_mm;
+    double bound;
+  };
+  Eigen::VectorXd one = Eigen::VectorXd::Zero(n), two = one, all = one, tall = one;
+  one[9] = h_ref;
+  two[9] = 0.3, two[14] = 0.15;
+  all.setConstant(0.1);
+  tall[9] = 0.8;
+  // Bounds: the measured agreement (B_coarse, 2026-11-29) with a margin, so that a change
+  // to the contact or the influence that moves it shows. Of the whole layer's SED, the
+  // preload's share included; the SED the pins add differs far more (printed): the
+  // linearization keeps each pin's own contact set at h_ref.
+  for (const Case& c : {Case{"one pin at h_ref", one, 1e-6}, Case{"two pins", two, 0.08},
+                        Case{"every pin 0.1 mm", all, 0.08}, Case{"one pin 0.8 mm", tall, 0.15}}) {
+    ASSERT_TRUE(display.Press(c.heights_mm, full)) << c.name << ": " << display.error();
+    influence.Sed(c.heights_mm, linear);
+    const double l2 = RelativeL2(linear, full);
+    const double added_l2 = RelativeL2(linear - influence.preload_sed_Pa(), full - influence.preload_sed_Pa());
+    std::printf("%-18s peak full %.1f Pa, linear %.1f Pa; added to the preload: %.1f / %.1f Pa (sum); rel L2 %.4f (added: %.3f)\n",
+                c.name, full.maxCoeff(), linear.maxCoeff(), (full - influence.preload_sed_Pa()).sum(),
+                (linear - influence.preload_sed_Pa()).sum(), l2, added_l2);
+    EXPECT_LE(l2, c.bound) << c.name;
+    if (c.bound < 1e-3) {  // the influence's own column
+      EXPECT_LE(added_l2, 1e-6) << c.name;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace sedbridge::render
