@@ -4,7 +4,7 @@
 #include <optional>
 
 #include "bridge/contact_fe_step.h"
-#include "bridge/contact_object.h"
+#include "contact/contact_object.h"
 #include "bridge/reduced_linear_fe_step.h"
 #include "bridge/scene_fe_step.h"
 #include "display/sed_to_command_mapping.h"
