@@ -38,7 +38,7 @@ struct CpuTimer {
 
 ContactFeStep::ContactFeStep(const std::string& model_name, const sensors::SensorProfile& profile,
                              const PadRegistration& registration, std::unique_ptr<FeStep> fallback,
-                             scene::FingertipComplianceOptions leader, ReconstructionOptions options,
+                             scene::FingertipComplianceOptions leader, contact::ReconstructionOptions options,
                              scene::PressToForceOptions press, const model::MerkelVertexFilter& merkel_filter)
     : fallback_(std::move(fallback)) {
   model_ = std::make_unique<model::FingertipModel>(LoadBridgeModel(model_name, merkel_filter));
@@ -80,7 +80,7 @@ bool ContactFeStep::Frame(FeFrame* frame) const {
 
 std::string ContactFeStep::CountersLine() const {
   const auto& r = stage_->reconstructor().counters();
-  const ContactStepCounters& c = stage_->counters();
+  const contact::ContactStepCounters& c = stage_->counters();
   const LatencySummary rt = recon_time_.Run(), pt = press_time_.Run(), ct = cpu_time_.Run();
   char line[1000];
   std::snprintf(line, sizeof line,
@@ -102,13 +102,13 @@ std::string ContactFeStep::CountersLine() const {
 }
 
 scene::PressToForceOptions ReconstructedPressOptions(const BridgeConfig& config) {
-  scene::PressToForceOptions options = ReconstructedPressOptions();
+  scene::PressToForceOptions options = contact::ReconstructedPressOptions();
   options.contact_relative_tolerance = config.contact_tolerance;
   return options;
 }
 
-ReconstructionOptions ReconstructionOptionsOf(const BridgeConfig& config) {
-  ReconstructionOptions options;
+contact::ReconstructionOptions ReconstructionOptionsOf(const BridgeConfig& config) {
+  contact::ReconstructionOptions options;
   options.fit_pairs = config.two_contacts;
   options.fit_finite_rods = config.finite_rods;
   options.radius_track_posterior = config.radius_tracking == RadiusTracking::kPosterior;

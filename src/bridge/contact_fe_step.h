@@ -22,28 +22,11 @@
 
 namespace sedbridge::bridge {
 
-// The contact stage's names the bridge speaks (src/contact/).
-using contact::ContactEstimate;
-using contact::ContactStepCounters;
-using contact::ContactReconstructor;
-using contact::kLeaderMinRodRadius_mm;
-using contact::kLeaderMinSphereRadius_mm;
-using contact::LeaderComplianceOptions;
-using contact::LeaderPress;
-using contact::LeaderTangentialLoad_N;
-using contact::ModelSelection;
-using contact::PressAnswered;
-using contact::PressReconstructed;
-using contact::ReconstructedPressOptions;
-using contact::ReconstructionOptions;
-using contact::ToRigidObject;
-using contact::ToRigidObjects;
-
 /// The leader press's options with the config's fe.contact_tolerance as its contact tolerance.
 scene::PressToForceOptions ReconstructedPressOptions(const BridgeConfig& config);
 /// The reconstruction of fe.step contact as a config sets it (fe.two_contacts,
 /// fe.finite_rods, fe.radius_tracking): one place for the bridge (MakeFeStep) and the fidelity benchmark.
-ReconstructionOptions ReconstructionOptionsOf(const BridgeConfig& config);
+contact::ReconstructionOptions ReconstructionOptionsOf(const BridgeConfig& config);
 
 class ContactFeStep final : public FeStep {
  public:
@@ -51,7 +34,7 @@ class ContactFeStep final : public FeStep {
   /// @param profile     three-axis sensor profile with a forward_model
   /// @param registration  sensor pad -> leader pad frame
   /// @param fallback    pressure-map step for scans the reconstruction cannot explain
-  /// @param leader      the leader press's options: LeaderComplianceOptions(cache dir, face
+  /// @param leader      the leader press's options: contact::LeaderComplianceOptions(cache dir, face
   ///                    contact); contact.full_field keeps what frame_positions_m() needs
   ///                    for the whole mesh (VTU frames; 24 MB on B, and the precompute runs
   ///                    instead of the cache)
@@ -61,8 +44,8 @@ class ContactFeStep final : public FeStep {
   ///                    layer); the fallback must have been built with the same
   ContactFeStep(const std::string& model_name, const sensors::SensorProfile& profile,
                 const PadRegistration& registration, std::unique_ptr<FeStep> fallback,
-                scene::FingertipComplianceOptions leader, ReconstructionOptions options = {},
-                scene::PressToForceOptions press = ReconstructedPressOptions(),
+                scene::FingertipComplianceOptions leader, contact::ReconstructionOptions options = {},
+                scene::PressToForceOptions press = contact::ReconstructedPressOptions(),
                 const model::MerkelVertexFilter& merkel_filter = {});
   ~ContactFeStep() override;
 
@@ -85,9 +68,9 @@ class ContactFeStep final : public FeStep {
   void set_skip_known_unreachable(bool skip) { stage_->set_skip_known_unreachable(skip); }
 
   /// The last scan's estimate in the leader's pad frame.
-  const ContactEstimate& last_estimate() const { return stage_->report().estimate; }
-  const ContactStepCounters& counters() const { return stage_->counters(); }
-  const ContactReconstructor& reconstructor() const { return stage_->reconstructor(); }
+  const contact::ContactEstimate& last_estimate() const { return stage_->report().estimate; }
+  const contact::ContactStepCounters& counters() const { return stage_->counters(); }
+  const contact::ContactReconstructor& reconstructor() const { return stage_->reconstructor(); }
   /// Wall time per step of the two stages (also in each result's report.stage_ms as
   /// kReconstruction and kPress): reconstruction, and the press on the leader (contact
   /// solves + Merkel SED), over the scans that reached them.

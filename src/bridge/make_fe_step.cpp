@@ -43,7 +43,7 @@ std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::Se
     // The pressure map stays as the fallback for scans the reconstruction cannot explain.
     BridgeConfig map = config;
     map.fe_step = FeStepKind::kReduced;
-    scene::FingertipComplianceOptions leader = LeaderComplianceOptions(config.compliance_cache_dir, config.face_contact);
+    scene::FingertipComplianceOptions leader = contact::LeaderComplianceOptions(config.compliance_cache_dir, config.face_contact);
     leader.contact.full_field = full_field;
     return std::make_unique<ContactFeStep>(config.model, profile, PadRegistration(profile.taxels, config.registration),
                                            MakeFeStep(map, profile, false, display), std::move(leader),

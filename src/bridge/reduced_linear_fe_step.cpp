@@ -2,6 +2,9 @@
 
 #include <cstdio>
 #include <stdexcept>
+#include <vector>
+
+#include "fem/stiffness_inverse.h"
 
 namespace sedbridge::bridge {
 
@@ -19,24 +22,39 @@ ReducedLinearFeStep::ReducedLinearFeStep(const scene::SceneDescription& d, const
   const Eigen::Matrix3Xd& rest = sc.model().soft.rest_positions_m;
   rest_m_ = Eigen::Map<const Eigen::VectorXd>(rest.data(), rest.size());
   const int axes = shear_ ? 3 : 1;
+  if (sc.simulation().matrix_free())
+    throw std::invalid_argument("the reduced FE step needs an assembled stiffness (a direct solver, not matrix-free PCG)");
   U_.resize(rest_m_.size(), num_taxels_ * axes);
   force_per_Pa_N_.setZero(num_taxels_);
-  // One column per unit taxel load (1 kPa for round-off, scaled back to per Pa).
+  // The load of each unit taxel value (1 kPa for round-off, scaled back to per Pa) at rest.
   constexpr double kUnit_Pa = 1e3;
   TaxelValues unit;
   unit.pressure_Pa.assign(size_t(num_taxels_), 0.0);
   if (shear_) unit.shear_x_Pa = unit.shear_y_Pa = unit.pressure_Pa;
+  sc.simulation().SetPositions(rest_m_);
+  std::vector<Eigen::VectorXd> loads(size_t(num_taxels_ * axes));
   for (int a = 0; a < axes; ++a)
     for (int j = 0; j < num_taxels_; ++j) {
       std::vector<double>& target = a == 0 ? unit.pressure_Pa : (a == 1 ? unit.shear_x_Pa : unit.shear_y_Pa);
       target[size_t(j)] = kUnit_Pa;
-      sc.simulation().SetPositions(rest_m_);
-      const MerkelSedResult& r = scene_step_->Step(unit);
-      if (!r.ok) throw std::runtime_error("reduced FE step: unit load failed: " + r.error);
-      U_.col(a * num_taxels_ + j) = (sc.simulation().positions_m() - rest_m_) / kUnit_Pa;
-      if (a == 0) force_per_Pa_N_[j] = r.applied_force_N / kUnit_Pa;
+      double applied_N = 0;
+      loads[size_t(a * num_taxels_ + j)] = scene_step_->LoadVector(unit, &applied_N);
+      if (a == 0) force_per_Pa_N_[j] = applied_N / kUnit_Pa;
       target[size_t(j)] = 0.0;
     }
+  double unloaded_N = 0;  // back to no traction (unit is all zero again)
+  scene_step_->LoadVector(unit, &unloaded_N);
+  // One back-substitution per column on the scene's K at rest (assembled by its unloaded
+  // step: the linear quasi-static matrix is constant).
+  const bool ok = fem::SolveForLoads(
+      sc.simulation().system_matrix(), int(loads.size()),
+      [&](int i, Eigen::VectorXd& b, std::vector<int>& touched) {
+        const Eigen::VectorXd& f = loads[size_t(i)];
+        for (Eigen::Index k = 0; k < f.size(); ++k)
+          if (f[k] != 0) b[k] = f[k], touched.push_back(int(k));
+      },
+      [&](int i, const Eigen::VectorXd& u) { U_.col(i) = u / kUnit_Pa; }, 0);
+  if (!ok) throw std::runtime_error("reduced FE step: a unit load's solve failed");
   sc.simulation().SetPositions(rest_m_);
   x_m_ = rest_m_;
   v_.setZero(U_.cols());

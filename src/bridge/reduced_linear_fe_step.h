@@ -2,15 +2,16 @@
 // FeStep as one dense product: for the linear quasi-static bridge scene (preset "fast":
 // linear elasticity, bone fixed, surface traction only) the displacement is a fixed linear
 // function of the taxel values, u = U v with v = [p; s_x; s_y] (per taxel) and
-// U = K^-1 B W. U is computed once by stepping the scene under each unit taxel load (one
-// back-substitution per column); a step is then u = U v plus the Merkel-layer SED of the
-// new positions. Same result as SceneFeStep up to round-off, at a fraction of its cost.
+// U = K^-1 B W. U is computed once: the scene's load vector of each unit taxel load, then
+// one back-substitution per column on K at rest (fem/stiffness_inverse.h, the precompute the
+// compliance operator uses too); a step is then u = U v plus the Merkel-layer SED of the new
+// positions. Same result as SceneFeStep up to round-off, at a fraction of its cost.
 // A step moves only the nodes the Merkel SED reads (the rows of U for the nodes of the
 // layer's elements: most of the mesh for the whole layer, a tenth for a display's
 // footprint); the whole mesh is moved for a VTU frame only (Frame).
 //
 // Refuses (std::invalid_argument) scenes where the map is not linear: corotational
-// elasticity, contact, a moving bone, backward Euler.
+// elasticity, contact, a moving bone, backward Euler; and a matrix-free solver (no K).
 
 #include <memory>
 #include <string>

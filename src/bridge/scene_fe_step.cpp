@@ -86,6 +86,12 @@ const MerkelSedResult& SceneFeStep::Step(const TaxelValues& values) {
   return result_;
 }
 
+Eigen::VectorXd SceneFeStep::LoadVector(const TaxelValues& values, double* applied_force_N) {
+  scene_->traction()->SetNodalTraction(bc_->Apply(values));
+  *applied_force_N = -(scene_->model().pad_frame.model_from_pad.linear().transpose() * scene_->traction()->TotalForce()).z();
+  return scene_->simulation().TotalForce();
+}
+
 const Eigen::Matrix3Xd& SceneFeStep::merkel_rest_pad_mm() const { return scene_->merkel()->rest_pad_mm(); }
 
 bool SceneFeStep::Frame(FeFrame* frame) const {

@@ -47,6 +47,10 @@ class SceneFeStep final : public FeStep {
   bool Frame(FeFrame* frame) const override;
 
   scene::FingertipScene& scene() { return *scene_; }
+  /// The load vector [N] (3 #soft nodes, model frame) of `values` on the scene at rest,
+  /// without a step; its force along -z_pad in *applied_force_N. The scene's traction is
+  /// left at these values.
+  Eigen::VectorXd LoadVector(const TaxelValues& values, double* applied_force_N);
   const PressureBoundaryCondition& boundary_condition() const { return *bc_; }
 
  private:

@@ -61,6 +61,7 @@ class NewtonSystem {
   /// True once the solver was prepared on an assembled matrix.
   bool matrix_ready() const { return matrix_ready_; }
   SystemMatrix& matrix() { return matrix_; }
+  const SystemMatrix& matrix() const { return matrix_; }
   const Eigen::VectorXd& force_N() const { return force_; }
   const Eigen::VectorXd& stiffness_times_velocity() const { return k_times_v_; }
   const LinearSolver& solver() const { return *solver_; }

@@ -54,6 +54,9 @@ class Simulation {
   const LinearSolver& solver() const { return system_->solver(); }
   /// True when the last step's matrix left the element blocks out (NewtonSystem::matrix_free).
   bool matrix_free() const { return system_->matrix_free(); }
+  /// The system matrix of the last assembly with a matrix (quasi-static: the stiffness K
+  /// [N/m]; incomplete when matrix_free()).
+  const SystemMatrix& system_matrix() const { return system_->matrix(); }
 
   /// The elastic term if the scene has one.
   const ElasticTetForce* elastic() const { return elastic_; }

@@ -116,7 +116,7 @@ FidelityBenchmark::FidelityBenchmark(const std::string& model_name, const sensor
       press_(bridge::ReconstructedPressOptions(config)) {
   model_ = std::make_unique<model::FingertipModel>(model::LoadFingertipModel(model_name));
   leader_ = std::make_unique<scene::FingertipCompliance>(
-      *model_, bridge::LeaderComplianceOptions(config.compliance_cache_dir, config.face_contact));
+      *model_, contact::LeaderComplianceOptions(config.compliance_cache_dir, config.face_contact));
   // The pressure-map bridge as the config runs it.
   const bridge::PadRegistration registration(profile.taxels, config.registration);
   map_step_ = std::make_unique<bridge::ReducedLinearFeStep>(bridge::BridgeSceneDescription(model_name, "fast"), profile,
@@ -154,12 +154,12 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
   }
 
   // Reconstruction through the press up to the peak, as the live bridge would run it.
-  bridge::ContactReconstructor recon(profile_, reconstruction_);
+  contact::ContactReconstructor recon(profile_, reconstruction_);
   std::vector<double> us;
-  bridge::ContactEstimate at_peak;
+  contact::ContactEstimate at_peak;
   for (size_t i = 0; i <= peak; ++i) {
     const auto t0 = std::chrono::steady_clock::now();
-    const bridge::ContactEstimate& e = recon.Reconstruct(press.scans[i]);
+    const contact::ContactEstimate& e = recon.Reconstruct(press.scans[i]);
     us.push_back(std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count());
     if (i == peak) at_peak = e;
   }
@@ -178,7 +178,7 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
   {
     const auto r = leader_->PressToForce(press.ObjectsAt(peak), row.truth_object.normal_force_N, {},
                                          Eigen::Vector2d(row.truth_object.shear_x_N, row.truth_object.shear_y_N));
-    row.truth_valid = bridge::PressAnswered(r, *leader_);
+    row.truth_valid = contact::PressAnswered(r, *leader_);
     row.truth_press = row.truth_valid ? "reached" : scene::ToString(r.status);
     if (!r.reached) row.truth_press += " (" + std::to_string(r.force_N) + " N at " + std::to_string(r.indentation_mm) + " mm)";
     maps->truth = leader_->sed_Pa();
@@ -193,10 +193,10 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
   // Reconstructed contact.
   if (row.recon_ok) {
     leader_->ResetWarmStart();
-    const bridge::LeaderPress pressed =
-        bridge::PressReconstructed(*leader_, at_peak, press_, bridge::LeaderTangentialLoad_N(at_peak));
+    const contact::LeaderPress pressed =
+        contact::PressReconstructed(*leader_, at_peak, press_, contact::LeaderTangentialLoad_N(at_peak));
     const scene::PressToForceResult& r = pressed.result;
-    row.recon_press = bridge::PressAnswered(r, *leader_) ? "reached" : scene::ToString(r.status);
+    row.recon_press = contact::PressAnswered(r, *leader_) ? "reached" : scene::ToString(r.status);
     if (pressed.thickened_radius_mm > 0) {
       char why[64];
       std::snprintf(why, sizeof why, " (as R%.2f: thinner slips)", pressed.thickened_radius_mm);
@@ -236,10 +236,10 @@ std::vector<FidelityBenchmark::ScanScore> FidelityBenchmark::RunThroughPress(con
   for (const Eigen::Vector3d& load : press.load_N) peak_N = std::max(peak_N, load.z());
   if (!(peak_N > 0)) return scores;
   const Eigen::Matrix3Xd& pad_mm = leader_->merkel_rest_pad_mm();
-  bridge::ContactReconstructor recon(profile_, reconstruction_);
+  contact::ContactReconstructor recon(profile_, reconstruction_);
   int since = stride;
   for (size_t k = 0; k < press.scans.size(); ++k) {
-    const bridge::ContactEstimate& e = recon.Reconstruct(press.scans[k]);  // every scan, as the bridge runs
+    const contact::ContactEstimate& e = recon.Reconstruct(press.scans[k]);  // every scan, as the bridge runs
     const Eigen::Vector3d& load = press.load_N[k];
     if (load.z() < min_force_share * peak_N || ++since < stride) continue;
     since = 0;
@@ -249,13 +249,13 @@ std::vector<FidelityBenchmark::ScanScore> FidelityBenchmark::RunThroughPress(con
     s.force_N = load.z();
     leader_->ResetWarmStart();
     const auto truth = leader_->PressToForce(press.ObjectsAt(k), load.z(), {}, Eigen::Vector2d(load.x(), load.y()));
-    s.truth_valid = bridge::PressAnswered(truth, *leader_);
+    s.truth_valid = contact::PressAnswered(truth, *leader_);
     const Eigen::VectorXd truth_sed = leader_->sed_Pa();
     s.truth_max_sed_Pa = truth_sed.maxCoeff();
     s.recon_ok = e.ok && e.contact;
     if (s.truth_valid && s.recon_ok) {
       leader_->ResetWarmStart();
-      bridge::PressReconstructed(*leader_, e, press_, bridge::LeaderTangentialLoad_N(e));
+      contact::PressReconstructed(*leader_, e, press_, contact::LeaderTangentialLoad_N(e));
       s.recon_max_sed_Pa = leader_->sed_Pa().maxCoeff();
       s.recon_radius_mm = e.primitive.radius_mm;
       s.recon_error = Compare(pad_mm, leader_->sed_Pa(), truth_sed, *mapping_);

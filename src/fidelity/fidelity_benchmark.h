@@ -141,7 +141,7 @@ class FidelityBenchmark {
 
  private:
   sensors::SensorProfile profile_;
-  bridge::ReconstructionOptions reconstruction_;
+  contact::ReconstructionOptions reconstruction_;
   scene::PressToForceOptions press_;
   std::unique_ptr<model::FingertipModel> model_;
   std::unique_ptr<scene::FingertipCompliance> leader_;

@@ -73,8 +73,8 @@ SyntheticSpec SphereSpec(const std::string& name, double r, double x, double y, 
   char label[64];
   std::snprintf(label, sizeof label, "sphere R%g (%g, %g)", r, x, y);
   SyntheticSpec spec{name, label, SphereYaml(r, x, y), d, 0, 0, true, Primitive(sensors::ContactShape::kSphere, x, y, r), {}};
-  if (r < bridge::kLeaderMinSphereRadius_mm)
-    spec.leader_objects_yaml = SphereYaml(bridge::kLeaderMinSphereRadius_mm, x, y);
+  if (r < contact::kLeaderMinSphereRadius_mm)
+    spec.leader_objects_yaml = SphereYaml(contact::kLeaderMinSphereRadius_mm, x, y);
   return spec;
 }
 
@@ -97,8 +97,8 @@ SyntheticSpec RodSpec(const std::string& name, double r, double yaw, double x, d
   std::snprintf(label, sizeof label, "rod R%g yaw %g (%g, %g)", r, yaw, x, y);
   SyntheticSpec spec{name, label, RodYaml(r, yaw, x, y), d, 0, 0, true,
                      Primitive(sensors::ContactShape::kCylinder, x, y, r, yaw), {}};
-  if (r < bridge::kLeaderMinRodRadius_mm)
-    spec.leader_objects_yaml = RodYaml(bridge::kLeaderMinRodRadius_mm, yaw, x, y);
+  if (r < contact::kLeaderMinRodRadius_mm)
+    spec.leader_objects_yaml = RodYaml(contact::kLeaderMinRodRadius_mm, yaw, x, y);
   return spec;
 }
 
@@ -247,7 +247,7 @@ FidelityCase FromCalibrationPress(const sensors::CalibrationPress& press) {
     const sensors::ContactPrimitive at = press.ObjectAt(t);
     c.load_N.emplace_back(at.shear_x_N, at.shear_y_N, at.normal_force_N);
   }
-  c.objects = {bridge::ToRigidObject(o)};
+  c.objects = {contact::ToRigidObject(o)};
   c.has_primitive = true;
   c.primitive = o;
   return c;

@@ -279,7 +279,7 @@ void BridgePress(benchmark::State& state) {
     return scene::FingertipCompliance(SharedModel(), o);
   }();
   cc.ResetWarmStart();
-  scene::PressToForceOptions options;  // as bridge::ReconstructedPressOptions
+  scene::PressToForceOptions options;  // as contact::ReconstructedPressOptions
   options.relative_tolerance = 1e-3;
   options.contact_relative_tolerance = std::pow(10.0, -double(state.range(1)));
   const bool rod = state.range(0) != 0;

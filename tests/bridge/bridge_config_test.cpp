@@ -41,8 +41,8 @@ TEST(BridgeConfig, EmptyFileGivesDefaults) {
   EXPECT_DOUBLE_EQ(c.contact_tolerance, 1e-5);
   EXPECT_DOUBLE_EQ(ParseBridgeConfig("fe: {contact_tolerance: 1.0e-8}\n", "tight.yaml").contact_tolerance, 1e-8);
   // The leader press's options follow the key.
-  EXPECT_TRUE(LeaderComplianceOptions("").face_samples);
-  EXPECT_FALSE(LeaderComplianceOptions("", false).face_samples);
+  EXPECT_TRUE(contact::LeaderComplianceOptions("").face_samples);
+  EXPECT_FALSE(contact::LeaderComplianceOptions("", false).face_samples);
 }
 
 TEST(BridgeConfig, ReadsRegistrationAndTraction) {

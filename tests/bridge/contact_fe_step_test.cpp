@@ -44,7 +44,7 @@ std::unique_ptr<ContactFeStep> MakeContactStep(const BridgeConfig& config, const
   auto map = std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, "fast"), profile,
                                                    registration, config.traction);
   return std::make_unique<ContactFeStep>(config.model, profile, registration, std::move(map),
-                                         LeaderComplianceOptions(""));
+                                         contact::LeaderComplianceOptions(""));
 }
 
 // The uskin_4x4 profile and its calibration-rig presses, in the step's bridge config.
@@ -93,7 +93,7 @@ TEST(ContactFeStep, ContactToleranceKeyReachesTheLeaderPress) {
   const auto* contact = dynamic_cast<const ContactFeStep*>(step.get());
   ASSERT_NE(contact, nullptr);
   EXPECT_DOUBLE_EQ(contact->press_options().contact_relative_tolerance, 1e-7);
-  EXPECT_DOUBLE_EQ(contact->press_options().relative_tolerance, ReconstructedPressOptions().relative_tolerance);
+  EXPECT_DOUBLE_EQ(contact->press_options().relative_tolerance, contact::ReconstructedPressOptions().relative_tolerance);
 }
 
 TEST(ContactFeStep, ExampleLogPublishesContactEstimates) {
@@ -238,7 +238,7 @@ TEST(ContactFeStep, RigSphereFarSharperThanThePressureMap) {
                                                    rig.registration, rig.config.traction);
   ReducedLinearFeStep map_only(BridgeSceneDescription(rig.config.model, "fast"), rig.profile, rig.registration,
                                rig.config.traction);
-  ContactFeStep step(rig.config.model, rig.profile, rig.registration, std::move(map), LeaderComplianceOptions(""));
+  ContactFeStep step(rig.config.model, rig.profile, rig.registration, std::move(map), contact::LeaderComplianceOptions(""));
   ScanConditioner conditioner(rig.profile, rig.registration, rig.config.conditioning);
   TaxelValues values;
   double contact_max = 0, map_max = 0;
@@ -321,8 +321,8 @@ TEST(ContactFeStep, APressThatCannotReachItsForceIsNotTriedAgainForTheSameObject
       if (skipping->last_estimate().problem.find("not pressed again") != std::string::npos) ++skipped_with_a_problem;
     }
   }
-  const ContactStepCounters& s = skipping->counters();
-  const ContactStepCounters& p = pressing->counters();
+  const contact::ContactStepCounters& s = skipping->counters();
+  const contact::ContactStepCounters& p = pressing->counters();
   EXPECT_EQ(s.press_fallbacks, p.press_fallbacks);
   EXPECT_EQ(s.pressed, p.pressed);
   EXPECT_EQ(p.press_known_unreachable, 0);
@@ -362,12 +362,12 @@ TEST(ContactFeStep, TwoSpheresArePressedTogether) {
     if (b.norm() > 0) {
       EXPECT_LT((a - b).norm() / b.norm(), 4e-3) << "scan " << k;
     }
-    const ContactEstimate& e = reusing->last_estimate();
+    const contact::ContactEstimate& e = reusing->last_estimate();
     if (!e.ok || !e.two_contacts) continue;
     ++pairs;
     // The leader is pressed to the pair's total, within the press's tolerance.
     EXPECT_NEAR(applied_N, e.normal_force_N(), 2e-3 * e.normal_force_N()) << "scan " << k;
-    EXPECT_EQ(ToRigidObjects(e).size(), 2u);
+    EXPECT_EQ(contact::ToRigidObjects(e).size(), 2u);
     if (e.normal_force_N() > peak_force_N) peak_force_N = e.normal_force_N(), at_peak = lcm_io::ToLcm(*reusing->contact_report());
   }
   // Measured 62 of the 70 contact scans, no fit fallback (without the pair's quick check

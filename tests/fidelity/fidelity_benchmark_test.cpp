@@ -70,7 +70,7 @@ TEST(FidelityBenchmark, RigPressesMeetTheTargetsWithReconstructedContact) {
 namespace sedbridge::fidelity {
 namespace {
 
-// Rods of 0.6, 1 and 2.5 mm, pressed on the leader with face contact (LeaderComplianceOptions):
+// Rods of 0.6, 1 and 2.5 mm, pressed on the leader with face contact (contact::LeaderComplianceOptions):
 // peak SED and L2 meet the targets on all five, and the peak offset on all but two, whose
 // SED is a ridge along the rod: its maximum moves along it by a vertex spacing (about
 // 1.5 mm) for a few percent of SED, so measured to the other field's peak region (within
@@ -221,7 +221,7 @@ TEST(FidelityBenchmark, HeldOutPressesWithARefittedSensorModel) {
 }
 
 // The synthetic set's 0.5 mm rod: its sensor presses it as it is, its truth presses it on the
-// leader at kLeaderMinRodRadius_mm, as the bridge and the rig presses' truths do (a thinner
+// leader at contact::kLeaderMinRodRadius_mm, as the bridge and the rig presses' truths do (a thinner
 // rod's ridge on model B can break into spots: docs/bridge-fidelity.md §16). Rods the leader
 // holds keep their radius.
 TEST(FidelityCase, SyntheticTruthPressesAThinRodAtTheLeadersMinimum) {
@@ -240,7 +240,7 @@ TEST(FidelityCase, SyntheticTruthPressesAThinRodAtTheLeadersMinimum) {
   // pressed radius above it.
   const double held_axis_mm = held->objects[0].trajectory.Pose(0).translation().z() * 1e3;
   const double thin_axis_mm = thin->objects[0].trajectory.Pose(0).translation().z() * 1e3;
-  EXPECT_NEAR(thin_axis_mm - (held_axis_mm - 1.0), kLeaderMinRodRadius_mm, 1e-9);
+  EXPECT_NEAR(thin_axis_mm - (held_axis_mm - 1.0), contact::kLeaderMinRodRadius_mm, 1e-9);
   const Eigen::Vector3d inside(0, 1e-3, (thin_axis_mm - 0.55) * 1e-3);  // 0.55 mm below the axis
   EXPECT_LT(thin->objects[0].Evaluate(inside, 0).distance_m, 0.0);      // inside 0.6 mm, not 0.5
 }
