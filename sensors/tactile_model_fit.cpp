@@ -206,7 +206,7 @@ FitReport FitTactileModel(const std::vector<CalibrationPress>& presses, const Se
   auto say = [&](const std::string& line) {
     if (options.progress) options.progress(line);
   };
-  // 1. Every unknown at once from the start (the fit of sessions before 27).
+  // 1. Every unknown at once from the start (the one-start joint fit).
   say("joint fit of all 17 unknowns from the start");
   Minimized best = Minimize(pr, start, all, options.max_evaluations);
   evaluations += best.evaluations;
@@ -216,7 +216,7 @@ FitReport FitTactileModel(const std::vector<CalibrationPress>& presses, const Se
   // tangential kernels are seen only by presses with a traction (two of the rig's 21), and
   // the joint fit from one start can stall with them far off: held out of the fit, one of
   // the two traction presses left the other unexplained (6-10 sigma on x/y;
-  // docs/bridge-fidelity.md §15).
+  // docs/lab-notes/2026-11-28-bridge-fidelity-rounds.md#s15).
   std::vector<CalibrationPress> with_traction;  // the only presses the tangential kernels move
   for (const CalibrationPress& p : presses)
     if (p.object.shear_x_N != 0 || p.object.shear_y_N != 0) with_traction.push_back(p);

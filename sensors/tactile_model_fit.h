@@ -7,7 +7,7 @@
 // run and the lower chi^2 is kept: every unknown at once from the start, and in stages (the
 // normal load's unknowns; the tangential kernels, which only presses with a traction see,
 // from several starts; then all): the one-start fit stalled when a single stroke was left to
-// calibrate the tangential kernels (docs/bridge-fidelity.md §15).
+// calibrate the tangential kernels (docs/lab-notes/2026-11-28-bridge-fidelity-rounds.md#s15).
 
 #include <functional>
 #include <string>

@@ -33,9 +33,10 @@ struct TactileModelParams {
   /// Smallest half-width of a rod's pressure band [mm]: the band is sqrt(b_Hertz^2 + w^2)
   /// wide with w = max(grid_mm, this), since the sensor's cover spreads a line contact over a
   /// width of its own, whatever the rod's radius. Not one of the fitted unknowns (the
-  /// hold and ramp readings at known objects hardly depend on it: docs/bridge-fidelity.md
-  /// §1, "A rod's band"); `fit-sensor --rod-radii` reports the radius that best explains
-  /// each rig rod's hold with it. 0: the load grid's spacing.
+  /// hold and ramp readings at known objects hardly depend on it:
+  /// docs/lab-notes/2026-11-28-bridge-fidelity-rounds.md#s1, "A rod's band"); `fit-sensor
+  /// --rod-radii` reports the radius that best explains each rig rod's hold with it. 0: the
+  /// load grid's spacing.
   double rod_min_halfwidth_mm = 0;
 
   /// Parameters as a flat vector (the fit's unknowns) and back; `fixed` gives the rest

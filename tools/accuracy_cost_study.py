@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """What accuracy costs in time: sweep the solver knobs of the press experiment and measure
-ms/step and the SED error against a reference run (issue 3).
+ms/step and the SED error against a reference run (docs/accuracy-cost.md).
 
 usage: accuracy_cost_study.py --reference DIR [--out out/accuracy_cost] [--quick] [--plot-only]
                               [--sedbridge build/sedbridge] [--only NAME,...] [--rescore]

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""The include graph has no arrow back into src/ (issue 16).
+"""The include rule: the include graph has no arrow back into src/.
 
 Rules, checked on every quoted #include of the tree at ROOT:
   * sensors/ and display/ include nothing from src/ except src/common (the one base every

@@ -8,7 +8,7 @@ This sweep presses rods of RADII at every pose (POSITIONS x yaws every YAW_STEP 
 FORCES through `sedbridge fidelity --cases` (its truth column is the rod pressed directly on the
 leader, as the bridge presses every rod: at least contact/contact_object.h's
 kLeaderMinRodRadius_mm) and compares each radius's peak SED with the largest radius's at the
-same pose and force. docs/bridge-fidelity.md §16 is its run.
+same pose and force. Its run: docs/lab-notes/2026-11-28-bridge-fidelity-rounds.md#s16.
 
 Usage:
   tools/leader_rod_sweep.py [--sedbridge build/sedbridge] [--radii 0.5,0.6,0.7,1.0]

@@ -9,7 +9,7 @@ Reads DIR/fidelity.csv and DIR/maps/<case>.csv and writes
                           bridge, one colour scale (the truth's), pad frame (x lateral, y toward
                           the tip), the true object's position marked
   DIR/fidelity_summary.png  per case: peak SED ratio and relative L2 error of both bridges,
-                          with the issue's target bands
+                          with the fidelity target bands
   DIR/fidelity_table.md   the same as a Markdown table (docs/bridge-fidelity.md)
   DIR/fidelity_scans.png  with `--through-press`: per press, the reconstructed contact's peak
                           SED ratio and L2 error at every scored scan over time, the true force

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Thread scaling of the FE engine on this machine (issue 12, "cores that help"):
+# Thread scaling of the FE engine on this machine (which team sizes help; docs/performance.md):
 #   1. the contact FE step (fem_step_benchmark) on B_fine, B_x4 and B for each team size
 #      1, 2, 4, 8, 16 (up to the core count) and 0 (the step chooses its team);
 #   2. the paper's press on B (`sedbridge press`, 50 quasi-static steps) with

@@ -5,7 +5,8 @@
 // Mechanics" §3.9). The half-space gives Hertz's patch for a sphere and the right pressure
 // for shapes no closed form covers (edges, box corners, two objects at once): the simulated
 // pad's `model: halfspace` (sensors/simulated/simulated_sensor.h); the layer is `model:
-// layer`, the pad that reproduces the calibration rig's presses best (docs/bridge-fidelity.md §1).
+// layer`, the pad that reproduces the calibration rig's presses best
+// (docs/lab-notes/2026-11-28-bridge-fidelity-rounds.md#s1).
 //
 // A layer: the same elastomer as a layer of thickness h bonded to a rigid base (a real
 // sensor's skin over its circuit board). Its surface deflection under a pressure of

@@ -17,8 +17,9 @@ namespace sedbridge::sensors {
 
 /// The uskin_4x4 rig's elastomer as a layer pad (mechanics kLayer): 2.5 mm thick, E = 230 kPa,
 /// nu = 0.2, the best of a grid search of EvaluatePadOnPresses over thickness 0.5-8 mm, E
-/// 100-280 kPa, nu 0.1-0.49 (docs/bridge-fidelity.md §1): 19 of the 21 presses within noise
-/// on every axis, against 10 for the half-space pad and 7 for the kernel (Winkler) pad.
+/// 100-280 kPa, nu 0.1-0.49: 19 of the 21 presses within noise on every axis, against 10
+/// for the half-space pad and 7 for the kernel (Winkler) pad
+/// (docs/lab-notes/2026-11-28-bridge-fidelity-rounds.md#s1).
 PadModel RigFittedLayerPad();
 
 struct PadPressReport {

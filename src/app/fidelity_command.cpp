@@ -70,7 +70,7 @@ void ScoreThroughPresses(FidelityBenchmark& bench, const std::vector<FidelityCas
     std::printf("through the presses: %d of %d scans within all three targets; L2 median %.3f, p90 %.3f\n", all_within,
                 all_scored, all_l2[all_l2.size() / 2], all_l2[size_t(0.9 * double(all_l2.size() - 1))]);
   // Steadiness beside accuracy: how much the delivered / true peak ratio moves between
-  // neighbouring scored scans (docs/bridge-fidelity.md §20).
+  // neighbouring scored scans (docs/lab-notes/2026-11-28-bridge-fidelity-rounds.md#s20).
   std::sort(all_steps.begin(), all_steps.end());
   if (!all_steps.empty()) {
     auto at = [&](double q) { return all_steps[size_t(q * double(all_steps.size() - 1))]; };

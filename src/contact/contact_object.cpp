@@ -85,7 +85,8 @@ scene::PressToForceOptions ReconstructedPressOptions() {
   // The leader press's contact law to 1e-5 of its largest force, not the method's 1e-8:
   // the delivered SED moves by at most 5e-5 of its peak over the rig and synthetic fidelity
   // cases (1e-4: 5e-4), while a scan's press takes 2.5-4 outer iterations instead of 5-7
-  // (compliance_contact_benchmark BridgePress, docs/bridge-fidelity.md §5, seventh round).
+  // (compliance_contact_benchmark BridgePress,
+  // docs/lab-notes/2026-11-27-time-per-scan-rounds.md#contact-tolerance).
   options.contact_relative_tolerance = 1e-5;
   return options;
 }

@@ -14,21 +14,22 @@
 
 namespace sedbridge::contact {
 
-/// Thinnest rod and sphere pressed on the leader [mm]. The leader's skin carries contact
-/// points about 1.5 mm apart (nodes and face centroids, §11 of docs/bridge-fidelity.md): a
-/// thinner object slips between them (no contact, or a press that leaves the patch before
-/// reaching its force), and its SED on that mesh is not a thin object's anyway. Measured on
-/// model B (test ContactObject.TheLeaderHoldsWhatItsMinimumRadiiPress, 2026-11-26): a
-/// sphere of 0.8 mm pressed to 0.2 N is held at each of 15 places (0.7 mm: 7 of 45 places
-/// slip); a rod of 0.5 mm pressed to 1.2 N slips at 13 of 12 yaws x 3 places (0.65 mm:
-/// none). Where a 0.5 mm rod holds, its ridge can still break into a spot or two where the
-/// contact points happen to lie along it (docs/bridge-fidelity.md §16: of 324 poses and
-/// forces, 62 presses of a 0.5 mm rod failed and 5 peaked at 1.8-3.6 times the 1 mm rod's
-/// SED; at 0.6 mm, 3 and none), so rods are pressed at 0.6 mm at least (test
-/// ContactObject.ThinRodKeepsOneRidgeOnTheLeader), and a press that slips is tried thicker
-/// (PressReconstructed). More force needs a thicker object (a 1 mm sphere slips everywhere
-/// at 1 N, 1.5 mm holds). The reconstruction reads sharp features (a box edge, thin rods on
-/// an elastic pad) down to its 0.3 mm bound.
+/// Thinnest rod and sphere pressed on the leader [mm]. The leader's skin carries contact points
+/// about 1.5 mm apart (nodes and face centroids,
+/// docs/lab-notes/2026-11-28-bridge-fidelity-rounds.md#s11): a thinner object slips between
+/// them (no contact, or a press that leaves the patch before reaching its force), and its SED
+/// on that mesh is not a thin object's anyway. Measured on model B (test
+/// ContactObject.TheLeaderHoldsWhatItsMinimumRadiiPress, 2026-11-26): a sphere of 0.8 mm
+/// pressed to 0.2 N is held at each of 15 places (0.7 mm: 7 of 45 places slip); a rod of 0.5 mm
+/// pressed to 1.2 N slips at 13 of 12 yaws x 3 places (0.65 mm: none). Where a 0.5 mm rod
+/// holds, its ridge can still break into a spot or two where the contact points happen to lie
+/// along it (of 324 poses and forces, 62 presses of a 0.5 mm rod failed and 5 peaked at 1.8-3.6
+/// times the 1 mm rod's SED; at 0.6 mm, 3 and none:
+/// docs/lab-notes/2026-11-28-bridge-fidelity-rounds.md#s16), so rods are pressed at 0.6 mm at
+/// least (test ContactObject.ThinRodKeepsOneRidgeOnTheLeader), and a press that slips is tried
+/// thicker (PressReconstructed). More force needs a thicker object (a 1 mm sphere slips
+/// everywhere at 1 N, 1.5 mm holds). The reconstruction reads sharp features (a box edge, thin
+/// rods on an elastic pad) down to its 0.3 mm bound.
 constexpr double kLeaderMinRodRadius_mm = 0.6;
 constexpr double kLeaderMinSphereRadius_mm = 0.8;
 
@@ -72,7 +73,7 @@ scene::PressToForceOptions ReconstructedPressOptions();
 /// default true): contact points on the skin faces too
 /// (scene::FingertipComplianceOptions::face_samples), so that a rod thinner than the
 /// skin-node spacing is caught and a thin rod's press is not balanced on one row of nodes;
-/// it costs about twice the leader press's time (docs/bridge-fidelity.md §11).
+/// it costs about twice the leader press's time (docs/lab-notes/2026-11-28-bridge-fidelity-rounds.md#s11).
 scene::FingertipComplianceOptions LeaderComplianceOptions(const std::string& cache_dir, bool face_contact = true);
 
 /// The tangential load [N, pad frame] the leader is pressed with for a reconstructed contact:

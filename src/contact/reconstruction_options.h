@@ -43,7 +43,8 @@ struct ReconstructionOptions {
   /// ... also on the mean of this many scans or fewer: a slow ramp holds still for 2-4 scans
   /// at a time, and so short a mean tells the shape hardly more than one scan (rig rod
   /// press_14: 5.1 -> 4.0 evaluations a scan with 4 instead of 1, its peak ratio 0.94 ->
-  /// 0.97; docs/bridge-fidelity.md §5, seventh round). A longer hold refines the shape.
+  /// 0.97; docs/lab-notes/2026-11-27-time-per-scan-rounds.md#contact-tolerance,
+  /// "The force step also answers short hold means"). A longer hold refines the shape.
   int force_step_max_averaged_scans = 4;
   /// A rod of finite length (a box's or a ruler's edge, a key: two more unknowns, its centre
   /// along the axis and its length) is one more model beside the rod that crosses the pad;
@@ -62,7 +63,8 @@ struct ReconstructionOptions {
   /// with hold averaging (which settles a rod's radius over the hold), the smallest budgets
   /// tried that keep every fidelity case, rig and synthetic, and add no fallback over the
   /// 21 rig replays (20 / 10 added a fit fallback); 60 / 30 before hold averaging, where
-  /// 24/12 to 40/20 (at 5 an iteration) each lost a rod (docs/bridge-fidelity.md §5, §7, §8).
+  /// 24/12 to 40/20 (at 5 an iteration) each lost a rod (docs/lab-notes/2026-11-27-time-per-scan-rounds.md#s5;
+  /// docs/lab-notes/2026-11-28-bridge-fidelity-rounds.md#s7, #s8).
   int warm_scan_evaluations = 24;
   int candidate_scan_evaluations = 12;
   /// Amortized: while the current model explains the scan within settle_rms_sigma, the
@@ -90,7 +92,7 @@ struct ReconstructionOptions {
   /// the iterations it skips move the answer by less than its noise, and the next scan goes
   /// on from there. Against 0.01: a third fewer evaluations over the rig replays, the same
   /// fidelity at the peak scans, the same force per scan to 0.08 % of peak (p95)
-  /// (docs/bridge-fidelity.md §7).
+  /// (docs/lab-notes/2026-11-28-bridge-fidelity-rounds.md#s7).
   double min_chi2_gain = 0.3;
   /// A fit's Jacobian by finite differences (one forward-model evaluation per pose and
   /// radius unknown) at its first LM iteration and every jacobian_refresh-th after; the
@@ -104,7 +106,8 @@ struct ReconstructionOptions {
   /// iteration is an update too. 4: forward-model evaluations over the replays of the
   /// example and rig press_03 / press_14 965 / 1260 / 1487 -> 699 / 792 / 1043 (775 / 836 /
   /// 1114 without carrying it), the same fidelity counts, no fit fallback over the 21 rig
-  /// replays (docs/bridge-fidelity.md §5, sixth round).
+  /// replays (docs/lab-notes/2026-11-27-time-per-scan-rounds.md#s5, "the leader press by force
+  /// control, and cheaper fits": Broyden updates of the pose columns).
   int jacobian_refresh = 4;
   /// Hold averaging: while the scans agree with their running mean within noise (a
   /// stationary contact: a hold, a slow press), the fit reads the mean of the last
@@ -148,7 +151,7 @@ struct ReconstructionOptions {
   /// the steady prior). The radius itself then moves with the noise while the scans cannot
   /// tell it (a rod's |d log R| between scans up to 0.9, where steady keeps the warm fit's
   /// steps below 0.3), the delivered SED and the display's commands hardly more.
-  /// docs/bridge-fidelity.md §20.
+  /// docs/lab-notes/2026-11-28-bridge-fidelity-rounds.md#s20.
   bool radius_track_posterior = true;
 };
 

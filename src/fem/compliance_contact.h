@@ -71,7 +71,7 @@ struct ComplianceContactOptions {
   double sed_kept_columns_MiB = 64;
   /// Face contact: these points on skin faces take part in the contact as the candidate
   /// nodes do (the penalty law at their own positions), so that an object narrower than
-  /// the node spacing is caught by the faces between nodes (docs/bridge-fidelity.md §11).
+  /// the node spacing is caught by the faces between nodes (docs/bridge-fidelity.md#the-measure).
   /// W is then over nodes and samples, B W B^T with B the interpolation, built after the
   /// precompute (the cache holds the nodes' blocks); the products go through the nodes.
   /// Empty: node contact, the paper's and the full FE's.

@@ -6,8 +6,9 @@
 // run on 2-double SSE2 packets; this kernel is a right-looking factorization with 8-column
 // panels whose trailing update is one fused, contiguous loop, built as an AVX2/FMA clone
 // beside the baseline (common/hot_clones.h). Factor + solve against Eigen's LLT, two runs
-// of build/tests/bench/dense_cholesky_benchmark on the 2-core VM (docs/performance.md,
-// "Session 25"): 1.0-2.5x faster for m = 20-200, about even at m = 300.
+// of build/tests/bench/dense_cholesky_benchmark on the 2-core VM: 1.0-2.5x faster for
+// m = 20-200, about even at m = 300 (docs/lab-notes/2026-11-28-fe-step-speed-later-runs.md,
+// "the contact QP on kept columns and an updatable factor").
 
 #include <cstddef>
 #include <vector>

@@ -299,7 +299,8 @@ void ElasticTetForce::AddForce(const SystemState& state, Eigen::VectorXd& force_
   // elements of different slabs write different rows, straight into the matrix, and the
   // slab boundaries' elements run after a barrier. When other terms widen the pattern well
   // beyond the elements' own blocks (the nodal-pressure term's 2-ring: about 3x), the copies
-  // cost more than the boundaries: slabs. Measured on B, docs/validation.md (session 18).
+  // cost more than the boundaries: slabs. Measured on B:
+  // docs/lab-notes/2026-11-27-validation-runs.md#nodal-pressure-tet ("the nodal-pressure term on two threads").
   if (corotational && !sink) {  // the force alone (matrix-free steps): vectorized
     inverted_elements_ = AddCorotationalForceVectorized(state, force_N);
     return;

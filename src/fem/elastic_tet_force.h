@@ -151,7 +151,8 @@ class ElasticTetForce final : public ForceTerm, public NodeRotationSource {
     /// it wrote itself, still in its own cache, into its own partial sums, and the team then
     /// adds the partial sums to out range by range. A node's slots gathered across the team
     /// instead read half of them from the other core's cache, and cost two cores more than one
-    /// did (B_fine, docs/performance.md "Session 32").
+    /// did (B_fine, docs/lab-notes/2026-11-28-fe-step-speed-later-runs.md,
+    /// "each thread sums its own elements' slots").
     void AddElementSums(const double* y, int begin, int end, double sign, Eigen::VectorXd& out);
   };
   ElementProductArrays product_;

@@ -36,7 +36,8 @@ struct IntegratorSettings {
   /// Backward Euler: a step's first linear solve starts from the last two steps' velocity
   /// changes extrapolated (2 dv_n - dv_n-1: a press's acceleration changes smoothly), not
   /// from the last one's. An iterative solver then needs fewer iterations to its tolerance
-  /// while the motion is smooth (docs/performance.md, session 29).
+  /// while the motion is smooth (docs/lab-notes/2026-11-28-fe-step-speed-later-runs.md,
+  /// "the SED's kept columns in single precision").
   bool extrapolate_warm_start = true;
 };
 

@@ -75,7 +75,8 @@ void CorotationalSedBy4(int begin, int end, int count, const int* offset, const 
 // Linear SED (ElementSed with R = I) of elements [begin, begin + 4 floor((end - begin) / 4))
 // of a SedArrays layout, four at a time; returns where the vector part ends (the caller
 // takes the rest). A scalar ElementSed a tet took 190 ns on B's Merkel layer (0.38 ms of
-// the pressure-map bridge's 0.58 ms scan, session 22).
+// the pressure-map bridge's 0.58 ms scan; docs/lab-notes/2026-11-28-fe-step-speed-later-runs.md,
+// "the linear Merkel SED in vector registers").
 SEDBRIDGE_HOT_CLONES
 int LinearSedBy4(int begin, int end, int count, const int* offset, const double* rest_inverse, const double* mu,
                  const double* lambda, const double* x, double* sed) {

@@ -59,7 +59,7 @@ struct MethodError {
 /// command_rel_l2 is left 0 (no display mapping).
 MethodError CompareMerkelMaps(const Eigen::Matrix3Xd& pad_mm, const Eigen::VectorXd& s, const Eigen::VectorXd& truth);
 
-/// Issue 11's targets at the peak scan.
+/// The fidelity targets at the peak scan (docs/bridge-fidelity.md#the-measure).
 struct FidelityTargets {
   double min_peak_ratio = 0.8, max_peak_ratio = 1.25;
   double max_rel_l2 = 0.25;

@@ -48,7 +48,7 @@ struct FidelityCase {
 enum class RandomRanges {
   /// Like the rig's presses: spheres 2-15 mm within 6 mm of the pad centre (x and y),
   /// 0.3-0.8 mm deep; rods 0.5-3 mm within 4 mm, 0.1-0.3 mm deep; flats 0.02-0.05 mm;
-  /// strokes of 4-10 mm spheres (the sets every change since session 18 was judged by).
+  /// strokes of 4-10 mm spheres (the sets the reconstruction's changes are judged by).
   kRig,
   /// Past the rig's: spheres 1.5-20 mm within 7 mm, 0.15-1.1 mm deep; rods 0.4-4 mm within
   /// 6 mm, 0.05-0.45 mm deep; flats 0.01-0.08 mm; strokes as kRig. Forces from under 0.1 N

@@ -4,7 +4,7 @@
 // Merkel layer's (same vertex order as scene::MerkelLayer and the bridge's
 // FeStep::merkel_rest_pad_mm). For a linear, quasi-static scene with the bone fixed it
 // gives the full FE penalty-contact answer at haptic rates; PressToForce finds the
-// indentation at which objects reach a given force (contact reconstruction, issue 11).
+// indentation at which objects reach a given force (the contact stage's leader press).
 //
 // Units: SI inside; names carry the unit at the boundaries (depth_mm, force_N, sed_Pa).
 //

@@ -2,7 +2,7 @@
 // The paper's press experiment (Sec. IV-A) on any scene with a contact object: step the
 // scene, record force / displacement / contact area per step, keep the Merkel SED of
 // every step, and pick the step whose force is closest to a target (1.0 N).
-// Writes the output contract of `sedbridge press` (issue 2; tools read these names).
+// Writes the output contract of `sedbridge press` (tools read these names).
 
 #include <functional>
 #include <string>

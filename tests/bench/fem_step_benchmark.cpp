@@ -114,7 +114,7 @@ void TractionStep(benchmark::State& state, const std::string& elasticity, const 
 // A solver name ending in "/rest_only" turns the contact update of the warped PCG off
 // (solver.contact_update: false): the rest factor alone, as before that update; one
 // ending in "/double" keeps the warped rest factor's solves in double precision
-// (solver.single_precision_factor: false), as before session 11; "/capN" accepts the PCG
+// (solver.single_precision_factor: false), as before they went to single precision; "/capN" accepts the PCG
 // iterate after N iterations (max_iterations: N, no direct fallback: the accuracy-cost
 // study's capped rows; matrix-free, fem/step_operator.h), "/capN/assembled" the same with
 // the element blocks assembled (solver.matrix_free: false). `force_N` is the contact force after the timed steps, so rows can be

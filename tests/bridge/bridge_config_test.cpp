@@ -111,7 +111,7 @@ TEST(BridgeConfig, LcmSectionIsReadThroughItsSchema) {
 }
 
 TEST(BridgeConfig, RatesAreBounded) {
-  // Issue 13: tick_Hz 0.1 held 20 kPa for 10 s; status_Hz 1e-30 overflowed the period.
+  // Hostile inputs: tick_Hz 0.1 held 20 kPa for 10 s; status_Hz 1e-30 overflowed the period.
   EXPECT_THROW(ParseBridgeConfig("rates: {tick_Hz: 0.1}\n", "b.yaml"), config::ConfigError);
   EXPECT_THROW(ParseBridgeConfig("rates: {tick_Hz: 1e9}\n", "b.yaml"), config::ConfigError);
   EXPECT_THROW(ParseBridgeConfig("rates: {status_Hz: 1e-30}\n", "b.yaml"), config::ConfigError);

@@ -60,7 +60,8 @@ BENCHMARK_CAPTURE(BM_ReplayExampleLog, B_reduced, std::string("B"), std::string(
     ->Unit(benchmark::kMillisecond)->Iterations(3);
 BENCHMARK_CAPTURE(BM_ReplayExampleLog, B_contact, std::string("B"), std::string("contact"))
     ->Unit(benchmark::kMillisecond)->Iterations(3);
-// The reconstructed contact on the rig's hardest press for time: a 1 mm rod (docs/bridge-fidelity.md §5).
+// The reconstructed contact on the rig's hardest press for time: a 1 mm rod
+// (docs/lab-notes/2026-11-27-time-per-scan-rounds.md#s5).
 BENCHMARK_CAPTURE(BM_ReplayLog, B_contact_rig_rod_1mm, std::string("B"), std::string("contact"),
                   std::string("config/sensors/rig_uskin_4x4/press_12.log"))
     ->Unit(benchmark::kMillisecond)->Iterations(3);

@@ -1,5 +1,5 @@
 // Every way `run`, `replay` and `simulate` can be asked to stop leaves the display at zero and
-// the LCM log whole (issue 13): SIGINT, SIGTERM, SIGHUP and SIGQUIT, each on each command, and
+// the LCM log whole: SIGINT, SIGTERM, SIGHUP and SIGQUIT, each on each command, and
 // a live replay paused in the middle of a press ramps to zero on its own watchdog ticks.
 // Bounds are event counts and generous time limits, never measured durations.
 
@@ -142,8 +142,9 @@ INSTANTIATE_TEST_SUITE_P(EverySignalEveryCommand, ExitPaths, ::testing::ValuesIn
                          });
 
 TEST(ExitPaths, LiveReplayPausedMidPressRampsToZeroOnItsOwnTicks) {
-  // The example press with a 3 s hole at t = 1.5 s, where the display is at ~2 kPa (issue 13:
-  // a live replay held 20 kPa through 3 s of silence). Played at speed 2: 1.5 s of wall time.
+  // The example press with a 3 s hole at t = 1.5 s, where the display is at ~2 kPa (found by
+  // adversarial review: a live replay held 20 kPa through 3 s of silence). Played at speed 2:
+  // 1.5 s of wall time.
   const std::string dir = TempDir("pause");
   const std::string log = dir + "/paused.log";
   WriteShiftedLog(log, 1700000001500000LL, 3000000);

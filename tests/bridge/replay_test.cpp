@@ -221,7 +221,7 @@ TEST(Replay, StopFlagEndsTheRunWithTheDisplayAtZero) {
 
 
 TEST(Replay, BusOffAndErrorPassiveRaiseFaultStateOnBridgeStatus) {
-  // Issue 13: 4800 bus-off error frames left fault_state at 0.
+  // A hostile input: 4800 bus-off error frames left fault_state at 0.
   const BridgeConfig config = testing::TestConfig();
   sensors::CandumpLogSource source(testing::ExampleLogPath());
   ReplayOptions options;

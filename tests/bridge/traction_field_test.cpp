@@ -196,9 +196,9 @@ TEST(ScanConditioner, RejectsMostlyInvalidOrMisshapenScans) {
 namespace sedbridge::bridge {
 namespace {
 
-// Issue 13: with many frames lost, filled taxels must not raise the peak. A peaked contact,
-// 7 of 16 taxels invalid at random: every filled value is at most its weakest valid
-// adjacent taxel (0 without one), so no filled value exceeds the valid peak.
+// Found by adversarial review: with many frames lost, filled taxels must not raise the peak.
+// A peaked contact, 7 of 16 taxels invalid at random: every filled value is at most its
+// weakest valid adjacent taxel (0 without one), so no filled value exceeds the valid peak.
 TEST(ScanConditioner, FillNeverExceedsWhatValidNeighboursSupport) {
   const sensors::SensorProfile p = sensors::LoadNamedSensorProfile("uskin_4x4");
   ScanConditioningOptions options;

@@ -155,7 +155,7 @@ TEST(ContactObject, TheLeaderHoldsWhatItsMinimumRadiiPress) {
 }
 
 // Where a rod thinner than kLeaderMinRodRadius_mm holds, its ridge can break: at these
-// poses and forces (found by the sweep of docs/bridge-fidelity.md §16) a 0.5 mm rod touches
+// poses and forces (found by tools/leader_rod_sweep.py) a 0.5 mm rod touches
 // the skin's contact points in a spot or two and peaks at more than twice the 0.7 mm rod's
 // SED. Pressed as the bridge and the fidelity truth press it (ToRigidObject: at the
 // minimum), it keeps one ridge, within 30 % of the 0.7 mm rod's peak.

@@ -1,4 +1,4 @@
-// Contact reconstruction on the calibration rig's presses and on the hard cases of issue 11
+// Contact reconstruction on the calibration rig's presses and on the hard cases
 // (contact appearing/vanishing, sliding across taxels, two contacts, saturation, NaN, a fit
 // that diverges).
 #include "contact/contact_reconstruction.h"
@@ -163,7 +163,7 @@ TEST(ContactReconstruction, LightScansDoNotSendTheRadiusToItsBounds) {
 // for the rods below a quarter of the untracked fit's. (A candidate that replaces the model,
 // on a light first touch, is model selection and may still change the size.)
 TEST(ContactReconstruction, RadiusHoldsStillWhileTheContactLoads) {
-  ReconstructionOptions steady;  // fe.radius_tracking: steady (posterior widens the prior: §20)
+  ReconstructionOptions steady;  // fe.radius_tracking: steady (posterior widens the prior)
   steady.radius_track_posterior = false;
   ReconstructionOptions untracked;
   untracked.radius_track_log_sigma = 0;
@@ -459,8 +459,8 @@ TEST(ContactReconstruction, ShortHoldMeansTakeTheForceStep) {
 // 1.25 %/scan) and a sphere moving 20 um a scan, read with far fewer forward-model
 // evaluations and the same accuracy. Measured: 738 evaluations against 1068, worst force
 // error from scan 10 on 2.5 % both, worst x error 0.068 against 0.057 mm, R 5.95 mm.
-// (Session 22: 496 against 761 before, 496 against 601 since explained scans' candidates
-// stop before evaluations past their budget: a differences Jacobian costs 3 of their 6.)
+// (With explained scans' candidates stopped before evaluations past their budget: 496
+// against 601, against 761 without that cap, as a differences Jacobian costs 3 of their 6.)
 TEST(ContactReconstruction, BroydenJacobianFitsWithFewerEvaluations) {
   sensors::TactileForwardModel model(Uskin(), Uskin().forward_model);
   ReconstructionOptions differences;

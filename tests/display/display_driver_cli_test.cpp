@@ -1,4 +1,4 @@
-// The leader-side driver as a separate process next to a live bridge (issue 13): SIGKILL the
+// The leader-side driver as a separate process next to a live bridge: SIGKILL the
 // bridge mid-press and the driver's output reaches zero within the profile's watchdog timeout
 // plus one ramp, on the driver's own timer; signed commands over real multicast.
 // Skips, saying why, where multicast does not loop back.

@@ -87,7 +87,7 @@ TEST(DisplayDriver, MalformedAndWrongDisplayCommandsAreCountedAndIgnored) {
   const DisplayProfile p = Suction();
   std::vector<ActuatorFrame> frames;
   DisplayDriver driver(p, std::make_unique<CaptureOutput>(&frames), DecodeDisplayCommand);
-  // The 160-byte num_actuators = 1e9 packet (issue 13).
+  // The 160-byte num_actuators = 1e9 packet (a hostile input).
   std::vector<uint8_t> bomb = Encoded(kT0, 0, 5.0, p);
   const size_t at = 8 + 32 + (4 + p.name.size() + 1) + (4 + p.unit.size() + 1);
   bomb[at] = 0x3B, bomb[at + 1] = 0x9A, bomb[at + 2] = 0xCA, bomb[at + 3] = 0x00;  // 1e9

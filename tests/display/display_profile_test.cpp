@@ -134,7 +134,7 @@ TEST(DisplayProfile, EveryLimitIsCheckedAgainstItsKindsSaneRange) {
   EXPECT_NE(range.find("p.yaml:6:8: 'range' maximum 1e+30 kPa exceeds 100 kPa"), std::string::npos) << range;
   EXPECT_NE(ParseMessage(with("range: [0.0, 40.0]", "range: [0.0, 101]")), "accepted");
   EXPECT_EQ(ParseMessage(with("range: [0.0, 40.0]", "range: [0.0, 100]")), "accepted");
-  // max 1e300 (issue 13: published +Inf) is far outside any range.
+  // max 1e300 (a hostile input: it published +Inf) is far outside any range.
   EXPECT_NE(ParseMessage(with("max: 20.0", "max: 1e300")), "accepted");
   // Slew: full scale in no less than 0.1 s.
   const std::string slew = ParseMessage(with("slew_rate_per_s: 100.0", "slew_rate_per_s: 1e30"));
@@ -176,7 +176,7 @@ TEST(DisplayProfile, RangeMinimumIsHonoured) {
 }
 
 TEST(DisplayProfile, DuplicateSafetyKeyIsAnError) {
-  // Issue 13: `max: 20` then `max: 5` published 20 kPa.
+  // A hostile input: `max: 20` then `max: 5` published 20 kPa.
   try {
     Parse(Profile("  max: 5.0\n"));
     FAIL() << "duplicate accepted";

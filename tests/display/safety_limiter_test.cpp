@@ -109,7 +109,8 @@ TEST(SafetyLimiter, NoJumpAfterAPause) {
 
 TEST(SafetyLimiter, SparseMessagesRiseByTimeNotByMessage) {
   // Messages 0.2 s apart: each may rise only kMaxRiseInterval_s worth of slew, so 0 -> 10
-  // takes several messages instead of one (issue 13: 0 -> 20 kPa in one message).
+  // takes several messages instead of one (found by adversarial review: 0 -> 20 kPa in one
+  // message).
   SafetyLimiter lim(Limits());
   lim.Apply(0, 1, {10, 10, 5});
   const auto& out = lim.Apply(200 * kMs, 2, {10, 10, 5});

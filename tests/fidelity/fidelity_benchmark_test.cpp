@@ -1,5 +1,5 @@
 // The fidelity benchmark on calibration-rig presses of the uSkin-like sensor: the
-// reconstructed contact meets issue 11's targets where the pressure map misses them.
+// reconstructed contact meets the fidelity targets where the pressure map misses them.
 #include "fidelity/fidelity_benchmark.h"
 
 #include <gtest/gtest.h>
@@ -222,8 +222,8 @@ TEST(FidelityBenchmark, HeldOutPressesWithARefittedSensorModel) {
 
 // The synthetic set's 0.5 mm rod: its sensor presses it as it is, its truth presses it on the
 // leader at contact::kLeaderMinRodRadius_mm, as the bridge and the rig presses' truths do (a thinner
-// rod's ridge on model B can break into spots: docs/bridge-fidelity.md §16). Rods the leader
-// holds keep their radius.
+// rod's ridge on model B can break into spots: docs/lab-notes/2026-11-28-bridge-fidelity-rounds.md#s16).
+// Rods the leader holds keep their radius.
 TEST(FidelityCase, SyntheticTruthPressesAThinRodAtTheLeadersMinimum) {
   const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
   const std::vector<FidelityCase> cases = SyntheticFidelityCases(profile);

@@ -44,7 +44,7 @@ lcmt_display_command Command(int n) {
 }
 
 TEST(LcmSafeDecode, The160BytePacketWithABillionActuatorsIsRejectedWithoutAllocating) {
-  // Issue 13: this packet made display-view allocate 3.9 GB and crash.
+  // A hostile input: this packet made display-view allocate 3.9 GB and crash.
   std::vector<uint8_t> b = Encode(Command(20));
   // fingerprint 8 + 4 int64 + "suction_4x4" (4 + 12) + "kPa" (4 + 4) -> num_actuators at 64.
   const size_t at = 8 + 32 + 16 + 8;

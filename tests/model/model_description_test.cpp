@@ -66,7 +66,7 @@ std::string FixtureInMetres() {
 }
 
 TEST(ModelDescription, WrongMeshUnitIsAnError) {
-  // Issue 13: a mm mesh read as metres (1000x too large) ran and gave nonsense.
+  // A hostile input: a mm mesh read as metres (1000x too large) ran and gave nonsense.
   try {
     LoadFingertipModel(WriteYaml("unit.yaml", "name: x\n" + kMesh + "mesh_unit: m\n" + kMaterials));
     FAIL() << "a 2.3 m fingertip was accepted";

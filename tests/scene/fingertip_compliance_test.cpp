@@ -78,9 +78,11 @@ TEST(FingertipCompliance, SpherePressEqualsFullFe) {
   ExpectSameAsFullFe("{shape: sphere, radius_mm: 8, position_mm: [0, 1, 6.5]}");
 }
 
-// The 1e-6 needs no more than a 1e-6 solve: the compliance benchmark's sphere steps
-// at tol_exp 6 (docs/performance.md, session 29) are answers of this accuracy (seen: 6.7e-7
-// in displacement, 6.8e-8 in force, 1.5e-7 in SED; 1.3e-8, 6e-10, 5.9e-8 at 1e-8).
+// The target's 1e-6 (the compliance method equals the full FE penalty solve) needs no more
+// than a 1e-6 solve: the compliance benchmark's sphere steps at tol_exp 6 are answers of this
+// accuracy (seen: 6.7e-7 in displacement, 6.8e-8 in force, 1.5e-7 in SED; 1.3e-8, 6e-10,
+// 5.9e-8 at 1e-8; docs/lab-notes/2026-11-28-fe-step-speed-later-runs.md,
+// "the SED's kept columns in single precision").
 TEST(FingertipCompliance, SpherePressAtAOneInAMillionSolveEqualsFullFe) {
   ExpectSameAsFullFe("{shape: sphere, radius_mm: 8, position_mm: [0, 1, 6.5]}", 1e-6);
 }

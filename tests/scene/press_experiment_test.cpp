@@ -125,7 +125,7 @@ TEST(PressExperiment, AccuratePresetGivesTheRefactorizingAnswer) {
 }
 
 TEST(PressExperiment, NoFiniteForceIsAClearErrorNotACrash) {
-  // Issue 13: contact.stiffness_N_m: 1e300 gave non-finite forces at every step, no step was
+  // A hostile input: contact.stiffness_N_m: 1e300 gave non-finite forces at every step, no step was
   // selected and index -1 was read (SIGSEGV).
   SceneDescription d = ReadSceneDescription(config::ResolveResource("config/scenes/paper_press.yaml"));
   d.model = "B_coarse";

@@ -78,7 +78,7 @@ TEST(SceneDescription, FastPresetFactorizesOnceWithoutContactAndPreconditionsWit
   EXPECT_EQ(cli.solver, SolverKind::kPcgWarp);
 }
 
-// Issue 12: `press --preset fast` on a quasi-static contact press with the bone fixed uses
+// `press --preset fast` on a quasi-static contact press with the bone fixed uses
 // the compliance method; where the method cannot answer (full_sed, a dynamic scene) the
 // fast preset keeps the FE step.
 TEST(SceneDescription, FastPresetUsesTheComplianceMethodForAQuasiStaticPress) {
@@ -101,7 +101,7 @@ TEST(SceneDescription, FastPresetUsesTheComplianceMethodForAQuasiStaticPress) {
 
 
 TEST(SceneDescription, StepCountAndKeyframesAreBounded) {
-  // Issue 13: 2e9 steps ran until killed; a .nan keyframe ran with d = nan and exited 0.
+  // Hostile inputs: 2e9 steps ran until killed; a .nan keyframe ran with d = nan and exited 0.
   EXPECT_THROW(ParseSceneDescription("model: B\ndynamics: {steps: 2000000000}\n", "s.yaml"), config::ConfigError);
   EXPECT_NO_THROW(ParseSceneDescription("model: B\ndynamics: {steps: 1000000}\n", "s.yaml"));
   const std::string nan_key =

@@ -1,4 +1,4 @@
-// Hard cases stay numerically stable (issue 2). Each case runs a fingertip scene and
+// Hard cases stay numerically stable. Each case runs a fingertip scene and
 // asserts: every value finite; every inverted element is reported; energy bounded (and,
 // once the load holds still, never growing); no growing oscillation after the load
 // settles; every step converged or reported a counted solver fallback.

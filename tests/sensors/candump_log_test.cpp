@@ -237,7 +237,7 @@ TEST(CandumpLogSourceTest, RecordedTimingWithholdsAFrameUntilItIsDue) {
 namespace sedbridge::sensors {
 namespace {
 
-// Issue 13: one huge line must not take memory with it, and the lines around it survive.
+// A hostile input: one huge line must not take memory with it, and the lines around it survive.
 TEST(CandumpLogReaderLimits, HugeLineIsOneBadLineAndCostsNoMemory) {
   std::string text = "(1700000000.000000) can0 710#0102030405060708\n";
   text += std::string(10 * 1024 * 1024, 'x') + "\n";

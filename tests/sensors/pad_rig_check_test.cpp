@@ -1,6 +1,6 @@
 // The simulated pads against the calibration rig's presses (config/sensors/rig_uskin_4x4/):
 // the rig-fitted layer reproduces them within noise where the half-space and Winkler pads
-// do not (docs/bridge-fidelity.md §1).
+// do not (docs/lab-notes/2026-11-28-bridge-fidelity-rounds.md#s1).
 #include "sensors/simulated/pad_rig_check.h"
 
 #include <gtest/gtest.h>

@@ -141,8 +141,8 @@ TEST_F(CyskinAssemblerTest, ForeignAndMalformedFramesAreCountedByKind) {
 }
 
 TEST_F(CyskinAssemblerTest, SaturatedReadingIsFullScaleWithAFlagNeverSilence) {
-  // Issue 13: saturated taxels were invalid (then filled or zeroed), so the hardest contact
-  // gave zero feedback. Now: valid, at the full-scale value, flagged.
+  // Found by adversarial review: saturated taxels were invalid (then filled or zeroed), so the
+  // hardest contact gave zero feedback. Now: valid, at the full-scale value, flagged.
   ScanAssembler a(profile_);
   std::vector<int32_t> raw(16, 1500);
   raw[6] = 65535;
@@ -201,7 +201,7 @@ TEST_F(CyskinAssemblerTest, BusOffAndErrorPassiveSetTheBusState) {
   off.error = true;
   off.id = 0x40;  // CAN_ERR_BUSOFF
   off.len = 8;
-  for (int k = 0; k < 4800; ++k) a.Push(off, &scans_);  // issue 13: 4800 of them left fault_state 0
+  for (int k = 0; k < 4800; ++k) a.Push(off, &scans_);  // a hostile input: 4800 of them left fault_state 0
   EXPECT_EQ(a.counters().bus_state, kBusOff);
   EXPECT_EQ(a.counters().bus_off_events, 4800);
   EXPECT_EQ(a.counters().error_frames, 4801);

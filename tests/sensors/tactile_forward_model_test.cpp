@@ -587,8 +587,8 @@ namespace {
 // The tangential kernels are seen only by the presses with a traction (the rig's press_19
 // along x, press_20 along y). Fitted from the generic start on a few presses with press_20
 // the only traction, the model must still explain press_19 (the same isotropic kernels, the
-// other direction) and press_20 itself: the one-start joint fit of sessions before 27 stalled
-// at 6-10 sigma on both (docs/bridge-fidelity.md §15).
+// other direction) and press_20 itself: a one-start joint fit stalled at 6-10 sigma on both
+// (docs/lab-notes/2026-11-28-bridge-fidelity-rounds.md#s15).
 TEST(TactileModelFit, OneTractionPressCalibratesTheOtherDirection) {
   const SensorProfile p = Uskin();
   const auto rig = LoadCalibrationPresses(config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), p);
