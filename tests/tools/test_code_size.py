@@ -1,25 +1,14 @@
 #!/usr/bin/env python3
 """tools/check_code_size.py passes on the tree and fails on a tree with a long file or function."""
-import os
-import subprocess
 import sys
 import tempfile
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.normpath(os.path.join(HERE, "..", ".."))
-CHECK = os.path.join(ROOT, "tools", "check_code_size.py")
+from tree_check_util import ROOT, write
+from tree_check_util import run as run_check
 
 
 def run(root):
-    p = subprocess.run([sys.executable, CHECK, root], capture_output=True, text=True)
-    return p.returncode, p.stdout
-
-
-def write(root, path, text):
-    full = os.path.join(root, path)
-    os.makedirs(os.path.dirname(full), exist_ok=True)
-    with open(full, "w") as f:
-        f.write(text)
+    return run_check("check_code_size.py", root)
 
 
 def function(name, body_lines):
