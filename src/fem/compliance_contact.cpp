@@ -310,8 +310,12 @@ bool ComplianceContact::EvaluateGaps(const std::vector<geometry::RigidObject>& o
   const Eigen::Matrix3Xd& rest = op_->sample_rest_positions_m();
   const int c = num_samples(), no = int(objects.size());
   active_.clear();
-  state.largest = state.mismatch = state.gap_error = state.turn = state.pushed_N = 0;
-  double &largest = state.largest, &mismatch = state.mismatch;
+  // Locals, written back at the end: through `state` every store to the pair arrays could
+  // alias them, and the loop is the step's hottest.
+  double largest = 0, mismatch = 0, gap_error = 0, turn = 0, pushed_N = 0;
+  double warm_gap_m = state.warm_gap_m;
+  const double offset = state.offset;
+  const bool warm_forces = state.warm_forces;
   for (int j = 0; j < c; ++j) {
     const Eigen::Vector3d x = rest.col(j) + u_c_.segment<3>(3 * j);
     for (int o = 0; o < no; ++o) {
@@ -323,7 +327,7 @@ bool ComplianceContact::EvaluateGaps(const std::vector<geometry::RigidObject>& o
       if (it > 0 && !exact && !friction && lambda_N_[p] == 0 && skippable_[size_t(o)]) {
         // The objects moved too (force control): by at most |offset change|.
         const double bound =
-            phi_evaluated_[p] - (x - x_evaluated_.col(p)).norm() - std::abs(state.offset - offset_evaluated_[p]);
+            phi_evaluated_[p] - (x - x_evaluated_.col(p)).norm() - std::abs(offset - offset_evaluated_[p]);
         if (bound > kFarGap_m) {
           phi_m_[p] = bound;
           continue;
@@ -332,10 +336,10 @@ bool ComplianceContact::EvaluateGaps(const std::vector<geometry::RigidObject>& o
       // As RigidObject::Evaluate, with the pose computed once a step.
       geometry::SdfSample s = objects[size_t(o)].shape->Evaluate(pose_inverse_[size_t(o)] * x);
       s.normal = pose_rotation_[size_t(o)] * s.normal;
-      if (state.warm_forces && it == 0 && lambda_N_[p] > 0) state.warm_gap_m = std::min(state.warm_gap_m, s.distance_m);
+      if (warm_forces && it == 0 && lambda_N_[p] > 0) warm_gap_m = std::min(warm_gap_m, s.distance_m);
       phi_m_[p] = s.distance_m;
       phi_evaluated_[p] = s.distance_m;
-      offset_evaluated_[p] = state.offset;
+      offset_evaluated_[p] = offset;
       x_evaluated_.col(p) = x;
       if (!std::isfinite(s.distance_m) || !s.normal.allFinite()) {
         result_.error = "non-finite signed distance (object pose?)";
@@ -343,9 +347,9 @@ bool ComplianceContact::EvaluateGaps(const std::vector<geometry::RigidObject>& o
       }
       if (exact) {
         const double lp = lambda_N_[p];
-        state.gap_error = std::max(state.gap_error, lp > 0 ? std::abs(s.distance_m) : std::max(0.0, -s.distance_m));
+        gap_error = std::max(gap_error, lp > 0 ? std::abs(s.distance_m) : std::max(0.0, -s.distance_m));
         if (lp > 0) {
-          state.turn = std::max(state.turn, lp * (s.normal - normal_.col(p)).norm());
+          turn = std::max(turn, lp * (s.normal - normal_.col(p)).norm());
           largest = std::max(largest, lp);
           active_.push_back(p);
         }
@@ -353,7 +357,7 @@ bool ComplianceContact::EvaluateGaps(const std::vector<geometry::RigidObject>& o
       } else if (s.distance_m < 0) {
         const double target = -k * s.distance_m;
         mismatch = std::max(mismatch, (target * s.normal - lambda_N_[p] * normal_.col(p)).norm());
-        if (control) state.pushed_N += target * s.normal.dot(control->direction_unit);
+        if (control) pushed_N += target * s.normal.dot(control->direction_unit);
         largest = std::max(largest, target);
         normal_.col(p) = s.normal;
         active_.push_back(p);
@@ -381,6 +385,8 @@ bool ComplianceContact::EvaluateGaps(const std::vector<geometry::RigidObject>& o
       }
     }
   }
+  state.largest = largest, state.mismatch = mismatch, state.gap_error = gap_error, state.turn = turn;
+  state.pushed_N = pushed_N, state.warm_gap_m = warm_gap_m;
   return true;
 }
 

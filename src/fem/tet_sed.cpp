@@ -19,7 +19,8 @@ void LinearTetSeds(int begin, int end, int count, const int* offset, const doubl
         for (int r = 0; r < 3; ++r) H[r][q] += ua[r] * g;
       }
     }
-    DisplacementGradientSed<double>(H, mu_Pa[e], lambda_Pa[e], sed_Pa[e]);
+    sed_Pa[e] = DisplacementGradientSed(H[0][0], H[0][1], H[0][2], H[1][0], H[1][1], H[1][2], H[2][0], H[2][1], H[2][2],
+                                        mu_Pa[e], lambda_Pa[e]);
   }
 }
 

@@ -8,31 +8,39 @@
 
 namespace sedbridge::fem {
 
-// T: double, or a GCC vector of doubles (element-wise); the answer is written to `sed_Pa`
-// (a vector returned by value would change the ABI between the AVX2 clone and the default).
+// T: double, or a GCC vector of doubles (element-wise); results through a reference (no
+// vector is passed or returned by value: that changes the ABI without AVX). Always inlined,
+// so hot loops keep the strain in registers.
+#define SEDBRIDGE_TET_SED_INLINE inline __attribute__((always_inline))
 
 /// SED [Pa] of the symmetric strain (e00, e11, e22, e01, e02, e12) [-] with Lamé
-/// parameters mu_Pa and lambda_Pa [Pa].
+/// parameters mu_Pa and lambda_Pa [Pa], into sed_Pa.
 template <typename T>
-inline void SymmetricStrainSed(const T& e00, const T& e11, const T& e22, const T& e01, const T& e02, const T& e12,
-                               const T& mu_Pa, const T& lambda_Pa, T& sed_Pa) {
+SEDBRIDGE_TET_SED_INLINE void SymmetricStrainSed(const T& e00, const T& e11, const T& e22, const T& e01, const T& e02,
+                                                 const T& e12, const T& mu_Pa, const T& lambda_Pa, T& sed_Pa) {
   const T tr = e00 + e11 + e22;
   const T eps_eps = e00 * e00 + e11 * e11 + e22 * e22 + 2.0 * (e01 * e01 + e02 * e02 + e12 * e12);
   sed_Pa = mu_Pa * eps_eps + 0.5 * lambda_Pa * tr * tr;
 }
 
-/// SED [Pa] of the small strain eps = sym(H) of a displacement gradient H [-] (linear FEM).
-template <typename T>
-inline void DisplacementGradientSed(const T (&H)[3][3], const T& mu_Pa, const T& lambda_Pa, T& sed_Pa) {
-  SymmetricStrainSed<T>(H[0][0], H[1][1], H[2][2], 0.5 * (H[0][1] + H[1][0]), 0.5 * (H[0][2] + H[2][0]),
-                        0.5 * (H[1][2] + H[2][1]), mu_Pa, lambda_Pa, sed_Pa);
+/// SED [Pa] of the small strain eps = sym(H) of a displacement gradient H [-] (linear FEM),
+/// its nine entries by value (row by row): a reference to a local array here keeps GCC from
+/// vectorizing the structure-of-arrays loop that calls it.
+SEDBRIDGE_TET_SED_INLINE double DisplacementGradientSed(double h00, double h01, double h02, double h10, double h11,
+                                                        double h12, double h20, double h21, double h22, double mu_Pa,
+                                                        double lambda_Pa) {
+  const double e01 = 0.5 * (h01 + h10), e02 = 0.5 * (h02 + h20), e12 = 0.5 * (h12 + h21);
+  double sed_Pa = 0;
+  SymmetricStrainSed<double>(h00, h11, h22, e01, e02, e12, mu_Pa, lambda_Pa, sed_Pa);
+  return sed_Pa;
 }
 
 /// SED [Pa] of eps = sym(G) - I for G = R^T F [-] (corotational; R = I: linear FEM with F).
 template <typename T>
-inline void StretchSed(const T (&G)[3][3], const T& mu_Pa, const T& lambda_Pa, T& sed_Pa) {
-  SymmetricStrainSed<T>(G[0][0] - 1.0, G[1][1] - 1.0, G[2][2] - 1.0, 0.5 * (G[0][1] + G[1][0]),
-                        0.5 * (G[0][2] + G[2][0]), 0.5 * (G[1][2] + G[2][1]), mu_Pa, lambda_Pa, sed_Pa);
+SEDBRIDGE_TET_SED_INLINE void StretchSed(const T (&G)[3][3], const T& mu_Pa, const T& lambda_Pa, T& sed_Pa) {
+  const T e00 = G[0][0] - 1.0, e11 = G[1][1] - 1.0, e22 = G[2][2] - 1.0;
+  const T e01 = 0.5 * (G[0][1] + G[1][0]), e02 = 0.5 * (G[0][2] + G[2][0]), e12 = 0.5 * (G[1][2] + G[2][1]);
+  SymmetricStrainSed<T>(e00, e11, e22, e01, e02, e12, mu_Pa, lambda_Pa, sed_Pa);
 }
 
 /// Linear SED of tetrahedra [begin, end) of `count` from the displacements u [m] of their
