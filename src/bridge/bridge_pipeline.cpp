@@ -16,6 +16,7 @@ BridgePipeline::BridgePipeline(const BridgeConfig& config, const sensors::Sensor
       profile_(profile),
       fe_(std::move(fe)),
       conditioner_(profile, PadRegistration(profile.taxels, config.registration), config.conditioning),
+      health_(profile),
       wall_clock_(wall_clock ? std::move(wall_clock) : WallClock(WallClockUtime)),
       status_period_us_(std::max<int64_t>(1, static_cast<int64_t>(std::llround(1e6 / config.status_Hz)))) {
   stage_stats_.fill(LatencyStats(kMaxStageRunSamples));
@@ -94,7 +95,10 @@ void BridgePipeline::PublishScan(const sensors::Scan& scan, ScanOutcome* outcome
 bool BridgePipeline::ConditionScan(const sensors::Scan& scan, int64_t now_utime, ScanOutcome* outcome) {
   fault_field_.source_scan_utime = scan.utime;
   StageTimer conditioning_timer(outcome->stage_ms, Stage::kConditioning);
-  const ConditioningReport cr = conditioner_.Condition(scan, &values_);
+  // Masked taxels are invalid from here on: no weight in the fit, no pressure in the map.
+  const sensors::Scan& judged = health_.Apply(scan);
+  outcome->masked_taxels = health_.left_out();
+  const ConditioningReport cr = conditioner_.Condition(judged, &values_);
   conditioning_timer.Stop();
   counters_.nonfinite_values += cr.nonfinite_values;
   counters_.invalid_taxels += cr.invalid_taxels;
@@ -198,6 +202,8 @@ void BridgePipeline::MaybePublishStatus(int64_t now_utime) {
     fault_message_.clear();
     if (window_invalid_ > 0)
       fault_state_ = FaultState::kDegraded, fault_message_ = std::to_string(window_invalid_) + " invalid taxel readings";
+    // Said, not hidden: BRIDGE_STATUS has no per-taxel field, so the message names them.
+    if (health_.masked_count() > 0) fault_state_ = FaultState::kDegraded, fault_message_ += (fault_message_.empty() ? "" : "; ") + health_.Summary();
   }
   display_->publisher().Publish(display_->publisher().channels().status, MakeStatus(now_utime));
   ++counters_.status_messages;
