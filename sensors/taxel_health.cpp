@@ -192,14 +192,19 @@ void TaxelHealth::Judge(const Scan& scan) {
   const bool sensor_noisy = 2 * noisy >= n_;
   // Stuck-high suspects first: they are no evidence of a load for the dead test's fit.
   for (int k = 0; k < n_; ++k) suspect_[size_t(k)] = ModelBased() && scan.valid[size_t(k)] && Stuck(k, scan);
-  if (ModelBased()) FitPointLoads(scan);
+  // The dead test needs a loaded ring: on a quiet scan there is nothing to fit.
+  const double sigma_min = *std::min_element(sigma_N_.begin(), sigma_N_.end());
+  bool loaded = false;
+  for (int k = 0; k < n_; ++k) loaded |= z_[size_t(k)] > t_.dead_margin_sigma * sigma_min;
+  const bool fit = ModelBased() && loaded;
+  if (fit) FitPointLoads(scan);
   for (int k = 0; k < n_; ++k) {
     if (!scan.valid[size_t(k)]) continue;
     TaxelState& s = state_[size_t(k)];
     const double z = z_[size_t(k)], sigma = sigma_N_[size_t(k)];
     const bool stuck = suspect_[size_t(k)];
     bool dead = false, dead_checkable = false;
-    if (ModelBased()) {
+    if (fit) {
       const double predicted = RingPrediction_N(k, scan);
       dead_checkable = predicted > t_.dead_margin_sigma * sigma;
       dead = dead_checkable && z < t_.dead_fraction * predicted;

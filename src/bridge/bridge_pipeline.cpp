@@ -69,8 +69,9 @@ ScanOutcome BridgePipeline::ProcessScan(const sensors::Scan& scan, int64_t now_u
     return outcome;
   }
   CountScan(now_utime);
-  PublishScan(scan, &outcome);
-  if (ConditionScan(scan, now_utime, &outcome) && StepFe(scan, now_utime, &outcome)) {
+  const sensors::Scan& judged = JudgeTaxels(scan, &outcome);
+  PublishScan(judged, &outcome);
+  if (ConditionScan(judged, now_utime, &outcome) && StepFe(judged, now_utime, &outcome)) {
     SendToDisplay(now_utime, receive_wall_utime, &outcome);
     PublishContact(now_utime, &outcome);
     RecordStageTimes(outcome.stage_ms);
@@ -92,13 +93,19 @@ void BridgePipeline::PublishScan(const sensors::Scan& scan, ScanOutcome* outcome
   display_->publisher().Publish(display_->publisher().channels().tactile_scan, lcm_io::ToLcm(scan, profile_.name));
 }
 
+const sensors::Scan& BridgePipeline::JudgeTaxels(const sensors::Scan& scan, ScanOutcome* outcome) {
+  // Masked taxels are invalid from here on: TACTILE_SCAN's valid[] shows them, they carry no
+  // weight in the contact fit and no pressure of their own in the pressure map.
+  const StageTimer timer(outcome->stage_ms, Stage::kConditioning);
+  const sensors::Scan& judged = health_.Apply(scan);
+  outcome->masked_taxels = health_.left_out();
+  return judged;
+}
+
 bool BridgePipeline::ConditionScan(const sensors::Scan& scan, int64_t now_utime, ScanOutcome* outcome) {
   fault_field_.source_scan_utime = scan.utime;
   StageTimer conditioning_timer(outcome->stage_ms, Stage::kConditioning);
-  // Masked taxels are invalid from here on: no weight in the fit, no pressure in the map.
-  const sensors::Scan& judged = health_.Apply(scan);
-  outcome->masked_taxels = health_.left_out();
-  const ConditioningReport cr = conditioner_.Condition(judged, &values_);
+  const ConditioningReport cr = conditioner_.Condition(scan, &values_);
   conditioning_timer.Stop();
   counters_.nonfinite_values += cr.nonfinite_values;
   counters_.invalid_taxels += cr.invalid_taxels;

@@ -1,7 +1,7 @@
 #pragma once
 // The bridge's data path for one scan, and its health report:
 //
-//   Scan -> ScanConditioner (registration, invalid taxels, NaN guard) -> FeStep (pressure BC,
+//   Scan -> TaxelHealth (masks lying taxels) -> ScanConditioner (registration, invalid taxels, NaN guard) -> FeStep (pressure BC,
 //   FE step, Merkel SED) -> SedField -> DisplaySession (mapping, safety limiter, watchdog,
 //   LCM publish) ; BRIDGE_STATUS at rates.status_Hz.
 //
@@ -125,6 +125,8 @@ class BridgePipeline {
   // The stages of ProcessScan, in order. ConditionScan and StepFe return false when they
   // rejected the scan (Reject: counted, display to its safe state).
   void CountScan(int64_t now_utime);
+  /// Taxel health: the scan with its masked taxels invalid (sensors/taxel_health.h).
+  const sensors::Scan& JudgeTaxels(const sensors::Scan& scan, ScanOutcome* outcome);
   void PublishScan(const sensors::Scan& scan, ScanOutcome* outcome);
   bool ConditionScan(const sensors::Scan& scan, int64_t now_utime, ScanOutcome* outcome);
   bool StepFe(const sensors::Scan& scan, int64_t now_utime, ScanOutcome* outcome);
