@@ -20,6 +20,9 @@ enum TaxelFlags : uint8_t {
   kTaxelSaturated = 0x02,
   kTaxelNonFinite = 0x04,  ///< calibration produced NaN/inf (value set to 0)
   kTaxelStale = 0x08,      ///< raw reading bit-identical for profile.stale_after_scans scans
+  /// Judged faulty by taxel health (sensors/taxel_health.h: frozen, stuck high, dead) and
+  /// left out until it behaves again; set only on the scan TaxelHealth::Apply returns.
+  kTaxelMasked = 0x10,
 };
 
 struct Scan {

@@ -28,6 +28,7 @@
 #include "common/name_value.h"
 #include "sensors/can_frame.h"
 #include "sensors/tactile_model_params.h"
+#include "sensors/taxel_health_thresholds.h"
 
 namespace sedbridge::sensors {
 
@@ -141,6 +142,9 @@ struct SensorProfile {
   /// contact reconstruction and the simulated sensor's `pad: {model: kernel}`.
   bool has_forward_model = false;
   TactileModelParams forward_model;
+  /// When a taxel is judged frozen, stuck high, dead or drifting (key `taxel_health`,
+  /// sensors/taxel_health.h).
+  TaxelHealthThresholds taxel_health;
 
   int channel_count() const { return taxel_count * axes; }
   /// Range a sample can hold.
@@ -187,6 +191,7 @@ struct SensorProfile {
     partial_timeout_us = static_cast<int64_t>(partial_timeout_ms * 1000.0);
     a->HandRead("forward_model");  // ParseTactileModelParams
     a->Visit(Field("stale_after_scans", &stale_after_scans).NonNegative());
+    a->Visit(Field("taxel_health", &taxel_health));
     a->HandRead("start_frames");
     a->HandRead("stop_frames");
   }

@@ -51,6 +51,7 @@ void PrintReplaySummary(const ReplayResult& r, const std::string& out) {
   std::printf("stages (median ms): %s\n", FormatStageTimes(r.stage_p50_ms).c_str());
   if (c.scans_rejected > 0) std::printf("rejected scans by reason: %s\n", FormatRejectCounters(c.rejected_by_reason).c_str());
   if (!r.fe_counters.empty()) std::printf("%s\n", r.fe_counters.c_str());
+  if (!r.taxel_health.empty()) std::printf("%s\n", r.taxel_health.c_str());
   std::printf("LCM: %lld messages published (%lld errors)\n", static_cast<long long>(r.published),
               static_cast<long long>(r.publish_errors));
   if (!out.empty()) std::printf("wrote %s/{summary.csv, stage_ms.csv, peak_merkel_sed.csv, peak_command.csv, peak_taxels.csv, bridge.lcmlog}\n", out.c_str());

@@ -16,6 +16,7 @@ BridgePipeline::BridgePipeline(const BridgeConfig& config, const sensors::Sensor
       profile_(profile),
       fe_(std::move(fe)),
       conditioner_(profile, PadRegistration(profile.taxels, config.registration), config.conditioning),
+      health_(profile),
       wall_clock_(wall_clock ? std::move(wall_clock) : WallClock(WallClockUtime)),
       status_period_us_(std::max<int64_t>(1, static_cast<int64_t>(std::llround(1e6 / config.status_Hz)))) {
   stage_stats_.fill(LatencyStats(kMaxStageRunSamples));
@@ -68,8 +69,9 @@ ScanOutcome BridgePipeline::ProcessScan(const sensors::Scan& scan, int64_t now_u
     return outcome;
   }
   CountScan(now_utime);
-  PublishScan(scan, &outcome);
-  if (ConditionScan(scan, now_utime, &outcome) && StepFe(scan, now_utime, &outcome)) {
+  const sensors::Scan& judged = JudgeTaxels(scan, &outcome);
+  PublishScan(judged, &outcome);
+  if (ConditionScan(judged, now_utime, &outcome) && StepFe(judged, now_utime, &outcome)) {
     SendToDisplay(now_utime, receive_wall_utime, &outcome);
     PublishContact(now_utime, &outcome);
     RecordStageTimes(outcome.stage_ms);
@@ -89,6 +91,15 @@ void BridgePipeline::PublishScan(const sensors::Scan& scan, ScanOutcome* outcome
   if (!config_.publish_scans) return;
   const StageTimer timer(outcome->stage_ms, Stage::kPublish);
   display_->publisher().Publish(display_->publisher().channels().tactile_scan, lcm_io::ToLcm(scan, profile_.name));
+}
+
+const sensors::Scan& BridgePipeline::JudgeTaxels(const sensors::Scan& scan, ScanOutcome* outcome) {
+  // Masked taxels are invalid from here on: TACTILE_SCAN's valid[] shows them, they carry no
+  // weight in the contact fit and no pressure of their own in the pressure map.
+  const StageTimer timer(outcome->stage_ms, Stage::kConditioning);
+  const sensors::Scan& judged = health_.Apply(scan);
+  outcome->masked_taxels = health_.left_out();
+  return judged;
 }
 
 bool BridgePipeline::ConditionScan(const sensors::Scan& scan, int64_t now_utime, ScanOutcome* outcome) {
@@ -198,6 +209,8 @@ void BridgePipeline::MaybePublishStatus(int64_t now_utime) {
     fault_message_.clear();
     if (window_invalid_ > 0)
       fault_state_ = FaultState::kDegraded, fault_message_ = std::to_string(window_invalid_) + " invalid taxel readings";
+    // Said, not hidden: BRIDGE_STATUS has no per-taxel field, so the message names them.
+    if (health_.masked_count() > 0) fault_state_ = FaultState::kDegraded, fault_message_ += (fault_message_.empty() ? "" : "; ") + health_.Summary();
   }
   display_->publisher().Publish(display_->publisher().channels().status, MakeStatus(now_utime));
   ++counters_.status_messages;

@@ -1,7 +1,7 @@
 #pragma once
 // The bridge's data path for one scan, and its health report:
 //
-//   Scan -> ScanConditioner (registration, invalid taxels, NaN guard) -> FeStep (pressure BC,
+//   Scan -> TaxelHealth (masks lying taxels) -> ScanConditioner (registration, invalid taxels, NaN guard) -> FeStep (pressure BC,
 //   FE step, Merkel SED) -> SedField -> DisplaySession (mapping, safety limiter, watchdog,
 //   LCM publish) ; BRIDGE_STATUS at rates.status_Hz.
 //
@@ -34,6 +34,7 @@
 #include "sensors/frame_source.h"
 #include "sensors/scan.h"
 #include "sensors/sensor_profile.h"
+#include "sensors/taxel_health.h"
 
 namespace sedbridge::bridge {
 
@@ -48,6 +49,7 @@ struct ScanOutcome {
   double max_command = 0;        ///< largest actuator value published [display unit]
   int64_t latency_us = 0;        ///< receive (wall) -> publish (wall)
   int invalid_taxels = 0;
+  int masked_taxels = 0;         ///< of those, left out by taxel health (sensors/taxel_health.h)
   fem::StepReport report;
   /// Wall time per stage of this scan: conditioning, the FE step's stages, limiter, publish.
   StageTimes stage_ms;
@@ -109,6 +111,8 @@ class BridgePipeline {
   lcm_io::DisplaySession& display() { return *display_; }
   FeStep& fe() { return *fe_; }
   const ScanConditioner& conditioner() const { return conditioner_; }
+  /// Which taxels lie (frozen, stuck high, dead, drifting): masked before conditioning.
+  const sensors::TaxelHealth& taxel_health() const { return health_; }
   /// Last field sent to the display (finite SED of the last stepped scan).
   const display::SedField& last_field() const { return field_; }
   const TaxelValues& last_values() const { return values_; }
@@ -121,6 +125,8 @@ class BridgePipeline {
   // The stages of ProcessScan, in order. ConditionScan and StepFe return false when they
   // rejected the scan (Reject: counted, display to its safe state).
   void CountScan(int64_t now_utime);
+  /// Taxel health: the scan with its masked taxels invalid (sensors/taxel_health.h).
+  const sensors::Scan& JudgeTaxels(const sensors::Scan& scan, ScanOutcome* outcome);
   void PublishScan(const sensors::Scan& scan, ScanOutcome* outcome);
   bool ConditionScan(const sensors::Scan& scan, int64_t now_utime, ScanOutcome* outcome);
   bool StepFe(const sensors::Scan& scan, int64_t now_utime, ScanOutcome* outcome);
@@ -135,6 +141,7 @@ class BridgePipeline {
   sensors::SensorProfile profile_;
   std::unique_ptr<FeStep> fe_;
   ScanConditioner conditioner_;
+  sensors::TaxelHealth health_;
   std::unique_ptr<lcm_io::DisplaySession> display_;
   WallClock wall_clock_;
 

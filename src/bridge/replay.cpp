@@ -285,6 +285,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   pipeline.SetSensorCounters(assembler.counters(), source.Stats());
   pipeline.Shutdown(last_utime);
   result.fe_counters = pipeline.fe().CountersLine();
+  result.taxel_health = pipeline.taxel_health().Summary();
   if (options.on_finish) options.on_finish(pipeline);
 
   CollectCounters(pipeline, assembler, source, &result);

@@ -81,6 +81,7 @@ struct ReplayResult {
   double setup_s = 0;           ///< model load + factorization
   int peak_index = -1;          ///< row of peak SED
   std::string fe_description;
+  std::string taxel_health;     ///< sensors::TaxelHealth::Summary() at the end
   std::string fe_counters;      ///< FeStep::CountersLine() at the end ("" = none)
   std::string display_unit;
   int64_t published = 0, publish_errors = 0;
