@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Edits one taxel's frames in a candump -l log of a one-frame-per-taxel three-axis sensor
 (uskin_4x4's layout: id = id_base + taxel, x, y, z as big-endian uint16 in bytes 1-6), to
-make a faulty taxel out of a healthy log (issue 55).
+make a faulty taxel out of a healthy log (sensors/taxel_health.h is what it tests).
 
   stuck  the taxel reads `--load-N` normal more than the unloaded scans it repeats (from the
          first scan, or from --from-s), with their noise: a load no contact could produce

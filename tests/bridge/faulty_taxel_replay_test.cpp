@@ -1,4 +1,4 @@
-// End to end with a lying taxel (issue 55): the example log with one taxel edited (as
+// End to end with a lying taxel: the example log with one taxel edited (as
 // tools/edit_taxel_log.py does) through the whole bridge. Stuck high from the first scan:
 // no display command before the contact; dead under the contact: the peak SED within the
 // fidelity targets of the healthy log's (ratio 0.8-1.25).

@@ -202,8 +202,11 @@ TEST_F(TaxelHealthTest, TwoAdjacentTaxelsFailing) {
         SetNormal(s, 6, s.force_N[6] - share * full[3 * 6 + 2], Area_m2());
       });
   EXPECT_EQ(dead.fault(5), TaxelFault::kDead);
-  for (int k = 0; k < 16; ++k)
-    if (k != 5 && k != 6) EXPECT_FALSE(dead.masked(k)) << "taxel " << k;
+  for (int k = 0; k < 16; ++k) {
+    if (k != 5 && k != 6) {
+      EXPECT_FALSE(dead.masked(k)) << "taxel " << k;
+    }
+  }
 }
 
 TEST_F(TaxelHealthTest, FrozenTaxelIsMaskedButNoiseFreeInputIsNot) {
