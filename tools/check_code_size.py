@@ -12,6 +12,8 @@ import os
 import re
 import sys
 
+import tree_check
+
 MAX_FILE_LINES = 800
 MAX_FUNCTION_LINES = 150
 FOLDERS = ("src", "sensors", "display")
@@ -92,16 +94,9 @@ def violations(root):
 
 
 def main():
-    root = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..")
-    found = violations(root)
-    for v in found:
-        print(v)
-    if found:
-        print("code size: %d excess(es) (see tools/check_code_size.py)" % len(found))
-        return 1
-    print("code size: every file in %s within %d lines, every function within %d" %
-          ("/, ".join(FOLDERS) + "/", MAX_FILE_LINES, MAX_FUNCTION_LINES))
-    return 0
+    return tree_check.main(violations, "code size: %d excess(es) (see tools/check_code_size.py)",
+                           "code size: every file in %s within %d lines, every function within %d" %
+                           ("/, ".join(FOLDERS) + "/", MAX_FILE_LINES, MAX_FUNCTION_LINES))
 
 
 if __name__ == "__main__":

@@ -22,6 +22,8 @@ import os
 import re
 import sys
 
+import tree_check
+
 INCLUDE = re.compile(r'^\s*#\s*include\s*"([^"]+)"')
 SOURCE_SUFFIXES = (".h", ".hpp", ".cpp", ".cc")
 
@@ -70,16 +72,10 @@ def violations(root):
 
 
 def main():
-    root = sys.argv[1] if len(sys.argv) > 1 else os.path.join(os.path.dirname(__file__), "..")
-    found = violations(root)
-    for v in found:
-        print(v)
-    if found:
-        print("include graph: %d arrow(s) against the stage order (see tools/check_include_graph.py)" % len(found))
-        return 1
-    print("include graph: sensors/, display/ and src/common include nothing from src/ but src/common; "
-          "contact, render, lcm and bridge keep their stage order; no runtime stage includes src/fidelity")
-    return 0
+    return tree_check.main(violations,
+                           "include graph: %d arrow(s) against the stage order (see tools/check_include_graph.py)",
+                           "include graph: sensors/, display/ and src/common include nothing from src/ but src/common; "
+                           "contact, render, lcm and bridge keep their stage order; no runtime stage includes src/fidelity")
 
 
 if __name__ == "__main__":

@@ -11,9 +11,13 @@
 
 #include "common/config_error.h"
 #include "display/display_profile.h"
+#include "display_test_util.h"
 
 namespace sedbridge::display {
 namespace {
+
+using profile_text::Parse;
+using profile_text::ParseMessage;
 
 // The finger pad's contact face used for "fits the pad": half extents 8 mm across (x) and
 // 10 mm along the finger (y), about model B's 16 mm width and the flat part of its 22 mm
@@ -66,17 +70,6 @@ std::string With(std::string block, const std::string& key, const std::string& l
   EXPECT_NE(at, std::string::npos) << key;
   block.replace(at, block.find('\n', at) + 1 - at, line.empty() ? "" : line + "\n");
   return block;
-}
-
-DisplayProfile Parse(const std::string& text) { return ParseDisplayProfile(text, "p.yaml"); }
-
-std::string ParseMessage(const std::string& text) {
-  try {
-    Parse(text);
-  } catch (const config::ConfigError& e) {
-    return e.what();
-  }
-  return "accepted";
 }
 
 TEST(DisplayDevice, ShippedProfilesParseWithTheirDeviceBlocks) {

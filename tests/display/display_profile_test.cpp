@@ -11,9 +11,13 @@
 #include "common/schema_keys.h"
 #include "tests/common/readme_keys.h"
 #include "display/safety_limiter.h"
+#include "display_test_util.h"
 
 namespace sedbridge::display {
 namespace {
+
+using profile_text::Parse;
+using profile_text::ParseMessage;
 
 // A valid profile; tests splice one line in or out to break it.
 std::string Profile(const std::string& extra_safety = "", const std::string& extra_top = "") {
@@ -34,20 +38,6 @@ std::string Profile(const std::string& extra_safety = "", const std::string& ext
          "  reference_Pa: 1000.0\n"
          "  gain: 5.0\n" +
          extra_top;
-}
-
-DisplayProfile Parse(const std::string& text) {
-  return ParseDisplayProfile(text, "p.yaml");
-}
-
-// The error a profile text gets, or "accepted".
-std::string ParseMessage(const std::string& text) {
-  try {
-    Parse(text);
-  } catch (const config::ConfigError& e) {
-    return e.what();
-  }
-  return "accepted";
 }
 
 TEST(DisplayProfile, ShippedProfilesLoad) {
