@@ -2,20 +2,20 @@
 
 #include <stdexcept>
 
+#include "fem/tet_sed.h"
+
 namespace sedbridge::render {
 
 namespace {
 
-// The element's SED as a quadratic form in its strain: W = eps^T M eps with
-// W = mu eps:eps + lambda/2 tr(eps)^2 (shear components count twice in eps:eps).
-Eigen::Matrix<double, kStrainComponents, kStrainComponents> SedForm(double mu_Pa, double lambda_Pa) {
-  Eigen::Matrix<double, kStrainComponents, kStrainComponents> M = Eigen::Matrix<double, 6, 6>::Zero();
-  for (int i = 0; i < 3; ++i) {
-    M(i, i) = mu_Pa;
-    for (int j = 0; j < 3; ++j) M(i, j) += 0.5 * lambda_Pa;
-  }
-  for (int i = 3; i < 6; ++i) M(i, i) = 2.0 * mu_Pa;
-  return M;
+// dW/deps of W = mu eps:eps + lambda/2 tr(eps)^2 in this file's component order (the shear
+// components count twice in eps:eps): 2 mu eps_ii + lambda tr, and 4 mu eps_ij.
+Eigen::Matrix<double, kStrainComponents, 1> SedGradient(const double* eps, double mu_Pa, double lambda_Pa) {
+  const double tr = eps[0] + eps[1] + eps[2];
+  Eigen::Matrix<double, kStrainComponents, 1> g;
+  for (int i = 0; i < 3; ++i) g[i] = 2.0 * mu_Pa * eps[i] + lambda_Pa * tr;
+  for (int i = 3; i < 6; ++i) g[i] = 4.0 * mu_Pa * eps[i];
+  return g;
 }
 
 void CheckSizes(const ElementStrainInfluence& in) {
@@ -49,8 +49,9 @@ void DisplayInfluence::ElementSeds(const Eigen::VectorXd& u) const {
   const Eigen::Index elements = in_.mu_Pa.size();
   element_sed_.resize(elements);
   for (Eigen::Index e = 0; e < elements; ++e) {
-    const Eigen::Matrix<double, kStrainComponents, 1> eps = eps_.segment<kStrainComponents>(kStrainComponents * e);
-    element_sed_[e] = eps.dot(SedForm(in_.mu_Pa[e], in_.lambda_Pa[e]) * eps);
+    const double* eps = eps_.data() + kStrainComponents * e;
+    fem::SymmetricStrainSed<double>(eps[0], eps[1], eps[2], eps[3], eps[4], eps[5], in_.mu_Pa[e], in_.lambda_Pa[e],
+                                    element_sed_[e]);
   }
 }
 
@@ -75,7 +76,7 @@ void DisplayInfluence::SedAndJacobian(const Eigen::VectorXd& u, Eigen::VectorXd&
   element_gradient_.resize(elements, num_actuators_);
   for (Eigen::Index e = 0; e < elements; ++e) {
     const Eigen::Matrix<double, kStrainComponents, 1> g =
-        2.0 * SedForm(in_.mu_Pa[e], in_.lambda_Pa[e]) * eps_.segment<kStrainComponents>(kStrainComponents * e);
+        SedGradient(eps_.data() + kStrainComponents * e, in_.mu_Pa[e], in_.lambda_Pa[e]);
     element_gradient_.row(e).noalias() = g.transpose() * in_.strain_per_command.middleRows<kStrainComponents>(kStrainComponents * e);
   }
   jacobian.setZero(num_vertices(), num_actuators_);

@@ -2,8 +2,8 @@
 // What a display's commands do to the leader's Merkel layer, linear about the preloaded
 // state: the layer's element strains are eps_e(u) = eps0_e + E_e u for a command vector u
 // (eps0: the preload's strain; E_e: each actuator's strain per unit command), so the SED of
-// any command vector is a quadratic form per element, W_e = eps_e^T M_e eps_e (M_e: the
-// element's mu eps:eps + lambda/2 tr(eps)^2 as a 6x6 form), averaged to the layer's vertices
+// any command vector is a quadratic form per element, the tet SED of fem/tet_sed.h,
+// averaged to the layer's vertices
 // as the bridge's SED is (S = A W). Built once per display and leader model; then the SED of
 // a command vector costs one product with the 6 #elements x #actuators strain matrix (its
 // Jacobian one more), microseconds. (Per-vertex #actuators^2 forms would cost #vertices x
