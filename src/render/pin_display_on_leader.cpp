@@ -106,6 +106,10 @@ Eigen::VectorXd PinDisplayOnLeader::StrainsOfLastStep() const {
   return strain;
 }
 
+double PinDisplayOnLeader::default_reference_command() const {
+  return std::min(0.2, 0.2 * device_.travel_mm);
+}
+
 ElementStrainInfluence PinDisplayOnLeader::Influence(double reference_height_mm) {
   if (!(reference_height_mm > 0)) throw std::invalid_argument("pin display influence: reference height > 0");
   const int n = num_actuators();

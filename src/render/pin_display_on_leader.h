@@ -18,11 +18,12 @@
 #include "common/geometry/rigid_object.h"
 #include "display/display_device.h"
 #include "render/display_influence.h"
+#include "render/display_on_leader.h"
 #include "scene/fingertip_compliance.h"
 
 namespace sedbridge::render {
 
-class PinDisplayOnLeader {
+class PinDisplayOnLeader : public DisplayOnLeader {
  public:
   /// @param leader  the leader's finger (kept by reference; its contact state is used)
   /// @param device  a pin display's device model (kind pin)
@@ -32,18 +33,20 @@ class PinDisplayOnLeader {
   /// preload press fails (its status in the message).
   PinDisplayOnLeader(scene::FingertipCompliance& leader, const display::DisplayDevice& device);
 
-  int num_actuators() const { return int(device_.footprints.size()); }
-  double preload_force_N() const { return preload_force_N_; }
+  int num_actuators() const override { return int(device_.footprints.size()); }
+  double preload_force_N() const override { return preload_force_N_; }
   /// The plate's indentation at the preload [mm].
   double preload_depth_mm() const { return preload_depth_mm_; }
 
   /// Merkel SED [Pa] (leader's Merkel vertex order) with the pins at heights_mm (one per
   /// actuator, >= 0), full contact. False (message in error()) if the contact solve fails.
-  bool Press(const Eigen::VectorXd& heights_mm, Eigen::VectorXd& sed_Pa);
+  bool Press(const Eigen::VectorXd& heights_mm, Eigen::VectorXd& sed_Pa) override;
   /// The linear influence about the preloaded state, each pin raised by
   /// reference_height_mm alone.
-  ElementStrainInfluence Influence(double reference_height_mm);
-  const std::string& error() const { return error_; }
+  ElementStrainInfluence Influence(double reference_height_mm) override;
+  /// 0.2 mm, or a fifth of the travel if shorter.
+  double default_reference_command() const override;
+  const std::string& error() const override { return error_; }
 
  private:
   std::vector<geometry::RigidObject> Objects(const Eigen::VectorXd& heights_mm) const;

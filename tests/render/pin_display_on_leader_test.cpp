@@ -3,9 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <memory>
+#include <stdexcept>
 
 #include "display/display_profile.h"
 #include "model/fingertip_model.h"
+#include "render/display_on_leader.h"
 #include "render/inverse_renderer.h"
 
 namespace sedbridge::render {
@@ -72,6 +75,21 @@ TEST(PinDisplayOnLeader, LinearInfluenceAgreesWithTheFullContactWhereTheLoadIsLi
       EXPECT_LE(added_l2, 1e-6) << c.name;
     }
   }
+}
+
+// The factory: a pin profile gets the pin display; a display with no mechanical load
+// (electrotactile: no device model) is refused with a reason, not rendered as a pin.
+TEST(DisplayOnLeader, FactoryBuildsThePinDisplayAndRefusesOneWithoutAMechanicalLoad) {
+  Leader leader;
+  const display::DisplayProfile pin = display::LoadNamedDisplayProfile("pin_6x4");
+  const std::unique_ptr<DisplayOnLeader> display = MakeDisplayOnLeader(leader.fingertip, pin.device);
+  ASSERT_NE(display, nullptr);
+  EXPECT_EQ(display->num_actuators(), 24);
+  EXPECT_GT(display->preload_force_N(), 0.0);
+  EXPECT_GT(display->default_reference_command(), 0.0);
+  EXPECT_LE(display->default_reference_command(), pin.device.travel_mm);
+  const display::DisplayProfile electrotactile = display::LoadNamedDisplayProfile("electrotactile_4x4");
+  EXPECT_THROW(MakeDisplayOnLeader(leader.fingertip, electrotactile.device), std::invalid_argument);
 }
 
 }  // namespace
