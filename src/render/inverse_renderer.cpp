@@ -16,7 +16,9 @@ InverseRenderer::InverseRenderer(DisplayInfluence influence, Eigen::VectorXd max
     throw std::invalid_argument("inverse renderer: maxima must be finite and >= 0");
   if (!(options_.sed_floor_Pa > 0) || options_.max_iterations < 1 || !(options_.command_tolerance > 0))
     throw std::invalid_argument("inverse renderer: sed_floor_Pa > 0, max_iterations >= 1, command_tolerance > 0");
+  if (!(options_.command_penalty_Pa >= 0)) throw std::invalid_argument("inverse renderer: command_penalty_Pa >= 0");
   u_.setZero(max_.size());
+  inverse_max_ = (max_.array() > 0).select(max_.cwiseInverse(), 0.0);
 }
 
 const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed_Pa) {
@@ -33,8 +35,9 @@ const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed
     return u_;
   }
   const double s0 = options_.sed_floor_Pa;
-  target_root_ = (target_sed_Pa.cwiseMax(0.0) + influence_.preload_sed_Pa() + Eigen::VectorXd::Constant(target_sed_Pa.size(), s0))
-                     .cwiseMax(s0)
+  // The total SED asked for, the preload's included, is what cannot be negative: a target
+  // may take SED away where the preload had it (the difference of two display states does).
+  target_root_ = ((target_sed_Pa + influence_.preload_sed_Pa()).cwiseMax(0.0) + Eigen::VectorXd::Constant(target_sed_Pa.size(), s0))
                      .cwiseSqrt();
   u_ = u_.cwiseMax(0.0).cwiseMin(max_);  // warm start, inside the box
   double cost = Residuals(u_, true);
@@ -71,12 +74,13 @@ double InverseRenderer::Residuals(const Eigen::VectorXd& u, bool with_jacobian) 
   const Eigen::VectorXd root = (sed_.array().max(0.0) + s0).sqrt().matrix();
   r_ = root - target_root_;
   if (with_jacobian) J_ = (0.5 * root.cwiseInverse()).asDiagonal() * dS_;
-  return 0.5 * r_.squaredNorm();
+  return 0.5 * r_.squaredNorm() + 0.5 * options_.command_penalty_Pa * (u.cwiseProduct(inverse_max_)).squaredNorm();
 }
 
 void InverseRenderer::FreeStep(const Eigen::VectorXd& u) {
   const Eigen::Index n = u.size();
   gradient_.noalias() = J_.transpose() * r_;
+  gradient_ += options_.command_penalty_Pa * u.cwiseProduct(inverse_max_).cwiseProduct(inverse_max_);
   // Free: inside the box, or at a bound the descent direction leaves.
   free_.clear();
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -94,6 +98,8 @@ void InverseRenderer::FreeStep(const Eigen::VectorXd& u) {
     for (Eigen::Index b = 0; b <= a; ++b)
       H_(a, b) = H_(b, a) = J_.col(free_[size_t(a)]).dot(J_.col(free_[size_t(b)]));
   }
+  for (Eigen::Index a = 0; a < m; ++a)
+    H_(a, a) += options_.command_penalty_Pa * inverse_max_[free_[size_t(a)]] * inverse_max_[free_[size_t(a)]];
   const double scale = std::max(H_.diagonal().maxCoeff(), 1e-300);
   H_.diagonal().array() += options_.damping * scale;
   const Eigen::LDLT<Eigen::MatrixXd> ldlt(H_);

@@ -35,6 +35,12 @@ struct InverseRendererOptions {
   double command_tolerance = 1e-4;
   /// Levenberg damping of the Gauss-Newton matrix, relative to its largest diagonal.
   double damping = 1e-9;
+  /// mu of the command penalty 1/2 mu sum_i (u_i / max_i)^2 added to the cost [Pa]: an
+  /// actuator the Merkel layer barely sees (a pin at the pad's rim) is otherwise free to sit
+  /// anywhere, and an ill-conditioned fit drives such actuators to their maximum. The
+  /// penalty of one actuator at full scale, 1/2 mu, is far below what a visible actuator's
+  /// residual weighs (sqrt(SED) residuals summed over the layer).
+  double command_penalty_Pa = 0.05;
 };
 
 struct RenderResult {
@@ -54,7 +60,9 @@ class InverseRenderer {
   InverseRenderer(DisplayInfluence influence, Eigen::VectorXd max_command, InverseRendererOptions options = {});
 
   /// Commands for the target vertex SED [Pa] (#vertices of the influence, in its order).
-  /// Negative targets count as 0. A non-finite entry gives all zeros and `fault`.
+  /// The SED the display should add to the preloaded pad; where it would take away more than
+  /// the preload has, the total asked for counts as 0. A target with no positive entry gives
+  /// all zeros; a non-finite entry gives all zeros and `fault`.
   const Eigen::VectorXd& Render(const Eigen::VectorXd& target_sed_Pa);
   const Eigen::VectorXd& commands() const { return u_; }
   const RenderResult& last() const { return result_; }
@@ -74,7 +82,7 @@ class InverseRenderer {
   DisplayInfluence influence_;
   Eigen::VectorXd max_;
   InverseRendererOptions options_;
-  Eigen::VectorXd u_, previous_, target_root_, sed_, r_, step_, trial_, gradient_;
+  Eigen::VectorXd inverse_max_, u_, previous_, target_root_, sed_, r_, step_, trial_, gradient_;
   Eigen::MatrixXd dS_, J_, H_;
   std::vector<int> free_;
   RenderResult result_;

@@ -9,6 +9,7 @@
 #include "display/display_profile.h"
 #include "model/fingertip_model.h"
 #include "render/display_on_leader.h"
+#include "render/display_rendering.h"
 #include "render/inverse_renderer.h"
 
 namespace sedbridge::render {
@@ -90,6 +91,35 @@ TEST(DisplayOnLeader, FactoryBuildsThePinDisplayAndRefusesOneWithoutAMechanicalL
   EXPECT_LE(display->default_reference_command(), pin.device.travel_mm);
   const display::DisplayProfile electrotactile = display::LoadNamedDisplayProfile("electrotactile_4x4");
   EXPECT_THROW(MakeDisplayOnLeader(leader.fingertip, electrotactile.device), std::invalid_argument);
+}
+
+// The shared rendering object on the pin display: a target the display can render exactly
+// (the influence's own SED of a command vector) comes back as those commands, within the
+// box, and Deliver measures what the commands add to the preloaded pad by full contact.
+TEST(DisplayRendering, RendersAnExactTargetAndDeliversByFullContact) {
+  const model::FingertipModel model = model::LoadFingertipModel("B_coarse");
+  const display::DisplayProfile profile = display::LoadNamedDisplayProfile("pin_6x4");
+  DisplayRendering rendering(model, profile);
+  const int n = rendering.num_actuators();
+  ASSERT_EQ(n, 24);
+  EXPECT_GT(rendering.precompute_s(), 0.0);
+  Eigen::VectorXd u_true = Eigen::VectorXd::Zero(n), target;
+  u_true[9] = 0.25, u_true[10] = 0.1, u_true[15] = 0.05;
+  rendering.influence().Sed(u_true, target);
+  target -= rendering.influence().preload_sed_Pa();
+  const Eigen::VectorXd u = rendering.Render(target);
+  Eigen::VectorXd rendered;
+  rendering.influence().Sed(u, rendered);
+  rendered -= rendering.influence().preload_sed_Pa();
+  EXPECT_LE((rendered - target).norm(), 1e-3 * target.norm());
+  EXPECT_TRUE((u.array() <= MaxCommands(profile).array()).all());
+  Eigen::VectorXd delivered;
+  ASSERT_TRUE(rendering.Deliver(Eigen::VectorXd::Zero(n), delivered)) << rendering.error();
+  EXPECT_LE(delivered.cwiseAbs().maxCoeff(), 1e-9 * rendering.preload_sed_Pa().maxCoeff());
+  ASSERT_TRUE(rendering.Deliver(u, delivered)) << rendering.error();
+  EXPECT_GT(delivered.maxCoeff(), 0.0);
+  const display::DisplayProfile electrotactile = display::LoadNamedDisplayProfile("electrotactile_4x4");
+  EXPECT_THROW(DisplayRendering(model, electrotactile), std::invalid_argument);
 }
 
 }  // namespace
