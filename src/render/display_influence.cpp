@@ -1,5 +1,7 @@
 #include "render/display_influence.h"
 
+#include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "fem/tet_sed.h"
@@ -32,6 +34,20 @@ void CheckSizes(const ElementStrainInfluence& in) {
   if (!in.strain_per_command.allFinite() || !in.preload_strain.allFinite() || !in.mu_Pa.allFinite() ||
       !in.lambda_Pa.allFinite())
     throw std::invalid_argument("display influence: non-finite strain or material");
+  const Eigen::Index actuators = in.strain_per_command.cols();
+  if (!in.command_offset.empty() && Eigen::Index(in.command_offset.size()) != actuators)
+    throw std::invalid_argument("display influence: one command offset per actuator");
+  for (double g : in.command_offset)
+    if (!(g >= 0) || !std::isfinite(g)) throw std::invalid_argument("display influence: command offsets finite and >= 0");
+  if (in.strain_at_knot.size() != in.knot_command.size())
+    throw std::invalid_argument("display influence: one strain matrix per knot");
+  for (size_t k = 0; k < in.knot_command.size(); ++k) {
+    if (!(in.knot_command[k] > (k ? in.knot_command[k - 1] : 0.0)) || !std::isfinite(in.knot_command[k]))
+      throw std::invalid_argument("display influence: knots finite, > 0 and increasing");
+    if (in.strain_at_knot[k].rows() != in.strain_per_command.rows() || in.strain_at_knot[k].cols() != actuators ||
+        !in.strain_at_knot[k].allFinite())
+      throw std::invalid_argument("display influence: a knot's strain matrix has the wrong size or a non-finite entry");
+  }
 }
 
 }  // namespace
@@ -39,13 +55,57 @@ void CheckSizes(const ElementStrainInfluence& in) {
 DisplayInfluence::DisplayInfluence(const ElementStrainInfluence& elements) : in_(elements) {
   CheckSizes(in_);
   num_actuators_ = int(in_.strain_per_command.cols());
-  ElementSeds(Eigen::VectorXd::Zero(num_actuators_));
+  offset_ = in_.command_offset.empty()
+                ? Eigen::VectorXd::Zero(num_actuators_)
+                : Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(in_.command_offset.data(), num_actuators_));
+  piecewise_ = !in_.knot_command.empty() || (offset_.array() > 0).any();
+  // Segment k's slope, from the strain at its start (0 at v = 0) to the strain at knot k.
+  const size_t knots = in_.knot_command.size();
+  for (size_t k = 0; k < knots; ++k) {
+    const double v0 = k ? in_.knot_command[k - 1] : 0.0;
+    const Eigen::MatrixXd start = k ? in_.strain_at_knot[k - 1] : Eigen::MatrixXd::Zero(in_.strain_per_command.rows(), num_actuators_);
+    slope_.push_back((in_.strain_at_knot[k] - start) / (in_.knot_command[k] - v0));
+  }
+  if (knots == 0) slope_.push_back(in_.strain_per_command);
+  else in_.strain_per_command = slope_.front();
+  ElementSeds(Eigen::VectorXd::Zero(num_actuators_), false);
   AverageToVertices(element_sed_, preload_sed_Pa_);
 }
 
-void DisplayInfluence::ElementSeds(const Eigen::VectorXd& u) const {
+int DisplayInfluence::SegmentOf(double v) const {
+  int k = 0;
+  while (size_t(k) < in_.knot_command.size() && v >= in_.knot_command[size_t(k)]) ++k;
+  return k;
+}
+
+void DisplayInfluence::ElementSeds(const Eigen::VectorXd& u, bool slopes) const {
   eps_ = in_.preload_strain;
-  eps_.noalias() += in_.strain_per_command * u;
+  if (!piecewise_) {
+    eps_.noalias() += in_.strain_per_command * u;
+  } else {
+    if (slopes) effective_slope_.resize(in_.strain_per_command.rows(), num_actuators_);
+    for (int i = 0; i < num_actuators_; ++i) {
+      const double v = u[i] - offset_[i];
+      if (!(v > 0)) {  // below the offset: nothing (v = 0 takes the first segment's slope)
+        if (slopes) {
+          if (v == 0) effective_slope_.col(i) = slope_.front().col(i);
+          else effective_slope_.col(i).setZero();
+        }
+        continue;
+      }
+      // Segment k: knots at or below v; it starts at 0 (k = 0) or at knot k-1 with that
+      // knot's strain; past the last knot the last segment's slope goes on.
+      const int k = SegmentOf(v);
+      const Eigen::MatrixXd& slope = slope_[size_t(std::min(k, int(slope_.size()) - 1))];
+      if (k == 0) {
+        eps_ += v * slope.col(i);
+      } else {
+        eps_ += in_.strain_at_knot[size_t(k - 1)].col(i);
+        eps_ += (v - in_.knot_command[size_t(k - 1)]) * slope.col(i);
+      }
+      if (slopes) effective_slope_.col(i) = slope.col(i);
+    }
+  }
   const Eigen::Index elements = in_.mu_Pa.size();
   element_sed_.resize(elements);
   for (Eigen::Index e = 0; e < elements; ++e) {
@@ -64,20 +124,21 @@ void DisplayInfluence::AverageToVertices(const Eigen::VectorXd& element, Eigen::
 }
 
 void DisplayInfluence::Sed(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa) const {
-  ElementSeds(u);
+  ElementSeds(u, false);
   AverageToVertices(element_sed_, sed_Pa);
 }
 
 void DisplayInfluence::SedAndJacobian(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa, Eigen::MatrixXd& jacobian) const {
-  ElementSeds(u);
+  ElementSeds(u, true);
   AverageToVertices(element_sed_, sed_Pa);
+  const Eigen::MatrixXd& slope = piecewise_ ? effective_slope_ : in_.strain_per_command;
   // dW_e/du = 2 (M_e eps_e)^T E_e, then averaged as the SED is.
   const Eigen::Index elements = in_.mu_Pa.size();
   element_gradient_.resize(elements, num_actuators_);
   for (Eigen::Index e = 0; e < elements; ++e) {
     const Eigen::Matrix<double, kStrainComponents, 1> g =
         SedGradient(eps_.data() + kStrainComponents * e, in_.mu_Pa[e], in_.lambda_Pa[e]);
-    element_gradient_.row(e).noalias() = g.transpose() * in_.strain_per_command.middleRows<kStrainComponents>(kStrainComponents * e);
+    element_gradient_.row(e).noalias() = g.transpose() * slope.middleRows<kStrainComponents>(kStrainComponents * e);
   }
   jacobian.setZero(num_vertices(), num_actuators_);
   for (int v = 0; v < num_vertices(); ++v)

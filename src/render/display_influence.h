@@ -19,10 +19,25 @@ namespace sedbridge::render {
 constexpr int kStrainComponents = 6;
 
 /// The per-element description the quadratic forms are built from.
+///
+/// Each actuator's strain is its own function of its command, summed over actuators (no
+/// actuator-actuator interaction): zero up to command_offset[i] (a pin's gap to the skin of
+/// the preloaded pad: a pin below it touches nothing), then piecewise linear in
+/// v = u - offset through the knots, the last segment extended. With no knots and no
+/// offsets it is the linear eps0 + E u.
 struct ElementStrainInfluence {
-  /// 6 #elements x #actuators: element e's strain per unit command of each actuator
-  /// [1/command unit], rows 6e..6e+5.
+  /// 6 #elements x #actuators: element e's strain per unit command of each actuator on the
+  /// first segment, v in [0, knot_command[0]) [1/command unit], rows 6e..6e+5.
   Eigen::MatrixXd strain_per_command;
+  /// Per actuator: the command below which it does nothing [command unit]; empty = all 0.
+  std::vector<double> command_offset;
+  /// v where the segments after the first begin, increasing, > 0 [command unit]; empty:
+  /// one linear segment.
+  std::vector<double> knot_command;
+  /// The strain change at each knot [-] (6 #elements x #actuators each, one per knot):
+  /// the response at v = knot_command[k] of each actuator alone. The segment after the last
+  /// knot keeps the slope of the one before it.
+  std::vector<Eigen::MatrixXd> strain_at_knot;
   /// 6 #elements: the strain of the preloaded state with every command 0 [-].
   Eigen::VectorXd preload_strain;
   Eigen::VectorXd mu_Pa, lambda_Pa;  ///< per element
@@ -47,16 +62,27 @@ class DisplayInfluence {
   void SedAndJacobian(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa, Eigen::MatrixXd& jacobian) const;
   /// Vertex SED of the preloaded state with every command 0 [Pa].
   const Eigen::VectorXd& preload_sed_Pa() const { return preload_sed_Pa_; }
+  /// The command below which actuator i does nothing [command unit].
+  double command_offset(int i) const { return offset_[i]; }
+  const Eigen::VectorXd& command_offsets() const { return offset_; }
 
  private:
-  /// Element strains eps_ = eps0 + E u and element SEDs element_sed_ at u.
-  void ElementSeds(const Eigen::VectorXd& u) const;
+  /// Element strains eps_ at u and element SEDs element_sed_; with `slopes`, slope_ holds
+  /// each actuator's d eps / du at u (its segment's slope, 0 below its offset).
+  void ElementSeds(const Eigen::VectorXd& u, bool slopes) const;
+  /// Segment of v >= 0: 0 before the first knot.
+  int SegmentOf(double v) const;
   void AverageToVertices(const Eigen::VectorXd& element, Eigen::VectorXd& vertex) const;
 
   int num_actuators_ = 0;
   ElementStrainInfluence in_;
-  Eigen::VectorXd preload_sed_Pa_;
+  Eigen::VectorXd preload_sed_Pa_, offset_;
+  // Segment k >= 1: starts at knot_command[k-1], strain there strain_at_knot[k-1], slope
+  // slope_[k]; slope_[0] = strain_per_command.
+  std::vector<Eigen::MatrixXd> slope_;
+  bool piecewise_ = false;  // any offset or knot
   mutable Eigen::VectorXd eps_, element_sed_;
+  mutable Eigen::MatrixXd effective_slope_;  // #actuators' slopes at the last u (piecewise only)
   mutable Eigen::MatrixXd element_gradient_;  // dW_e/du, #elements x #actuators
 };
 

@@ -64,11 +64,11 @@ class InverseRenderer {
   /// the preload has, the total asked for counts as 0. A target with no positive entry gives
   /// all zeros; a non-finite entry gives all zeros and `fault`.
   const Eigen::VectorXd& Render(const Eigen::VectorXd& target_sed_Pa);
-  const Eigen::VectorXd& commands() const { return u_; }
+  const Eigen::VectorXd& commands() const { return commands_; }
   const RenderResult& last() const { return result_; }
   const DisplayInfluence& influence() const { return influence_; }
   /// Forgets the warm start (the next scan starts from all zeros).
-  void Reset() { u_.setZero(); }
+  void Reset() { u_.setZero(), commands_.setZero(); }
 
  private:
   /// r (residuals) and J (their Jacobian) at u; returns 1/2 |r|^2.
@@ -82,6 +82,9 @@ class InverseRenderer {
   DisplayInfluence influence_;
   Eigen::VectorXd max_;
   InverseRendererOptions options_;
+  // u_: each actuator's stroke past its offset (the solve's variables), in [0, box_];
+  // commands_: offset + stroke where the stroke is > 0, else 0.
+  Eigen::VectorXd offset_, box_, commands_, shifted_;
   Eigen::VectorXd inverse_max_, u_, previous_, target_root_, sed_, r_, step_, trial_, gradient_;
   Eigen::MatrixXd dS_, J_, H_;
   std::vector<int> free_;

@@ -110,6 +110,45 @@ double PinDisplayOnLeader::default_reference_command() const {
   return std::min(0.2, 0.2 * device_.travel_mm);
 }
 
+double PinDisplayOnLeader::RaiseAlone(int pin, double from_mm, double height_mm) {
+  const double longest = std::max(0.1, 0.5 * device_.pin_radius_mm);
+  const int steps = std::max(1, int(std::ceil(std::abs(height_mm - from_mm) / longest)));
+  Eigen::VectorXd heights = Eigen::VectorXd::Zero(num_actuators());
+  for (int s = 1; s <= steps; ++s) {
+    heights[pin] = from_mm + (height_mm - from_mm) * double(s) / steps;
+    const fem::ComplianceStepResult& r = leader_.Step(Objects(heights));
+    if (!r.ok || !r.converged) return -1;
+  }
+  double force_N = 0;
+  for (const fem::ActiveContact& c : leader_.contact().last().contacts)
+    if (c.object == 1) force_N += c.normal_force_N;  // object 0 is the plate, 1 the raised pin
+  return heights[pin] > 0 ? force_N : 0.0;
+}
+
+double PinDisplayOnLeader::Gap(int pin, double max_mm) {
+  // Searched in steps of a fifth of the pin radius: the contact of a rising pin's tip is
+  // near linear once it touches, so two touching heights locate the first touch.
+  const double step = std::min(0.1, 0.2 * device_.pin_radius_mm);
+  double below = 0, h = 0, first = -1, first_force = 0;
+  while (h < max_mm) {
+    const double next = std::min(max_mm, h + step);
+    const double force = RaiseAlone(pin, h, next);
+    if (force < 0) return -1;
+    h = next;
+    if (force <= 0) {
+      below = h;
+      continue;
+    }
+    if (first < 0) {
+      first = h, first_force = force;
+      continue;
+    }
+    const double touch = first - first_force * (h - first) / std::max(force - first_force, 1e-300);
+    return std::clamp(touch, below, first);
+  }
+  return first < 0 ? max_mm : below;
+}
+
 ElementStrainInfluence PinDisplayOnLeader::Influence(double reference_height_mm) {
   if (!(reference_height_mm > 0)) throw std::invalid_argument("pin display influence: reference height > 0");
   const int n = num_actuators();
@@ -117,13 +156,27 @@ ElementStrainInfluence PinDisplayOnLeader::Influence(double reference_height_mm)
   if (!Press(Eigen::VectorXd::Zero(n), sed)) throw std::runtime_error("pin display influence: " + error_);
   ElementStrainInfluence in;
   in.preload_strain = StrainsOfLastStep();
-  in.strain_per_command.resize(in.preload_strain.size(), n);
+  const Eigen::Index rows = in.preload_strain.size();
+  for (double f : {0.25, 0.5, 1.0, 2.0, 4.0}) in.knot_command.push_back(f * reference_height_mm);
+  in.strain_at_knot.assign(in.knot_command.size(), Eigen::MatrixXd::Zero(rows, n));
+  in.command_offset.assign(size_t(n), 0.0);
+  gaps_mm_.setZero(n);
   for (int i = 0; i < n; ++i) {
-    Eigen::VectorXd heights = Eigen::VectorXd::Zero(n);
-    heights[i] = reference_height_mm;
-    if (!Press(heights, sed)) throw std::runtime_error("pin display influence: pin " + std::to_string(i) + ": " + error_);
-    in.strain_per_command.col(i) = (StrainsOfLastStep() - in.preload_strain) / reference_height_mm;
+    const std::string which = "pin display influence: pin " + std::to_string(i) + ": ";
+    leader_.ResetWarmStart();
+    if (!leader_.Step(Objects(Eigen::VectorXd::Zero(n))).converged) throw std::runtime_error(which + "the preload solve failed");
+    const double gap = Gap(i, device_.travel_mm);
+    if (gap < 0) throw std::runtime_error(which + "a contact solve failed while looking for the gap");
+    gaps_mm_[i] = in.command_offset[size_t(i)] = gap;
+    double h = gap + 0.5 * std::min(0.1, 0.2 * device_.pin_radius_mm);  // where Gap left the pin, near enough
+    for (size_t k = 0; k < in.knot_command.size() && gap < device_.travel_mm; ++k) {
+      const double next = gap + in.knot_command[k];
+      if (RaiseAlone(i, h, next) < 0) throw std::runtime_error(which + "a contact solve failed at a knot");
+      h = next;
+      in.strain_at_knot[k].col(i) = StrainsOfLastStep() - in.preload_strain;
+    }
   }
+  in.strain_per_command = in.strain_at_knot.front() / in.knot_command.front();
   const fem::ComplianceSedMap& map = leader_.contact().sed_map();
   in.mu_Pa = Eigen::Map<const Eigen::VectorXd>(map.element_mu_Pa().data(), Eigen::Index(map.element_mu_Pa().size()));
   in.lambda_Pa = Eigen::Map<const Eigen::VectorXd>(map.element_lambda_Pa().data(), Eigen::Index(map.element_lambda_Pa().size()));

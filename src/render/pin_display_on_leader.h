@@ -6,8 +6,11 @@
 // raised pin). Two uses:
 //   - Press(heights): the Merkel SED the commands produce, full contact (the display
 //     fidelity's reference);
-//   - Influence(h_ref): the linear influence about the preloaded state (each pin raised by
-//     h_ref alone; strain per mm), what the inverse renderer inverts every scan.
+//   - Influence(h_ref): each pin's response about the preloaded state, alone: its gap to the
+//     skin (a pin outside the pad's contact patch on the plate touches nothing until it has
+//     risen that far) and its strain at the knots gap + h_ref x {1/4, 1/2, 1, 2, 4},
+//     piecewise linear between (the skin lifts off the plate around a rising pin, so one
+//     slope does not hold); what the inverse renderer inverts every scan.
 // Pad frame: the pad faces +z; the plate's surface is the plane z = -preload depth, the
 // pins rise from it toward -z. Units: mm and N at the boundary, SI inside.
 
@@ -41,9 +44,11 @@ class PinDisplayOnLeader : public DisplayOnLeader {
   /// Merkel SED [Pa] (leader's Merkel vertex order) with the pins at heights_mm (one per
   /// actuator, >= 0), full contact. False (message in error()) if the contact solve fails.
   bool Press(const Eigen::VectorXd& heights_mm, Eigen::VectorXd& sed_Pa) override;
-  /// The linear influence about the preloaded state, each pin raised by
-  /// reference_height_mm alone.
+  /// Each pin's gap and piecewise-linear response about the preloaded state (above).
   ElementStrainInfluence Influence(double reference_height_mm) override;
+  /// The gaps of the last Influence call [mm]: how far each pin rises before it touches the
+  /// skin (the travel when it never does).
+  const Eigen::VectorXd& gaps_mm() const { return gaps_mm_; }
   /// 0.2 mm, or a fifth of the travel if shorter.
   double default_reference_command() const override;
   const std::string& error() const override { return error_; }
@@ -52,10 +57,18 @@ class PinDisplayOnLeader : public DisplayOnLeader {
   std::vector<geometry::RigidObject> Objects(const Eigen::VectorXd& heights_mm) const;
   /// The Merkel elements' strains [-] of the last step.
   Eigen::VectorXd StrainsOfLastStep() const;
+  /// Pin `pin` alone raised to height_mm from the last state, in steps short enough that no
+  /// node tunnels past it; returns the pin's contact force [N], or -1 if a solve failed.
+  double RaiseAlone(int pin, double from_mm, double height_mm);
+  /// The height at which pin `pin` alone first touches the skin of the preloaded pad [mm],
+  /// from the first two heights where it carries force (contact force is linear in the
+  /// overlap there); max_mm if it does not touch below max_mm. -1 on a failed solve.
+  double Gap(int pin, double max_mm);
 
   scene::FingertipCompliance& leader_;
   display::DisplayDevice device_;
   double preload_force_N_ = 0, preload_depth_mm_ = 0;
+  Eigen::VectorXd gaps_mm_;
   std::string error_;
 };
 
