@@ -52,38 +52,85 @@ void CheckSizes(const ElementStrainInfluence& in) {
 
 }  // namespace
 
-DisplayInfluence::DisplayInfluence(const ElementStrainInfluence& elements) : in_(elements) {
-  CheckSizes(in_);
-  num_actuators_ = int(in_.strain_per_command.cols());
-  offset_ = in_.command_offset.empty()
+DisplayInfluence::DisplayInfluence(const ElementStrainInfluence& in, double prune_relative) {
+  CheckSizes(in);
+  num_actuators_ = int(in.strain_per_command.cols());
+  num_elements_ = int(in.mu_Pa.size());
+  offset_ = in.command_offset.empty()
                 ? Eigen::VectorXd::Zero(num_actuators_)
-                : Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(in_.command_offset.data(), num_actuators_));
-  piecewise_ = !in_.knot_command.empty() || (offset_.array() > 0).any();
-  // Segment k's slope, from the strain at its start (0 at v = 0) to the strain at knot k.
-  const size_t knots = in_.knot_command.size();
-  for (size_t k = 0; k < knots; ++k) {
-    const double v0 = k ? in_.knot_command[k - 1] : 0.0;
-    const Eigen::MatrixXd start = k ? in_.strain_at_knot[k - 1] : Eigen::MatrixXd::Zero(in_.strain_per_command.rows(), num_actuators_);
-    slope_.push_back((in_.strain_at_knot[k] - start) / (in_.knot_command[k] - v0));
-  }
-  if (knots == 0) slope_.push_back(in_.strain_per_command);
-  else in_.strain_per_command = slope_.front();
+                : Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(in.command_offset.data(), num_actuators_));
+  piecewise_ = !in.knot_command.empty() || (offset_.array() > 0).any();
+  Prune(in, prune_relative);
   ElementSeds(Eigen::VectorXd::Zero(num_actuators_), false);
   AverageToVertices(element_sed_, preload_sed_Pa_);
 }
 
+void DisplayInfluence::Prune(const ElementStrainInfluence& in, double prune_relative) {
+  // Each element's largest strain change over actuators and knots (or per command unit on
+  // a linear influence).
+  const std::vector<Eigen::MatrixXd> linear{in.strain_per_command};
+  const std::vector<Eigen::MatrixXd>& changes = in.knot_command.empty() ? linear : in.strain_at_knot;
+  Eigen::VectorXd reach = Eigen::VectorXd::Zero(num_elements_);
+  for (const Eigen::MatrixXd& m : changes)
+    for (int e = 0; e < num_elements_; ++e)
+      reach[e] = std::max(reach[e], m.middleRows<kStrainComponents>(kStrainComponents * e).cwiseAbs().maxCoeff());
+  const double cut = prune_relative * reach.maxCoeff();
+  std::vector<int> compact(size_t(num_elements_), -1), active;
+  for (int e = 0; e < num_elements_; ++e)
+    if (reach[e] > cut || cut == 0) compact[size_t(e)] = int(active.size()), active.push_back(e);
+  const Eigen::Index rows = kStrainComponents * Eigen::Index(active.size());
+  auto gather = [&](const Eigen::MatrixXd& m) {
+    Eigen::MatrixXd out(rows, m.cols());
+    for (size_t a = 0; a < active.size(); ++a)
+      out.middleRows<kStrainComponents>(kStrainComponents * Eigen::Index(a)) = m.middleRows<kStrainComponents>(kStrainComponents * active[a]);
+    return out;
+  };
+  preload_strain_ = gather(in.preload_strain);
+  mu_Pa_.resize(Eigen::Index(active.size())), lambda_Pa_.resize(Eigen::Index(active.size()));
+  for (size_t a = 0; a < active.size(); ++a) mu_Pa_[Eigen::Index(a)] = in.mu_Pa[active[a]], lambda_Pa_[Eigen::Index(a)] = in.lambda_Pa[active[a]];
+  knot_command_ = in.knot_command;
+  for (const Eigen::MatrixXd& m : in.strain_at_knot) strain_at_knot_.push_back(gather(m));
+  // Segment k's slope, from the strain at its start (0 at v = 0) to the strain at knot k.
+  for (size_t k = 0; k < knot_command_.size(); ++k) {
+    const double v0 = k ? knot_command_[k - 1] : 0.0;
+    const Eigen::MatrixXd start = k ? strain_at_knot_[k - 1] : Eigen::MatrixXd::Zero(rows, num_actuators_);
+    slope_.push_back((strain_at_knot_[k] - start) / (knot_command_[k] - v0));
+  }
+  if (knot_command_.empty()) slope_.push_back(gather(in.strain_per_command));
+  // The vertex average over the active elements; the pruned ones keep the preload's SED.
+  const int vertices = int(in.vertex_start.size()) - 1;
+  fixed_sed_Pa_.setZero(vertices);
+  vertex_start_.assign(1, 0);
+  vertex_element_.clear(), vertex_weight_.clear();
+  for (int v = 0; v < vertices; ++v) {
+    for (int k = in.vertex_start[size_t(v)]; k < in.vertex_start[size_t(v) + 1]; ++k) {
+      const int e = in.vertex_element[size_t(k)];
+      if (compact[size_t(e)] >= 0) {
+        vertex_element_.push_back(compact[size_t(e)]);
+        vertex_weight_.push_back(in.vertex_weight[size_t(k)]);
+        continue;
+      }
+      const double* eps = in.preload_strain.data() + kStrainComponents * e;
+      double w = 0;
+      fem::SymmetricStrainSed<double>(eps[0], eps[1], eps[2], eps[3], eps[4], eps[5], in.mu_Pa[e], in.lambda_Pa[e], w);
+      fixed_sed_Pa_[v] += in.vertex_weight[size_t(k)] * w;
+    }
+    vertex_start_.push_back(int(vertex_element_.size()));
+  }
+}
+
 int DisplayInfluence::SegmentOf(double v) const {
   int k = 0;
-  while (size_t(k) < in_.knot_command.size() && v >= in_.knot_command[size_t(k)]) ++k;
+  while (size_t(k) < knot_command_.size() && v >= knot_command_[size_t(k)]) ++k;
   return k;
 }
 
 void DisplayInfluence::ElementSeds(const Eigen::VectorXd& u, bool slopes) const {
-  eps_ = in_.preload_strain;
+  eps_ = preload_strain_;
   if (!piecewise_) {
-    eps_.noalias() += in_.strain_per_command * u;
+    eps_.noalias() += slope_.front() * u;
   } else {
-    if (slopes) effective_slope_.resize(in_.strain_per_command.rows(), num_actuators_);
+    if (slopes) effective_slope_.resize(preload_strain_.size(), num_actuators_);
     for (int i = 0; i < num_actuators_; ++i) {
       const double v = u[i] - offset_[i];
       if (!(v > 0)) {  // below the offset: nothing (v = 0 takes the first segment's slope)
@@ -93,34 +140,33 @@ void DisplayInfluence::ElementSeds(const Eigen::VectorXd& u, bool slopes) const 
         }
         continue;
       }
-      // Segment k: knots at or below v; it starts at 0 (k = 0) or at knot k-1 with that
-      // knot's strain; past the last knot the last segment's slope goes on.
+      // Segment k starts at 0 (k = 0) or at knot k-1 with that knot's strain.
       const int k = SegmentOf(v);
       const Eigen::MatrixXd& slope = slope_[size_t(std::min(k, int(slope_.size()) - 1))];
       if (k == 0) {
         eps_ += v * slope.col(i);
       } else {
-        eps_ += in_.strain_at_knot[size_t(k - 1)].col(i);
-        eps_ += (v - in_.knot_command[size_t(k - 1)]) * slope.col(i);
+        eps_ += strain_at_knot_[size_t(k - 1)].col(i);
+        eps_ += (v - knot_command_[size_t(k - 1)]) * slope.col(i);
       }
       if (slopes) effective_slope_.col(i) = slope.col(i);
     }
   }
-  const Eigen::Index elements = in_.mu_Pa.size();
+  const Eigen::Index elements = mu_Pa_.size();
   element_sed_.resize(elements);
   for (Eigen::Index e = 0; e < elements; ++e) {
     const double* eps = eps_.data() + kStrainComponents * e;
-    fem::SymmetricStrainSed<double>(eps[0], eps[1], eps[2], eps[3], eps[4], eps[5], in_.mu_Pa[e], in_.lambda_Pa[e],
+    fem::SymmetricStrainSed<double>(eps[0], eps[1], eps[2], eps[3], eps[4], eps[5], mu_Pa_[e], lambda_Pa_[e],
                                     element_sed_[e]);
   }
 }
 
 void DisplayInfluence::AverageToVertices(const Eigen::VectorXd& element, Eigen::VectorXd& vertex) const {
+  vertex = fixed_sed_Pa_;
   const int vertices = num_vertices();
-  vertex.setZero(vertices);
   for (int v = 0; v < vertices; ++v)
-    for (int k = in_.vertex_start[size_t(v)]; k < in_.vertex_start[size_t(v) + 1]; ++k)
-      vertex[v] += in_.vertex_weight[size_t(k)] * element[in_.vertex_element[size_t(k)]];
+    for (int k = vertex_start_[size_t(v)]; k < vertex_start_[size_t(v) + 1]; ++k)
+      vertex[v] += vertex_weight_[size_t(k)] * element[vertex_element_[size_t(k)]];
 }
 
 void DisplayInfluence::Sed(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa) const {
@@ -131,19 +177,19 @@ void DisplayInfluence::Sed(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa) co
 void DisplayInfluence::SedAndJacobian(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa, Eigen::MatrixXd& jacobian) const {
   ElementSeds(u, true);
   AverageToVertices(element_sed_, sed_Pa);
-  const Eigen::MatrixXd& slope = piecewise_ ? effective_slope_ : in_.strain_per_command;
+  const Eigen::MatrixXd& slope = piecewise_ ? effective_slope_ : slope_.front();
   // dW_e/du = 2 (M_e eps_e)^T E_e, then averaged as the SED is.
-  const Eigen::Index elements = in_.mu_Pa.size();
+  const Eigen::Index elements = mu_Pa_.size();
   element_gradient_.resize(elements, num_actuators_);
   for (Eigen::Index e = 0; e < elements; ++e) {
     const Eigen::Matrix<double, kStrainComponents, 1> g =
-        SedGradient(eps_.data() + kStrainComponents * e, in_.mu_Pa[e], in_.lambda_Pa[e]);
+        SedGradient(eps_.data() + kStrainComponents * e, mu_Pa_[e], lambda_Pa_[e]);
     element_gradient_.row(e).noalias() = g.transpose() * slope.middleRows<kStrainComponents>(kStrainComponents * e);
   }
   jacobian.setZero(num_vertices(), num_actuators_);
   for (int v = 0; v < num_vertices(); ++v)
-    for (int k = in_.vertex_start[size_t(v)]; k < in_.vertex_start[size_t(v) + 1]; ++k)
-      jacobian.row(v) += in_.vertex_weight[size_t(k)] * element_gradient_.row(in_.vertex_element[size_t(k)]);
+    for (int k = vertex_start_[size_t(v)]; k < vertex_start_[size_t(v) + 1]; ++k)
+      jacobian.row(v) += vertex_weight_[size_t(k)] * element_gradient_.row(vertex_element_[size_t(k)]);
 }
 
 }  // namespace sedbridge::render

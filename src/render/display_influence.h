@@ -47,15 +47,26 @@ struct ElementStrainInfluence {
   std::vector<double> vertex_weight;
 };
 
-/// The quadratic forms of the vertex SED in the commands.
+/// The vertex SED as a function of the commands.
+///
+/// Only the elements some actuator strains are evaluated: an element whose strain change
+/// stays below prune_relative of the largest (over actuators, knots and elements) keeps the
+/// preload's SED, folded into a constant per vertex. On model B most of the Merkel layer
+/// (its sides, the nail's side) is out of every display's reach; evaluating it cost more
+/// memory traffic than the rest of a render.
 class DisplayInfluence {
  public:
   DisplayInfluence() = default;
+  /// @param prune_relative elements whose largest strain change is below this fraction of
+  ///        the largest are held at the preload's strain (0: evaluate every element)
   /// Throws std::invalid_argument for inconsistent sizes or non-finite entries.
-  explicit DisplayInfluence(const ElementStrainInfluence& elements);
+  explicit DisplayInfluence(const ElementStrainInfluence& elements, double prune_relative = 1e-4);
 
   int num_actuators() const { return num_actuators_; }
-  int num_vertices() const { return int(in_.vertex_start.size()) - 1; }
+  int num_vertices() const { return int(vertex_start_.size()) - 1; }
+  /// Elements evaluated per call (those some actuator strains), of all of the layer's.
+  int num_active_elements() const { return int(mu_Pa_.size()); }
+  int num_elements() const { return num_elements_; }
   /// Vertex SED [Pa] of command vector u (#actuators), into sed_Pa (#vertices).
   void Sed(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa) const;
   /// The same and its Jacobian dS/du [Pa / command unit] (#vertices x #actuators).
@@ -67,23 +78,32 @@ class DisplayInfluence {
   const Eigen::VectorXd& command_offsets() const { return offset_; }
 
  private:
-  /// Element strains eps_ at u and element SEDs element_sed_; with `slopes`, slope_ holds
-  /// each actuator's d eps / du at u (its segment's slope, 0 below its offset).
+  /// Keeps the elements some actuator strains; the rest go into fixed_sed_.
+  void Prune(const ElementStrainInfluence& in, double prune_relative);
+  /// Element strains eps_ at u and element SEDs element_sed_ (active elements); with
+  /// `slopes`, effective_slope_ holds each actuator's d eps / du at u (its segment's slope,
+  /// 0 below its offset).
   void ElementSeds(const Eigen::VectorXd& u, bool slopes) const;
-  /// Segment of v >= 0: 0 before the first knot.
+  /// Segment of v >= 0: the number of knots at or below v.
   int SegmentOf(double v) const;
   void AverageToVertices(const Eigen::VectorXd& element, Eigen::VectorXd& vertex) const;
 
-  int num_actuators_ = 0;
-  ElementStrainInfluence in_;
-  Eigen::VectorXd preload_sed_Pa_, offset_;
-  // Segment k >= 1: starts at knot_command[k-1], strain there strain_at_knot[k-1], slope
-  // slope_[k]; slope_[0] = strain_per_command.
+  int num_actuators_ = 0, num_elements_ = 0;
+  // Active elements only (rows 6e..6e+5 of each matrix).
+  Eigen::VectorXd preload_strain_, mu_Pa_, lambda_Pa_;
+  std::vector<double> knot_command_;
+  std::vector<Eigen::MatrixXd> strain_at_knot_;
+  // Segment k's slope (k = 0: from v = 0); past the last knot the last one goes on.
   std::vector<Eigen::MatrixXd> slope_;
+  // Vertex average over the active elements, plus each vertex's SED from the others.
+  std::vector<int> vertex_start_, vertex_element_;
+  std::vector<double> vertex_weight_;
+  Eigen::VectorXd fixed_sed_Pa_;
+  Eigen::VectorXd preload_sed_Pa_, offset_;
   bool piecewise_ = false;  // any offset or knot
   mutable Eigen::VectorXd eps_, element_sed_;
   mutable Eigen::MatrixXd effective_slope_;  // #actuators' slopes at the last u (piecewise only)
-  mutable Eigen::MatrixXd element_gradient_;  // dW_e/du, #elements x #actuators
+  mutable Eigen::MatrixXd element_gradient_;  // dW_e/du, #active elements x #actuators
 };
 
 }  // namespace sedbridge::render

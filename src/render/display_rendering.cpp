@@ -24,7 +24,7 @@ DisplayRendering::DisplayRendering(const model::FingertipModel& leader_model, co
   leader_ = std::make_unique<scene::FingertipCompliance>(leader_model, leader_options);
   display_ = MakeDisplayOnLeader(*leader_, profile.device);
   const double reference = options.reference_command > 0 ? options.reference_command : display_->default_reference_command();
-  DisplayInfluence influence(display_->Influence(reference));
+  DisplayInfluence influence(display_->Influence(reference), options.prune_relative);
   preload_sed_Pa_ = influence.preload_sed_Pa();
   renderer_ = std::make_unique<InverseRenderer>(std::move(influence), MaxCommands(profile), options.renderer);
   precompute_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

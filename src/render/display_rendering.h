@@ -31,6 +31,9 @@ struct DisplayRenderingOptions {
   std::string cache_dir;
   /// Influence reference command [profile unit]; 0 = the display's default.
   double reference_command = 0;
+  /// Elements whose strain change stays below this fraction of the largest are held at the
+  /// preload's strain (DisplayInfluence).
+  double prune_relative = 1e-4;
   InverseRendererOptions renderer;
 };
 

@@ -3,6 +3,7 @@
 #include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -48,14 +49,40 @@ const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed
   double cost = Residuals(u_, true);
   for (int it = 0; it < options_.max_iterations; ++it) {
     result_.iterations = it + 1;
-    FreeStep(u_);
-    double new_cost = cost;
-    previous_ = u_;
-    if (!LineSearch(cost, u_, &new_cost)) {
-      result_.converged = true;  // no descent along the projected step: stationary
+    NormalEquations(u_);
+    if (free_.empty()) {  // every command held at a bound by its gradient: stationary
+      result_.converged = true;
       break;
     }
-    cost = new_cost;
+    // Converged when even the undamped step promises almost nothing: at the answer every
+    // trial step would only be rejected, the damping raised, and the field evaluated again.
+    if (PredictedDecrease() <= options_.cost_tolerance * (cost + options_.sed_floor_Pa)) {
+      result_.converged = true;
+      break;
+    }
+    // Levenberg-Marquardt: a rejected trial raises the damping (a shorter step, turned
+    // toward the gradient), an accepted one lowers it; kept from scan to scan.
+    bool accepted = false, stationary = false;
+    for (int attempt = 0; attempt < 16 && !accepted && !stationary; ++attempt) {
+      DampedStep();
+      trial_ = (u_ + step_).cwiseMax(0.0).cwiseMin(box_);
+      stationary = (trial_ - u_).lpNorm<Eigen::Infinity>() <= 1e-14 * std::max(1.0, max_.lpNorm<Eigen::Infinity>());
+      if (stationary) break;
+      const double c = Residuals(trial_, false);
+      if (c < cost) {
+        accepted = true;
+        cost = c;
+        lambda_ = std::max(lambda_ / 10.0, options_.damping);
+      } else {
+        lambda_ = std::min(lambda_ * 10.0, 1e12);
+      }
+    }
+    if (!accepted) {
+      result_.converged = true;  // no step lowers the cost: stationary
+      break;
+    }
+    previous_.swap(u_);
+    u_ = trial_;
     if (((u_ - previous_).array().abs() <= options_.command_tolerance * max_.array()).all()) {
       result_.converged = true;
       break;
@@ -84,7 +111,7 @@ double InverseRenderer::Residuals(const Eigen::VectorXd& u, bool with_jacobian) 
   return 0.5 * r_.squaredNorm() + 0.5 * options_.command_penalty_Pa * (u.cwiseProduct(inverse_max_)).squaredNorm();
 }
 
-void InverseRenderer::FreeStep(const Eigen::VectorXd& u) {
+void InverseRenderer::NormalEquations(const Eigen::VectorXd& u) {
   const Eigen::Index n = u.size();
   gradient_.noalias() = J_.transpose() * r_;
   gradient_ += options_.command_penalty_Pa * u.cwiseProduct(inverse_max_).cwiseProduct(inverse_max_);
@@ -95,42 +122,37 @@ void InverseRenderer::FreeStep(const Eigen::VectorXd& u) {
     const bool at_upper = u[i] >= box_[i] && gradient_[i] < 0;
     if (!at_lower && !at_upper && box_[i] > 0) free_.push_back(int(i));
   }
-  step_.setZero(n);
-  if (free_.empty()) return;
   const Eigen::Index m = Eigen::Index(free_.size());
-  H_.resize(m, m);
-  Eigen::VectorXd g(m);
+  H0_.resize(m, m);
+  g_.resize(m);
   for (Eigen::Index a = 0; a < m; ++a) {
-    g[a] = gradient_[free_[size_t(a)]];
+    g_[a] = gradient_[free_[size_t(a)]];
     for (Eigen::Index b = 0; b <= a; ++b)
-      H_(a, b) = H_(b, a) = J_.col(free_[size_t(a)]).dot(J_.col(free_[size_t(b)]));
+      H0_(a, b) = H0_(b, a) = J_.col(free_[size_t(a)]).dot(J_.col(free_[size_t(b)]));
+    H0_(a, a) += options_.command_penalty_Pa * inverse_max_[free_[size_t(a)]] * inverse_max_[free_[size_t(a)]];
   }
-  for (Eigen::Index a = 0; a < m; ++a)
-    H_(a, a) += options_.command_penalty_Pa * inverse_max_[free_[size_t(a)]] * inverse_max_[free_[size_t(a)]];
-  const double scale = std::max(H_.diagonal().maxCoeff(), 1e-300);
-  H_.diagonal().array() += options_.damping * scale;
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(H_);
-  const Eigen::VectorXd d = ldlt.solve(-g);
-  if (!d.allFinite()) {  // a flat direction the damping did not cure: steepest descent
-    for (Eigen::Index a = 0; a < m; ++a) step_[free_[size_t(a)]] = -g[a] / scale;
-    return;
-  }
-  for (Eigen::Index a = 0; a < m; ++a) step_[free_[size_t(a)]] = d[a];
 }
 
-bool InverseRenderer::LineSearch(double cost, Eigen::VectorXd& u, double* new_cost) {
-  double alpha = 1.0;
-  for (int k = 0; k < 20; ++k, alpha *= 0.5) {
-    trial_ = (u + alpha * step_).cwiseMax(0.0).cwiseMin(box_);
-    if ((trial_ - u).lpNorm<Eigen::Infinity>() <= 1e-14 * std::max(1.0, max_.lpNorm<Eigen::Infinity>())) return false;
-    const double c = Residuals(trial_, false);
-    if (c < cost) {
-      u = trial_;
-      *new_cost = c;
-      return true;
-    }
-  }
-  return false;
+double InverseRenderer::PredictedDecrease() const {
+  // The Gauss-Newton model's decrease for its own minimizer (no damping, no bounds):
+  // 1/2 g^T H0^-1 g.
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(H0_);
+  const Eigen::VectorXd d = ldlt.solve(g_);
+  const double decrease = 0.5 * g_.dot(d);
+  return std::isfinite(decrease) ? std::abs(decrease) : std::numeric_limits<double>::infinity();
+}
+
+void InverseRenderer::DampedStep() {
+  const Eigen::Index m = H0_.rows();
+  // Marquardt's scaling: each command damped in proportion to its own curvature, plus a
+  // floor so that a command the layer does not see takes no step.
+  const double floor = std::max(H0_.diagonal().maxCoeff(), 1e-300) * 1e-12;
+  H_ = H0_;
+  H_.diagonal().array() += lambda_ * (H0_.diagonal().array() + floor);
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(H_);
+  const Eigen::VectorXd d = ldlt.solve(-g_);
+  step_.setZero(box_.size());
+  for (Eigen::Index a = 0; a < m; ++a) step_[free_[size_t(a)]] = std::isfinite(d[a]) ? d[a] : 0.0;
 }
 
 }  // namespace sedbridge::render

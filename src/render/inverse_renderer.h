@@ -12,11 +12,14 @@
 // S_v(0) is the preload's own SED: the target is what the object adds, the display
 // renders it on top of the pad resting on the display.
 //
-// The solver: Gauss-Newton with box constraints (projected: a variable at a bound whose
-// gradient pushes it outward stays there, the rest take the Newton step, then a
-// backtracking line search on the projected path), warm-started from the last scan's
-// commands (and so their bound set). A few iterations a scan: the target moves little
-// between scans.
+// The solver: Levenberg-Marquardt with box constraints (projected: a variable at a bound
+// whose gradient pushes it outward stays there, the rest take the damped Gauss-Newton
+// step, projected onto the box; a trial that does not lower the cost raises the damping),
+// warm-started from the last scan's commands (and so their bound set) and damping. A few
+// iterations a scan: the target moves little between scans. (A backtracking line search
+// on the undamped step spent about 15 SED evaluations an iteration on model B's pin
+// displays: the piecewise-linear pins and near-invisible actuators make the full step
+// overshoot.)
 
 #include <Eigen/Core>
 #include <string>
@@ -33,7 +36,11 @@ struct InverseRendererOptions {
   /// Converged when a step moves no command by more than this fraction of its maximum
   /// (1e-4: far below what a device resolves), or the cost stops falling.
   double command_tolerance = 1e-4;
-  /// Levenberg damping of the Gauss-Newton matrix, relative to its largest diagonal.
+  /// Converged, too, when the undamped Gauss-Newton step promises to lower the cost by less
+  /// than this fraction of it (plus the SED floor).
+  double cost_tolerance = 1e-6;
+  /// Smallest Levenberg-Marquardt damping (relative to each command's own curvature); the
+  /// damping adapts from there, and carries over from scan to scan.
   double damping = 1e-9;
   /// mu of the command penalty 1/2 mu sum_i (u_i / max_i)^2 added to the cost [Pa]: an
   /// actuator the Merkel layer barely sees (a pin at the pad's rim) is otherwise free to sit
@@ -73,11 +80,14 @@ class InverseRenderer {
  private:
   /// r (residuals) and J (their Jacobian) at u; returns 1/2 |r|^2.
   double Residuals(const Eigen::VectorXd& u, bool with_jacobian);
-  /// The Gauss-Newton step on the variables free at u (the others 0).
-  void FreeStep(const Eigen::VectorXd& u);
-  /// The best point on the projected path u + a step, a = 1, 1/2, ...; false if none lowers
-  /// the cost.
-  bool LineSearch(double cost, Eigen::VectorXd& u, double* new_cost);
+  /// The variables free at u (inside the box, or at a bound the descent leaves) and their
+  /// Gauss-Newton matrix H0_ and gradient g_.
+  void NormalEquations(const Eigen::VectorXd& u);
+  /// step_: the damped Gauss-Newton step (H0 + lambda diag H0) d = -g on the free
+  /// variables, 0 on the others.
+  void DampedStep();
+  /// What the undamped Gauss-Newton step on the free variables would lower the cost by.
+  double PredictedDecrease() const;
 
   DisplayInfluence influence_;
   Eigen::VectorXd max_;
@@ -86,7 +96,9 @@ class InverseRenderer {
   // commands_: offset + stroke where the stroke is > 0, else 0.
   Eigen::VectorXd offset_, box_, commands_, shifted_;
   Eigen::VectorXd inverse_max_, u_, previous_, target_root_, sed_, r_, step_, trial_, gradient_;
-  Eigen::MatrixXd dS_, J_, H_;
+  Eigen::MatrixXd dS_, J_, H_, H0_;
+  Eigen::VectorXd g_;
+  double lambda_ = 1e-6;
   std::vector<int> free_;
   RenderResult result_;
 };

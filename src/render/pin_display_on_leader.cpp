@@ -28,6 +28,65 @@ double ActuatedArea_mm2(const display::DisplayDevice& device) {
   return (x1 - x0 + spacing) * (y1 - y0 + spacing);
 }
 
+// A rounded pin: its tip's spherical cap (radius R, centre at the origin) on a shaft of
+// radius <= R running from the centre along +z (toward the display's body). Without the
+// shaft a pin raised past its tip radius would leave the skin behind it untouched.
+class RoundedPinSdf final : public geometry::SignedDistanceField {
+ public:
+  RoundedPinSdf(double tip_radius_m, double shaft_radius_m, double length_m)
+      : tip_(tip_radius_m), shaft_radius_m_(shaft_radius_m), length_m_(length_m) {}
+  geometry::SdfSample Evaluate(const Eigen::Vector3d& p_m) const override {
+    const geometry::SdfSample cap = tip_.Evaluate(p_m);
+    if (p_m.z() <= 0) return cap;
+    // The shaft: a cylinder of the shaft radius over z in [0, length].
+    const Eigen::Vector2d radial(p_m.x(), p_m.y());
+    const double dr = radial.norm() - shaft_radius_m_, dz = p_m.z() - length_m_;
+    geometry::SdfSample shaft;
+    if (dr > 0 && dz > 0) {
+      shaft.distance_m = std::hypot(dr, dz);
+      const Eigen::Vector2d n = radial.norm() > 0 ? Eigen::Vector2d(radial.normalized()) : Eigen::Vector2d::UnitX();
+      shaft.normal = Eigen::Vector3d(dr * n.x(), dr * n.y(), dz).normalized();
+    } else if (dr > dz) {
+      shaft.distance_m = dr;
+      const Eigen::Vector2d n = radial.norm() > 0 ? Eigen::Vector2d(radial.normalized()) : Eigen::Vector2d::UnitX();
+      shaft.normal = Eigen::Vector3d(n.x(), n.y(), 0);
+    } else {
+      shaft.distance_m = dz;
+      shaft.normal = Eigen::Vector3d::UnitZ();
+    }
+    return shaft.distance_m < cap.distance_m ? shaft : cap;
+  }
+  std::string Describe() const override { return "rounded pin"; }
+  bool lipschitz() const override { return true; }
+
+ private:
+  geometry::SphereSdf tip_;
+  double shaft_radius_m_, length_m_;
+};
+
+// Median distance from each contact sample under the display to its nearest neighbour
+// [mm]: what the leader's FE resolves there.
+double SampleSpacing_mm(const scene::FingertipCompliance& leader, const display::DisplayDevice& device) {
+  const Eigen::Matrix3Xd& rest = leader.contact().sample_rest_positions_m();
+  std::vector<Eigen::Vector3d> under;
+  for (Eigen::Index j = 0; j < rest.cols(); ++j) {
+    const Eigen::Vector3d p = leader.model().pad_frame.ToPad(rest.col(j)) * 1e3;
+    if (std::abs(p.x() - device.surface_center_mm[0]) <= device.surface_half_size_mm[0] &&
+        std::abs(p.y() - device.surface_center_mm[1]) <= device.surface_half_size_mm[1] && p.z() > -3.0)
+      under.push_back(p);
+  }
+  std::vector<double> nearest;
+  for (size_t a = 0; a < under.size(); ++a) {
+    double d = std::numeric_limits<double>::infinity();
+    for (size_t b = 0; b < under.size(); ++b)
+      if (a != b) d = std::min(d, (under[a] - under[b]).norm());
+    nearest.push_back(d);
+  }
+  if (nearest.empty()) return 0;
+  std::nth_element(nearest.begin(), nearest.begin() + long(nearest.size() / 2), nearest.end());
+  return nearest[nearest.size() / 2];
+}
+
 geometry::RigidObject Plate(double depth_mm) {
   // PlaneSdf is the half-space z < 0 of its frame: turned over, its solid is z > -depth.
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
@@ -43,6 +102,11 @@ PinDisplayOnLeader::PinDisplayOnLeader(scene::FingertipCompliance& leader, const
   if (device.kind != display::DisplayKind::kPin || device.footprints.empty())
     throw std::invalid_argument("pin display on the leader: needs a pin display's device model");
   preload_force_N_ = device.preload_kPa * 1e3 * ActuatedArea_mm2(device) * 1e-6;
+  // A pin narrower than the skin's contact samples passes between them (a 1 mm pin on
+  // model B pressed the same 267 Pa at every height): pressed as a pin that wide.
+  sample_spacing_mm_ = SampleSpacing_mm(leader_, device);
+  pressed_radius_mm_ = std::max(device.pin_radius_mm, sample_spacing_mm_);
+  pressed_tip_radius_mm_ = std::max(device.tip_radius_mm, pressed_radius_mm_);
   leader_.ResetWarmStart();
   const scene::PressToForceResult r = leader_.PressToForce({Plate(0.0)}, preload_force_N_);
   if (!r.reached)
@@ -53,7 +117,7 @@ PinDisplayOnLeader::PinDisplayOnLeader(scene::FingertipCompliance& leader, const
 
 std::vector<geometry::RigidObject> PinDisplayOnLeader::Objects(const Eigen::VectorXd& heights_mm) const {
   std::vector<geometry::RigidObject> objects{Plate(preload_depth_mm_)};
-  const double radius_m = device_.pin_radius_mm * kMm;
+  const double radius_m = pressed_radius_mm_ * kMm;
   for (size_t i = 0; i < device_.footprints.size(); ++i) {
     const double h = heights_mm[Eigen::Index(i)];
     if (!(h > 0)) continue;  // a pin at rest is under the plate's surface
@@ -62,10 +126,10 @@ std::vector<geometry::RigidObject> PinDisplayOnLeader::Objects(const Eigen::Vect
     Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
     std::shared_ptr<geometry::SignedDistanceField> shape;
     if (device_.tip == display::PinTip::kRounded) {
-      // The tip's spherical cap (the part a pin within its travel presses with).
-      const double R = device_.tip_radius_mm * kMm;
+      // The tip's spherical cap, its centre R above the tip, on the shaft.
+      const double R = pressed_tip_radius_mm_ * kMm;
       pose.translation() = Eigen::Vector3d(f.x_mm * kMm, f.y_mm * kMm, tip_z_m + R);
-      shape = std::make_shared<geometry::SphereSdf>(R);
+      shape = std::make_shared<RoundedPinSdf>(R, std::min(radius_m, R), 2 * kPinHalfLength_m);
     } else {
       // A flat-ended cylinder along pad z (CylinderSdf runs along its frame's x).
       pose.linear() = Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
@@ -161,6 +225,7 @@ ElementStrainInfluence PinDisplayOnLeader::Influence(double reference_height_mm)
   in.strain_at_knot.assign(in.knot_command.size(), Eigen::MatrixXd::Zero(rows, n));
   in.command_offset.assign(size_t(n), 0.0);
   gaps_mm_.setZero(n);
+  failed_knots_ = 0;
   for (int i = 0; i < n; ++i) {
     const std::string which = "pin display influence: pin " + std::to_string(i) + ": ";
     leader_.ResetWarmStart();
@@ -171,7 +236,14 @@ ElementStrainInfluence PinDisplayOnLeader::Influence(double reference_height_mm)
     double h = gap + 0.5 * std::min(0.1, 0.2 * device_.pin_radius_mm);  // where Gap left the pin, near enough
     for (size_t k = 0; k < in.knot_command.size() && gap < device_.travel_mm; ++k) {
       const double next = gap + in.knot_command[k];
-      if (RaiseAlone(i, h, next) < 0) throw std::runtime_error(which + "a contact solve failed at a knot");
+      if (RaiseAlone(i, h, next) < 0) {
+        // Past what the contact solve holds (a wide pin deep at the pad's rim): the response
+        // stays at the last knot it held, so the renderer gains nothing by going higher.
+        ++failed_knots_;
+        for (size_t rest = k; rest < in.knot_command.size(); ++rest)
+          in.strain_at_knot[rest].col(i) = k ? Eigen::VectorXd(in.strain_at_knot[k - 1].col(i)) : Eigen::VectorXd::Zero(rows);
+        break;
+      }
       h = next;
       in.strain_at_knot[k].col(i) = StrainsOfLastStep() - in.preload_strain;
     }

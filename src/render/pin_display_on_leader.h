@@ -11,6 +11,9 @@
 //     risen that far) and its strain at the knots gap + h_ref x {1/4, 1/2, 1, 2, 4},
 //     piecewise linear between (the skin lifts off the plate around a rising pin, so one
 //     slope does not hold); what the inverse renderer inverts every scan.
+// The leader's FE resolves no pin narrower than the spacing of its skin's contact samples
+// (nodes and face centroids; on model B about 1 mm): a narrower pin passes between them
+// and presses nothing more as it rises. Such a pin is pressed as one that wide.
 // Pad frame: the pad faces +z; the plate's surface is the plane z = -preload depth, the
 // pins rise from it toward -z. Units: mm and N at the boundary, SI inside.
 
@@ -52,6 +55,14 @@ class PinDisplayOnLeader : public DisplayOnLeader {
   /// 0.2 mm, or a fifth of the travel if shorter.
   double default_reference_command() const override;
   const std::string& error() const override { return error_; }
+  /// The leader's contact-sample spacing under the display [mm] (median nearest-neighbour
+  /// distance) and the pin radius pressed: the device's, or that spacing if wider (the FE
+  /// resolves no narrower indenter). Rounded tips: the cap's radius at least that.
+  double sample_spacing_mm() const { return sample_spacing_mm_; }
+  /// Knots of the last Influence call whose contact solve failed (their response held at
+  /// the pin's last good knot).
+  int failed_knots() const { return failed_knots_; }
+  double pressed_radius_mm() const { return pressed_radius_mm_; }
 
  private:
   std::vector<geometry::RigidObject> Objects(const Eigen::VectorXd& heights_mm) const;
@@ -68,7 +79,9 @@ class PinDisplayOnLeader : public DisplayOnLeader {
   scene::FingertipCompliance& leader_;
   display::DisplayDevice device_;
   double preload_force_N_ = 0, preload_depth_mm_ = 0;
+  double sample_spacing_mm_ = 0, pressed_radius_mm_ = 0, pressed_tip_radius_mm_ = 0;
   Eigen::VectorXd gaps_mm_;
+  int failed_knots_ = 0;
   std::string error_;
 };
 

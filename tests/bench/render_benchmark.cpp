@@ -1,12 +1,25 @@
-// The inverse renderer's time per scan on a press that moves between scans (warm start), on
-// a synthetic influence the size of model B's Merkel layer (469 vertices) for 16, 64 and 256
-// actuators. One thread. Run: build/tests/bench/render_benchmark
+// The inverse renderer's time per scan on a press that moves between scans (warm start):
+//   - BM_InverseRenderMovingPress: a synthetic influence the size of model B's Merkel layer
+//     (469 vertices) for 16, 64 and 256 actuators;
+//   - BM_InverseRenderOnModelB/<display>: the display's influence on model B (face contact),
+//     targets the SED of a 5 mm sphere pressed at 0.5 N on model B, sliding 4 mm across the
+//     pad in 20 scans (the precompute takes seconds to minutes: compliance cache in
+//     out/cache, run from the repository root).
+// One thread. Run: build/tests/bench/render_benchmark
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 
+#include <memory>
+#include <vector>
+
+#include "common/geometry/signed_distance_field.h"
+#include "display/display_profile.h"
+#include "model/fingertip_model.h"
+#include "render/display_rendering.h"
 #include "render/inverse_renderer.h"
 #include "render_test_util.h"
+#include "scene/fingertip_compliance.h"
 
 namespace {
 
@@ -41,6 +54,64 @@ void BM_InverseRenderMovingPress(benchmark::State& state) {
   state.counters["sed_evaluations"] = double(evaluations) / double(state.iterations());
 }
 BENCHMARK(BM_InverseRenderMovingPress)->Arg(16)->Arg(64)->Arg(256)->Unit(benchmark::kMicrosecond);
+
+const char* const kDisplays[] = {"suction_4x4", "pin_6x4", "suction_8x8", "pin_8x8"};
+
+// The sliding sphere's SED on model B, computed once for every display.
+const std::vector<Eigen::VectorXd>& SphereTargets(const sedbridge::model::FingertipModel& model) {
+  static std::vector<Eigen::VectorXd> targets;
+  if (!targets.empty()) return targets;
+  sedbridge::scene::FingertipComplianceOptions options;
+  options.contact.cache_dir = "out/cache";
+  sedbridge::scene::FingertipCompliance leader(model, options);
+  for (int k = 0; k < 20; ++k) {
+    const double x_m = (-2.0 + 0.2 * k) * 1e-3, radius_m = 5e-3;
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.translation() = Eigen::Vector3d(x_m, 0.5e-3, radius_m);
+    sedbridge::geometry::RigidObject sphere{"sphere", std::make_shared<sedbridge::geometry::SphereSdf>(radius_m),
+                                            sedbridge::geometry::Trajectory(pose)};
+    leader.ResetWarmStart();
+    if (leader.PressToForce({sphere}, 0.5).reached) targets.push_back(leader.sed_Pa());
+  }
+  return targets;
+}
+
+void BM_InverseRenderOnModelB(benchmark::State& state) {
+  static const sedbridge::model::FingertipModel model = sedbridge::model::LoadFingertipModel("B");
+  const char* name = kDisplays[state.range(0)];
+  sedbridge::render::DisplayRenderingOptions options;
+  options.cache_dir = "out/cache";
+  options.prune_relative = std::pow(10.0, -double(state.range(1)));
+  std::unique_ptr<sedbridge::render::DisplayRendering> rendering;
+  try {
+    rendering = std::make_unique<sedbridge::render::DisplayRendering>(
+        model, sedbridge::display::LoadNamedDisplayProfile(name), options);
+  } catch (const std::exception& e) {
+    state.SkipWithError(e.what());
+    return;
+  }
+  const std::vector<Eigen::VectorXd>& targets = SphereTargets(model);
+  if (targets.empty()) {
+    state.SkipWithError("no sphere press reached its force");
+    return;
+  }
+  size_t k = 0;
+  int iterations = 0, evaluations = 0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(rendering->Render(targets[k]).data());
+    iterations += rendering->last().iterations;
+    evaluations += rendering->last().evaluations;
+    k = (k + 1) % targets.size();
+  }
+  state.SetLabel(name);
+  state.counters["actuators"] = rendering->num_actuators();
+  state.counters["elements"] = rendering->influence().num_active_elements();
+  state.counters["of_elements"] = rendering->influence().num_elements();
+  state.counters["precompute_s"] = rendering->precompute_s();
+  state.counters["gn_iterations"] = double(iterations) / double(state.iterations());
+  state.counters["sed_evaluations"] = double(evaluations) / double(state.iterations());
+}
+BENCHMARK(BM_InverseRenderOnModelB)->ArgsProduct({{1, 3}, {1, 2, 3, 4}})->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 
