@@ -28,6 +28,21 @@ std::string SaturationNote(const bridge::ReplayResult& r) {
   return buf;
 }
 
+void PrintDisplayRendering(const bridge::ReplayResult& r) {
+  std::printf("%s\n", r.display_rendering.c_str());
+  if (!r.inverse_rendering) return;
+  std::printf("inverse renderer: median %.3f ms, p99 %.3f ms, max %.3f ms a scan (%lld scans, %lld stopped at the "
+              "iteration limit)\n",
+              r.render_ms.p50_ms, r.render_ms.p99_ms, r.render_ms.max_ms, static_cast<long long>(r.render_ms.count),
+              static_cast<long long>(r.render_not_converged));
+  if (r.have_display_fidelity)
+    std::printf("display fidelity at the peak scan (delivered by the full FE vs the bridge's SED): peak ratio %.3f, "
+                "rel L2 %.3f, peak offset %.2f mm\n",
+                r.display_fidelity.peak_ratio, r.display_fidelity.rel_l2, r.display_fidelity.peak_offset_mm);
+  else
+    std::printf("display fidelity at the peak scan: not computed (%s)\n", r.display_fidelity_error.c_str());
+}
+
 std::vector<std::string> PlotBridgeArgs(const std::string& out_dir, const bridge::ReplayResult& r) {
   char ceiling[32];
   std::snprintf(ceiling, sizeof ceiling, "%g", r.command_ceiling);
