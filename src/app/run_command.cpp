@@ -128,9 +128,10 @@ int RunLiveCommand(int argc, char** argv) {
               lat.max_ms);
   std::printf("stages (median ms): %s\n", FormatStageTimes(pipeline.RunStageMedians_ms()).c_str());
   if (requests.inverse) {
-    const LatencySummary r = requests.inverse->render_times().Run();
-    std::printf("inverse renderer (inside the limiter stage): median %.3f ms, p99 %.3f ms, max %.3f ms a scan\n",
-                r.p50_ms, r.p99_ms, r.max_ms);
+    const LatencySummary r = requests.inverse->render_times().Run(), cpu = requests.inverse->render_cpu_times().Run();
+    std::printf("inverse renderer a scan (inside the limiter stage): wall median %.3f ms, p99 %.3f ms, max %.3f ms; "
+                "CPU median %.3f ms, p99 %.3f ms\n",
+                r.p50_ms, r.p99_ms, r.max_ms, cpu.p50_ms, cpu.p99_ms);
   }
   if (c.scans_rejected > 0) std::printf("rejected scans by reason: %s\n", FormatRejectCounters(c.rejected_by_reason).c_str());
   std::printf("bad frames:\n%s", sensors::FormatCounters(assembler.counters()).c_str());

@@ -6,6 +6,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "common/thread_cpu_time.h"
+
 namespace sedbridge::bridge {
 namespace {
 
@@ -50,6 +52,7 @@ InverseDisplayRequests::InverseDisplayRequests(const BridgeConfig& config, const
 
 void InverseDisplayRequests::Request(const display::SedField& field, std::vector<double>* requested) {
   const auto start = std::chrono::steady_clock::now();
+  const double cpu_start_ms = ThreadCpuTime_ms();
   requested->assign(size_t(num_actuators()), std::numeric_limits<double>::quiet_NaN());
   // Another layer than the one the influence was built on: fault, never a guess.
   if (field.sed_Pa.size() != size_t(target_Pa_.size())) return;
@@ -59,7 +62,9 @@ void InverseDisplayRequests::Request(const display::SedField& field, std::vector
   not_converged_ += rendering_->last().converged ? 0 : 1;
   std::copy(u.data(), u.data() + u.size(), requested->begin());
   render_times_.AddMs(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  render_cpu_times_.AddMs(ThreadCpuTime_ms() - cpu_start_ms);
   render_times_.ResetWindow();  // only the run's summary is read
+  render_cpu_times_.ResetWindow();
 }
 
 display::CommandRequestSource InverseDisplayRequests::Source(std::shared_ptr<InverseDisplayRequests> self) {

@@ -50,6 +50,9 @@ class InverseDisplayRequests {
   double precompute_s() const { return precompute_s_; }
   /// Wall time of each Render [ms] (the renderer's share of the limiter stage).
   const LatencyStats& render_times() const { return render_times_; }
+  /// CPU time of each Render [ms]: its own cost, without the time a loaded machine kept the
+  /// thread waiting.
+  const LatencyStats& render_cpu_times() const { return render_cpu_times_; }
   /// Scans whose renderer did not converge within its iterations (the answer is its best).
   int64_t not_converged() const { return not_converged_; }
 
@@ -57,7 +60,7 @@ class InverseDisplayRequests {
   model::FingertipModel model_;
   std::unique_ptr<render::DisplayRendering> rendering_;
   Eigen::VectorXd target_Pa_;
-  LatencyStats render_times_{100'000};
+  LatencyStats render_times_{100'000}, render_cpu_times_{100'000};
   int64_t not_converged_ = 0;
   double precompute_s_ = 0;
 };

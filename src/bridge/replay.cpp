@@ -163,8 +163,10 @@ void CollectCounters(BridgePipeline& pipeline, const sensors::ScanAssembler& ass
 void CountCeiling(const display::DisplayProfile& dp, const display::DisplayCommand& peak_command,
                   ReplayResult* result) {
   result->display_actuators = static_cast<int>(dp.size());
-  result->command_ceiling = std::min(dp.mapping.saturation, dp.safety.max);
-  result->ceiling_is_mapping = dp.mapping.saturation <= dp.safety.max;
+  // The inverse renderer's bound is the safety maximum; the curve's is its saturation too.
+  const bool curve = !result->inverse_rendering;
+  result->command_ceiling = curve ? std::min(dp.mapping.saturation, dp.safety.max) : dp.safety.max;
+  result->ceiling_is_mapping = curve && dp.mapping.saturation <= dp.safety.max;
   const double at = result->command_ceiling * kAtCeilingFraction;
   for (double v : peak_command.value) result->peak_actuators_at_ceiling += v >= at ? 1 : 0;
   for (const ReplayRow& r : result->rows) result->scans_at_ceiling += r.max_command >= at ? 1 : 0;
@@ -224,8 +226,8 @@ void WriteReplayFiles(const std::filesystem::path& dir, const ReplayResult& resu
 // the full FE (peak_display_sed.csv in `out_dir` unless empty) against what was asked.
 void FinishInverse(InverseDisplayRequests& inverse, const PeakSnapshot& peak, const std::string& out_dir,
                    ReplayResult* result) {
-  result->inverse_rendering = true;
   result->render_ms = inverse.render_times().Run();
+  result->render_cpu_ms = inverse.render_cpu_times().Run();
   result->render_not_converged = inverse.not_converged();
   if (peak.sed_Pa < 0) {
     result->display_fidelity_error = "no stepped scan";
@@ -264,6 +266,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   const DisplayRequests requests = MakeDisplayRequests(
       config, display_profile, fe->merkel_rest_pad_mm(), [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
   result.display_rendering = requests.Describe();
+  result.inverse_rendering = bool(requests.inverse);
   if (requests.inverse) std::fprintf(stderr, "%s\n", result.display_rendering.c_str());
   BridgePipeline pipeline(config, profile, display_profile, std::move(fe), ReplayLcmSettings(config, options), {},
                           requests.source());

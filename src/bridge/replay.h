@@ -89,7 +89,8 @@ struct ReplayResult {
   std::string fe_counters;      ///< FeStep::CountersLine() at the end ("" = none)
   std::string display_unit;
   int64_t published = 0, publish_errors = 0;
-  /// The highest command the display can get: min(mapping saturation, safety max) [unit].
+  /// The highest command the display can get: min(mapping saturation, safety max) [unit]
+  /// (inverse rendering: safety max, the renderer's bound).
   double command_ceiling = 0;
   bool ceiling_is_mapping = true;     ///< the mapping's saturation (silent), not the limiter's max (clamped)
   int display_actuators = 0;
@@ -99,6 +100,7 @@ struct ReplayResult {
   std::string display_rendering;
   bool inverse_rendering = false;
   LatencySummary render_ms;            ///< inverse: the renderer's wall time per scan
+  LatencySummary render_cpu_ms;        ///< inverse: its CPU time per scan (load left out)
   int64_t render_not_converged = 0;    ///< inverse: scans whose renderer stopped at its iteration limit
   /// Inverse: the display's SED at the peak scan (published commands, full FE) against the
   /// bridge's; have_display_fidelity false (reason in display_fidelity_error) if not computed.
