@@ -41,11 +41,11 @@ RenderingChoice ChooseRendering(const BridgeConfig& config, const display::Displ
     return c;
   }
   if (!why_not.empty()) {
-    c.why = "the default where inverse is not possible: " + why_not;
+    c.why = "display.rendering not set, and inverse is not possible: " + why_not;
     return c;
   }
   c.method = RenderingMethod::kInverse;
-  c.why = "the default: " + profile.name + " has a device model with a mechanical load on the leader";
+  c.why = "display.rendering not set: " + profile.name + " has a device model with a mechanical load on the leader";
   return c;
 }
 

@@ -22,7 +22,7 @@ namespace sedbridge::bridge {
 
 struct RenderingChoice {
   RenderingMethod method = RenderingMethod::kCurve;
-  std::string why;  ///< e.g. "display.rendering absent; pin_6x4 has a device model ..."
+  std::string why;  ///< e.g. "display.rendering not set: pin_6x4 has a device model ..."
 };
 
 /// The rendering `config` gives `profile` and why, building nothing. Throws
