@@ -2,18 +2,22 @@
 
 namespace sedbridge::display {
 
-DisplayController::DisplayController(DisplayProfile profile)
+DisplayController::DisplayController(DisplayProfile profile, CommandRequestSource requests)
     : profile_(std::move(profile)),
       mapping_(profile_),
+      requests_(std::move(requests)),
       limiter_(SafetyLimits::FromProfile(profile_)) {}
 
 DisplayCommand DisplayController::OnSedField(const SedField& field, int64_t now_utime) {
   last_mapping_ = mapping_.Map(field);
   ++stats_.fields;
   const SedFieldCheck& check = last_mapping_.check;
-  if (!check.consistent || check.non_finite_sed > 0 || check.non_finite_position > 0)
-    ++stats_.fields_rejected;
+  const bool rejected = !check.consistent || check.non_finite_sed > 0 || check.non_finite_position > 0;
+  if (rejected) ++stats_.fields_rejected;
   if (check.negative_sed > 0) ++stats_.fields_negative;
+  // The curve's sampled SED per site stays (SA1 rates read it); the requests are the
+  // source's. A rejected field keeps the curve's NaN: the limiter faults it either way.
+  if (requests_ && !rejected) requests_(field, &last_mapping_.requested);
   const LimitedOutput& out = limiter_.Apply(now_utime, field.utime, last_mapping_.requested);
   // Provenance follows the newest field the limiter could have taken.
   if (!limiter_.is_shut_down() && field.utime > source_sed_utime_) {

@@ -1,9 +1,13 @@
 #pragma once
 // The display stage in one object: SedField -> mapping -> SafetyLimiter -> DisplayCommand.
-// This is what the bridge calls; it does no I/O (see DisplaySession for LCM output).
+// The mapping is the per-site curve (SedToCommandMapping) unless a request source is
+// injected (display/command_request_source.h: the bridge's inverse FE renderer); the
+// limiter after it is the same either way. This is what the bridge calls; it does no I/O
+// (see DisplaySession for LCM output).
 
 #include <cstdint>
 
+#include "display/command_request_source.h"
 #include "display/display_command.h"
 #include "display/display_profile.h"
 #include "display/safety_limiter.h"
@@ -32,7 +36,8 @@ struct DisplayStats {
 class DisplayController {
  public:
   /// Throws std::invalid_argument when the profile's limits or mapping are invalid.
-  explicit DisplayController(DisplayProfile profile);
+  /// `requests`: where the requests come from (empty: the profile's curve, `mapping`).
+  explicit DisplayController(DisplayProfile profile, CommandRequestSource requests = {});
 
   /// Maps a fresh SED field and limits the result. `now_utime` [us] is the caller's clock.
   DisplayCommand OnSedField(const SedField& field, int64_t now_utime);
@@ -44,7 +49,10 @@ class DisplayController {
   const DisplayProfile& profile() const { return profile_; }
   const SedToCommandMapping& mapping() const { return mapping_; }
   const SafetyLimiter& limiter() const { return limiter_; }
-  /// Mapping result of the last field (sampled SED per site, requests, field check).
+  /// True when the requests come from an injected source, not the curve.
+  bool has_request_source() const { return bool(requests_); }
+  /// Mapping result of the last field (field check, the curve's sampled SED per site, and
+  /// the requests the limiter got: the injected source's when there is one).
   const SedToCommandMapping::Result& last_mapping() const { return last_mapping_; }
   const DisplayStats& stats() const { return stats_; }
 
@@ -53,6 +61,7 @@ class DisplayController {
 
   DisplayProfile profile_;
   SedToCommandMapping mapping_;
+  CommandRequestSource requests_;
   SafetyLimiter limiter_;
   SedToCommandMapping::Result last_mapping_;
   DisplayStats stats_;

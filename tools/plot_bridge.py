@@ -7,10 +7,12 @@ CEILING: the highest command the display can get (mapping saturation or safety m
 where given, the plots mark commands that reached it (the SED mapping saturated).
 
 Reads DIR/summary.csv, DIR/peak_merkel_sed.csv, DIR/peak_command.csv, DIR/peak_taxels.csv
-and writes
+(and DIR/peak_display_sed.csv where the display was rendered by inverse FE) and writes
   DIR/bridge_peak.png      at the scan of peak SED: the taxel pressures on the pad, the
-                           Merkel-layer SED under the pad, the display command (pad frame:
-                           x lateral, y toward the tip)
+                           Merkel-layer SED under the pad (the target), with inverse
+                           rendering the SED the display produces on the leader (full FE,
+                           same colour scale), the display command (pad frame: x lateral,
+                           y toward the tip)
   DIR/bridge_timeline.png  force (the sensor's taxel sum, and what the leader was pressed
                            with where that differs) and max Merkel SED over time, max
                            command below
@@ -84,7 +86,9 @@ def main():
     plt.close(fig)
 
     # Peak frame.
-    fig, axes = plt.subplots(1, 3, figsize=(13, 4.2))
+    display_path = os.path.join(out, "peak_display_sed.csv")
+    delivered = read(display_path) if os.path.exists(display_path) else None
+    fig, axes = plt.subplots(1, 4 if delivered else 3, figsize=(17.5 if delivered else 13, 4.2))
     ax = axes[0]
     if taxels:
         s = ax.scatter(col(taxels, "x_mm"), col(taxels, "y_mm"), c=[p * 1e-3 for p in col(taxels, "pressure_Pa")],
@@ -127,11 +131,20 @@ def main():
     ax.set_title("taxels (registered on the pad)")
     ax = axes[1]
     under = [r for r in sed if float(r["z_mm"]) > -6.0]  # the pad side of the Merkel layer
-    if under:
-        s = ax.tricontourf(col(under, "x_mm"), col(under, "y_mm"), col(under, "sed_Pa"), levels=20, cmap="inferno")
-        fig.colorbar(s, ax=ax, label="SED [Pa]")
-    ax.set_title("Merkel-layer SED at peak")
-    ax = axes[2]
+    shown = [r for r in delivered if float(r["z_mm"]) > -6.0] if delivered else []
+    # With the display's SED beside it, one scale for both: a display that delivers less looks darker.
+    top = max([1e-9] + col(under, "sed_Pa") + col(shown, "sed_Pa"))
+    levels = [top * i / 20 for i in range(21)] if shown else 20
+    panels = [(axes[1], under, "Merkel-layer SED at peak" + (" (target)" if delivered else ""))]
+    if delivered:
+        panels.append((axes[2], shown, "SED the display produces (full FE)"))
+    for ax, rows, title in panels:
+        if rows:
+            values = [min(max(v, 0), top) for v in col(rows, "sed_Pa")] if shown else col(rows, "sed_Pa")
+            s = ax.tricontourf(col(rows, "x_mm"), col(rows, "y_mm"), values, levels=levels, cmap="inferno")
+            fig.colorbar(s, ax=ax, label="SED [Pa]")
+        ax.set_title(title)
+    ax = axes[-1]
     if cmd:
         values = col(cmd, "value")
         # Fixed scale 0..ceiling, so a weak frame looks weak; saturated actuators get a red ring.

@@ -44,6 +44,7 @@ void PrintReplaySummary(const ReplayResult& r, const std::string& out) {
                 r.peak_index, (p.utime - r.rows.front().utime) * 1e-6, p.total_force_N, p.applied_force_N,
                 p.max_sed_Pa, p.max_command, r.display_unit.c_str(), SaturationNote(r).c_str());
   }
+  PrintDisplayRendering(r);
   std::printf("timing: setup %.2f s; %lld scans in %.3f s = %.0f scans/s; latency median %.3f ms, p99 %.3f ms, max "
               "%.3f ms\n",
               r.setup_s, static_cast<long long>(c.scans), r.wall_s, r.wall_s > 0 ? c.scans / r.wall_s : 0.0,
@@ -54,7 +55,9 @@ void PrintReplaySummary(const ReplayResult& r, const std::string& out) {
   if (!r.taxel_health.empty()) std::printf("%s\n", r.taxel_health.c_str());
   std::printf("LCM: %lld messages published (%lld errors)\n", static_cast<long long>(r.published),
               static_cast<long long>(r.publish_errors));
-  if (!out.empty()) std::printf("wrote %s/{summary.csv, stage_ms.csv, peak_merkel_sed.csv, peak_command.csv, peak_taxels.csv, bridge.lcmlog}\n", out.c_str());
+  if (!out.empty())
+    std::printf("wrote %s/{summary.csv, stage_ms.csv, peak_merkel_sed.csv, peak_command.csv, peak_taxels.csv, %sbridge.lcmlog}\n",
+                out.c_str(), r.have_display_fidelity ? "peak_display_sed.csv, " : "");
 }
 
 std::string JoinNames(const std::set<std::string>& names) {
@@ -107,6 +110,7 @@ int RunReplayCommand(int argc, char** argv) {
           "  bridge.lcmlog         TACTILE_SCAN, FINGERTIP_SED, DISPLAY_COMMAND, BRIDGE_STATUS (lcm-logplayer)\n"
           "  peak_merkel_sed.csv   Merkel-layer SED at the scan of peak SED (pad frame, mm)\n"
           "  peak_command.csv      display command at that scan; peak_taxels.csv: the taxel pressures\n"
+          "  peak_display_sed.csv  display.rendering inverse: the SED the display delivers at that scan (full FE)\n"
           "  bridge_*.png          SED map + display frame at peak, force and max SED over time\n"
           "  frames.pvd, frame_*.vtu  with --vtu-every N: reference mesh + displacement_mm (ParaView: Warp By\n"
           "                        Vector, scale 1), Merkel SED; Time = seconds since the first scan\n\n"

@@ -23,9 +23,27 @@ std::string SaturationNote(const bridge::ReplayResult& r) {
   char buf[200];
   std::snprintf(buf, sizeof buf, " (%d/%d actuators at the %g %s ceiling: %s; %lld of %zu scans reached it)",
                 r.peak_actuators_at_ceiling, r.display_actuators, r.command_ceiling, r.display_unit.c_str(),
-                r.ceiling_is_mapping ? "the SED mapping saturates" : "the safety limiter clips",
+                r.inverse_rendering    ? "the inverse renderer's bound, safety.max"
+                : r.ceiling_is_mapping ? "the SED mapping saturates"
+                                       : "the safety limiter clips",
                 static_cast<long long>(r.scans_at_ceiling), r.rows.size());
   return buf;
+}
+
+void PrintDisplayRendering(const bridge::ReplayResult& r) {
+  std::printf("%s\n", r.display_rendering.c_str());
+  if (!r.inverse_rendering) return;
+  std::printf("inverse renderer a scan: wall median %.3f ms, p99 %.3f ms, max %.3f ms; CPU median %.3f ms, p99 %.3f "
+              "ms, max %.3f ms (%lld scans, %lld stopped at the iteration limit)\n",
+              r.render_ms.p50_ms, r.render_ms.p99_ms, r.render_ms.max_ms, r.render_cpu_ms.p50_ms, r.render_cpu_ms.p99_ms,
+              r.render_cpu_ms.max_ms, static_cast<long long>(r.render_ms.count),
+              static_cast<long long>(r.render_not_converged));
+  if (r.have_display_fidelity)
+    std::printf("display fidelity at the peak scan (delivered by the full FE vs the bridge's SED): peak ratio %.3f, "
+                "rel L2 %.3f, peak offset %.2f mm\n",
+                r.display_fidelity.peak_ratio, r.display_fidelity.rel_l2, r.display_fidelity.peak_offset_mm);
+  else
+    std::printf("display fidelity at the peak scan: not computed (%s)\n", r.display_fidelity_error.c_str());
 }
 
 std::vector<std::string> PlotBridgeArgs(const std::string& out_dir, const bridge::ReplayResult& r) {

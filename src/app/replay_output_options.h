@@ -19,6 +19,10 @@ bridge::ReplayOptions ReadReplayOutputOptions(const ArgParser& args, const bridg
 /// " (16/16 actuators at the 20 kPa ceiling: the SED mapping saturates; 120 of 200 scans reached it)".
 std::string SaturationNote(const bridge::ReplayResult& result);
 
+/// The display's lines of a replay's summary: which rendering and why; with the inverse
+/// renderer its time per scan and the display fidelity at the peak scan.
+void PrintDisplayRendering(const bridge::ReplayResult& result);
+
 /// Arguments for tools/plot_bridge.py: DIR UNIT CEILING.
 std::vector<std::string> PlotBridgeArgs(const std::string& out_dir, const bridge::ReplayResult& result);
 

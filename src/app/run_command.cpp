@@ -10,6 +10,7 @@
 #include "app/lcm_url.h"
 #include "app/stop_signals.h"
 #include "bridge/bridge_config.h"
+#include "bridge/display_requests.h"
 #include "bridge/live_bridge.h"
 #include "bridge/make_fe_step.h"
 #include "bridge/scene_fe_step.h"
@@ -76,9 +77,15 @@ int RunLiveCommand(int argc, char** argv) {
                  "     authentication (the default of sedbridge-display-driver) will ignore it; anyone on the LCM\n"
                  "     network could command the display. See display/README.md, \"Threat model\".\n");
   std::unique_ptr<FeStep> fe = MakeFeStep(config, profile);
-  BridgePipeline pipeline(config, profile, display::LoadNamedDisplayProfile(config.display_profile), std::move(fe),
-                          config.lcm);
-  std::printf("%s\n", pipeline.fe().Describe().c_str());
+  display::DisplayProfile display_profile = display::LoadNamedDisplayProfile(config.display_profile);
+  const DisplayRequests requests = MakeDisplayRequests(config, display_profile, fe->merkel_rest_pad_mm(),
+                                                       [](const std::string& line) {
+                                                         std::printf("%s\n", line.c_str());
+                                                         std::fflush(stdout);
+                                                       });
+  BridgePipeline pipeline(config, profile, std::move(display_profile), std::move(fe), config.lcm, {},
+                          requests.source());
+  std::printf("%s\n%s\n", pipeline.fe().Describe().c_str(), requests.Describe().c_str());
   sensors::AssemblerOptions assembler_options;
   assembler_options.tare_scans = config.tare_scans;
   // A log may hold several buses; a SocketCAN socket is bound to `interface` already.
@@ -120,6 +127,12 @@ int RunLiveCommand(int argc, char** argv) {
   std::printf("latency (receive -> publish): median %.3f ms, p99 %.3f ms, max %.3f ms\n", lat.p50_ms, lat.p99_ms,
               lat.max_ms);
   std::printf("stages (median ms): %s\n", FormatStageTimes(pipeline.RunStageMedians_ms()).c_str());
+  if (requests.inverse) {
+    const LatencySummary r = requests.inverse->render_times().Run(), cpu = requests.inverse->render_cpu_times().Run();
+    std::printf("inverse renderer a scan (inside the limiter stage): wall median %.3f ms, p99 %.3f ms, max %.3f ms; "
+                "CPU median %.3f ms, p99 %.3f ms\n",
+                r.p50_ms, r.p99_ms, r.max_ms, cpu.p50_ms, cpu.p99_ms);
+  }
   if (c.scans_rejected > 0) std::printf("rejected scans by reason: %s\n", FormatRejectCounters(c.rejected_by_reason).c_str());
   std::printf("bad frames:\n%s", sensors::FormatCounters(assembler.counters()).c_str());
   std::printf("display driven to zero; LCM messages %lld (%lld errors)\n",

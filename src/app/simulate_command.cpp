@@ -80,6 +80,7 @@ int RunSimulateCommand(int argc, char** argv) {
     std::printf("peak: force %.3f N, max Merkel SED %.1f Pa, max command %.2f %s%s\n", p.total_force_N, p.max_sed_Pa,
                 p.max_command, result.display_unit.c_str(), SaturationNote(result).c_str());
   }
+  PrintDisplayRendering(result);
   std::printf("timing: %.0f scans/s; latency median %.3f ms, p99 %.3f ms, max %.3f ms\n",
               result.wall_s > 0 ? result.counters.scans / result.wall_s : 0.0, result.latency.p50_ms,
               result.latency.p99_ms, result.latency.max_ms);

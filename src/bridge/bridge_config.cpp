@@ -23,6 +23,12 @@ BridgeConfig Parse(const config::YamlDocument& doc) {
   c.conditioning.fill_sigma_mm = c.traction.kernel_sigma_mm;
   if (c.fe_step != FeStepKind::kScene && c.preset != "fast")
     r.Fail(doc.root["fe"]["step"], "'step: reduced' and 'step: contact' need 'preset: fast' (a linear model)");
+  // The inverse renderer fits the layer under the display; fe.merkel_region: display computes
+  // only the vertices the curve samples, too few to fit (their neighbours would be free).
+  if (c.display_rendering == RenderingMethod::kInverse && c.merkel_region == MerkelRegion::kDisplay)
+    r.Fail(doc.root["display"]["rendering"],
+           "'rendering: inverse' needs 'fe.merkel_region: layer' (the inverse renderer fits the SED of the layer under "
+           "the display; 'merkel_region: display' computes only the vertices the curve samples)");
   if (r.Has("lcm")) lcm_io::CheckChannelNames(MapReader(doc.root["lcm"], doc.file));
   r.Finish();
   return c;
@@ -53,6 +59,14 @@ const config::EnumNames<RadiusTracking>& NamesOf(RadiusTracking) {
 }
 
 const char* ToString(RadiusTracking tracking) { return config::NameCStrOf(tracking); }
+
+const config::EnumNames<RenderingMethod>& NamesOf(RenderingMethod) {
+  static const config::EnumNames<RenderingMethod> names{{RenderingMethod::kInverse, "inverse"},
+                                                        {RenderingMethod::kCurve, "curve"}};
+  return names;
+}
+
+const char* ToString(RenderingMethod method) { return config::NameCStrOf(method); }
 
 FeStepKind FeStepKindFromString(const std::string& name) { return config::ParseEnum<FeStepKind>(name, "fe.step"); }
 

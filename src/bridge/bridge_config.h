@@ -4,6 +4,7 @@
 // channels, rates. Every key is documented in config/bridge/README.md; the reader is strict
 // (unknown keys and wrong types are config::ConfigError naming file:line:column).
 
+#include <optional>
 #include <string>
 
 #include "bridge/pad_registration.h"
@@ -55,6 +56,15 @@ enum class RadiusTracking {
 const config::EnumNames<RadiusTracking>& NamesOf(RadiusTracking);
 const char* ToString(RadiusTracking tracking);
 
+/// How the display's commands are computed from the Merkel SED (bridge config
+/// `display.rendering`; bridge/display_requests.h chooses when the key is absent).
+enum class RenderingMethod {
+  kInverse,  ///< "inverse": the commands whose SED on the leader's FE finger is closest (src/render)
+  kCurve,    ///< "curve": the profile's per-site curve (display/sed_to_command_mapping.h)
+};
+const config::EnumNames<RenderingMethod>& NamesOf(RenderingMethod);
+const char* ToString(RenderingMethod method);
+
 /// Every key is named in Serialize, with its range; the member initialisers are the
 /// defaults. Channel names are checked after reading (lcm_io::CheckChannelNames).
 struct BridgeConfig {
@@ -88,6 +98,9 @@ struct BridgeConfig {
 
   // display:
   std::string display_profile = "suction_4x4";  ///< shipped name (config/displays/NAME.yaml) or path
+  /// display.rendering: inverse | curve; absent: inverse where the display can be rendered
+  /// so (a device model of a kind with a mechanical load on the leader), else the curve.
+  std::optional<RenderingMethod> display_rendering;
 
   // rates:
   double status_Hz = 10;  ///< BRIDGE_STATUS rate (pipeline clock)
@@ -134,7 +147,10 @@ struct BridgeConfig {
       t->Visit(Field("max_invalid_fraction", &conditioning.max_invalid_fraction).InRange(0, 1));
       t->Visit(Field("noise_floor_Pa", &conditioning.noise_floor_Pa).NonNegative());
     });
-    a->Section("display", [&](auto* d) { d->Visit(Field("profile", &display_profile).Required()); });
+    a->Section("display", [&](auto* d) {
+      d->Visit(Field("profile", &display_profile).Required());
+      d->Visit(Field("rendering", &display_rendering));
+    });
     a->Section("rates", [&](auto* q) {
       q->Visit(Field("status_Hz", &status_Hz).Unit("Hz").InRange(kMinStatus_Hz, kMaxStatus_Hz));
       q->Visit(Field("tick_Hz", &tick_Hz).Unit("Hz").InRange(kMinTick_Hz, kMaxTick_Hz));

@@ -11,7 +11,8 @@ namespace sedbridge::bridge {
 
 BridgePipeline::BridgePipeline(const BridgeConfig& config, const sensors::SensorProfile& profile,
                                display::DisplayProfile display_profile, std::unique_ptr<FeStep> fe,
-                               const lcm_io::LcmSettings& lcm, WallClock wall_clock)
+                               const lcm_io::LcmSettings& lcm, WallClock wall_clock,
+                               display::CommandRequestSource requests)
     : config_(config),
       profile_(profile),
       fe_(std::move(fe)),
@@ -22,6 +23,7 @@ BridgePipeline::BridgePipeline(const BridgeConfig& config, const sensors::Sensor
   stage_stats_.fill(LatencyStats(kMaxStageRunSamples));
   lcm_io::DisplaySessionOptions options;
   options.publish_sed = config.publish_sed;
+  options.requests = std::move(requests);
   display_ = std::make_unique<lcm_io::DisplaySession>(std::move(display_profile), lcm, options);
   const Eigen::Matrix3Xd& rest = fe_->merkel_rest_pad_mm();
   field_.model_id = fe_->model_id();

@@ -27,6 +27,7 @@
 #include "bridge/pipeline_status.h"
 #include "common/stage_times.h"
 #include "bridge/taxel_values.h"
+#include "display/command_request_source.h"
 #include "display/display_profile.h"
 #include "lcm/display_session.h"
 #include "sedbridge/lcmt_bridge_status.hpp"
@@ -80,9 +81,12 @@ class BridgePipeline {
   /// @param[in] fe        FE step implementation (owned)
   /// @param[in] lcm       where to publish (URL, channels, optional log)
   /// @param[in] wall_clock  for latency [us]; defaults to WallClockUtime
+  /// @param[in] requests  where the display's requests come from (bridge/display_requests.h:
+  ///                      the inverse renderer); empty: the profile's curve
   BridgePipeline(const BridgeConfig& config, const sensors::SensorProfile& profile,
                  display::DisplayProfile display_profile, std::unique_ptr<FeStep> fe,
-                 const lcm_io::LcmSettings& lcm, WallClock wall_clock = {});
+                 const lcm_io::LcmSettings& lcm, WallClock wall_clock = {},
+                 display::CommandRequestSource requests = {});
   ~BridgePipeline();
 
   /// Runs one scan through the chain. `receive_wall_utime`: wall time the scan's last

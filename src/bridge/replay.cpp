@@ -7,6 +7,7 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "bridge/display_requests.h"
 #include "bridge/make_fe_step.h"
 #include "lcm/contact_estimate_message.h"
 #include "common/wall_clock.h"
@@ -162,8 +163,10 @@ void CollectCounters(BridgePipeline& pipeline, const sensors::ScanAssembler& ass
 void CountCeiling(const display::DisplayProfile& dp, const display::DisplayCommand& peak_command,
                   ReplayResult* result) {
   result->display_actuators = static_cast<int>(dp.size());
-  result->command_ceiling = std::min(dp.mapping.saturation, dp.safety.max);
-  result->ceiling_is_mapping = dp.mapping.saturation <= dp.safety.max;
+  // The inverse renderer's bound is the safety maximum; the curve's is its saturation too.
+  const bool curve = !result->inverse_rendering;
+  result->command_ceiling = curve ? std::min(dp.mapping.saturation, dp.safety.max) : dp.safety.max;
+  result->ceiling_is_mapping = curve && dp.mapping.saturation <= dp.safety.max;
   const double at = result->command_ceiling * kAtCeilingFraction;
   for (double v : peak_command.value) result->peak_actuators_at_ceiling += v >= at ? 1 : 0;
   for (const ReplayRow& r : result->rows) result->scans_at_ceiling += r.max_command >= at ? 1 : 0;
@@ -196,6 +199,8 @@ void WriteReplayFiles(const std::filesystem::path& dir, const ReplayResult& resu
                       const display::DisplayProfile& dp, const BridgeConfig& config,
                       const sensors::SensorProfile& profile) {
   WriteSummaryCsv((dir / "summary.csv").string(), result.rows);
+  // Written by FinishInverse for the inverse rendering only: no stale one from an earlier run.
+  std::filesystem::remove(dir / "peak_display_sed.csv");
   WriteStageCsv((dir / "stage_ms.csv").string(), result.rows);
   std::ofstream sed((dir / "peak_merkel_sed.csv").string());
   sed << "x_mm,y_mm,z_mm,sed_Pa\n";
@@ -217,6 +222,37 @@ void WriteReplayFiles(const std::filesystem::path& dir, const ReplayResult& resu
   if (peak.have_contact) WritePeakContactCsv((dir / "peak_contact.csv").string(), peak.contact, profile);
 }
 
+// Inverse rendering: the renderer's times, and what the display delivers at the peak scan by
+// the full FE (peak_display_sed.csv in `out_dir` unless empty) against what was asked.
+void FinishInverse(InverseDisplayRequests& inverse, const PeakSnapshot& peak, const std::string& out_dir,
+                   ReplayResult* result) {
+  result->render_ms = inverse.render_times().Run();
+  result->render_cpu_ms = inverse.render_cpu_times().Run();
+  result->render_not_converged = inverse.not_converged();
+  if (peak.sed_Pa < 0) {
+    result->display_fidelity_error = "no stepped scan";
+    return;
+  }
+  Eigen::VectorXd delivered;
+  if (!inverse.Deliver(peak.command.value, &delivered)) {
+    result->display_fidelity_error = "the full FE of the peak commands failed: " + inverse.error();
+    return;
+  }
+  const display::SedField& f = peak.field;
+  Eigen::Matrix3Xd pad_mm(3, Eigen::Index(f.size()));
+  for (size_t k = 0; k < f.size(); ++k) pad_mm.col(Eigen::Index(k)) << f.x_mm[k], f.y_mm[k], f.z_mm[k];
+  const Eigen::VectorXd asked = Eigen::Map<const Eigen::VectorXd>(f.sed_Pa.data(), Eigen::Index(f.size()));
+  result->display_fidelity = CompareDeliveredSed(pad_mm, delivered, asked);
+  result->have_display_fidelity = true;
+  if (out_dir.empty()) return;
+  const std::string path = (std::filesystem::path(out_dir) / "peak_display_sed.csv").string();
+  std::ofstream out(path);
+  out << "vertex,x_mm,y_mm,z_mm,sed_Pa\n";
+  for (size_t k = 0; k < f.size(); ++k)
+    out << k << ',' << f.x_mm[k] << ',' << f.y_mm[k] << ',' << f.z_mm[k] << ',' << delivered[Eigen::Index(k)] << '\n';
+  if (!out) throw std::runtime_error("write failed: " + path);
+}
+
 }  // namespace
 
 ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile& profile,
@@ -227,7 +263,13 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   const auto t_setup = Clock::now();
   if (!fe) fe = MakeFeStep(config, profile, options.vtu_every > 0 && !options.out_dir.empty(), &display_profile);
   result.fe_description = fe->Describe();
-  BridgePipeline pipeline(config, profile, display_profile, std::move(fe), ReplayLcmSettings(config, options));
+  const DisplayRequests requests = MakeDisplayRequests(
+      config, display_profile, fe->merkel_rest_pad_mm(), [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
+  result.display_rendering = requests.Describe();
+  result.inverse_rendering = bool(requests.inverse);
+  if (requests.inverse) std::fprintf(stderr, "%s\n", result.display_rendering.c_str());
+  BridgePipeline pipeline(config, profile, display_profile, std::move(fe), ReplayLcmSettings(config, options), {},
+                          requests.source());
   result.display_unit = pipeline.display().controller().profile().unit;
   sensors::ScanAssembler assembler(profile, ReplayAssemblerOptions(config, options));
   result.setup_s = std::chrono::duration<double>(Clock::now() - t_setup).count();
@@ -292,6 +334,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   const display::DisplayProfile& dp = pipeline.display().controller().profile();
   CountCeiling(dp, peak.command, &result);
   if (!options.out_dir.empty()) WriteReplayFiles(options.out_dir, result, peak, dp, config, profile);
+  if (requests.inverse) FinishInverse(*requests.inverse, peak, options.out_dir, &result);
   return result;
 }
 

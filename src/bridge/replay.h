@@ -10,6 +10,9 @@
 //   peak_merkel_sed.csv     x_mm,y_mm,z_mm,sed_Pa of the Merkel layer at the scan of peak SED
 //   peak_command.csv        actuator,x_mm,y_mm,value (display unit) at that scan
 //   peak_taxels.csv         taxel,x_mm,y_mm,pressure_Pa (pad frame, registered) at that scan
+//   peak_display_sed.csv    inverse rendering only: vertex,x_mm,y_mm,z_mm,sed_Pa, the SED the
+//                           published commands at that scan add to the leader's preloaded pad
+//                           (full contact FE), the same vertices as peak_merkel_sed.csv
 //   stage_ms.csv            one row per scan: utime, then the wall time [ms] of each stage
 //                           (common/stage_times.h); apart from summary.csv, which stays
 //                           identical between runs but for latency_ms
@@ -25,6 +28,7 @@
 
 #include "bridge/bridge_config.h"
 #include "bridge/bridge_pipeline.h"
+#include "bridge/display_fidelity.h"
 #include "bridge/fe_step.h"
 #include "bridge/latency_stats.h"
 #include "display/display_profile.h"
@@ -85,12 +89,24 @@ struct ReplayResult {
   std::string fe_counters;      ///< FeStep::CountersLine() at the end ("" = none)
   std::string display_unit;
   int64_t published = 0, publish_errors = 0;
-  /// The highest command the display can get: min(mapping saturation, safety max) [unit].
+  /// The highest command the display can get: min(mapping saturation, safety max) [unit]
+  /// (inverse rendering: safety max, the renderer's bound).
   double command_ceiling = 0;
   bool ceiling_is_mapping = true;     ///< the mapping's saturation (silent), not the limiter's max (clamped)
   int display_actuators = 0;
   int peak_actuators_at_ceiling = 0;  ///< actuators at command_ceiling in the peak-SED command
   int64_t scans_at_ceiling = 0;       ///< scans whose largest command reached command_ceiling
+  /// Which rendering the display got and why (bridge/display_requests.h).
+  std::string display_rendering;
+  bool inverse_rendering = false;
+  LatencySummary render_ms;            ///< inverse: the renderer's wall time per scan
+  LatencySummary render_cpu_ms;        ///< inverse: its CPU time per scan (load left out)
+  int64_t render_not_converged = 0;    ///< inverse: scans whose renderer stopped at its iteration limit
+  /// Inverse: the display's SED at the peak scan (published commands, full FE) against the
+  /// bridge's; have_display_fidelity false (reason in display_fidelity_error) if not computed.
+  bool have_display_fidelity = false;
+  DisplayFidelity display_fidelity;
+  std::string display_fidelity_error;
   int64_t idle_ticks = 0;       ///< display ticks while a paced source was silent
   bool stopped_early = false;   ///< `stop` was set before the source's end
 };

@@ -9,7 +9,7 @@ namespace sedbridge::lcm_io {
 
 DisplaySession::DisplaySession(display::DisplayProfile profile, const LcmSettings& settings,
                                DisplaySessionOptions options)
-    : controller_(std::move(profile)),
+    : controller_(std::move(profile), options.requests),
       publisher_(settings.url, settings.channels),
       options_(options) {
   if (!settings.log_path.empty()) publisher_.OpenLog(settings.log_path);

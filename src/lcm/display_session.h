@@ -20,6 +20,8 @@ struct DisplaySessionOptions {
   double sed_max_rate_Hz = 50;
   bool publish_sa1_rate = false;  ///< also publish the SA1 rate ESTIMATE on channels.sa1_rate
   display::Sa1RateParams sa1;
+  /// The controller's request source (display/command_request_source.h); empty: the curve.
+  display::CommandRequestSource requests;
 };
 
 ///   DisplaySession display(LoadDisplayProfile(path), settings);   // settings from `lcm:` YAML

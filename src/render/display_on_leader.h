@@ -40,6 +40,11 @@ class DisplayOnLeader {
   virtual const std::string& error() const = 0;
 };
 
+/// True when MakeDisplayOnLeader builds a display of this kind (pin; suction once it has a
+/// load on the leader; never electrotactile): what the bridge asks before it chooses the
+/// inverse rendering, without the precompute.
+bool HasMechanicalLoad(display::DisplayKind kind);
+
 /// The display of `device`'s kind pressed on `leader` (kept by reference). Throws
 /// std::invalid_argument for a kind without a mechanical load (electrotactile) or no
 /// device model, std::runtime_error when the preload press fails.

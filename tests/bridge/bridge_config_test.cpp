@@ -96,6 +96,21 @@ TEST(BridgeConfig, UnknownKeyNamesFileLineColumn) {
   ExpectErrorNaming("fe:\n  radius_tracking: kalman\n", "tracking.yaml", "tracking.yaml:2:", "radius_tracking");
 }
 
+TEST(BridgeConfig, DisplayRenderingIsInverseOrCurveAndItsErrorsNameFileLineColumn) {
+  EXPECT_FALSE(ParseBridgeConfig("display: {profile: pin_6x4}\n", "b.yaml").display_rendering.has_value());
+  EXPECT_EQ(ParseBridgeConfig("display: {profile: pin_6x4, rendering: curve}\n", "b.yaml").display_rendering,
+            RenderingMethod::kCurve);
+  EXPECT_EQ(ParseBridgeConfig("display: {profile: pin_6x4, rendering: inverse}\n", "b.yaml").display_rendering,
+            RenderingMethod::kInverse);
+  ExpectErrorNaming("display:\n  profile: pin_6x4\n  rendering: inverted\n", "bridge.yaml", "bridge.yaml:3:14",
+                    "inverse, curve");
+  ExpectErrorNaming("display:\n  profile: pin_6x4\n  rendering: [inverse]\n", "bridge.yaml", "bridge.yaml:3:14",
+                    "rendering");
+  // The inverse renderer needs the whole layer under the display.
+  ExpectErrorNaming("fe: {merkel_region: display}\ndisplay:\n  profile: pin_6x4\n  rendering: inverse\n", "bridge.yaml",
+                    "bridge.yaml:4:14", "merkel_region");
+}
+
 TEST(BridgeConfig, LcmSectionIsReadThroughItsSchema) {
   const BridgeConfig c = ParseBridgeConfig("lcm:\n  log: out/x.lcmlog\n  channels: {contact: LEFT_CONTACT}\n", "b.yaml");
   EXPECT_EQ(c.lcm.log_path, "out/x.lcmlog");

@@ -46,6 +46,35 @@ TEST(DisplayController, SteadyPressRendersCentreStrongerThanEdge) {
   EXPECT_NEAR(c.value[5], display.last_mapping().requested[5], 1e-9);
 }
 
+// An injected request source replaces the curve; the limiter after it is the same, and a
+// field the check rejects never reaches the source (the command faults).
+TEST(DisplayController, InjectedRequestSourceIsLimitedAndNeverSeesARejectedField) {
+  const DisplayProfile profile = LoadDisplayProfile("config/displays/pin_6x4.yaml");
+  int calls = 0;
+  double ask = 0.5;
+  DisplayController display(profile, [&](const SedField&, std::vector<double>* requested) {
+    ++calls;
+    requested->assign(profile.size(), ask);
+  });
+  EXPECT_TRUE(display.has_request_source());
+  int64_t t = 0;
+  DisplayCommand c;
+  for (int k = 1; k <= 50; ++k) c = display.OnSedField(Bump(k, 2000), t += 10 * kMs);
+  EXPECT_EQ(calls, 50);
+  ASSERT_EQ(c.value.size(), profile.size());
+  for (double v : c.value) EXPECT_NEAR(v, 0.5, 1e-12);  // not the curve's centre-strong frame
+  ask = 100;  // far above safety.max: clamped
+  for (int k = 51; k <= 100; ++k) c = display.OnSedField(Bump(k, 2000), t += 10 * kMs);
+  EXPECT_TRUE(c.clamped);
+  for (double v : c.value) EXPECT_LE(v, profile.safety.max);
+  SedField bad = Bump(101, 2000);
+  bad.sed_Pa[3] = std::numeric_limits<double>::infinity();
+  c = display.OnSedField(bad, t += 10 * kMs);
+  EXPECT_EQ(calls, 100);
+  EXPECT_TRUE(c.fault);
+  for (double v : c.value) EXPECT_EQ(v, 0.0);
+}
+
 TEST(DisplayController, NaNFieldFaultsAndSilenceGoesStale) {
   DisplayController display(LoadDisplayProfile("config/displays/pin_6x4.yaml"));
   int64_t t = 0;

@@ -1,0 +1,81 @@
+#include "bridge/inverse_display_requests.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "common/thread_cpu_time.h"
+
+namespace sedbridge::bridge {
+namespace {
+
+// Two vertex positions agree within this [mm]: the same mesh read twice gives equal numbers.
+constexpr double kSameVertex_mm = 1e-6;
+
+// The leader's Merkel layer must be the bridge's: same vertices, same order (both are the
+// model's merkel_nodes; fe.merkel_region: display would have filtered the bridge's).
+void CheckSameLayer(const model::FingertipModel& m, const Eigen::Matrix3Xd& bridge_pad_mm, const std::string& name) {
+  const size_t n = m.merkel_nodes.size();
+  const std::string what = "display.rendering: inverse: the leader's Merkel layer (model " + name + ", " +
+                           std::to_string(n) + " vertices) ";
+  if (size_t(bridge_pad_mm.cols()) != n)
+    throw std::invalid_argument(what + "is not the bridge FE step's (" + std::to_string(bridge_pad_mm.cols()) +
+                                " vertices): the inverse renderer needs the whole layer (fe.merkel_region: layer)");
+  for (size_t k = 0; k < n; ++k) {
+    const Eigen::Vector3d p = m.pad_frame.ToPad(m.soft.rest_positions_m.col(m.merkel_nodes[k])) * 1e3;
+    if ((p - bridge_pad_mm.col(Eigen::Index(k))).norm() > kSameVertex_mm)
+      throw std::invalid_argument(what + "differs from the bridge FE step's at vertex " + std::to_string(k));
+  }
+}
+
+}  // namespace
+
+InverseDisplayRequests::InverseDisplayRequests(const BridgeConfig& config, const display::DisplayProfile& profile,
+                                               const Eigen::Matrix3Xd& merkel_rest_pad_mm,
+                                               const std::function<void(const std::string&)>& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  model_ = model::LoadFingertipModel(config.model);
+  CheckSameLayer(model_, merkel_rest_pad_mm, config.model);
+  if (progress)
+    progress("display rendering: inverse FE precompute: leader contact model of " + config.model + " (cache " +
+             (config.compliance_cache_dir.empty() ? std::string("none") : config.compliance_cache_dir) + "), then " +
+             std::to_string(profile.size() + 1) + " contact solves (n + 1, n = " + std::to_string(profile.size()) +
+             " actuators of " + profile.name + ") ...");
+  render::DisplayRenderingOptions options;
+  options.cache_dir = config.compliance_cache_dir;
+  rendering_ = std::make_unique<render::DisplayRendering>(model_, profile, options);
+  target_Pa_.resize(merkel_rest_pad_mm.cols());
+  precompute_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void InverseDisplayRequests::Request(const display::SedField& field, std::vector<double>* requested) {
+  const auto start = std::chrono::steady_clock::now();
+  const double cpu_start_ms = ThreadCpuTime_ms();
+  requested->assign(size_t(num_actuators()), std::numeric_limits<double>::quiet_NaN());
+  // Another layer than the one the influence was built on: fault, never a guess.
+  if (field.sed_Pa.size() != size_t(target_Pa_.size())) return;
+  for (Eigen::Index v = 0; v < target_Pa_.size(); ++v) target_Pa_[v] = std::max(field.sed_Pa[size_t(v)], 0.0);
+  const Eigen::VectorXd& u = rendering_->Render(target_Pa_);
+  if (rendering_->last().fault) return;
+  not_converged_ += rendering_->last().converged ? 0 : 1;
+  std::copy(u.data(), u.data() + u.size(), requested->begin());
+  render_times_.AddMs(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+  render_cpu_times_.AddMs(ThreadCpuTime_ms() - cpu_start_ms);
+  render_times_.ResetWindow();  // only the run's summary is read
+  render_cpu_times_.ResetWindow();
+}
+
+display::CommandRequestSource InverseDisplayRequests::Source(std::shared_ptr<InverseDisplayRequests> self) {
+  return [self = std::move(self)](const display::SedField& field, std::vector<double>* requested) {
+    self->Request(field, requested);
+  };
+}
+
+bool InverseDisplayRequests::Deliver(const std::vector<double>& commands, Eigen::VectorXd* delivered_sed_Pa) {
+  const Eigen::VectorXd u = Eigen::Map<const Eigen::VectorXd>(commands.data(), Eigen::Index(commands.size()));
+  return rendering_->Deliver(u, *delivered_sed_Pa);
+}
+
+}  // namespace sedbridge::bridge

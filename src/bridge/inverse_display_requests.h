@@ -1,0 +1,68 @@
+#pragma once
+// The display's requests by inverse FE, for the bridge: render::DisplayRendering on the
+// bridge's own fingertip model, fed the bridge's Merkel SED as its target every scan. What
+// DisplayController calls instead of the curve (display/command_request_source.h); the
+// safety limiter after it is unchanged.
+//
+//   auto inverse = std::make_shared<InverseDisplayRequests>(config, profile, fe.merkel_rest_pad_mm());
+//   DisplaySessionOptions o;  o.requests = inverse->Source();      // every scan: Render(target)
+//   inverse->Deliver(published.value, &delivered_Pa);              // full FE (replay's peak)
+
+#include <Eigen/Core>
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "bridge/bridge_config.h"
+#include "bridge/latency_stats.h"
+#include "display/command_request_source.h"
+#include "display/display_profile.h"
+#include "model/fingertip_model.h"
+#include "render/display_rendering.h"
+
+namespace sedbridge::bridge {
+
+class InverseDisplayRequests {
+ public:
+  /// Loads config.model (the leader's finger is the bridge's model), builds its contact
+  /// model (cache: config.compliance_cache_dir), the display on it and the influence (n + 1
+  /// contact solves). `merkel_rest_pad_mm`: the bridge FE step's Merkel vertices, which must
+  /// be the model's whole layer in its order (fe.merkel_region: layer). `progress`: a line
+  /// before the precompute (null: none). Throws std::invalid_argument for a profile that
+  /// cannot be rendered so or a vertex mismatch, std::runtime_error when a solve fails.
+  InverseDisplayRequests(const BridgeConfig& config, const display::DisplayProfile& profile,
+                         const Eigen::Matrix3Xd& merkel_rest_pad_mm,
+                         const std::function<void(const std::string&)>& progress = {});
+
+  /// The commands for `field`'s SED as the target (negative SED read as 0, as the curve does).
+  void Request(const display::SedField& field, std::vector<double>* requested);
+  /// Request() of this object as a display::CommandRequestSource (keeps it alive).
+  static display::CommandRequestSource Source(std::shared_ptr<InverseDisplayRequests> self);
+
+  /// The SED [Pa] `commands` add to the preloaded pad by the full contact FE, per Merkel
+  /// vertex (the bridge's order). False (message in error()) when the solve fails.
+  bool Deliver(const std::vector<double>& commands, Eigen::VectorXd* delivered_sed_Pa);
+  const std::string& error() const { return rendering_->error(); }
+
+  int num_actuators() const { return rendering_->num_actuators(); }
+  /// Wall time of the precompute, model load included [s].
+  double precompute_s() const { return precompute_s_; }
+  /// Wall time of each Render [ms] (the renderer's share of the limiter stage).
+  const LatencyStats& render_times() const { return render_times_; }
+  /// CPU time of each Render [ms]: its own cost, without the time a loaded machine kept the
+  /// thread waiting.
+  const LatencyStats& render_cpu_times() const { return render_cpu_times_; }
+  /// Scans whose renderer did not converge within its iterations (the answer is its best).
+  int64_t not_converged() const { return not_converged_; }
+
+ private:
+  model::FingertipModel model_;
+  std::unique_ptr<render::DisplayRendering> rendering_;
+  Eigen::VectorXd target_Pa_;
+  LatencyStats render_times_{100'000}, render_cpu_times_{100'000};
+  int64_t not_converged_ = 0;
+  double precompute_s_ = 0;
+};
+
+}  // namespace sedbridge::bridge
