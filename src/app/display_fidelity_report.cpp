@@ -31,19 +31,21 @@ void DisplayFidelityReport::Add(const fidelity::FidelityRow& row, const fidelity
 
 void DisplayFidelityReport::Print() const {
   std::printf("display fidelity: what the display delivers (full contact on the leader) against the truth, medians "
-              "over the scored cases\n%-14s %-8s %6s %7s %6s %6s %7s %9s %9s %7s  %s\n",
-              "display", "render", "scored", "within", "peak", "L2", "off_mm", "vs_asked", "render_ms", "at_max",
+              "over the scored cases (failed: the full-contact press did not converge, not in the medians)\n"
+              "%-14s %-8s %6s %6s %7s %6s %6s %7s %9s %9s %7s  %s\n",
+              "display", "render", "scored", "failed", "within", "peak", "L2", "off_mm", "vs_asked", "render_ms", "at_max",
               "precompute");
   for (const fidelity::DisplayFidelitySummary& s : fidelity::SummarizeDisplayFidelity(rows_)) {
     double precompute_s = 0;
     for (const auto& d : fidelity_.displays())
       if (d.name == s.display) precompute_s = d.precompute_s;
     if (s.scored == 0) {
-      std::printf("%-14s %-8s %6d  (%s)\n", s.display.c_str(), s.rendering.c_str(), 0, s.status.c_str());
+      std::printf("%-14s %-8s %6d %6d  (%s)\n", s.display.c_str(), s.rendering.c_str(), 0, s.deliver_failed,
+                  s.status.c_str());
       continue;
     }
-    std::printf("%-14s %-8s %6d %7d %6.2f %6.2f %7.2f %9.2f %9.3f %7d  %.0f s\n", s.display.c_str(),
-                s.rendering.c_str(), s.scored, s.within_targets, s.peak_ratio, s.rel_l2, s.peak_offset_mm,
+    std::printf("%-14s %-8s %6d %6d %7d %6.2f %6.2f %7.2f %9.2f %9.3f %7d  %.1f s\n", s.display.c_str(),
+                s.rendering.c_str(), s.scored, s.deliver_failed, s.within_targets, s.peak_ratio, s.rel_l2, s.peak_offset_mm,
                 s.vs_asked_rel_l2, s.render_ms, s.commands_at_max, precompute_s);
   }
   std::printf("wrote %s\n", path_.c_str());

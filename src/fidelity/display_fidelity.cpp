@@ -139,14 +139,18 @@ DisplayFidelity::DisplayFidelity(const std::string& model_name, DisplayFidelityO
       info.has_load = true;
       info.precompute_s = d->rendering->precompute_s();
     } catch (const std::invalid_argument& e) {  // no load on the leader for this kind (yet)
+      info.no_load_status = "no device load yet";
+      info.no_load_reason = e.what();
+    } catch (const std::runtime_error& e) {  // a contact solve of the influence failed
+      info.no_load_status = "precompute failed";
       info.no_load_reason = e.what();
     }
     if (options_.progress) {
       if (info.has_load)
         std::fprintf(options_.progress, "display fidelity: %s: precompute %.1f s\n", info.name.c_str(), info.precompute_s);
       else
-        std::fprintf(options_.progress, "display fidelity: %s: no device load yet (%s)\n", info.name.c_str(),
-                     info.no_load_reason.c_str());
+        std::fprintf(options_.progress, "display fidelity: %s: %s (%s)\n", info.name.c_str(),
+                     info.no_load_status.c_str(), info.no_load_reason.c_str());
       std::fflush(options_.progress);
     }
     info_.push_back(info);
@@ -170,7 +174,7 @@ std::vector<DisplayFidelityRow> DisplayFidelity::Score(const FidelityRow& row, c
       r.asked_max_sed_Pa = asked.size() ? asked.maxCoeff() : 0;
       r.truth_max_sed_Pa = row.truth_max_sed_Pa;
       if (!d.rendering) {
-        r.status = "no device load yet";
+        r.status = info_[k].no_load_status;
         rows.push_back(r);
         continue;
       }
@@ -234,6 +238,7 @@ std::vector<DisplayFidelitySummary> SummarizeDisplayFidelity(const std::vector<D
     for (const DisplayFidelityRow* r : members[k]) {
       ++s.rows;
       if (r->status != s.status) s.status = "mixed";
+      s.deliver_failed += r->status.rfind("deliver failed", 0) == 0;
       if (!r->scored) continue;
       ++s.scored;
       s.within_targets += WithinTargets(r->delivered);

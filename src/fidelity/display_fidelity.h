@@ -52,7 +52,8 @@ std::vector<DisplayRenderingMethod> ParseRenderings(const std::string& list);
 struct DisplayFidelityRow {
   std::string case_name, display, rendering;
   /// "ok"; "no valid truth" (delivered vs asked only); "no device load yet" (a display whose
-  /// load on the leader is not built: nothing rendered); "deliver failed: ..." (contact solve).
+  /// load on the leader is not built: nothing rendered); "precompute failed" (its influence
+  /// could not be built: nothing rendered); "deliver failed: ..." (contact solve).
   std::string status;
   bool scored = false;          ///< delivered vs truth measured (status "ok")
   int actuators = 0;
@@ -76,7 +77,8 @@ class DisplayFidelity {
  public:
   /// Loads every display profile (std::invalid_argument naming an unknown or bad one, before
   /// any precompute) and builds each one's rendering on `model_name` (n + 1 contact solves a
-  /// display with n actuators; one with no load on the leader is kept, unrendered).
+  /// display with n actuators; one with no load on the leader, or whose precompute fails, is
+  /// kept, unrendered, with its reason).
   DisplayFidelity(const std::string& model_name, DisplayFidelityOptions options);
   ~DisplayFidelity();
 
@@ -88,7 +90,11 @@ class DisplayFidelity {
     std::string name;
     int actuators = 0;
     bool has_load = false;      ///< rendered and delivered on the leader
-    std::string no_load_reason; ///< why not, when !has_load
+    /// Why not, when !has_load: "no device load yet" (the kind has no load on the leader:
+    /// MakeDisplayOnLeader refuses it) or "precompute failed" (a contact solve of the
+    /// influence did not converge); the rows carry it as their status.
+    std::string no_load_status;
+    std::string no_load_reason; ///< the message behind it
     double precompute_s = 0;    ///< the rendering's precompute (leader, preload, influence)
   };
   const std::vector<DisplayInfo>& displays() const { return info_; }
@@ -105,6 +111,7 @@ class DisplayFidelity {
 struct DisplayFidelitySummary {
   std::string display, rendering, status;  ///< status: "ok" or the rows' common status when none scored
   int rows = 0, scored = 0, within_targets = 0;
+  int deliver_failed = 0;   ///< rows whose full-contact press failed (not in the medians)
   double peak_ratio = 0, rel_l2 = 0, peak_offset_mm = 0, vs_asked_rel_l2 = 0, render_ms = 0;
   int commands_at_max = 0;  ///< summed over the scored rows
 };

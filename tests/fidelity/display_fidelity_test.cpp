@@ -81,6 +81,7 @@ TEST(DisplayFidelity, PinDisplayRowsAreFilledWithinTheLimitsForBothRenderings) {
   EXPECT_EQ(summary[1].rendering, "inverse");
   for (int k : {0, 1}) {
     EXPECT_EQ(summary[size_t(k)].scored, 2);
+    EXPECT_EQ(summary[size_t(k)].deliver_failed, 0);
     EXPECT_GT(summary[size_t(k)].peak_ratio, 0.0);
   }
   EXPECT_EQ(summary[2].scored, 0);
