@@ -15,7 +15,6 @@
 #include "display/display_profile.h"
 #include "fidelity/fidelity_benchmark.h"
 #include "fidelity/fidelity_case.h"
-#include "render/display_rendering.h"
 
 namespace sedbridge::fidelity {
 namespace {
@@ -35,8 +34,6 @@ TEST(DisplayFidelity, PinDisplayRowsAreFilledWithinTheLimitsForBothRenderings) {
   ASSERT_EQ(fidelity.displays().size(), 2u);
   EXPECT_TRUE(fidelity.displays()[0].has_load);
   EXPECT_GT(fidelity.displays()[0].precompute_s, 0.0);
-  const display::DisplayProfile pin = display::LoadNamedDisplayProfile("pin_6x4");
-  const double max_mm = render::MaxCommands(pin).maxCoeff();
   std::vector<DisplayFidelityRow> all;
   for (int i : {3, 6}) {  // spheres of 5 and 8 mm
     FidelityMaps maps;
@@ -47,17 +44,16 @@ TEST(DisplayFidelity, PinDisplayRowsAreFilledWithinTheLimitsForBothRenderings) {
     for (const DisplayFidelityRow& r : rows) {
       SCOPED_TRACE(r.case_name + " " + r.display + " " + r.rendering);
       EXPECT_EQ(r.case_name, row.name);
-      if (r.display == "suction_4x4") {
-        // No suction load on the leader yet: listed, never rendered. When it is built this
-        // row is scored like the pin's.
-        if (!fidelity.displays()[1].has_load) {
-          EXPECT_EQ(r.status, "no device load yet");
-        }
+      // No suction load on the leader yet: listed, never rendered. Once it is built, its
+      // rows are held to what the pin's are.
+      if (r.display == "suction_4x4" && !fidelity.displays()[1].has_load) {
+        EXPECT_EQ(r.status, "no device load yet");
+        EXPECT_EQ(r.render_ms, 0.0);
         continue;
       }
       EXPECT_EQ(r.status, "ok");
       EXPECT_TRUE(r.scored);
-      EXPECT_EQ(r.actuators, 24);
+      EXPECT_EQ(r.actuators, r.display == "pin_6x4" ? 24 : 16);
       for (double v : {r.delivered.peak_ratio, r.delivered.rel_l2, r.delivered.peak_offset_mm, r.vs_asked_rel_l2,
                        r.render_ms, r.delivered_max_sed_Pa})
         EXPECT_TRUE(std::isfinite(v));
@@ -68,7 +64,6 @@ TEST(DisplayFidelity, PinDisplayRowsAreFilledWithinTheLimitsForBothRenderings) {
       EXPECT_LE(r.max_command_share, 1.0);
       EXPECT_GT(r.max_command_share, 0.0);
       EXPECT_LE(r.commands_at_max, r.actuators);
-      EXPECT_GT(max_mm, 0.0);
       EXPECT_DOUBLE_EQ(r.truth_max_sed_Pa, row.truth_max_sed_Pa);
       EXPECT_DOUBLE_EQ(r.asked_max_sed_Pa, maps.recon.maxCoeff());
     }
@@ -84,8 +79,10 @@ TEST(DisplayFidelity, PinDisplayRowsAreFilledWithinTheLimitsForBothRenderings) {
     EXPECT_EQ(summary[size_t(k)].deliver_failed, 0);
     EXPECT_GT(summary[size_t(k)].peak_ratio, 0.0);
   }
-  EXPECT_EQ(summary[2].scored, 0);
-  EXPECT_FALSE(summary[2].status.empty());
+  if (!fidelity.displays()[1].has_load) {
+    EXPECT_EQ(summary[2].scored, 0);
+    EXPECT_EQ(summary[2].status, "no device load yet");
+  }
 }
 
 TEST(DisplayFidelity, UnknownDisplayIsRefusedBeforeAnyPrecompute) {
