@@ -6,12 +6,15 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <memory>
+#include <stdexcept>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "app/arg_parser.h"
 #include "app/command.h"
+#include "app/display_fidelity_report.h"
 #include "app/plot_runner.h"
 #include "bridge/bridge_config.h"
 #include "common/resource_path.h"
@@ -114,6 +117,16 @@ void AddFidelityOptions(ArgParser& args) {
               "release), not only the peak: fidelity_scans.csv, a summary with the delivered / true peak ratio's steadiness "
               "between scored scans, and fidelity_scans.png (0: off)",
               "0")
+      .Option("display-fidelity", "DISPLAYS",
+              "also what displays deliver (comma-separated profiles, e.g. pin_6x4,pin_8x8): at the scored scan the "
+              "bridge's SED is rendered to commands by --rendering, the commands (clipped to the profile's limits) "
+              "pressed on the leader by full contact and that SED scored against the truth and against the SED asked "
+              "for: display_fidelity.csv and a table. Each display's precompute is n + 1 contact solves (n actuators); "
+              "a display kind with no load on the leader yet is listed, not rendered (off when not given)")
+      .Option("rendering", "LIST",
+              "--display-fidelity: curve (the profile's mapping curve, as shipped), inverse (the inverse renderer) or "
+              "both, comma-separated",
+              "curve,inverse")
       .Flag("node-contact", "press on the leader's skin nodes only (bridge fe.face_contact: false), not its faces too")
       .Flag("no-plots", "skip the PNG plots");
 }
@@ -234,6 +247,27 @@ void ReportCase(const FidelityRow& r, const FidelityMaps& maps, std::ofstream& c
       << maps.truth[i] << ',' << maps.map[i] << ',' << maps.recon[i] << '\n';
 }
 
+// `--display-fidelity`: the displays' renderings built up front (a wrong name or rendering is
+// refused before the benchmark's work); nullptr when not asked for.
+std::unique_ptr<DisplayFidelityReport> MakeDisplayReport(const ArgParser& args, const std::string& model,
+                                                         const std::string& cache_dir, const std::string& out) {
+  const auto displays = args.GetOptional("display-fidelity");
+  if (!displays) {
+    if (args.Has("rendering")) throw UsageError("--rendering needs --display-fidelity DISPLAYS");
+    return nullptr;
+  }
+  DisplayFidelityOptions options;
+  options.cache_dir = cache_dir;
+  options.progress = stdout;
+  try {
+    options.displays = SplitNameList(*displays, "--display-fidelity");
+    options.renderings = ParseRenderings(args.Get("rendering"));
+    return std::make_unique<DisplayFidelityReport>(model, std::move(options), out);
+  } catch (const std::invalid_argument& e) {
+    throw UsageError(e.what());
+  }
+}
+
 int RunFidelity(int argc, char** argv) {
   ArgParser args("sedbridge fidelity",
                  "Fidelity benchmark: for every recorded press (cases.json + candump logs of the\n"
@@ -251,6 +285,7 @@ int RunFidelity(int argc, char** argv) {
   const std::string out = args.Get("out");
   if (args.GetInt("through-press") < 0) throw UsageError("--through-press must be 0 (off) or a stride of 1 or more");
   std::filesystem::create_directories(out + "/maps");
+  std::unique_ptr<DisplayFidelityReport> display_report = MakeDisplayReport(args, model, config.compliance_cache_dir, out);
   const auto profile = sensors::LoadNamedSensorProfile(args.Get("profile"));
   const std::vector<FidelityCase> presses = SelectPresses(args, profile);
   std::printf("fidelity: %zu presses, model %s, bridge config %s (fe.contact_tolerance %g), building the leader's "
@@ -272,9 +307,11 @@ int RunFidelity(int argc, char** argv) {
     const FidelityRow r = bench.Run(press, &maps);
     tally.Add(r);
     ReportCase(r, maps, csv, out);
+    if (display_report) display_report->Add(r, maps);
   }
   csv.close();
   tally.Print();
+  if (display_report) display_report->Print();
   std::printf("wrote %s/fidelity.csv and %s/maps/\n", out.c_str(), out.c_str());
   if (const long stride = args.GetInt("through-press"); stride > 0) ScoreThroughPresses(bench, presses, int(stride), out);
   if (!args.GetFlag("no-plots")) RunPlotScript("plot_fidelity.py", {out});
