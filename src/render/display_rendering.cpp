@@ -1,5 +1,6 @@
 #include "render/display_rendering.h"
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 
@@ -21,6 +22,9 @@ DisplayRendering::DisplayRendering(const model::FingertipModel& leader_model, co
   scene::FingertipComplianceOptions leader_options;
   leader_options.face_samples = true;  // holes and pins narrower than the skin-node spacing
   leader_options.contact.cache_dir = options.cache_dir;
+  // A rising pin moves the contact set far (skin lifts off the plate around it): more
+  // Newton iterations than a press of one object needs.
+  leader_options.contact.max_iterations = std::max(leader_options.contact.max_iterations, 200);
   leader_ = std::make_unique<scene::FingertipCompliance>(leader_model, leader_options);
   display_ = MakeDisplayOnLeader(*leader_, profile.device);
   const double reference = options.reference_command > 0 ? options.reference_command : display_->default_reference_command();

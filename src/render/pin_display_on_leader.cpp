@@ -16,6 +16,10 @@ constexpr double kMm = 1e-3;
 // The pin's body above its tip [m]: longer than any travel plus the preload, so the skin
 // only ever meets its tip and sides.
 constexpr double kPinHalfLength_m = 10e-3;
+// Longest rise of a pin between two contact solves [mm]: the contact's SDF is evaluated at
+// the displaced nodes, so a long jump lets nodes tunnel past a pin, and each solve starts
+// from the last one's contact set (longer jumps left solves unconverged on model B).
+constexpr double kLongestRise_mm = 0.1;
 
 // Preload area [mm^2]: the footprints' bounding box grown by half the nearest spacing.
 double ActuatedArea_mm2(const display::DisplayDevice& device) {
@@ -147,18 +151,8 @@ bool PinDisplayOnLeader::Press(const Eigen::VectorXd& heights_mm, Eigen::VectorX
     error_ = "one finite height >= 0 per pin";
     return false;
   }
-  // Raised in steps no longer than a pin's radius: the contact's SDF is evaluated at the
-  // displaced nodes, and a long jump lets nodes tunnel past a thin pin.
-  const double top = heights_mm.maxCoeff();
-  const int steps = std::max(1, int(std::ceil(top / std::max(0.1, 0.5 * device_.pin_radius_mm))));
   leader_.ResetWarmStart();
-  for (int s = 1; s <= steps; ++s) {
-    const fem::ComplianceStepResult& r = leader_.Step(Objects(heights_mm * (double(s) / steps)));
-    if (!r.ok || !r.converged) {
-      error_ = "contact solve failed: " + (r.error.empty() ? std::string("not converged") : r.error);
-      return false;
-    }
-  }
+  if (!MoveTo(Eigen::VectorXd::Zero(num_actuators()), heights_mm)) return false;
   sed_Pa = leader_.sed_Pa();
   return true;
 }
@@ -174,19 +168,43 @@ double PinDisplayOnLeader::default_reference_command() const {
   return std::min(0.2, 0.2 * device_.travel_mm);
 }
 
-double PinDisplayOnLeader::RaiseAlone(int pin, double from_mm, double height_mm) {
-  const double longest = std::max(0.1, 0.5 * device_.pin_radius_mm);
-  const int steps = std::max(1, int(std::ceil(std::abs(height_mm - from_mm) / longest)));
-  Eigen::VectorXd heights = Eigen::VectorXd::Zero(num_actuators());
-  for (int s = 1; s <= steps; ++s) {
-    heights[pin] = from_mm + (height_mm - from_mm) * double(s) / steps;
-    const fem::ComplianceStepResult& r = leader_.Step(Objects(heights));
-    if (!r.ok || !r.converged) return -1;
+bool PinDisplayOnLeader::MoveTo(const Eigen::VectorXd& from_mm, const Eigen::VectorXd& to_mm) {
+  const double distance = (to_mm - from_mm).cwiseAbs().maxCoeff();
+  const double full_step = 1.0 / std::max(1, int(std::ceil(distance / kLongestRise_mm))), least_step = full_step / 32;
+  // Fractions of the way; a step whose solve fails is retried from the last converged
+  // state at half the length (a contact set that cycles at one configuration often
+  // settles from a nearer start).
+  double done = 0, step = full_step;
+  int last_iterations = 0;
+  while (done < 1) {
+    const double next = std::min(1.0, done + step);
+    const fem::ComplianceContact::WarmStart warm = leader_.contact().SaveWarmStart();
+    const fem::ComplianceStepResult& r = leader_.Step(Objects(from_mm + (to_mm - from_mm) * next));
+    if (r.ok && r.converged) {
+      done = next;
+      step = std::min(full_step, 2 * step);
+      continue;
+    }
+    last_iterations = r.iterations;
+    if (!r.ok || step <= least_step) {
+      error_ = "contact solve failed " + std::to_string(int(std::round(100 * next))) + " % of the way: " +
+               (r.error.empty() ? "not converged in " + std::to_string(last_iterations) + " iterations" : r.error);
+      return false;
+    }
+    leader_.contact().RestoreWarmStart(warm);
+    step /= 2;
   }
+  return true;
+}
+
+double PinDisplayOnLeader::RaiseAlone(int pin, double from_mm, double height_mm) {
+  Eigen::VectorXd from = Eigen::VectorXd::Zero(num_actuators()), to = from;
+  from[pin] = from_mm, to[pin] = height_mm;
+  if (!MoveTo(from, to)) return -1;
   double force_N = 0;
   for (const fem::ActiveContact& c : leader_.contact().last().contacts)
     if (c.object == 1) force_N += c.normal_force_N;  // object 0 is the plate, 1 the raised pin
-  return heights[pin] > 0 ? force_N : 0.0;
+  return height_mm > 0 ? force_N : 0.0;
 }
 
 double PinDisplayOnLeader::Gap(int pin, double max_mm) {

@@ -68,6 +68,9 @@ class PinDisplayOnLeader : public DisplayOnLeader {
   std::vector<geometry::RigidObject> Objects(const Eigen::VectorXd& heights_mm) const;
   /// The Merkel elements' strains [-] of the last step.
   Eigen::VectorXd StrainsOfLastStep() const;
+  /// The pins moved from from_mm to to_mm in steps of at most kLongestRise_mm, a failed
+  /// step retried at half the length (down to 1/32). False (error_ set) if one still fails.
+  bool MoveTo(const Eigen::VectorXd& from_mm, const Eigen::VectorXd& to_mm);
   /// Pin `pin` alone raised to height_mm from the last state, in steps short enough that no
   /// node tunnels past it; returns the pin's contact force [N], or -1 if a solve failed.
   double RaiseAlone(int pin, double from_mm, double height_mm);
