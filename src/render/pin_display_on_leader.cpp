@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <memory>
 #include <stdexcept>
 
@@ -16,17 +15,6 @@ constexpr double kMm = 1e-3;
 // The pin's body above its tip [m]: longer than any travel plus the preload, so the skin
 // only ever meets its tip and sides.
 constexpr double kPinHalfLength_m = 10e-3;
-
-// Preload area [mm^2]: the footprints' bounding box grown by half the nearest spacing.
-double ActuatedArea_mm2(const display::DisplayDevice& device) {
-  double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
-  for (const display::ActuatorFootprint& f : device.footprints)
-    x0 = std::min(x0, f.x_mm), x1 = std::max(x1, f.x_mm), y0 = std::min(y0, f.y_mm), y1 = std::max(y1, f.y_mm);
-  std::vector<double> x, y;
-  for (const display::ActuatorFootprint& f : device.footprints) x.push_back(f.x_mm), y.push_back(f.y_mm);
-  const double spacing = device.footprints.size() > 1 ? display::NearestActuatorDistance_mm(x, y) : 2 * device.pin_radius_mm;
-  return (x1 - x0 + spacing) * (y1 - y0 + spacing);
-}
 
 geometry::RigidObject Plate(double depth_mm) {
   // PlaneSdf is the half-space z < 0 of its frame: turned over, its solid is z > -depth.
@@ -42,7 +30,7 @@ PinDisplayOnLeader::PinDisplayOnLeader(scene::FingertipCompliance& leader, const
     : leader_(leader), device_(device) {
   if (device.kind != display::DisplayKind::kPin || device.footprints.empty())
     throw std::invalid_argument("pin display on the leader: needs a pin display's device model");
-  preload_force_N_ = device.preload_kPa * 1e3 * ActuatedArea_mm2(device) * 1e-6;
+  preload_force_N_ = PreloadForce_N(device);
   leader_.ResetWarmStart();
   const scene::PressToForceResult r = leader_.PressToForce({Plate(0.0)}, preload_force_N_);
   if (!r.reached)
@@ -99,36 +87,13 @@ bool PinDisplayOnLeader::Press(const Eigen::VectorXd& heights_mm, Eigen::VectorX
   return true;
 }
 
-Eigen::VectorXd PinDisplayOnLeader::StrainsOfLastStep() const {
-  Eigen::VectorXd strain;
-  const fem::ComplianceSedMap& map = leader_.contact().sed_map();
-  map.ElementStrains(map.displacements_m(), strain);
-  return strain;
-}
-
 double PinDisplayOnLeader::default_reference_command() const {
   return std::min(0.2, 0.2 * device_.travel_mm);
 }
 
 ElementStrainInfluence PinDisplayOnLeader::Influence(double reference_height_mm) {
   if (!(reference_height_mm > 0)) throw std::invalid_argument("pin display influence: reference height > 0");
-  const int n = num_actuators();
-  Eigen::VectorXd sed;
-  if (!Press(Eigen::VectorXd::Zero(n), sed)) throw std::runtime_error("pin display influence: " + error_);
-  ElementStrainInfluence in;
-  in.preload_strain = StrainsOfLastStep();
-  in.strain_per_command.resize(in.preload_strain.size(), n);
-  for (int i = 0; i < n; ++i) {
-    Eigen::VectorXd heights = Eigen::VectorXd::Zero(n);
-    heights[i] = reference_height_mm;
-    if (!Press(heights, sed)) throw std::runtime_error("pin display influence: pin " + std::to_string(i) + ": " + error_);
-    in.strain_per_command.col(i) = (StrainsOfLastStep() - in.preload_strain) / reference_height_mm;
-  }
-  const fem::ComplianceSedMap& map = leader_.contact().sed_map();
-  in.mu_Pa = Eigen::Map<const Eigen::VectorXd>(map.element_mu_Pa().data(), Eigen::Index(map.element_mu_Pa().size()));
-  in.lambda_Pa = Eigen::Map<const Eigen::VectorXd>(map.element_lambda_Pa().data(), Eigen::Index(map.element_lambda_Pa().size()));
-  map.VertexAverage(in.vertex_start, in.vertex_element, in.vertex_weight);
-  return in;
+  return InfluenceByPresses(*this, leader_, reference_height_mm, "pin display");
 }
 
 }  // namespace sedbridge::render

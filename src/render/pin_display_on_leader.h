@@ -50,8 +50,6 @@ class PinDisplayOnLeader : public DisplayOnLeader {
 
  private:
   std::vector<geometry::RigidObject> Objects(const Eigen::VectorXd& heights_mm) const;
-  /// The Merkel elements' strains [-] of the last step.
-  Eigen::VectorXd StrainsOfLastStep() const;
 
   scene::FingertipCompliance& leader_;
   display::DisplayDevice device_;
