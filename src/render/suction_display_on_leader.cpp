@@ -19,6 +19,8 @@ constexpr double kMm = 1e-3;
 // equal angles. The shares sum to the disc's area to rounding where the pad covers the hole;
 // a node's own share is off only in the cells a face's edge crosses.
 constexpr int kRings = 8, kAngles = 32;
+// Largest suction added between two warm-started contact solves of a press [kPa].
+constexpr double kRampStep_kPa = 2.5;
 
 // The display's plate at indentation depth_mm: PlateWithHolesSdf is the half-space z < 0 of
 // its frame less the holes; turned over (pi about x) its solid is z > -depth in the pad
@@ -148,13 +150,17 @@ bool SuctionDisplayOnLeader::Press(const Eigen::VectorXd& suction_kPa, Eigen::Ve
     return false;
   }
   leader_.ResetWarmStart();
-  leader_.SetSampleLoads(Loads(suction_kPa));  // all zero: none held
-  const fem::ComplianceStepResult& r = leader_.Step({plate_at_preload_});
-  leader_.ClearSampleLoads();  // the step's answer stays; the leader is left without loads
-  if (!r.ok || !r.converged) {
-    error_ = "contact solve failed: " + (r.error.empty() ? std::string("not converged") : r.error);
-    return false;
+  const int steps = std::max(1, int(std::ceil(suction_kPa.maxCoeff() / kRampStep_kPa)));
+  for (int k = 1; k <= steps; ++k) {
+    leader_.SetSampleLoads(Loads(suction_kPa * (double(k) / steps)));  // all zero: none held
+    const fem::ComplianceStepResult& r = leader_.Step({plate_at_preload_});
+    if (!r.ok || !r.converged) {
+      leader_.ClearSampleLoads();
+      error_ = "contact solve failed: " + (r.error.empty() ? std::string("not converged") : r.error);
+      return false;
+    }
   }
+  leader_.ClearSampleLoads();  // the step's answer stays; the leader is left without loads
   sed_Pa = leader_.sed_Pa();
   return true;
 }
