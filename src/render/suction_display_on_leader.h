@@ -7,7 +7,7 @@
 // Makino, Asamura & Shinoda (ICRA 2004): suction and compression give similar SED at the
 // receptors' depth. Two uses, as every DisplayOnLeader:
 //   - Press(suction): the Merkel SED the commands produce, full contact (the plate at the
-//     preload depth plus the suction loads);
+//     preload depth plus the suction loads, raised in warm-started steps of <= 2.5 kPa);
 //   - Influence(p_ref): the linear influence about the preloaded state (each hole at p_ref
 //     alone; strain per kPa), what the inverse renderer inverts every scan.
 //
