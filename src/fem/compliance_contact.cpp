@@ -109,6 +109,24 @@ void ComplianceContact::ResetWarmStart() {
   u_c_.setZero();
 }
 
+void ComplianceContact::SetSampleLoads(const Eigen::Matrix3Xd& force_N) {
+  if (force_N.cols() != num_samples() || !force_N.allFinite())
+    throw std::invalid_argument("compliance contact: sample loads need one finite column per contact point (" +
+                                std::to_string(num_samples()) + ")");
+  load_samples_.clear();
+  for (int j = 0; j < num_samples(); ++j)
+    if (!force_N.col(j).isZero(0.0)) load_samples_.push_back(j);
+  if (load_samples_.empty())
+    sample_load_N_.resize(3, 0);
+  else
+    sample_load_N_ = force_N;
+}
+
+void ComplianceContact::ClearSampleLoads() {
+  load_samples_.clear();
+  sample_load_N_.resize(3, 0);
+}
+
 void ComplianceContact::RestoreWarmStart(const WarmStart& w) {
   if (w.num_objects < 0 || w.lambda_N.size() != w.normal.cols() || w.lambda_N.size() % std::max(1, w.num_objects) != 0 ||
       w.lambda_N.size() != Eigen::Index(num_samples()) * w.num_objects) {
@@ -138,6 +156,8 @@ const ComplianceStepResult& ComplianceContact::StepToForce(const std::vector<geo
   const char* refused = nullptr;
   if (options_.exact_contact || options_.friction_anisotropy > 0)
     refused = "force control needs frictionless penalty contact";
+  else if (has_sample_loads())
+    refused = "force control with held sample loads is not supported";
   else if (!(control.target_N > 0 && std::isfinite(control.target_N)) || !control.direction_unit.allFinite() ||
            !(std::abs(control.direction_unit.norm() - 1.0) < 1e-9) || !(control.max_change_m > 0) ||
            !(control.max_offset_m > 0) || !std::isfinite(control.offset_m))
@@ -209,6 +229,7 @@ bool ComplianceContact::BeginSolve(const std::vector<geometry::RigidObject>& obj
   result_.spring_force_N.setZero();
   result_.tangential_force_N.setZero();
   result_.friction_force_N.setZero();
+  result_.sample_load_N.setZero();
   if (!tangential_force_N.allFinite() || !std::isfinite(t_s)) {
     result_.error = "non-finite tangential force or time";
     return false;
@@ -272,6 +293,7 @@ Eigen::Vector3d ComplianceContact::LoadCurrentForces(const Eigen::Vector3d& tang
   const Eigen::Vector3d tau = total > 0 ? Eigen::Vector3d(tangential_force_N / total) : Eigen::Vector3d::Zero();
   loaded_.clear();
   f_c_.setZero();
+  size_t next_load = 0;  // load_samples_ is sorted
   for (int j = 0; j < c; ++j) {
     double node_lambda = 0;
     bool rubbing = false;
@@ -288,15 +310,17 @@ Eigen::Vector3d ComplianceContact::LoadCurrentForces(const Eigen::Vector3d& tang
         rubbing = true;
       }
     }
-    if (node_lambda > 0 || rubbing) loaded_.push_back(j);
+    const bool held = next_load < load_samples_.size() && load_samples_[next_load] == j;
+    if (held) f_c_.segment<3>(3 * j) += sample_load_N_.col(j), ++next_load;
+    if (node_lambda > 0 || rubbing || held) loaded_.push_back(j);
     if (node_lambda > 0) f_c_.segment<3>(3 * j) += node_lambda * tau;
   }
   // The QP's last prediction is exactly W f for these forces unless Anderson moved them or
-  // the tangential share changed with them.
+  // the tangential share changed with them (never valid with sample loads).
   if (prediction_valid_ && tangential_force_N.isZero(0.0))
     u_c_.swap(u_new_);
   else
-    CandidateDisplacements(!friction && tangential_force_N.isZero(0.0));
+    CandidateDisplacements(!friction && tangential_force_N.isZero(0.0) && !has_sample_loads());
   prediction_valid_ = false;
   return tau;
 }
@@ -502,6 +526,7 @@ void ComplianceContact::ReportContacts(const Eigen::Vector3d& tangential_force_N
     result_.spring_force_N += spring * normal_.col(p);
   }
   if (total > 0) result_.tangential_force_N = tangential_force_N;
+  for (int j : load_samples_) result_.sample_load_N += sample_load_N_.col(j);
   result_.friction_force_N.setZero();
   if (options_.friction_anisotropy > 0)
     for (Eigen::Index p = 0; p < friction_.cols(); ++p) result_.friction_force_N += friction_.col(p);

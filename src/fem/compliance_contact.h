@@ -92,6 +92,7 @@ struct ComplianceStepResult {
   Eigen::Vector3d spring_force_N = Eigen::Vector3d::Zero();  ///< sum k depth n on the skin (model frame)
   Eigen::Vector3d tangential_force_N = Eigen::Vector3d::Zero();  ///< tangential load applied (model frame)
   Eigen::Vector3d friction_force_N = Eigen::Vector3d::Zero();    ///< sum of pseudo-friction spring forces
+  Eigen::Vector3d sample_load_N = Eigen::Vector3d::Zero();       ///< sum of the held sample loads (model frame)
   Eigen::VectorXd sed_Pa;   ///< SED per vertex, in the order of sed_vertices()
 };
 
@@ -154,6 +155,19 @@ class ComplianceContact {
   const ComplianceStepResult& StepToForce(const std::vector<geometry::RigidObject>& objects, ForceControl& control,
                                           const Eigen::Vector3d& tangential_force_N = Eigen::Vector3d::Zero(),
                                           bool compute_sed = true);
+  /// An external load held fixed on the contact points [N, model frame], one column per
+  /// contact point (num_samples() columns: the candidate nodes, then the face samples), kept
+  /// for every step until changed or cleared (a display's suction over its holes). A step
+  /// solves the contact with it: displacements W (contact forces + tangential share + this
+  /// load), the Merkel SED from all of them. Not with force control (StepToForce refuses).
+  /// An all-zero load clears it. Throws std::invalid_argument for the wrong size or a
+  /// non-finite entry.
+  void SetSampleLoads(const Eigen::Matrix3Xd& force_N);
+  void ClearSampleLoads();
+  bool has_sample_loads() const { return !load_samples_.empty(); }
+  /// The held load (num_samples() columns; empty when none is held) [N, model frame].
+  const Eigen::Matrix3Xd& sample_loads_N() const { return sample_load_N_; }
+
   /// The last step's Merkel SED (result sed_Pa) and positions_m(), from its contact forces;
   /// what Step does at its end unless told not to. No-op if the last step failed.
   void ComputeSed();
@@ -373,7 +387,10 @@ class ComplianceContact {
   Eigen::Matrix3Xd row_dir_;
   Eigen::VectorXd row_gap_, row_lambda_, row_compliance_;
   int bounded_rows_ = 0;
-  Eigen::VectorXd held_;  // forces held fixed during a QP (the tangential load)
+  Eigen::VectorXd held_;  // forces held fixed during a QP (the tangential load, the sample loads)
+  // The held sample loads (SetSampleLoads; empty: none) and the points that carry one.
+  Eigen::Matrix3Xd sample_load_N_;
+  std::vector<int> load_samples_;
   // Anderson(1) on the force vectors l_p n_p, over the pairs that carry force (sorted pair
   // indices and their vectors: most of the pad's points carry none, and dense 3 x #pairs
   // sweeps were a tenth of a rod's press).

@@ -214,8 +214,9 @@ bool ComplianceContact::SolveLinearizedQp(int no, const Eigen::Vector3d& tau, co
   if (!ok) return false;
   TakeQpForces();
   // u_new_ = W f for exactly these forces when the set settled (reused as the next
-  // iteration's displacements).
-  prediction_valid_ = solved;
+  // iteration's displacements). Not while sample loads are held: the reuse paths are
+  // proven for normal forces alone, and a display's load is solved a few times, not per scan.
+  prediction_valid_ = solved && !has_sample_loads();
   qp_offset_change_m_ = delta;
   return true;  // not solved: out of inner iterations, the outer loop reports non-convergence
 }
@@ -236,8 +237,9 @@ int ComplianceContact::BuildQpRows(int no, const Eigen::Vector3d& tau) {
   held_.setZero(3 * c);
   for (Eigen::Index p = 0; p < pairs; ++p)
     if (lambda_N_[p] > 0) held_.segment<3>(3 * (int(p) / no)) += lambda_N_[p] * tau;
-  // Only samples with a normal force hold a share, and loaded_ lists them (this iteration's
-  // forces, in order).
+  for (int j : load_samples_) held_.segment<3>(3 * j) += sample_load_N_.col(j);
+  // Only samples with a normal force or a sample load hold a share, and loaded_ lists them
+  // (this iteration's forces, in order).
   u_t_.setZero(3 * c);
   op_->AddWTimes(loaded_, [](int j) { return j; }, [&](int j) { return Eigen::Vector3d(held_.segment<3>(3 * j)); }, u_t_);
   // Rows: force lambda_r along dir_r at node_r with "gap" g_r (linearized about the current

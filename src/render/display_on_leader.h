@@ -45,6 +45,18 @@ class DisplayOnLeader {
 /// inverse rendering, without the precompute.
 bool HasMechanicalLoad(display::DisplayKind kind);
 
+/// The pad's contact force on the display surface with every actuator off [N]:
+/// device.preload_kPa over the actuated area (the footprints' bounding box grown by half the
+/// nearest-actuator distance on each side; a single footprint: its diameter).
+double PreloadForce_N(const display::DisplayDevice& device);
+
+/// The linear influence of `display` about its preloaded state by n + 1 full presses (every
+/// actuator off, then each at `reference` alone), read from `leader`'s last step after each;
+/// what DisplayOnLeader::Influence is for every kind. `what` names the display in messages.
+/// Throws std::runtime_error when a press fails.
+ElementStrainInfluence InfluenceByPresses(DisplayOnLeader& display, const scene::FingertipCompliance& leader,
+                                          double reference, const std::string& what);
+
 /// The display of `device`'s kind pressed on `leader` (kept by reference). Throws
 /// std::invalid_argument for a kind without a mechanical load (electrotactile) or no
 /// device model, std::runtime_error when the preload press fails.

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <memory>
 #include <stdexcept>
 
@@ -20,17 +19,6 @@ constexpr double kPinHalfLength_m = 10e-3;
 // the displaced nodes, so a long jump lets nodes tunnel past a pin, and each solve starts
 // from the last one's contact set (longer jumps left solves unconverged on model B).
 constexpr double kLongestRise_mm = 0.1;
-
-// Preload area [mm^2]: the footprints' bounding box grown by half the nearest spacing.
-double ActuatedArea_mm2(const display::DisplayDevice& device) {
-  double x0 = std::numeric_limits<double>::infinity(), x1 = -x0, y0 = x0, y1 = -x0;
-  for (const display::ActuatorFootprint& f : device.footprints)
-    x0 = std::min(x0, f.x_mm), x1 = std::max(x1, f.x_mm), y0 = std::min(y0, f.y_mm), y1 = std::max(y1, f.y_mm);
-  std::vector<double> x, y;
-  for (const display::ActuatorFootprint& f : device.footprints) x.push_back(f.x_mm), y.push_back(f.y_mm);
-  const double spacing = device.footprints.size() > 1 ? display::NearestActuatorDistance_mm(x, y) : 2 * device.pin_radius_mm;
-  return (x1 - x0 + spacing) * (y1 - y0 + spacing);
-}
 
 // A rounded pin: its tip's spherical cap (radius R, centre at the origin) on a shaft of
 // radius <= R running from the centre along +z (toward the display's body). Without the
@@ -105,7 +93,7 @@ PinDisplayOnLeader::PinDisplayOnLeader(scene::FingertipCompliance& leader, const
     : leader_(leader), device_(device) {
   if (device.kind != display::DisplayKind::kPin || device.footprints.empty())
     throw std::invalid_argument("pin display on the leader: needs a pin display's device model");
-  preload_force_N_ = device.preload_kPa * 1e3 * ActuatedArea_mm2(device) * 1e-6;
+  preload_force_N_ = PreloadForce_N(device);
   // A pin narrower than the skin's contact samples passes between them (a 1 mm pin on
   // model B pressed the same 267 Pa at every height): pressed as a pin that wide.
   sample_spacing_mm_ = SampleSpacing_mm(leader_, device);
@@ -155,13 +143,6 @@ bool PinDisplayOnLeader::Press(const Eigen::VectorXd& heights_mm, Eigen::VectorX
   if (!MoveTo(Eigen::VectorXd::Zero(num_actuators()), heights_mm)) return false;
   sed_Pa = leader_.sed_Pa();
   return true;
-}
-
-Eigen::VectorXd PinDisplayOnLeader::StrainsOfLastStep() const {
-  Eigen::VectorXd strain;
-  const fem::ComplianceSedMap& map = leader_.contact().sed_map();
-  map.ElementStrains(map.displacements_m(), strain);
-  return strain;
 }
 
 double PinDisplayOnLeader::default_reference_command() const {

@@ -176,6 +176,10 @@ Eigen::Vector3d FingertipCompliance::TangentialToModel(const Eigen::Vector2d& ta
   return model_.pad_frame.model_from_pad.linear() * Eigen::Vector3d(tangential_pad_N.x(), tangential_pad_N.y(), 0.0);
 }
 
+void FingertipCompliance::SetSampleLoads(const Eigen::Matrix3Xd& force_pad_N) {
+  contact_->SetSampleLoads(model_.pad_frame.model_from_pad.linear() * force_pad_N);
+}
+
 double FingertipCompliance::normal_force_N() const {
   const Eigen::Vector3d z_pad = model_.pad_frame.model_from_pad.linear().col(2);
   return -z_pad.dot(contact_->last().spring_force_N);
@@ -551,6 +555,10 @@ PressToForceResult FingertipCompliance::PressToForce(const std::vector<geometry:
   if (!(std::isfinite(target_N) && target_N > 0) || objects_pad.empty() || !tangential_pad_N.allFinite() ||
       !(opt.max_indentation_mm > 0) || !(opt.relative_tolerance > 0)) {
     r.message = "target force must be finite and > 0, with at least one object";
+    return r;
+  }
+  if (contact_->has_sample_loads()) {
+    r.message = "no press to a force while sample loads are held (ClearSampleLoads first)";
     return r;
   }
   if (!(opt.contact_relative_tolerance >= 0 && opt.contact_relative_tolerance < 1)) {

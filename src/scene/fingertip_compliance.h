@@ -115,6 +115,13 @@ class FingertipCompliance {
                                         double t_s = 0.0, const Eigen::Vector2d& tangential_pad_N = Eigen::Vector2d::Zero());
   /// Normal force of the last step: the spring forces' component along -z_pad [N].
   double normal_force_N() const;
+  /// An external load held on the contact points [N, pad frame], one column per contact
+  /// point (contact().num_samples(): the candidate nodes, then the face samples), applied by
+  /// every Step until changed or cleared (fem::ComplianceContact::SetSampleLoads: a display's
+  /// suction). PressToForce refuses while one is held (its search takes no force at no
+  /// contact). Throws std::invalid_argument for the wrong size or a non-finite entry.
+  void SetSampleLoads(const Eigen::Matrix3Xd& force_pad_N);
+  void ClearSampleLoads() { contact_->ClearSampleLoads(); }
 
   /// Pushes the objects (pad-frame poses at first touch, their trajectory at t = 0) along
   /// -z_pad until their total normal force is target_force_N; the state of the last step

@@ -337,6 +337,85 @@ TEST(ComplianceContact, TangentialLoadIsCarriedByTheContactsAndShearsTheBlock) {
   EXPECT_EQ(cc.candidate_displacements_m().norm(), 0.0);
 }
 
+// A load held on the contact points (a display's suction): alone it displaces the points by
+// W f, and its SED is the one the same forces give as contact forces (the SED is from all
+// forces); cleared, the contact is bit for bit as if it had never been set.
+TEST(ComplianceContact, SampleLoadAloneIsWTimesTheLoadWithTheSedOfTheSameContactForces) {
+  const TetMesh mesh = Block();
+  ComplianceContact pressed = MakeCompliance(mesh), loaded = MakeCompliance(mesh), never = MakeCompliance(mesh);
+  const ComplianceStepResult& r = pressed.Step({SphereAbove(0.004, 0.0004)});
+  ASSERT_TRUE(r.ok && r.converged);
+  ASSERT_GT(r.contacts.size(), 3u);
+  const int c = loaded.num_samples();
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, c);
+  for (const ActiveContact& a : r.contacts) f.col(a.sample) += a.spring_force_N * a.normal;
+  loaded.SetSampleLoads(f);
+  EXPECT_TRUE(loaded.has_sample_loads());
+  const ComplianceStepResult& l = loaded.Step({});
+  ASSERT_TRUE(l.ok && l.converged) << l.error;
+  EXPECT_TRUE(l.contacts.empty());
+  EXPECT_LT((l.sample_load_N - r.spring_force_N).norm(), 1e-12 * r.spring_force_N.norm());
+  const Eigen::VectorXd f_vec = Eigen::Map<const Eigen::VectorXd>(f.data(), 3 * c);
+  const Eigen::VectorXd w_f = loaded.compliance_m_N() * f_vec;
+  const Eigen::Map<const Eigen::VectorXd> u(loaded.candidate_displacements_m().data(), 3 * c);
+  EXPECT_LT(RelativeError(u, w_f), 1e-12);
+  // The pressed step's own displacements are W times its last iterate's forces, which
+  // differ from the reported k * depth within the penalty law's tolerance (1e-8).
+  const Eigen::Map<const Eigen::VectorXd> u_pressed(pressed.candidate_displacements_m().data(), 3 * c);
+  EXPECT_LT(RelativeError(u, u_pressed), 1e-6);
+  EXPECT_LT(RelativeError(l.sed_Pa, r.sed_Pa), 1e-6);
+  EXPECT_GT(l.sed_Pa.maxCoeff(), 0.0);
+
+  // Cleared (or set to zero): the same answer as an instance that never held one.
+  loaded.SetSampleLoads(Eigen::Matrix3Xd::Zero(3, c));
+  EXPECT_FALSE(loaded.has_sample_loads());
+  loaded.ResetWarmStart();
+  const Eigen::VectorXd sed_loaded = loaded.Step({SphereAbove(0.004, 0.0003)}).sed_Pa;
+  const Eigen::VectorXd sed_never = never.Step({SphereAbove(0.004, 0.0003)}).sed_Pa;
+  EXPECT_EQ(sed_loaded, sed_never);
+  EXPECT_THROW(loaded.SetSampleLoads(Eigen::Matrix3Xd::Zero(3, c - 1)), std::invalid_argument);
+  Eigen::Matrix3Xd bad = Eigen::Matrix3Xd::Zero(3, c);
+  bad(2, 0) = NAN;
+  EXPECT_THROW(loaded.SetSampleLoads(bad), std::invalid_argument);
+  ComplianceContact::ForceControl control;
+  control.target_N = 0.1;
+  loaded.SetSampleLoads(f);
+  EXPECT_FALSE(loaded.StepToForce({SphereAbove(0.004, 0.0)}, control).ok);
+}
+
+// Force balance against a fixed rigid plate: the top pressed flat by exact contact cannot
+// move, so a load pulling contact points toward the plate is carried by the plate alone:
+// each loaded point's contact force grows by its load, and nothing else changes.
+TEST(ComplianceContact, SampleLoadTowardAFixedPlateIsCarriedByItsContactForces) {
+  const TetMesh mesh = Block();
+  ComplianceContactOptions o;
+  o.exact_contact = true;
+  ComplianceContact cc = MakeCompliance(mesh, o);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::Vector3d(1, -1, -1).asDiagonal();  // normal -z, solid above
+  pose.translation() = Eigen::Vector3d(0.5 * kSide, 0.5 * kSide, kHeight - 0.0002);
+  const std::vector<geometry::RigidObject> plate{{"plate", std::make_shared<geometry::PlaneSdf>(), geometry::Trajectory(pose)}};
+  const ComplianceStepResult before = cc.Step(plate);
+  ASSERT_TRUE(before.ok && before.converged);
+  const int c = cc.num_samples();
+  ASSERT_EQ(int(before.contacts.size()), c);  // the whole top touches
+  const Eigen::VectorXd u_before = Eigen::Map<const Eigen::VectorXd>(cc.candidate_displacements_m().data(), 3 * c);
+  Eigen::Matrix3Xd f = Eigen::Matrix3Xd::Zero(3, c);
+  f(2, c / 2) = 0.02, f(2, c / 3) = 0.01;  // toward the plate [N]
+  cc.SetSampleLoads(f);
+  const ComplianceStepResult after = cc.Step(plate);
+  ASSERT_TRUE(after.ok && after.converged) << after.error;
+  EXPECT_NEAR(after.spring_force_N.z() - before.spring_force_N.z(), -0.03, 1e-9);
+  EXPECT_LT((after.sample_load_N - Eigen::Vector3d(0, 0, 0.03)).norm(), 1e-15);
+  std::vector<double> force_before(size_t(c), 0.0), force_after(size_t(c), 0.0);
+  for (const ActiveContact& a : before.contacts) force_before[size_t(a.sample)] = a.spring_force_N;
+  for (const ActiveContact& a : after.contacts) force_after[size_t(a.sample)] = a.spring_force_N;
+  for (int j = 0; j < c; ++j) EXPECT_NEAR(force_after[size_t(j)] - force_before[size_t(j)], f(2, j), 1e-9) << j;
+  const Eigen::Map<const Eigen::VectorXd> u_after(cc.candidate_displacements_m().data(), 3 * c);
+  EXPECT_LT((u_after - u_before).norm(), 1e-9 * u_before.norm());
+  EXPECT_LT(RelativeError(after.sed_Pa, before.sed_Pa), 1e-9);
+}
+
 // Exact contact is the penalty law's limit k -> infinity: no penetration, a force only
 // where the gap is closed, and the penalty answer approaches it from below as k grows.
 void ExpectExactContact(const geometry::RigidObject& object) {

@@ -62,6 +62,39 @@ TEST(SignedDistanceField, CylinderAndCaps) {
   ExpectNormalIsGradient(fin, {0.004, 0.0005, 0.002}, 1e-6);
 }
 
+// A suction display's surface: the plate (z < 0) less two holes of radius 0.5 mm.
+TEST(SignedDistanceField, PlateWithHolesIsThePlaneLessItsHoles) {
+  const double r = 0.0005;
+  const PlateWithHolesSdf plate({Eigen::Vector2d(0, 0), Eigen::Vector2d(0.002, 0)}, r);
+  EXPECT_TRUE(plate.lipschitz());
+  // Clear of the holes it is the plane, above and inside.
+  EXPECT_DOUBLE_EQ(plate.Evaluate({0.001, 0.0015, 0.0003}).distance_m, 0.0003);
+  EXPECT_DOUBLE_EQ(plate.Evaluate({0.001, 0.0015, -0.0002}).distance_m, -0.0002);
+  EXPECT_EQ(plate.Evaluate({0.001, 0.0015, -0.0002}).normal, Eigen::Vector3d::UnitZ());
+  // In a hole below the surface: the distance to its wall, the normal toward its axis.
+  const SdfSample in_hole = plate.Evaluate({0.0021, 0, -0.003});
+  EXPECT_NEAR(in_hole.distance_m, r - 0.0001, 1e-15);
+  EXPECT_NEAR((in_hole.normal - Eigen::Vector3d(-1, 0, 0)).norm(), 0.0, 1e-12);
+  // Inside the solid the nearer face wins: the wall 0.1 mm away, not the surface 0.3 mm up.
+  const SdfSample by_wall = plate.Evaluate({0.0, 0.0006, -0.0003});
+  EXPECT_NEAR(by_wall.distance_m, -0.0001, 1e-15);
+  EXPECT_NEAR((by_wall.normal - Eigen::Vector3d(0, -1, 0)).norm(), 0.0, 1e-12);
+  EXPECT_NEAR(plate.Evaluate({0.0, 0.0009, -0.0002}).distance_m, -0.0002, 1e-15);
+  // Above a hole's centre the rim is nearest (sqrt(z^2 + r^2)): the distance is a lower bound.
+  const double above = plate.Evaluate({0, 0, 0.0002}).distance_m;
+  EXPECT_GT(above, 0.0);
+  EXPECT_LE(above, std::hypot(0.0002, r));
+  ExpectNormalIsGradient(plate, {0.0019, 0.0002, -0.001}, 1e-6);
+  ExpectNormalIsGradient(plate, {0.0011, 0.0003, -0.0001}, 1e-6);
+  // 1-Lipschitz, as it says.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-0.003, 0.003);
+  for (int k = 0; k < 20000; ++k) {
+    const Eigen::Vector3d p(u(rng), u(rng), u(rng)), q = p + 0.1 * Eigen::Vector3d(u(rng), u(rng), u(rng));
+    EXPECT_LE(std::abs(plate.Evaluate(p).distance_m - plate.Evaluate(q).distance_m), (p - q).norm() * (1 + 1e-12) + 1e-18);
+  }
+}
+
 TEST(SignedDistanceField, BoxInsideOutsideRounded) {
   BoxSdf b({0.01, 0.01, 0.01}, 0.0);
   EXPECT_NEAR(b.Evaluate({0, 0, 0.012}).distance_m, 0.002, 1e-15);

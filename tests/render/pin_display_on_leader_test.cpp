@@ -11,6 +11,7 @@
 #include "render/display_on_leader.h"
 #include "render/display_rendering.h"
 #include "render/inverse_renderer.h"
+#include "render/suction_display_on_leader.h"
 
 namespace sedbridge::render {
 namespace {
@@ -113,9 +114,10 @@ TEST(PinDisplayOnLeader, PinsOutsideThePlatesContactPatchRiseThroughTheirGapFirs
   EXPECT_GE(gapped, 4);  // the pad is curved: the display's rim is off the skin
 }
 
-// The factory: a pin profile gets the pin display; a display with no mechanical load
-// (electrotactile: no device model) is refused with a reason, not rendered as a pin.
-TEST(DisplayOnLeader, FactoryBuildsThePinDisplayAndRefusesOneWithoutAMechanicalLoad) {
+// The factory: a pin profile gets the pin display, a suction profile the suction display;
+// a display with no mechanical load (electrotactile: no device model) is refused with a
+// reason, not rendered as either.
+TEST(DisplayOnLeader, FactoryBuildsPinAndSuctionDisplaysAndRefusesOneWithoutAMechanicalLoad) {
   Leader leader;
   const display::DisplayProfile pin = display::LoadNamedDisplayProfile("pin_6x4");
   const std::unique_ptr<DisplayOnLeader> display = MakeDisplayOnLeader(leader.fingertip, pin.device);
@@ -124,6 +126,15 @@ TEST(DisplayOnLeader, FactoryBuildsThePinDisplayAndRefusesOneWithoutAMechanicalL
   EXPECT_GT(display->preload_force_N(), 0.0);
   EXPECT_GT(display->default_reference_command(), 0.0);
   EXPECT_LE(display->default_reference_command(), pin.device.travel_mm);
+  EXPECT_NE(dynamic_cast<PinDisplayOnLeader*>(display.get()), nullptr);
+  const display::DisplayProfile suction = display::LoadNamedDisplayProfile("suction_4x4");
+  const std::unique_ptr<DisplayOnLeader> holes = MakeDisplayOnLeader(leader.fingertip, suction.device);
+  ASSERT_NE(holes, nullptr);
+  EXPECT_NE(dynamic_cast<SuctionDisplayOnLeader*>(holes.get()), nullptr);
+  EXPECT_EQ(holes->num_actuators(), 16);
+  EXPECT_GT(holes->preload_force_N(), 0.0);
+  EXPECT_GT(holes->default_reference_command(), 0.0);
+  EXPECT_LE(holes->default_reference_command(), suction.safety.max);
   const display::DisplayProfile electrotactile = display::LoadNamedDisplayProfile("electrotactile_4x4");
   EXPECT_THROW(MakeDisplayOnLeader(leader.fingertip, electrotactile.device), std::invalid_argument);
 }

@@ -101,6 +101,27 @@ TEST(FingertipCompliance, RefusesScenesItCannotSolve) {
   EXPECT_NO_THROW(ComplianceOptionsFromScene(ParseSceneDescription(base + "elasticity: linear\n", "t")));
 }
 
+// Sample loads in the pad frame reach the contact in the model frame (a load along z_pad is
+// one along the pad frame's z axis in the model), and a press to a force refuses to run while
+// one is held (its search takes no force at no contact).
+TEST(FingertipCompliance, SampleLoadsAreGivenInThePadFrameAndStopAPressToForce) {
+  FingertipCompliance cc(Model());
+  const int samples = cc.contact().num_samples();
+  Eigen::Matrix3Xd load = Eigen::Matrix3Xd::Zero(3, samples);
+  load(2, samples / 2) = 0.01;
+  cc.SetSampleLoads(load);
+  const fem::ComplianceStepResult& r = cc.Step({});
+  ASSERT_TRUE(r.ok && r.converged) << r.error;
+  const Eigen::Vector3d z_pad = Model().pad_frame.model_from_pad.linear().col(2);
+  EXPECT_LT((r.sample_load_N - 0.01 * z_pad).norm(), 1e-15);
+  EXPECT_GT(r.sed_Pa.maxCoeff(), 0.0);
+  const PressToForceResult refused = cc.PressToForce({Sphere(8.0, Eigen::Vector3d(0, 0, 8.0))}, 0.5);
+  EXPECT_FALSE(refused.reached);
+  EXPECT_EQ(refused.status, PressStatus::kInvalidInput);
+  cc.ClearSampleLoads();
+  EXPECT_TRUE(cc.PressToForce({Sphere(8.0, Eigen::Vector3d(0, 0, 8.0))}, 0.5).reached);
+}
+
 TEST(FingertipCompliance, PressToForceReachesTheTargetAndWarmStarts) {
   FingertipCompliance cc(Model());
   const std::vector<geometry::RigidObject> sphere{Sphere(5, {0, 1, 5})};

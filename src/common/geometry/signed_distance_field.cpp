@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <limits>
 #include <sstream>
+#include <utility>
 
 #include "common/config_error.h"
 
@@ -55,6 +57,27 @@ SdfSample CylinderSdf::Evaluate(const Eigen::Vector3d& p) const {
 std::string CylinderSdf::Describe() const {
   return "cylinder r=" + Mm(radius_m_) +
          (half_length_m_ > 0 ? " length=" + Mm(2 * half_length_m_) : " infinite");
+}
+
+PlateWithHolesSdf::PlateWithHolesSdf(std::vector<Eigen::Vector2d> hole_centres_m, double hole_radius_m)
+    : centres_m_(std::move(hole_centres_m)), radius_m_(hole_radius_m) {}
+
+SdfSample PlateWithHolesSdf::Evaluate(const Eigen::Vector3d& p) const {
+  // The nearest hole's wall: signed distance (< 0 inside the hole) and the radial direction.
+  double wall = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d radial = Eigen::Vector3d::UnitX();
+  for (const Eigen::Vector2d& c : centres_m_) {
+    const Eigen::Vector3d d(p.x() - c.x(), p.y() - c.y(), 0.0);
+    const double to_wall = d.norm() - radius_m_;
+    if (to_wall < wall) wall = to_wall, radial = d;
+  }
+  if (p.z() >= -wall) return {p.z(), Eigen::Vector3d::UnitZ()};
+  // The wall is the nearer face: the solid's outward normal points into the hole.
+  return {-wall, -SafeNormalize(radial, Eigen::Vector3d::UnitX())};
+}
+
+std::string PlateWithHolesSdf::Describe() const {
+  return "plate with " + std::to_string(centres_m_.size()) + " holes r=" + Mm(radius_m_);
 }
 
 BoxSdf::BoxSdf(const Eigen::Vector3d& half_extents_m, double rounding_m)

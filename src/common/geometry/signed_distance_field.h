@@ -58,6 +58,24 @@ class CylinderSdf final : public SignedDistanceField {
   double radius_m_, half_length_m_;
 };
 
+/// A plate with round holes through it (a suction display's surface): the half-space z < 0
+/// of the object frame (surface z = 0, normal +z, as PlaneSdf) less infinite cylinders along
+/// z of radius `hole_radius_m` at `hole_centres_m` (x, y; holes must not overlap). Distance
+/// max(z, -(distance to the nearest hole's wall)): exact inside the solid, above the plate
+/// clear of the holes and inside a hole below the surface; a lower bound above a hole
+/// (the rim is nearer than either face). 1-Lipschitz (a max of 1-Lipschitz functions).
+class PlateWithHolesSdf final : public SignedDistanceField {
+ public:
+  PlateWithHolesSdf(std::vector<Eigen::Vector2d> hole_centres_m, double hole_radius_m);
+  SdfSample Evaluate(const Eigen::Vector3d& p_m) const override;
+  std::string Describe() const override;
+  bool lipschitz() const override { return true; }
+
+ private:
+  std::vector<Eigen::Vector2d> centres_m_;
+  double radius_m_;
+};
+
 /// Axis-aligned box centred at the origin with edges rounded by `rounding_m`
 /// (0 = sharp; the sharp case still has a well-defined outward normal everywhere).
 class BoxSdf final : public SignedDistanceField {
