@@ -17,14 +17,14 @@ InverseRenderer::InverseRenderer(DisplayInfluence influence, Eigen::VectorXd max
     throw std::invalid_argument("inverse renderer: maxima must be finite and >= 0");
   if (!(options_.sed_floor_Pa > 0) || options_.max_iterations < 1 || !(options_.command_tolerance > 0))
     throw std::invalid_argument("inverse renderer: sed_floor_Pa > 0, max_iterations >= 1, command_tolerance > 0");
-  if (!(options_.command_penalty_Pa >= 0)) throw std::invalid_argument("inverse renderer: command_penalty_Pa >= 0");
+  if (!(options_.command_penalty >= 0)) throw std::invalid_argument("inverse renderer: command_penalty >= 0");
   // The solve's variables are each actuator's stroke past its offset (a pin's gap to the
   // skin): below it the actuator does nothing, and a solve started there would never move.
   offset_ = influence_.command_offsets();
   box_ = (max_ - offset_).cwiseMax(0.0);
   u_.setZero(max_.size());
   commands_.setZero(max_.size());
-  inverse_max_ = (max_.array() > 0).select(max_.cwiseInverse(), 0.0);
+  PenaltyWeights();
 }
 
 const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed_Pa) {
@@ -95,6 +95,19 @@ const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed
   return commands_;
 }
 
+void InverseRenderer::PenaltyWeights() {
+  Eigen::VectorXd sed;
+  Eigen::MatrixXd dS;
+  influence_.SedAndJacobian(offset_, sed, dS);
+  const Eigen::VectorXd scale = (0.5 * (sed.array().max(0.0) + options_.sed_floor_Pa).sqrt().inverse()).matrix();
+  Eigen::VectorXd strength = (scale.asDiagonal() * dS).colwise().squaredNorm().transpose();
+  strength = strength.cwiseProduct(box_).cwiseProduct(box_);
+  const double floor = 1e-4 * strength.maxCoeff();
+  penalty_weight_.setZero(box_.size());
+  for (Eigen::Index i = 0; i < box_.size(); ++i)
+    if (box_[i] > 0) penalty_weight_[i] = options_.command_penalty * std::max(strength[i], floor) / (box_[i] * box_[i]);
+}
+
 double InverseRenderer::Residuals(const Eigen::VectorXd& u, bool with_jacobian) {
   const double s0 = options_.sed_floor_Pa;
   ++result_.evaluations;
@@ -108,13 +121,13 @@ double InverseRenderer::Residuals(const Eigen::VectorXd& u, bool with_jacobian) 
   const Eigen::VectorXd root = (sed_.array().max(0.0) + s0).sqrt().matrix();
   r_ = root - target_root_;
   if (with_jacobian) J_ = (0.5 * root.cwiseInverse()).asDiagonal() * dS_;
-  return 0.5 * r_.squaredNorm() + 0.5 * options_.command_penalty_Pa * (u.cwiseProduct(inverse_max_)).squaredNorm();
+  return 0.5 * r_.squaredNorm() + 0.5 * u.cwiseProduct(u).dot(penalty_weight_);
 }
 
 void InverseRenderer::NormalEquations(const Eigen::VectorXd& u) {
   const Eigen::Index n = u.size();
   gradient_.noalias() = J_.transpose() * r_;
-  gradient_ += options_.command_penalty_Pa * u.cwiseProduct(inverse_max_).cwiseProduct(inverse_max_);
+  gradient_ += u.cwiseProduct(penalty_weight_);
   // Free: inside the box, or at a bound the descent direction leaves.
   free_.clear();
   for (Eigen::Index i = 0; i < n; ++i) {
@@ -129,7 +142,7 @@ void InverseRenderer::NormalEquations(const Eigen::VectorXd& u) {
     g_[a] = gradient_[free_[size_t(a)]];
     for (Eigen::Index b = 0; b <= a; ++b)
       H0_(a, b) = H0_(b, a) = J_.col(free_[size_t(a)]).dot(J_.col(free_[size_t(b)]));
-    H0_(a, a) += options_.command_penalty_Pa * inverse_max_[free_[size_t(a)]] * inverse_max_[free_[size_t(a)]];
+    H0_(a, a) += penalty_weight_[free_[size_t(a)]];
   }
 }
 

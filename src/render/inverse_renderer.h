@@ -42,12 +42,14 @@ struct InverseRendererOptions {
   /// Smallest Levenberg-Marquardt damping (relative to each command's own curvature); the
   /// damping adapts from there, and carries over from scan to scan.
   double damping = 1e-9;
-  /// mu of the command penalty 1/2 mu sum_i (u_i / max_i)^2 added to the cost [Pa]: an
-  /// actuator the Merkel layer barely sees (a pin at the pad's rim) is otherwise free to sit
-  /// anywhere, and an ill-conditioned fit drives such actuators to their maximum. The
-  /// penalty of one actuator at full scale, 1/2 mu, is far below what a visible actuator's
-  /// residual weighs (sqrt(SED) residuals summed over the layer).
-  double command_penalty_Pa = 0.05;
+  /// rho of the command penalty 1/2 sum_i w_i u_i^2, w_i = rho s_i / full_i^2, where s_i is
+  /// what actuator i at full stroke weighs in the fit (|J_i|^2 full_i^2 at rest, never below
+  /// 1e-4 of the strongest actuator's): an actuator the Merkel layer barely sees (a pin at
+  /// the pad's rim) is otherwise free to sit anywhere, and an ill-conditioned fit drives it
+  /// to its maximum. Relative, so that it weighs alike on a suction hole (a few Pa summed
+  /// over the layer) and a pin (thousands); it biases a visible actuator by about rho of its
+  /// command.
+  double command_penalty = 1e-4;
 };
 
 struct RenderResult {
@@ -86,6 +88,8 @@ class InverseRenderer {
   /// step_: the damped Gauss-Newton step (H0 + lambda diag H0) d = -g on the free
   /// variables, 0 on the others.
   void DampedStep();
+  /// penalty_weight_ from the influence's Jacobian at rest (InverseRendererOptions).
+  void PenaltyWeights();
   /// What the undamped Gauss-Newton step on the free variables would lower the cost by.
   double PredictedDecrease() const;
 
@@ -95,7 +99,7 @@ class InverseRenderer {
   // u_: each actuator's stroke past its offset (the solve's variables), in [0, box_];
   // commands_: offset + stroke where the stroke is > 0, else 0.
   Eigen::VectorXd offset_, box_, commands_, shifted_;
-  Eigen::VectorXd inverse_max_, u_, previous_, target_root_, sed_, r_, step_, trial_, gradient_;
+  Eigen::VectorXd penalty_weight_, u_, previous_, target_root_, sed_, r_, step_, trial_, gradient_;
   Eigen::MatrixXd dS_, J_, H_, H0_;
   Eigen::VectorXd g_;
   double lambda_ = 1e-6;

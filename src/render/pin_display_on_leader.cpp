@@ -145,6 +145,13 @@ bool PinDisplayOnLeader::Press(const Eigen::VectorXd& heights_mm, Eigen::VectorX
   return true;
 }
 
+Eigen::VectorXd PinDisplayOnLeader::StrainsOfLastStep() const {
+  Eigen::VectorXd strain;
+  const fem::ComplianceSedMap& map = leader_.contact().sed_map();
+  map.ElementStrains(map.displacements_m(), strain);
+  return strain;
+}
+
 double PinDisplayOnLeader::default_reference_command() const {
   return std::min(0.2, 0.2 * device_.travel_mm);
 }
