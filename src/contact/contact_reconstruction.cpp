@@ -145,6 +145,7 @@ bool ContactReconstructor::LoadScan(const Eigen::VectorXd& readings_N, const std
   obs_ = readings_N;
   weight_ = inv_sigma_;
   saturated_.assign(static_cast<size_t>(n), 0);
+  estimate_.taxel_use.assign(static_cast<size_t>(n), TaxelUse::kLeftOut);
   int usable = 0;
   for (int k = 0; k < n; ++k) {
     const bool sat = k < static_cast<int>(saturated.size()) && saturated[k];
@@ -157,8 +158,12 @@ bool ContactReconstructor::LoadScan(const Eigen::VectorXd& readings_N, const std
       weight_.segment(3 * k, 3).setZero();
       obs_.segment(3 * k, 3).setZero();
     }
-    if ((valid[static_cast<size_t>(k)] && finite) || sat) ++usable;
+    if ((valid[static_cast<size_t>(k)] && finite) || sat) {
+      ++usable;
+      estimate_.taxel_use[static_cast<size_t>(k)] = sat ? TaxelUse::kSaturated : TaxelUse::kUsed;
+    }
   }
+  estimate_.taxels_used = usable;
   {
     std::vector<uint8_t> usable_taxel(static_cast<size_t>(n));
     for (int k = 0; k < n; ++k) usable_taxel[static_cast<size_t>(k)] = weight_[3 * k + 2] > 0;
