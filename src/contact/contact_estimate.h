@@ -16,6 +16,7 @@ enum class TaxelUse : uint8_t {
   kLeftOut = 0,    ///< no weight: invalid, non-finite, or masked by taxel health
   kUsed = 1,       ///< all its channels weighed by their noise
   kSaturated = 2,  ///< only "at least full scale" on its normal axis
+  kLoneMisfit = 3, ///< left out by the fit: it alone carried the misfit (ReconstructionOptions::lone_taxel_share)
 };
 
 /// What one scan says about the contact.
@@ -36,7 +37,7 @@ struct ContactEstimate {
   /// Per taxel (sensor profile order), how the fit weighed it: TaxelUse. Empty when the scan
   /// did not reach the fit (wrong size).
   std::vector<TaxelUse> taxel_use;
-  int taxels_used = 0;        ///< taxels not TaxelUse::kLeftOut
+  int taxels_used = 0;        ///< taxels TaxelUse::kUsed or kSaturated
 
   /// The whole pressing force [N] (both spheres of a pair).
   double normal_force_N() const {

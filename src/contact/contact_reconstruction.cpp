@@ -130,6 +130,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     return estimate_;
   }
   if (s.warm_won) ++counters_.warm_fits;
+  LeaveOutLoneMisfit(s);
   Accept(s.best, s.warm_won, s.dof);
   return estimate_;
 }
@@ -243,6 +244,45 @@ ContactReconstructor::Selection ContactReconstructor::StartSelection(NormalMomen
   track_ = TrackRadius(options_, have_last_, last_, last_log_radius_var_, estimate_.averaged_scans);
   s.track_candidates = options_.selection == ModelSelection::kAmortized && std::isfinite(track_.log_radius);
   return s;
+}
+
+void ContactReconstructor::LeaveOutLoneMisfit(Selection& s) {
+  const Fit& best = s.best;
+  if (!(options_.lone_taxel_share > 0) || !(best.chi2 > options_.max_rms_sigma * options_.max_rms_sigma * s.dof) ||
+      !best.prediction.valid || !Plausible(best.model))
+    return;
+  // The best fit's residuals per taxel (its prediction's parts and tangential force).
+  const Prediction& p = best.prediction;
+  Eigen::VectorXd pred = p.whole.normal;
+  if (options_.fit_shear && p.at.size() >= 2)
+    pred += p.at[p.at.size() - 2] * p.whole.per_x + p.at[p.at.size() - 1] * p.whole.per_y;
+  const Eigen::VectorXd r = (pred - obs_).cwiseProduct(weight_);
+  const int n = profile_.taxel_count;
+  int worst = -1;
+  double worst_chi2 = 0;
+  for (int k = 0; k < n; ++k) {
+    if (saturated_[size_t(k)] || !(weight_[3 * k + 2] > 0)) continue;  // a saturated taxel is hard contact
+    const double c = r.segment(3 * k, 3).squaredNorm();
+    if (c > worst_chi2) worst_chi2 = c, worst = k;
+  }
+  if (worst < 0 || worst_chi2 < options_.lone_taxel_share * best.chi2) return;
+  // Refit without it, warm from the best fit (its parts do not depend on the weights).
+  const Eigen::VectorXd saved = weight_.segment(3 * worst, 3);
+  weight_.segment(3 * worst, 3).setZero();
+  const bool amortized = options_.selection == ModelSelection::kAmortized;
+  const Fit refit = FitModel(Problem(), best.model, 0, amortized ? options_.warm_scan_evaluations : 0,
+                             FitMode::kLevenbergMarquardt, &best.prediction);
+  Tally(refit);
+  const double dof = std::max(1.0, s.dof - 3.0 * estimate_.averaged_scans);
+  if (!(refit.chi2 <= options_.max_rms_sigma * options_.max_rms_sigma * dof) || !Plausible(refit.model)) {
+    weight_.segment(3 * worst, 3) = saved;
+    return;
+  }
+  s.best = refit;
+  s.dof = dof;
+  estimate_.taxel_use[size_t(worst)] = TaxelUse::kLoneMisfit;
+  --estimate_.taxels_used;
+  ++counters_.lone_taxels_left_out;
 }
 
 void ContactReconstructor::Accept(const Fit& fit, bool warm, double dof) {

@@ -20,6 +20,10 @@
 //    forward-model evaluations, continuing from where the last scan stopped (a fit of the
 //    scan before is a good start for this one), until every start was tried in the contact
 //    episode and the fit is within noise; full fits every start to convergence at once;
+//  - a lone misfit: a fit whose RMS residual exceeds max_rms_sigma and whose misfit one
+//    taxel carries at least lone_taxel_share of is refitted (warm, from it) without that
+//    taxel; the refit answers when it explains the others within max_rms_sigma (a taxel
+//    that lies and that taxel health has not masked yet; TaxelUse::kLoneMisfit);
 //  - a fit whose RMS residual exceeds max_rms_sigma, or that leaves the plausible domain
 //    (position off the pad, radius outside [min, max]), is a fallback: the caller uses the
 //    pressure-map boundary condition instead, and it is counted.
@@ -58,6 +62,7 @@ struct ReconstructionCounters {
   int64_t two_contacts = 0;    ///< scans answered with two spheres
   int64_t force_steps = 0;     ///< warm fits answered by the force step alone (force_step_first)
   int64_t saturated_taxels = 0;
+  int64_t lone_taxels_left_out = 0;  ///< fits redone without the one taxel that carried their misfit
   int64_t evaluations = 0;     ///< forward-model evaluations, all scans (the cost, deterministic)
 };
 
@@ -120,6 +125,8 @@ class ContactReconstructor {
   void CheckPair(Selection& s);
   void AdvanceCandidates(Selection& s, int budget, bool explained);
   void FlatWhenNothing(Selection& s);
+  /// A fit that one taxel's misfit would send to the fallback, redone without that taxel.
+  void LeaveOutLoneMisfit(Selection& s);
   /// The best fit into estimate_ and the warm start (or a fallback).
   void Accept(const Fit& fit, bool warm, double dof);
 

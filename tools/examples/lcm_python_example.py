@@ -60,7 +60,7 @@ def read_log(path):
         print("taxel health (last status): %s; %d taxel-scans left out" %
               (", ".join(lying) if lying else "all %d ok" % last_status.num_taxels, last_status.taxel_scans_left_out))
     if fewest_used is not None:
-        left_out = [str(k) for k, used in enumerate(fewest_used.taxel_used) if not used]
+        left_out = [str(k) for k, used in enumerate(fewest_used.taxel_used) if used in (0, 3)]
         print("contact fit: fewest taxels used %d of %d%s" % (fewest_used.num_taxels_used, fewest_used.num_taxels,
                                                              " (left out: " + " ".join(left_out) + ")" if left_out else ""))
     return 0 if counts else 1
