@@ -130,8 +130,10 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     return estimate_;
   }
   if (s.warm_won) ++counters_.warm_fits;
+  const bool carried_lone = lone_taxel_ >= 0;
   LeaveOutLoneMisfit(s);
   Accept(s.best, s.warm_won, s.dof);
+  if (carried_lone && estimate_.ok) MaybeTakeBackLoneTaxel(s.best);
   return estimate_;
 }
 
@@ -164,6 +166,15 @@ bool ContactReconstructor::LoadScan(const Eigen::VectorXd& readings_N, const std
       estimate_.taxel_use[static_cast<size_t>(k)] = sat ? TaxelUse::kSaturated : TaxelUse::kUsed;
     }
   }
+  if (lone_taxel_ >= 0 && weight_[3 * lone_taxel_ + 2] > 0 && !saturated_[size_t(lone_taxel_)]) {
+    // Still left out: an earlier scan's lone misfit (LeaveOutLoneMisfit).
+    weight_.segment(3 * lone_taxel_, 3).setZero();
+    estimate_.taxel_use[size_t(lone_taxel_)] = TaxelUse::kLoneMisfit;
+    --usable;
+    ++counters_.lone_taxel_scans;
+  } else {
+    lone_taxel_ = -1;
+  }
   estimate_.taxels_used = usable;
   {
     std::vector<uint8_t> usable_taxel(static_cast<size_t>(n));
@@ -180,6 +191,7 @@ bool ContactReconstructor::LoadScan(const Eigen::VectorXd& readings_N, const std
     have_last_ = false;
     have_last_chi2_ = false;
     have_candidate_ = false;
+    lone_taxel_ = -1;
     return false;
   }
   return true;
@@ -204,6 +216,7 @@ const ContactEstimate& ContactReconstructor::NoContact() {
   have_last_ = false;
   have_last_chi2_ = false;
   have_candidate_ = false;
+  lone_taxel_ = -1;
   explored_ = 0;
   pair_checked_ = false;
   return estimate_;
@@ -251,12 +264,8 @@ void ContactReconstructor::LeaveOutLoneMisfit(Selection& s) {
   if (!(options_.lone_taxel_share > 0) || !(best.chi2 > options_.max_rms_sigma * options_.max_rms_sigma * s.dof) ||
       !best.prediction.valid || !Plausible(best.model))
     return;
-  // The best fit's residuals per taxel (its prediction's parts and tangential force).
-  const Prediction& p = best.prediction;
-  Eigen::VectorXd pred = p.whole.normal;
-  if (options_.fit_shear && p.at.size() >= 2)
-    pred += p.at[p.at.size() - 2] * p.whole.per_x + p.at[p.at.size() - 1] * p.whole.per_y;
-  const Eigen::VectorXd r = (pred - obs_).cwiseProduct(weight_);
+  // The best fit's residuals per taxel.
+  const Eigen::VectorXd r = (Predicted(best) - obs_).cwiseProduct(weight_);
   const int n = profile_.taxel_count;
   int worst = -1;
   double worst_chi2 = 0;
@@ -280,9 +289,25 @@ void ContactReconstructor::LeaveOutLoneMisfit(Selection& s) {
   }
   s.best = refit;
   s.dof = dof;
+  lone_taxel_ = worst;
   estimate_.taxel_use[size_t(worst)] = TaxelUse::kLoneMisfit;
   --estimate_.taxels_used;
   ++counters_.lone_taxels_left_out;
+}
+
+Eigen::VectorXd ContactReconstructor::Predicted(const Fit& fit) const {
+  const Prediction& p = fit.prediction;
+  Eigen::VectorXd pred = p.whole.normal;
+  if (options_.fit_shear && p.at.size() >= 2)
+    pred += p.at[p.at.size() - 2] * p.whole.per_x + p.at[p.at.size() - 1] * p.whole.per_y;
+  return pred;
+}
+
+void ContactReconstructor::MaybeTakeBackLoneTaxel(const Fit& fit) {
+  if (lone_taxel_ < 0 || !fit.prediction.valid) return;
+  const int k = lone_taxel_;
+  const Eigen::VectorXd r = (Predicted(fit) - obs_).segment(3 * k, 3).cwiseProduct(inv_sigma_.segment(3 * k, 3));
+  if (r.squaredNorm() <= 3 * options_.max_rms_sigma * options_.max_rms_sigma) lone_taxel_ = -1;
 }
 
 void ContactReconstructor::Accept(const Fit& fit, bool warm, double dof) {
