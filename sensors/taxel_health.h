@@ -68,6 +68,8 @@ class TaxelHealth {
   /// the next call.
   const Scan& Apply(const Scan& scan);
 
+  /// Taxels judged: the profile's taxel count.
+  int taxel_count() const { return n_; }
   TaxelFault fault(int taxel) const { return state_[size_t(taxel)].fault; }
   bool masked(int taxel) const { return state_[size_t(taxel)].fault != TaxelFault::kHealthy; }
   /// Taxels left out of the last scan (masked, or stuck-high suspects).

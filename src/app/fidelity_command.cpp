@@ -2,6 +2,7 @@
 // on the leader's fingertip model (fidelity/fidelity_benchmark.h), over recorded presses.
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -19,6 +20,7 @@
 #include "bridge/bridge_config.h"
 #include "common/resource_path.h"
 #include "display/display_profile.h"
+#include "fidelity/faulty_taxel_fidelity.h"
 #include "fidelity/fidelity_benchmark.h"
 
 namespace sedbridge::app {
@@ -85,6 +87,30 @@ void ScoreThroughPresses(FidelityBenchmark& bench, const std::vector<FidelityCas
   std::printf("wrote %s/fidelity_scans.csv\n", out.c_str());
 }
 
+// `--faulty-taxels`: the faulty-taxel set instead of the table, with a progress line per press.
+int RunFaultyTaxels(FidelityBenchmark& bench, const std::vector<FidelityCase>& presses,
+                    const sensors::SensorProfile& profile, const BridgeConfig& config, const std::string& out) {
+  FaultyTaxelOptions options;
+  std::printf("faulty taxels: %zu presses x %d taxels x dead, stuck high (%.1f N) ...\n", presses.size(),
+              profile.taxel_count, options.stuck_N);
+  const auto start = std::chrono::steady_clock::now();
+  options.progress = [&](size_t done, size_t all, const std::vector<FaultyTaxelRow>& rows) {
+    int within = 0;
+    for (const FaultyTaxelRow& r : rows) within += r.within;
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    std::printf("[%zu/%zu] %-10s %2d of %2zu within the targets (%s) %6.1f s\n", done, all,
+                rows.empty() ? "" : rows[0].press.c_str(), within, rows.size(),
+                rows.empty() || !rows[0].row.truth_valid ? "no valid truth: not scored" : "scored", s);
+    std::fflush(stdout);
+  };
+  const std::vector<FaultyTaxelRow> rows =
+      RunFaultyTaxelSet(bench, presses, profile, ReconstructionOptionsOf(config), options);
+  WriteFaultyTaxelCsv(out + "/faulty_taxels.csv", rows);
+  PrintFaultyTaxelSummary(rows);
+  std::printf("wrote %s/faulty_taxels.csv\n", out.c_str());
+  return 0;
+}
+
 // The options of `sedbridge fidelity`.
 void AddFidelityOptions(ArgParser& args) {
   args.Option("cases", "JSON", "presses to run", "config/sensors/rig_uskin_4x4/cases.json")
@@ -127,6 +153,10 @@ void AddFidelityOptions(ArgParser& args) {
               "--display-fidelity: curve (the profile's mapping curve, as shipped), inverse (the inverse renderer) or "
               "both, comma-separated",
               "curve,inverse")
+      .Flag("faulty-taxels",
+            "instead of the table: every press with each single taxel dead and with each single taxel stuck high "
+            "(from the first scan), through taxel health, scored at the peak: faulty_taxels.csv and a summary "
+            "(src/fidelity/faulty_taxel_fidelity.h)")
       .Flag("node-contact", "press on the leader's skin nodes only (bridge fe.face_contact: false), not its faces too")
       .Flag("no-plots", "skip the PNG plots");
 }
@@ -292,6 +322,7 @@ int RunFidelity(int argc, char** argv) {
               "compliance ...\n",
               presses.size(), model.c_str(), args.Get("config").c_str(), config.contact_tolerance);
   FidelityBenchmark bench(model, profile, display::LoadNamedDisplayProfile(args.Get("display")), config);
+  if (args.GetFlag("faulty-taxels")) return RunFaultyTaxels(bench, presses, profile, config, out);
   std::ofstream csv(out + "/fidelity.csv");
   csv << "case,label,shape,x_mm,y_mm,radius_mm,yaw_deg,force_N,recon_ok,recon_shape,recon_x_mm,recon_y_mm,recon_radius_mm,"
          "recon_yaw_deg,recon_force_N,recon_shear_x_N,recon_shear_y_N,recon_rms_sigma,truth_max_sed_Pa,map_max_sed_Pa,"

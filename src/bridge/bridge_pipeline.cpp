@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "lcm/contact_estimate_message.h"
+#include "lcm/taxel_health_message.h"
 #include "lcm/tactile_scan_message.h"
 
 namespace sedbridge::bridge {
@@ -211,7 +212,7 @@ void BridgePipeline::MaybePublishStatus(int64_t now_utime) {
     fault_message_.clear();
     if (window_invalid_ > 0)
       fault_state_ = FaultState::kDegraded, fault_message_ = std::to_string(window_invalid_) + " invalid taxel readings";
-    // Said, not hidden: BRIDGE_STATUS has no per-taxel field, so the message names them.
+    // Said, not hidden: taxel_health[] has each taxel's state; the message names them too.
     if (health_.masked_count() > 0) fault_state_ = FaultState::kDegraded, fault_message_ += (fault_message_.empty() ? "" : "; ") + health_.Summary();
   }
   display_->publisher().Publish(display_->publisher().channels().status, MakeStatus(now_utime));
@@ -276,6 +277,7 @@ lcmt_bridge_status BridgePipeline::MakeStatus(int64_t now_utime) const {
   s.press_p50_ms = static_cast<float>(p50[Stage::kPress]);
   s.limiter_p50_ms = static_cast<float>(p50[Stage::kLimiter]);
   s.publish_p50_ms = static_cast<float>(p50[Stage::kPublish]);
+  lcm_io::SetTaxelHealth(health_, &s);
   return s;
 }
 

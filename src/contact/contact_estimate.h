@@ -5,10 +5,19 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "sensors/contact_primitive.h"
 
 namespace sedbridge::contact {
+
+/// How the fit weighed a taxel (ContactEstimate::taxel_use; CONTACT_ESTIMATE taxel_used).
+enum class TaxelUse : uint8_t {
+  kLeftOut = 0,    ///< no weight: invalid, non-finite, or masked by taxel health
+  kUsed = 1,       ///< all its channels weighed by their noise
+  kSaturated = 2,  ///< only "at least full scale" on its normal axis
+  kLoneMisfit = 3, ///< left out by the fit: it alone carried the misfit (ReconstructionOptions::lone_taxel_share)
+};
 
 /// What one scan says about the contact.
 struct ContactEstimate {
@@ -25,6 +34,10 @@ struct ContactEstimate {
   int evaluation_cost = 0;    ///< the same weighted by patch size, as the amortized budgets count them
   bool warm_started = false;  ///< the last scan's estimate was refined, no model selection
   std::string problem;        ///< why not ok
+  /// Per taxel (sensor profile order), how the fit weighed it: TaxelUse. Empty when the scan
+  /// did not reach the fit (wrong size).
+  std::vector<TaxelUse> taxel_use;
+  int taxels_used = 0;        ///< taxels TaxelUse::kUsed or kSaturated
 
   /// The whole pressing force [N] (both spheres of a pair).
   double normal_force_N() const {

@@ -130,7 +130,10 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     return estimate_;
   }
   if (s.warm_won) ++counters_.warm_fits;
+  const bool carried_lone = lone_taxel_ >= 0;
+  LeaveOutLoneMisfit(s);
   Accept(s.best, s.warm_won, s.dof);
+  if (carried_lone && estimate_.ok) MaybeTakeBackLoneTaxel(s.best);
   return estimate_;
 }
 
@@ -145,6 +148,7 @@ bool ContactReconstructor::LoadScan(const Eigen::VectorXd& readings_N, const std
   obs_ = readings_N;
   weight_ = inv_sigma_;
   saturated_.assign(static_cast<size_t>(n), 0);
+  estimate_.taxel_use.assign(static_cast<size_t>(n), TaxelUse::kLeftOut);
   int usable = 0;
   for (int k = 0; k < n; ++k) {
     const bool sat = k < static_cast<int>(saturated.size()) && saturated[k];
@@ -157,8 +161,21 @@ bool ContactReconstructor::LoadScan(const Eigen::VectorXd& readings_N, const std
       weight_.segment(3 * k, 3).setZero();
       obs_.segment(3 * k, 3).setZero();
     }
-    if ((valid[static_cast<size_t>(k)] && finite) || sat) ++usable;
+    if ((valid[static_cast<size_t>(k)] && finite) || sat) {
+      ++usable;
+      estimate_.taxel_use[static_cast<size_t>(k)] = sat ? TaxelUse::kSaturated : TaxelUse::kUsed;
+    }
   }
+  if (lone_taxel_ >= 0 && weight_[3 * lone_taxel_ + 2] > 0 && !saturated_[size_t(lone_taxel_)]) {
+    // Still left out: an earlier scan's lone misfit (LeaveOutLoneMisfit).
+    weight_.segment(3 * lone_taxel_, 3).setZero();
+    estimate_.taxel_use[size_t(lone_taxel_)] = TaxelUse::kLoneMisfit;
+    --usable;
+    ++counters_.lone_taxel_scans;
+  } else {
+    lone_taxel_ = -1;
+  }
+  estimate_.taxels_used = usable;
   {
     std::vector<uint8_t> usable_taxel(static_cast<size_t>(n));
     for (int k = 0; k < n; ++k) usable_taxel[static_cast<size_t>(k)] = weight_[3 * k + 2] > 0;
@@ -174,6 +191,7 @@ bool ContactReconstructor::LoadScan(const Eigen::VectorXd& readings_N, const std
     have_last_ = false;
     have_last_chi2_ = false;
     have_candidate_ = false;
+    lone_taxel_ = -1;
     return false;
   }
   return true;
@@ -198,6 +216,7 @@ const ContactEstimate& ContactReconstructor::NoContact() {
   have_last_ = false;
   have_last_chi2_ = false;
   have_candidate_ = false;
+  lone_taxel_ = -1;
   explored_ = 0;
   pair_checked_ = false;
   return estimate_;
@@ -238,6 +257,57 @@ ContactReconstructor::Selection ContactReconstructor::StartSelection(NormalMomen
   track_ = TrackRadius(options_, have_last_, last_, last_log_radius_var_, estimate_.averaged_scans);
   s.track_candidates = options_.selection == ModelSelection::kAmortized && std::isfinite(track_.log_radius);
   return s;
+}
+
+void ContactReconstructor::LeaveOutLoneMisfit(Selection& s) {
+  const Fit& best = s.best;
+  if (!(options_.lone_taxel_share > 0) || !(best.chi2 > options_.max_rms_sigma * options_.max_rms_sigma * s.dof) ||
+      !best.prediction.valid || !Plausible(best.model))
+    return;
+  // The best fit's residuals per taxel.
+  const Eigen::VectorXd r = (Predicted(best) - obs_).cwiseProduct(weight_);
+  const int n = profile_.taxel_count;
+  int worst = -1;
+  double worst_chi2 = 0;
+  for (int k = 0; k < n; ++k) {
+    if (saturated_[size_t(k)] || !(weight_[3 * k + 2] > 0)) continue;  // a saturated taxel is hard contact
+    const double c = r.segment(3 * k, 3).squaredNorm();
+    if (c > worst_chi2) worst_chi2 = c, worst = k;
+  }
+  if (worst < 0 || worst_chi2 < options_.lone_taxel_share * best.chi2) return;
+  // Refit without it, warm from the best fit (its parts do not depend on the weights).
+  const Eigen::VectorXd saved = weight_.segment(3 * worst, 3);
+  weight_.segment(3 * worst, 3).setZero();
+  const bool amortized = options_.selection == ModelSelection::kAmortized;
+  const Fit refit = FitModel(Problem(), best.model, 0, amortized ? options_.warm_scan_evaluations : 0,
+                             FitMode::kLevenbergMarquardt, &best.prediction);
+  Tally(refit);
+  const double dof = std::max(1.0, s.dof - 3.0 * estimate_.averaged_scans);
+  if (!(refit.chi2 <= options_.max_rms_sigma * options_.max_rms_sigma * dof) || !Plausible(refit.model)) {
+    weight_.segment(3 * worst, 3) = saved;
+    return;
+  }
+  s.best = refit;
+  s.dof = dof;
+  lone_taxel_ = worst;
+  estimate_.taxel_use[size_t(worst)] = TaxelUse::kLoneMisfit;
+  --estimate_.taxels_used;
+  ++counters_.lone_taxels_left_out;
+}
+
+Eigen::VectorXd ContactReconstructor::Predicted(const Fit& fit) const {
+  const Prediction& p = fit.prediction;
+  Eigen::VectorXd pred = p.whole.normal;
+  if (options_.fit_shear && p.at.size() >= 2)
+    pred += p.at[p.at.size() - 2] * p.whole.per_x + p.at[p.at.size() - 1] * p.whole.per_y;
+  return pred;
+}
+
+void ContactReconstructor::MaybeTakeBackLoneTaxel(const Fit& fit) {
+  if (lone_taxel_ < 0 || !fit.prediction.valid) return;
+  const int k = lone_taxel_;
+  const Eigen::VectorXd r = (Predicted(fit) - obs_).segment(3 * k, 3).cwiseProduct(inv_sigma_.segment(3 * k, 3));
+  if (r.squaredNorm() <= 3 * options_.max_rms_sigma * options_.max_rms_sigma) lone_taxel_ = -1;
 }
 
 void ContactReconstructor::Accept(const Fit& fit, bool warm, double dof) {

@@ -20,6 +20,11 @@
 //    forward-model evaluations, continuing from where the last scan stopped (a fit of the
 //    scan before is a good start for this one), until every start was tried in the contact
 //    episode and the fit is within noise; full fits every start to convergence at once;
+//  - a lone misfit: a fit whose RMS residual exceeds max_rms_sigma and whose misfit one
+//    taxel carries at least lone_taxel_share of is refitted (warm, from it) without that
+//    taxel; the refit answers when it explains the others within max_rms_sigma (a taxel
+//    that lies and that taxel health has not masked yet; TaxelUse::kLoneMisfit), and stays
+//    out of the contact episode's later scans until the fit predicts its readings again;
 //  - a fit whose RMS residual exceeds max_rms_sigma, or that leaves the plausible domain
 //    (position off the pad, radius outside [min, max]), is a fallback: the caller uses the
 //    pressure-map boundary condition instead, and it is counted.
@@ -58,6 +63,8 @@ struct ReconstructionCounters {
   int64_t two_contacts = 0;    ///< scans answered with two spheres
   int64_t force_steps = 0;     ///< warm fits answered by the force step alone (force_step_first)
   int64_t saturated_taxels = 0;
+  int64_t lone_taxels_left_out = 0;  ///< fits redone without the one taxel that carried their misfit
+  int64_t lone_taxel_scans = 0;      ///< scans fitted without a lone misfit left out on an earlier scan
   int64_t evaluations = 0;     ///< forward-model evaluations, all scans (the cost, deterministic)
 };
 
@@ -77,6 +84,7 @@ class ContactReconstructor {
     have_last_ = false;
     have_last_chi2_ = false;
     have_candidate_ = false;
+    lone_taxel_ = -1;
     explored_ = 0;
     pair_checked_ = false;
     hold_.Reset();
@@ -120,6 +128,13 @@ class ContactReconstructor {
   void CheckPair(Selection& s);
   void AdvanceCandidates(Selection& s, int budget, bool explained);
   void FlatWhenNothing(Selection& s);
+  /// A fit that one taxel's misfit would send to the fallback, redone without that taxel.
+  void LeaveOutLoneMisfit(Selection& s);
+  /// The lone misfit left out since an earlier scan comes back when the accepted fit
+  /// predicts its readings within max_rms_sigma.
+  void MaybeTakeBackLoneTaxel(const Fit& fit);
+  /// A fit's predicted readings [N] (its prediction's parts and tangential force).
+  Eigen::VectorXd Predicted(const Fit& fit) const;
   /// The best fit into estimate_ and the warm start (or a fallback).
   void Accept(const Fit& fit, bool warm, double dof);
 
@@ -158,6 +173,11 @@ class ContactReconstructor {
   // Amortized selection: the candidate being fitted over several scans (its iterate) and
   // the evaluations it has spent.
   bool have_candidate_ = false;
+  // The lone misfit (LeaveOutLoneMisfit), left out of the later scans of the contact episode
+  // until the fit predicts it again: otherwise the next scan's warm fit carries its misfit
+  // again and a candidate that bends around it (two spheres either side of a dead taxel)
+  // replaces the contact. -1: none.
+  int lone_taxel_ = -1;
   Hypothesis candidate_;
   Prediction candidate_prediction_;  // at candidate_ (when valid)
   int candidate_spent_ = 0;

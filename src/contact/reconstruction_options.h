@@ -22,6 +22,13 @@ struct ReconstructionOptions {
   double noise_counts = 2;        ///< single-scan noise (1 sigma) per raw reading [counts]
   double min_force_N = 0.02;      ///< below this normal force: no contact
   double max_rms_sigma = 4.0;     ///< worse fits fall back to the pressure map
+  /// A fit worse than max_rms_sigma whose misfit one taxel carries at least this share of
+  /// (a lying taxel that taxel health has not masked yet: its neighbours contradict it) is
+  /// redone without that taxel, and the refit answers when it explains the others within
+  /// max_rms_sigma (contact_reconstruction.h). 0 = off. A leave-one-out refit, not a robust
+  /// loss inside every fit: scans that fit keep their answers bit for bit, and only a scan
+  /// that would fall back pays one more warm fit.
+  double lone_taxel_share = 0.5;
   double min_radius_mm = 0.3;     ///< plausible radii for spheres and rods
   double max_radius_mm = 60;
   double max_offset_mm = 14;      ///< contact centre within this of the pad centre

@@ -31,6 +31,10 @@ lcmt_contact_estimate ToLcm(const contact::ContactReport& report) {
   m.residual_rms_sigma = static_cast<float>(e.rms_sigma);
   m.fallback = report.fallback ? 1 : 0;
   m.indentation_mm = static_cast<float>(report.indentation_mm);
+  m.num_taxels = static_cast<int32_t>(e.taxel_use.size());
+  m.taxel_used.reserve(e.taxel_use.size());
+  for (const contact::TaxelUse use : e.taxel_use) m.taxel_used.push_back(static_cast<int8_t>(use));
+  m.num_taxels_used = e.taxels_used;
   return m;
 }
 

@@ -127,6 +127,10 @@ bool Walk(const lcmt_bridge_status*, WireCursor& c) {
   c.Skip(kByte);     // fault_state
   c.String();        // fault_message
   c.Skip(9 * kF32);  // per-stage medians
+  const int32_t taxels = c.Int32();  // num_taxels
+  c.Array(taxels, kByte);  // taxel_health
+  c.Skip(4 * kI32);  // taxels_stuck, taxels_dead, taxels_frozen, taxels_drifting
+  c.Skip(4 * kI64);  // taxel_scans_left_out, taxels_masked_total, taxels_recovered, taxel_retares
   return c.at_end();
 }
 

@@ -1,7 +1,8 @@
 // End to end with a lying taxel: the example log with one taxel edited (as
 // tools/edit_taxel_log.py does) through the whole bridge. Stuck high from the first scan:
 // no display command before the contact; dead under the contact: the peak SED within the
-// fidelity targets of the healthy log's (ratio 0.8-1.25).
+// fidelity targets of the healthy log's (ratio 0.8-1.25). Said, not hidden: BRIDGE_STATUS
+// names the stuck taxel, CONTACT_ESTIMATE leaves it out of the fit.
 
 #include <gtest/gtest.h>
 
@@ -13,8 +14,13 @@
 #include <string>
 #include <vector>
 
+#include <lcm/lcm-cpp.hpp>
+
 #include "bridge/replay.h"
 #include "bridge_test_util.h"
+#include "lcm/taxel_health_message.h"
+#include "sedbridge/lcmt_bridge_status.hpp"
+#include "sedbridge/lcmt_contact_estimate.hpp"
 #include "sensors/candump_log.h"
 
 namespace sedbridge::bridge {
@@ -59,12 +65,50 @@ std::string EditedLog(int taxel, Fault fault) {
   return path.string();
 }
 
-ReplayResult Replay(const std::string& log, FeStepKind step = FeStepKind::kContact) {
+BridgeConfig FaultyConfig(FeStepKind step) {
   BridgeConfig config = testing::TestConfig();
   config.fe_step = step;  // the default bridge's (the test config's default is the pressure map)
   config.compliance_cache_dir = "";
+  return config;
+}
+
+ReplayResult Replay(const std::string& log, FeStepKind step = FeStepKind::kContact) {
   sensors::CandumpLogSource source(log);
-  return testing::ReplayWithConfigProfiles(config, source, ReplayOptions{});
+  return testing::ReplayWithConfigProfiles(FaultyConfig(step), source, ReplayOptions{});
+}
+
+// BRIDGE_STATUS and CONTACT_ESTIMATE as a replay of `log` publishes them (memq).
+struct Published {
+  std::vector<lcmt_bridge_status> status;
+  std::vector<lcmt_contact_estimate> contact;
+  void OnStatus(const lcm::ReceiveBuffer*, const std::string&, const lcmt_bridge_status* m) { status.push_back(*m); }
+  void OnContact(const lcm::ReceiveBuffer*, const std::string&, const lcmt_contact_estimate* m) {
+    contact.push_back(*m);
+  }
+};
+
+Published ReplayPublished(const std::string& log) {
+  const BridgeConfig config = FaultyConfig(FeStepKind::kContact);
+  sensors::CandumpLogSource source(log);
+  Published got;
+  lcm::LCM* lcm = nullptr;
+  auto drain = [&] {
+    while (lcm && lcm->handleTimeout(0) > 0) {
+    }
+  };
+  ReplayOptions options;
+  options.on_start = [&](BridgePipeline& p) {
+    lcm = &p.display().publisher().lcm();
+    lcm->subscribe(config.lcm.channels.status, &Published::OnStatus, &got);
+    lcm->subscribe(config.lcm.channels.contact, &Published::OnContact, &got);
+  };
+  options.on_scan = [&](const ScanOutcome&, BridgePipeline&) { drain(); };
+  options.on_finish = [&](BridgePipeline&) {
+    drain();
+    lcm = nullptr;  // dies with the pipeline
+  };
+  testing::ReplayWithConfigProfiles(config, source, options);
+  return got;
 }
 
 double PeakSed_Pa(const ReplayResult& r) {
@@ -101,6 +145,40 @@ TEST(FaultyTaxelReplay, DeadTaxelUnderTheContactKeepsThePeakSedWithinTheFidelity
     EXPECT_LE(ratio, 1.25);
   }
   std::filesystem::remove(log);
+}
+
+TEST(FaultyTaxelReplay, StatusNamesTheStuckTaxelAndTheFitLeavesItOut) {
+  const std::string log = EditedLog(5, Fault::kStuck);
+  const Published got = ReplayPublished(log);
+  std::filesystem::remove(log);
+  ASSERT_FALSE(got.status.empty());
+  const lcmt_bridge_status& last = got.status.back();
+  ASSERT_EQ(last.num_taxels, 16);
+  ASSERT_EQ(last.taxel_health.size(), 16u);
+  for (int k = 0; k < 16; ++k)
+    EXPECT_EQ(lcm_io::TaxelHealthName(last.taxel_health[size_t(k)]), std::string(k == 5 ? "stuck" : "ok")) << k;
+  EXPECT_EQ(last.taxels_stuck, 1);
+  EXPECT_EQ(last.taxels_dead + last.taxels_frozen + last.taxels_drifting, 0);
+  EXPECT_EQ(last.taxels_masked_total, 1);
+  EXPECT_GE(last.taxel_scans_left_out, 299);  // from the first scan: suspect at once, then masked
+  ASSERT_EQ(got.contact.size(), 300u);
+  for (const lcmt_contact_estimate& m : got.contact) {
+    ASSERT_EQ(m.num_taxels, 16);
+    EXPECT_EQ(m.taxel_used[5], 0);
+    EXPECT_EQ(m.num_taxels_used, 15);
+  }
+}
+
+TEST(FaultyTaxelReplay, HealthyLogReportsEveryTaxelOkAndUsed) {
+  const Published got = ReplayPublished(testing::ExampleLogPath());
+  ASSERT_FALSE(got.status.empty());
+  for (const lcmt_bridge_status& s : got.status) {
+    ASSERT_EQ(s.num_taxels, 16);
+    for (int8_t code : s.taxel_health) EXPECT_EQ(code, 0);
+    EXPECT_EQ(s.taxel_scans_left_out, 0);
+  }
+  ASSERT_FALSE(got.contact.empty());
+  for (const lcmt_contact_estimate& m : got.contact) EXPECT_EQ(m.num_taxels_used, 16);
 }
 
 }  // namespace

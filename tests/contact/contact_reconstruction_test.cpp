@@ -874,5 +874,46 @@ TEST(ContactReconstruction, ExplainedScansExploreWithASmallerBudget) {
   RecordProperty("evaluations", std::to_string(small) + " (candidate budget 12: " + std::to_string(full) + ")");
 }
 
+// A dead taxel under a sphere that taxel health has not masked yet (it reads nothing, its
+// neighbours are loaded): the fit that would fall back is redone without it (the lone
+// misfit) and kept out of the later scans (else the next warm fit carries its misfit again
+// and two spheres either side of it replace the contact), and the sphere is where it was.
+// Off (lone_taxel_share 0) the scan falls back. The
+// same sphere with every taxel live leaves none out: a contact on one taxel's centre is
+// evidence its neighbours confirm, not a lone misfit.
+TEST(ContactReconstruction, ALoneLyingTaxelIsLeftOutOfTheFitNotTheContact) {
+  const int k = 5;
+  const auto& t = Uskin().taxels[size_t(k)];
+  const Eigen::VectorXd healthy = ReadingsOf({SphereAt(t.x_mm, t.y_mm, 5.0, 0.8)});
+  Eigen::VectorXd dead = healthy;
+  dead.segment(3 * k, 3).setZero();
+  for (double share : {0.5, 0.0}) {
+    ReconstructionOptions options;
+    options.lone_taxel_share = share;
+    ContactReconstructor r(Uskin(), options);
+    std::mt19937_64 rng(3);
+    const ContactEstimate e = HeldFor(&r, dead, &rng, 40);
+    SCOPED_TRACE("lone_taxel_share " + std::to_string(share) + ": " + e.problem);
+    if (share == 0) {
+      EXPECT_FALSE(e.ok);
+      continue;
+    }
+    ASSERT_TRUE(e.ok);
+    ASSERT_EQ(e.taxel_use.size(), 16u);
+    EXPECT_EQ(e.taxel_use[size_t(k)], TaxelUse::kLoneMisfit);
+    EXPECT_EQ(e.taxels_used, 15);
+    EXPECT_GT(r.counters().lone_taxels_left_out, 0);
+    EXPECT_GT(r.counters().lone_taxel_scans, 30);  // left out of the later scans too
+    EXPECT_LT(std::hypot(e.primitive.x_mm - t.x_mm, e.primitive.y_mm - t.y_mm), 0.3);
+    EXPECT_NEAR(e.primitive.normal_force_N, 0.8, 0.08);
+  }
+  ContactReconstructor r(Uskin());
+  std::mt19937_64 rng(3);
+  const ContactEstimate e = HeldFor(&r, healthy, &rng, 40);
+  ASSERT_TRUE(e.ok) << e.problem;
+  EXPECT_EQ(e.taxels_used, 16);
+  EXPECT_EQ(r.counters().lone_taxels_left_out, 0);
+}
+
 }  // namespace
 }  // namespace sedbridge::contact

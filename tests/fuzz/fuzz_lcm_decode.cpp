@@ -75,7 +75,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* raw, size_t size) {
       break;
     case 3:
       Try<lcmt_bridge_status>(data, n, [&](const lcmt_bridge_status& m) {
-        if (m.fault_message.size() > n) std::abort();
+        if (m.fault_message.size() > n || m.taxel_health.size() != size_t(m.num_taxels) || m.taxel_health.size() > n)
+          std::abort();
       });
       break;
     case 4:

@@ -99,6 +99,8 @@ TEST(LcmSafeDecode, EveryTypeRoundTripsAndRejectsInflatedCounts) {
   status.num_reject_reasons = 2;
   status.reject_reason = {"wrong_taxel_count", "missing_shear"};
   status.scans_rejected = {3, 0};
+  status.num_taxels = 2;
+  status.taxel_health = {0, 2};
   lcmt_sa1_rate_estimate sa1{};
   sa1.display_id = "x";
   sa1.num_sites = 2;
@@ -125,6 +127,13 @@ TEST(LcmSafeDecode, EveryTypeRoundTripsAndRejectsInflatedCounts) {
   {
     std::vector<uint8_t> bad = Encode(status);
     bad[8 + 8 + 28 + 4 + 4 + 40] = 0xff;
+    lcmt_bridge_status out;
+    EXPECT_FALSE(SafeDecode(bad.data(), bad.size(), &out));
+  }
+  // The per-taxel health count: after it come 2 bytes of states, 4 int32 and 4 int64.
+  {
+    std::vector<uint8_t> bad = Encode(status);
+    PutInt32(bad, bad.size() - (4 + 2 + 16 + 32), 1000000000u);
     lcmt_bridge_status out;
     EXPECT_FALSE(SafeDecode(bad.data(), bad.size(), &out));
   }

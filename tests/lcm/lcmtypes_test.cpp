@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "sedbridge/lcmt_bridge_status.hpp"
+#include "sedbridge/lcmt_contact_estimate.hpp"
 #include "sedbridge/lcmt_display_command.hpp"
 #include "sedbridge/lcmt_merkel_sed.hpp"
 #include "sedbridge/lcmt_sa1_rate_estimate.hpp"
@@ -62,11 +63,22 @@ TEST(LcmTypes, StatusAndSa1RoundTrip) {
   s.scans_dropped = 12;
   s.fault_state = 2;
   s.fault_message = "solver diverged";
+  s.num_taxels = 3;
+  s.taxel_health = {0, 1, 4};
+  s.taxels_stuck = 1;
+  s.taxels_drifting = 1;
+  s.taxel_scans_left_out = 250;
+  s.taxel_retares = 2;
   lcmt_bridge_status ds;
   const auto buf = Encode(s);
   ASSERT_GT(ds.decode(buf.data(), 0, buf.size()), 0);
   EXPECT_EQ(ds.fault_message, "solver diverged");
   EXPECT_EQ(ds.scans_dropped, 12);
+  EXPECT_EQ(ds.taxel_health, (std::vector<int8_t>{0, 1, 4}));
+  EXPECT_EQ(ds.taxels_stuck, 1);
+  EXPECT_EQ(ds.taxels_drifting, 1);
+  EXPECT_EQ(ds.taxel_scans_left_out, 250);
+  EXPECT_EQ(ds.taxel_retares, 2);
 
   lcmt_sa1_rate_estimate r;
   r.utime = 2;
@@ -78,6 +90,23 @@ TEST(LcmTypes, StatusAndSa1RoundTrip) {
   const auto rbuf = Encode(r);
   ASSERT_GT(dr.decode(rbuf.data(), 0, rbuf.size()), 0);
   EXPECT_FLOAT_EQ(dr.rate_Hz[0], 3.0f);
+}
+
+TEST(LcmTypes, ContactEstimateRoundTripWithTheTaxelsUsed) {
+  lcmt_contact_estimate m{};
+  m.utime = 9;
+  m.shape = 1;
+  m.normal_force_N = 0.5f;
+  m.indentation_mm = 0.2f;
+  m.num_taxels = 4;
+  m.taxel_used = {1, 0, 2, 1};
+  m.num_taxels_used = 3;
+  const auto buf = Encode(m);
+  lcmt_contact_estimate d;
+  ASSERT_EQ(d.decode(buf.data(), 0, buf.size()), static_cast<int>(buf.size()));
+  EXPECT_FLOAT_EQ(d.indentation_mm, 0.2f);
+  EXPECT_EQ(d.taxel_used, (std::vector<int8_t>{1, 0, 2, 1}));
+  EXPECT_EQ(d.num_taxels_used, 3);
 }
 
 TEST(LcmTypes, DecodingTheWrongTypeFails) {

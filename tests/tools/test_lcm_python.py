@@ -64,6 +64,8 @@ class ReplayLogRoundTrip(unittest.TestCase):
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertIn("DISPLAY_COMMAND", r.stdout)
         self.assertIn("peak Merkel SED", r.stdout)
+        self.assertIn("taxel health (last status): all 16 ok", r.stdout)
+        self.assertIn("contact fit: fewest taxels used 16 of 16", r.stdout)
 
 
 class EventLogFormat(unittest.TestCase):

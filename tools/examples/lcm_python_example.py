@@ -21,13 +21,17 @@ try:
 except ImportError:
     import sedbridge_lcm as lcm
 import sedbridge_lcm
-from sedbridge import lcmt_display_command, lcmt_merkel_sed
+from sedbridge import lcmt_bridge_status, lcmt_contact_estimate, lcmt_display_command, lcmt_merkel_sed
+
+# lcmt_bridge_status.taxel_health codes (src/lcm/taxel_health_message.h).
+TAXEL_HEALTH = {0: "ok", 1: "stuck", 2: "dead", 3: "frozen", 4: "drifting"}
 
 
 def read_log(path):
-    """Prints per-channel counts and the peak display command and Merkel SED of a log."""
+    """Prints per-channel counts, the peak display command and Merkel SED of a log, the last
+    status's taxel health and the fewest taxels a contact fit used."""
     counts = collections.Counter()
-    peak_command, peak_sed = None, None
+    peak_command, peak_sed, last_status, fewest_used = None, None, None, None
     for event in lcm.EventLog(path, "r"):
         counts[event.channel] += 1
         msg = sedbridge_lcm.decode(event.data)  # any sedbridge type, by fingerprint
@@ -37,6 +41,11 @@ def read_log(path):
         elif isinstance(msg, lcmt_merkel_sed):
             if peak_sed is None or msg.max_sed_Pa > peak_sed.max_sed_Pa:
                 peak_sed = msg
+        elif isinstance(msg, lcmt_bridge_status):
+            last_status = msg
+        elif isinstance(msg, lcmt_contact_estimate) and msg.num_taxels > 0:
+            if fewest_used is None or msg.num_taxels_used < fewest_used.num_taxels_used:
+                fewest_used = msg
     for channel, n in sorted(counts.items()):
         print("%-18s %6d messages" % (channel, n))
     if peak_sed is not None:
@@ -46,6 +55,14 @@ def read_log(path):
         print("peak command: %.2f %s at utime %d (display %s, %d actuators)"
               % (max(peak_command.value), peak_command.unit, peak_command.utime,
                  peak_command.display_id, peak_command.num_actuators))
+    if last_status is not None and last_status.num_taxels > 0:
+        lying = ["%d %s" % (k, TAXEL_HEALTH.get(code, "?")) for k, code in enumerate(last_status.taxel_health) if code]
+        print("taxel health (last status): %s; %d taxel-scans left out" %
+              (", ".join(lying) if lying else "all %d ok" % last_status.num_taxels, last_status.taxel_scans_left_out))
+    if fewest_used is not None:
+        left_out = [str(k) for k, used in enumerate(fewest_used.taxel_used) if used in (0, 3)]
+        print("contact fit: fewest taxels used %d of %d%s" % (fewest_used.num_taxels_used, fewest_used.num_taxels,
+                                                             " (left out: " + " ".join(left_out) + ")" if left_out else ""))
     return 0 if counts else 1
 
 
