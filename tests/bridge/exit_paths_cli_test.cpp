@@ -48,8 +48,9 @@ bool WaitForBytes(const std::string& path, std::uintmax_t bytes, double limit_s)
 // B_coarse on memq://, LCM log in `dir`.
 std::string WriteConfig(const std::string& dir) {
   const std::string path = dir + "/bridge.yaml";
-  std::ofstream(path) << "fe: {model: B_coarse, preset: fast}\nlcm: {url: \"memq://\", log: \"" << dir
-                      << "/bridge.lcmlog\"}\n";
+  // The curve: exit paths are about the limiter and the watchdog, not the renderer.
+  std::ofstream(path) << "fe: {model: B_coarse, preset: fast}\ndisplay: {profile: suction_4x4, rendering: curve}\nlcm: {url: \"memq://\", log: \""
+                      << dir << "/bridge.lcmlog\"}\n";
   return path;
 }
 

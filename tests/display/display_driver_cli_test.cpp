@@ -69,7 +69,8 @@ TEST(DisplayDriverCli, BridgeKilledMidPressDriverOutputIsZeroWithinWatchdogPlusR
   const std::string key = (dir / "display.key").string();
   std::ofstream(key, std::ios::binary) << std::string("0123456789abcdef0123456789abcdef");
   ::chmod(key.c_str(), 0600);
-  std::ofstream(dir / "bridge.yaml") << "fe: {model: B_coarse, preset: fast}\nlcm: {url: \"" << url
+  // The curve: this is the driver's watchdog, not the renderer.
+  std::ofstream(dir / "bridge.yaml") << "fe: {model: B_coarse, preset: fast}\ndisplay: {profile: suction_4x4, rendering: curve}\nlcm: {url: \"" << url
                                      << "\", auth_key_file: \"" << key << "\"}\n";
   // 20 presses, one every 3 s (1 min of input): the bridge is surely mid-run when killed.
   {
