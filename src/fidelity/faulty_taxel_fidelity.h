@@ -1,5 +1,5 @@
 #pragma once
-// The fidelity benchmark's faulty-taxel set (`sedbridge fidelity --faulty-taxels`, issue 55):
+// The fidelity benchmark's faulty-taxel set (`sedbridge fidelity --faulty-taxels`):
 // every press with each single taxel dead, and with each single taxel stuck high, in turn,
 // lying from the press's first scan:
 //   dead        the taxel reads no load: it repeats, on all its axes, the readings it had in
@@ -97,7 +97,7 @@ FaultyTaxelTally Tally(const std::vector<FaultyTaxelRow>& rows, TaxelFaultKind k
 
 /// faulty_taxels.csv: one row per press, taxel and fault.
 void WriteFaultyTaxelCsv(const std::string& path, const std::vector<FaultyTaxelRow>& rows);
-/// The summary: per fault, the share within the targets (issue 55 asks >= 90 % with any one
+/// The summary: per fault, the share within the targets (the target: >= 90 % with any one
 /// taxel dead), the scans before the contact that drive the display, and the `worst` worst rows.
 void PrintFaultyTaxelSummary(const std::vector<FaultyTaxelRow>& rows, int worst = 10);
 
