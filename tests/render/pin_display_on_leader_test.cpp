@@ -11,26 +11,15 @@
 #include "render/display_on_leader.h"
 #include "render/display_rendering.h"
 #include "render/inverse_renderer.h"
+#include "leader_test_util.h"
 #include "render/suction_display_on_leader.h"
 
 namespace sedbridge::render {
 namespace {
 
-// Face contact: a 0.5 mm pin is narrower than the skin-node spacing.
-scene::FingertipComplianceOptions FaceContact() {
-  scene::FingertipComplianceOptions options;
-  options.face_samples = true;
-  return options;
-}
-
-struct Leader {
-  model::FingertipModel model = model::LoadFingertipModel("B_coarse");
-  scene::FingertipCompliance fingertip{model, FaceContact()};
-};
-
-double RelativeL2(const Eigen::VectorXd& a, const Eigen::VectorXd& reference) {
-  return (a - reference).norm() / reference.norm();
-}
+using testing::FaceContact;
+using testing::Leader;
+using testing::RelativeL2;
 
 // The pin_6x4 display on B_coarse: what the linear influence (about the preloaded plate)
 // says a command vector does against the full contact solve of the same pins.

@@ -13,26 +13,14 @@
 #include "model/fingertip_model.h"
 #include "render/display_rendering.h"
 #include "render/inverse_renderer.h"
+#include "leader_test_util.h"
 
 namespace sedbridge::render {
 namespace {
 
-// Face contact, as DisplayRendering builds the leader: a 1 mm hole is narrower than the
-// skin-node spacing.
-scene::FingertipComplianceOptions FaceContact() {
-  scene::FingertipComplianceOptions options;
-  options.face_samples = true;
-  return options;
-}
-
-struct Leader {
-  model::FingertipModel model = model::LoadFingertipModel("B_coarse");
-  scene::FingertipCompliance fingertip{model, FaceContact()};
-};
-
-double RelativeL2(const Eigen::VectorXd& a, const Eigen::VectorXd& reference) {
-  return (a - reference).norm() / reference.norm();
-}
+using testing::FaceContact;
+using testing::Leader;
+using testing::RelativeL2;
 
 // suction_4x4's hole 5: row 1, column 1, an inner hole under the pad's middle.
 constexpr int kInnerHole = 5;
