@@ -62,19 +62,32 @@ double PreloadForce_N(const display::DisplayDevice& device) {
 }
 
 ElementStrainInfluence InfluenceByPresses(DisplayOnLeader& display, const scene::FingertipCompliance& leader,
-                                          double reference, const std::string& what) {
+                                          double reference, const std::string& what, int* failed_actuators) {
   const int n = display.num_actuators();
   Eigen::VectorXd sed;
   if (!display.Press(Eigen::VectorXd::Zero(n), sed)) throw std::runtime_error(what + " influence: " + display.error());
   ElementStrainInfluence in;
   in.preload_strain = StrainsOfLastStep(leader);
   in.strain_per_command.resize(in.preload_strain.size(), n);
+  if (failed_actuators) *failed_actuators = 0;
   for (int i = 0; i < n; ++i) {
-    Eigen::VectorXd commands = Eigen::VectorXd::Zero(n);
-    commands[i] = reference;
-    if (!display.Press(commands, sed))
+    // A press that does not converge is tried again at a quarter of the reference (the load
+    // is linear in the command while the contact set holds); if that fails too, the actuator
+    // is modelled as doing nothing (the renderer then leaves it off) and counted.
+    bool pressed = false;
+    for (double command : {reference, 0.25 * reference}) {
+      Eigen::VectorXd commands = Eigen::VectorXd::Zero(n);
+      commands[i] = command;
+      if (!display.Press(commands, sed)) continue;
+      in.strain_per_command.col(i) = (StrainsOfLastStep(leader) - in.preload_strain) / command;
+      pressed = true;
+      break;
+    }
+    if (pressed) continue;
+    if (!failed_actuators)
       throw std::runtime_error(what + " influence: actuator " + std::to_string(i) + ": " + display.error());
-    in.strain_per_command.col(i) = (StrainsOfLastStep(leader) - in.preload_strain) / reference;
+    in.strain_per_command.col(i).setZero();
+    ++*failed_actuators;
   }
   const fem::ComplianceSedMap& map = leader.contact().sed_map();
   in.mu_Pa = Eigen::Map<const Eigen::VectorXd>(map.element_mu_Pa().data(), Eigen::Index(map.element_mu_Pa().size()));

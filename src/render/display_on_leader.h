@@ -53,9 +53,12 @@ double PreloadForce_N(const display::DisplayDevice& device);
 /// The linear influence of `display` about its preloaded state by n + 1 full presses (every
 /// actuator off, then each at `reference` alone), read from `leader`'s last step after each;
 /// what DisplayOnLeader::Influence is for every kind. `what` names the display in messages.
-/// Throws std::runtime_error when a press fails.
+/// A press that fails is tried again at a quarter of `reference`; with `failed_actuators`
+/// given, an actuator whose presses both fail gets a zero column and is counted there,
+/// else (and when the preload's press fails) std::runtime_error is thrown.
 ElementStrainInfluence InfluenceByPresses(DisplayOnLeader& display, const scene::FingertipCompliance& leader,
-                                          double reference, const std::string& what);
+                                          double reference, const std::string& what,
+                                          int* failed_actuators = nullptr);
 
 /// The display of `device`'s kind pressed on `leader` (kept by reference). Throws
 /// std::invalid_argument for a kind without a mechanical load (electrotactile) or no

@@ -167,7 +167,7 @@ bool SuctionDisplayOnLeader::Press(const Eigen::VectorXd& suction_kPa, Eigen::Ve
 
 ElementStrainInfluence SuctionDisplayOnLeader::Influence(double reference_kPa) {
   if (!(reference_kPa > 0)) throw std::invalid_argument("suction display influence: reference suction > 0");
-  return InfluenceByPresses(*this, leader_, reference_kPa, "suction display");
+  return InfluenceByPresses(*this, leader_, reference_kPa, "suction display", &failed_actuators_);
 }
 
 }  // namespace sedbridge::render

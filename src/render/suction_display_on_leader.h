@@ -70,6 +70,9 @@ class SuctionDisplayOnLeader : public DisplayOnLeader {
   /// 20 kPa). The load is linear in the command; only contact changes bend the response.
   double default_reference_command() const override { return 10.0; }
   const std::string& error() const override { return error_; }
+  /// Holes of the last Influence call whose presses did not converge (at the reference and
+  /// a quarter of it): modelled as doing nothing.
+  int failed_actuators() const { return failed_actuators_; }
 
  private:
   /// Each hole's consistent nodal load per unit pressure: (node sample, area [m^2]).
@@ -83,6 +86,7 @@ class SuctionDisplayOnLeader : public DisplayOnLeader {
   std::vector<std::vector<std::pair<int, double>>> hole_shares_m2_;  // per hole
   double preload_force_N_ = 0, preload_depth_mm_ = 0;
   std::string error_;
+  int failed_actuators_ = 0;
 };
 
 }  // namespace sedbridge::render

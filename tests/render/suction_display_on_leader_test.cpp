@@ -90,6 +90,24 @@ TEST(SuctionDisplayOnLeader, LinearInfluenceAgreesWithTheFullContactOnB) {
   ExpectLinearAgreement("B", {Bounds{1e-9, 1e-8}, Bounds{1e-7, 1e-5}, Bounds{0.015, 0.22}, Bounds{2e-3, 0.35}});
 }
 
+// The dense suction display on B: a hole whose press does not converge (hole 26 at 10 kPa
+// did not) is tried at a quarter of the reference and, failing that, modelled as doing
+// nothing and counted, so that the influence is built and the display renders.
+TEST(SuctionDisplayOnLeader, DenseDisplayOnBBuildsItsInfluenceAndCountsTheHolesItCannotPress) {
+  const model::FingertipModel model = model::LoadFingertipModel("B");
+  scene::FingertipCompliance fingertip(model, FaceContact());
+  const display::DisplayProfile profile = display::LoadNamedDisplayProfile("suction_8x8");
+  SuctionDisplayOnLeader display(fingertip, profile.device);
+  const DisplayInfluence influence(display.Influence(display.default_reference_command()));
+  std::printf("suction_8x8 on B: %d of %d holes modelled as doing nothing\n", display.failed_actuators(),
+              display.num_actuators());
+  EXPECT_EQ(influence.num_actuators(), 64);
+  EXPECT_LE(display.failed_actuators(), 24);  // measured 20 (2026-11-29): rim holes off the patch
+  Eigen::VectorXd sed;
+  influence.Sed(Eigen::VectorXd::Constant(64, 5.0), sed);
+  EXPECT_TRUE(sed.allFinite());
+}
+
 // The load: each hole pulls p pi r^2 on the skin it opens onto, toward the display; the
 // fixed plate carries part of it (its contact force grows by 0.25-1.0 of the pull, the bone's
 // support the rest). Hole 5's suction raises the SED next to its axis. B_coarse's skin nodes are further
