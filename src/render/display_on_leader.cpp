@@ -24,14 +24,6 @@ double ActuatedArea_mm2(const display::DisplayDevice& device) {
   return (x1 - x0 + spacing) * (y1 - y0 + spacing);
 }
 
-// The Merkel elements' strains [-] of the leader's last step.
-Eigen::VectorXd StrainsOfLastStep(const scene::FingertipCompliance& leader) {
-  Eigen::VectorXd strain;
-  const fem::ComplianceSedMap& map = leader.contact().sed_map();
-  map.ElementStrains(map.displacements_m(), strain);
-  return strain;
-}
-
 using Maker = std::unique_ptr<DisplayOnLeader> (*)(scene::FingertipCompliance& leader,
                                                    const display::DisplayDevice& device);
 
@@ -56,6 +48,20 @@ Maker MakerOf(display::DisplayKind kind) {
 }  // namespace
 
 bool HasMechanicalLoad(display::DisplayKind kind) { return MakerOf(kind) != nullptr; }
+
+void AddLayerOf(const scene::FingertipCompliance& leader, ElementStrainInfluence& in) {
+  const fem::ComplianceSedMap& map = leader.contact().sed_map();
+  in.mu_Pa = Eigen::Map<const Eigen::VectorXd>(map.element_mu_Pa().data(), Eigen::Index(map.element_mu_Pa().size()));
+  in.lambda_Pa = Eigen::Map<const Eigen::VectorXd>(map.element_lambda_Pa().data(), Eigen::Index(map.element_lambda_Pa().size()));
+  map.VertexAverage(in.vertex_start, in.vertex_element, in.vertex_weight);
+}
+
+Eigen::VectorXd StrainsOfLastStep(const scene::FingertipCompliance& leader) {
+  Eigen::VectorXd strain;
+  const fem::ComplianceSedMap& map = leader.contact().sed_map();
+  map.ElementStrains(map.displacements_m(), strain);
+  return strain;
+}
 
 double PreloadForce_N(const display::DisplayDevice& device) {
   return device.preload_kPa * 1e3 * ActuatedArea_mm2(device) * 1e-6;
@@ -89,10 +95,7 @@ ElementStrainInfluence InfluenceByPresses(DisplayOnLeader& display, const scene:
     in.strain_per_command.col(i).setZero();
     ++*failed_actuators;
   }
-  const fem::ComplianceSedMap& map = leader.contact().sed_map();
-  in.mu_Pa = Eigen::Map<const Eigen::VectorXd>(map.element_mu_Pa().data(), Eigen::Index(map.element_mu_Pa().size()));
-  in.lambda_Pa = Eigen::Map<const Eigen::VectorXd>(map.element_lambda_Pa().data(), Eigen::Index(map.element_lambda_Pa().size()));
-  map.VertexAverage(in.vertex_start, in.vertex_element, in.vertex_weight);
+  AddLayerOf(leader, in);
   return in;
 }
 

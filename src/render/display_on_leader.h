@@ -50,6 +50,13 @@ bool HasMechanicalLoad(display::DisplayKind kind);
 /// nearest-actuator distance on each side; a single footprint: its diameter).
 double PreloadForce_N(const display::DisplayDevice& device);
 
+/// The Merkel layer's element strains [-] of `leader`'s last step (6 per element, the order
+/// of ElementStrainInfluence).
+Eigen::VectorXd StrainsOfLastStep(const scene::FingertipCompliance& leader);
+
+/// Fills `in`'s per-element materials and vertex average from `leader`'s Merkel layer.
+void AddLayerOf(const scene::FingertipCompliance& leader, ElementStrainInfluence& in);
+
 /// The linear influence of `display` about its preloaded state by n + 1 full presses (every
 /// actuator off, then each at `reference` alone), read from `leader`'s last step after each;
 /// what DisplayOnLeader::Influence is for every kind. `what` names the display in messages.

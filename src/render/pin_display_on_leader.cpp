@@ -145,13 +145,6 @@ bool PinDisplayOnLeader::Press(const Eigen::VectorXd& heights_mm, Eigen::VectorX
   return true;
 }
 
-Eigen::VectorXd PinDisplayOnLeader::StrainsOfLastStep() const {
-  Eigen::VectorXd strain;
-  const fem::ComplianceSedMap& map = leader_.contact().sed_map();
-  map.ElementStrains(map.displacements_m(), strain);
-  return strain;
-}
-
 double PinDisplayOnLeader::default_reference_command() const {
   return std::min(0.2, 0.2 * device_.travel_mm);
 }
@@ -225,7 +218,7 @@ ElementStrainInfluence PinDisplayOnLeader::Influence(double reference_height_mm)
   Eigen::VectorXd sed;
   if (!Press(Eigen::VectorXd::Zero(n), sed)) throw std::runtime_error("pin display influence: " + error_);
   ElementStrainInfluence in;
-  in.preload_strain = StrainsOfLastStep();
+  in.preload_strain = StrainsOfLastStep(leader_);
   const Eigen::Index rows = in.preload_strain.size();
   for (double f : {0.25, 0.5, 1.0, 2.0, 4.0}) in.knot_command.push_back(f * reference_height_mm);
   in.strain_at_knot.assign(in.knot_command.size(), Eigen::MatrixXd::Zero(rows, n));
@@ -251,14 +244,11 @@ ElementStrainInfluence PinDisplayOnLeader::Influence(double reference_height_mm)
         break;
       }
       h = next;
-      in.strain_at_knot[k].col(i) = StrainsOfLastStep() - in.preload_strain;
+      in.strain_at_knot[k].col(i) = StrainsOfLastStep(leader_) - in.preload_strain;
     }
   }
   in.strain_per_command = in.strain_at_knot.front() / in.knot_command.front();
-  const fem::ComplianceSedMap& map = leader_.contact().sed_map();
-  in.mu_Pa = Eigen::Map<const Eigen::VectorXd>(map.element_mu_Pa().data(), Eigen::Index(map.element_mu_Pa().size()));
-  in.lambda_Pa = Eigen::Map<const Eigen::VectorXd>(map.element_lambda_Pa().data(), Eigen::Index(map.element_lambda_Pa().size()));
-  map.VertexAverage(in.vertex_start, in.vertex_element, in.vertex_weight);
+  AddLayerOf(leader_, in);
   return in;
 }
 

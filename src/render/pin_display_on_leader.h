@@ -66,8 +66,6 @@ class PinDisplayOnLeader : public DisplayOnLeader {
 
  private:
   std::vector<geometry::RigidObject> Objects(const Eigen::VectorXd& heights_mm) const;
-  /// The Merkel elements' strains [-] of the last step.
-  Eigen::VectorXd StrainsOfLastStep() const;
   /// The pins moved from from_mm to to_mm in steps of at most kLongestRise_mm, a failed
   /// step retried at half the length (down to 1/32). False (error_ set) if one still fails.
   bool MoveTo(const Eigen::VectorXd& from_mm, const Eigen::VectorXd& to_mm);
