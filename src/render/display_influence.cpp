@@ -61,8 +61,7 @@ DisplayInfluence::DisplayInfluence(const ElementStrainInfluence& in, double prun
                 : Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(in.command_offset.data(), num_actuators_));
   piecewise_ = !in.knot_command.empty() || (offset_.array() > 0).any();
   Prune(in, prune_relative);
-  ElementSeds(Eigen::VectorXd::Zero(num_actuators_), false);
-  AverageToVertices(element_sed_, preload_sed_Pa_);
+  Sed(Eigen::VectorXd::Zero(num_actuators_), preload_sed_Pa_);
 }
 
 void DisplayInfluence::Prune(const ElementStrainInfluence& in, double prune_relative) {
@@ -97,12 +96,18 @@ void DisplayInfluence::Prune(const ElementStrainInfluence& in, double prune_rela
     slope_.push_back((strain_at_knot_[k] - start) / (knot_command_[k] - v0));
   }
   if (knot_command_.empty()) slope_.push_back(gather(in.strain_per_command));
-  // The vertex average over the active elements; the pruned ones keep the preload's SED.
+  effective_.assign(size_t(rows) * size_t(num_actuators_), 0.0f);
+  slope_index_.assign(size_t(num_actuators_), -1);
+  segment_.assign(size_t(num_actuators_), 0);
+  intercept_segment_.clear();  // none built yet
+  stroke_.setZero(num_actuators_);
+  // The vertex average over the active elements, for the vertices that have any; the
+  // pruned elements keep the preload's SED.
   const int vertices = int(in.vertex_start.size()) - 1;
   fixed_sed_Pa_.setZero(vertices);
-  vertex_start_.assign(1, 0);
-  vertex_element_.clear(), vertex_weight_.clear();
+  active_vertex_.clear(), vertex_start_.assign(1, 0), vertex_element_.clear(), vertex_weight_.clear();
   for (int v = 0; v < vertices; ++v) {
+    const size_t first = vertex_element_.size();
     for (int k = in.vertex_start[size_t(v)]; k < in.vertex_start[size_t(v) + 1]; ++k) {
       const int e = in.vertex_element[size_t(k)];
       if (compact[size_t(e)] >= 0) {
@@ -115,6 +120,8 @@ void DisplayInfluence::Prune(const ElementStrainInfluence& in, double prune_rela
       fem::SymmetricStrainSed<double>(eps[0], eps[1], eps[2], eps[3], eps[4], eps[5], in.mu_Pa[e], in.lambda_Pa[e], w);
       fixed_sed_Pa_[v] += in.vertex_weight[size_t(k)] * w;
     }
+    if (vertex_element_.size() == first) continue;
+    active_vertex_.push_back(v);
     vertex_start_.push_back(int(vertex_element_.size()));
   }
 }
@@ -125,71 +132,107 @@ int DisplayInfluence::SegmentOf(double v) const {
   return k;
 }
 
-void DisplayInfluence::ElementSeds(const Eigen::VectorXd& u, bool slopes) const {
-  eps_ = preload_strain_;
-  if (!piecewise_) {
-    eps_.noalias() += slope_.front() * u;
-  } else {
-    if (slopes) effective_slope_.resize(preload_strain_.size(), num_actuators_);
-    for (int i = 0; i < num_actuators_; ++i) {
-      const double v = u[i] - offset_[i];
-      if (!(v > 0)) {  // below the offset: nothing (v = 0 takes the first segment's slope)
-        if (slopes) {
-          if (v == 0) effective_slope_.col(i) = slope_.front().col(i);
-          else effective_slope_.col(i).setZero();
-        }
-        continue;
-      }
-      // Segment k starts at 0 (k = 0) or at knot k-1 with that knot's strain.
-      const int k = SegmentOf(v);
-      const Eigen::MatrixXd& slope = slope_[size_t(std::min(k, int(slope_.size()) - 1))];
-      if (k == 0) {
-        eps_ += v * slope.col(i);
-      } else {
-        eps_ += strain_at_knot_[size_t(k - 1)].col(i);
-        eps_ += (v - knot_command_[size_t(k - 1)]) * slope.col(i);
-      }
-      if (slopes) effective_slope_.col(i) = slope.col(i);
-    }
+void DisplayInfluence::Segments(const Eigen::VectorXd& u) const {
+  const int n = num_actuators_;
+  for (int i = 0; i < n; ++i) {
+    // Linear: every actuator, any sign, on its one slope. Piecewise: nothing below the
+    // offset (v = 0 takes the first segment's slope for the derivative); segment k starts
+    // at 0 (k = 0) or at knot k-1 with that knot's strain; past the last knot the last
+    // slope goes on.
+    const double v = piecewise_ ? u[i] - offset_[i] : u[i];
+    const bool moving = !piecewise_ || v > 0;
+    const int k = moving && piecewise_ ? SegmentOf(v) : 0;
+    const int slope = moving || v == 0 ? std::min(k, int(slope_.size()) - 1) : -1;
+    segment_[size_t(i)] = moving ? k : -1;
+    stroke_[i] = moving ? v : 0.0;
+    if (slope == slope_index_[size_t(i)]) continue;
+    slope_index_[size_t(i)] = slope;
+    const size_t rows = size_t(mu_Pa_.size()) * kStrainComponents;
+    for (size_t r = 0; r < rows; ++r)
+      effective_[r * size_t(n) + size_t(i)] = slope < 0 ? 0.0f : float(slope_[size_t(slope)](Eigen::Index(r), i));
   }
-  const Eigen::Index elements = mu_Pa_.size();
-  element_sed_.resize(elements);
-  for (Eigen::Index e = 0; e < elements; ++e) {
-    const double* eps = eps_.data() + kStrainComponents * e;
-    fem::SymmetricStrainSed<double>(eps[0], eps[1], eps[2], eps[3], eps[4], eps[5], mu_Pa_[e], lambda_Pa_[e],
-                                    element_sed_[e]);
+  // The strain at v on segment k >= 1 is eps(knot k-1) + (v - knot) slope_k = intercept +
+  // v slope_k: the intercepts summed once per set of segments.
+  if (segment_ == intercept_segment_) return;
+  intercept_segment_ = segment_;
+  intercept_ = preload_strain_;
+  for (int i = 0; i < n; ++i) {
+    const int k = segment_[size_t(i)];
+    if (k < 1) continue;
+    intercept_ += strain_at_knot_[size_t(k - 1)].col(i);
+    intercept_ -= knot_command_[size_t(k - 1)] * slope_[size_t(slope_index_[size_t(i)])].col(i);
   }
 }
 
-void DisplayInfluence::AverageToVertices(const Eigen::VectorXd& element, Eigen::VectorXd& vertex) const {
-  vertex = fixed_sed_Pa_;
-  const int vertices = num_vertices();
-  for (int v = 0; v < vertices; ++v)
-    for (int k = vertex_start_[size_t(v)]; k < vertex_start_[size_t(v) + 1]; ++k)
-      vertex[v] += vertex_weight_[size_t(k)] * element[vertex_element_[size_t(k)]];
+void DisplayInfluence::ElementSeds(const Eigen::VectorXd& u, bool gradient) const {
+  Segments(u);
+  const Eigen::Index elements = mu_Pa_.size(), n = num_actuators_;
+  stroke_f_ = stroke_.cast<float>();
+  element_sed_.resize(elements);
+  if (gradient) element_gradient_t_.resize(n, elements);
+  for (Eigen::Index e = 0; e < elements; ++e) {
+    // The element's 6 x #actuators block: contiguous, read once for the strain and again,
+    // from cache, for the gradient. Spelled as dot products and one sum of columns: a
+    // general matrix product at this size spends more on dispatch than on arithmetic.
+    const Eigen::Map<const Eigen::MatrixXf> block(effective_.data() + size_t(e) * size_t(n) * kStrainComponents, n,
+                                                  kStrainComponents);
+    Eigen::Matrix<double, kStrainComponents, 1> eps = intercept_.segment<kStrainComponents>(kStrainComponents * e);
+    for (int c = 0; c < kStrainComponents; ++c) eps[c] += double(block.col(c).dot(stroke_f_));
+    fem::SymmetricStrainSed<double>(eps[0], eps[1], eps[2], eps[3], eps[4], eps[5], mu_Pa_[e], lambda_Pa_[e],
+                                    element_sed_[e]);
+    if (!gradient) continue;
+    // dW_e/du_i = (dW/deps)^T d eps_e/du_i
+    const Eigen::Matrix<float, kStrainComponents, 1> g = SedGradient(eps.data(), mu_Pa_[e], lambda_Pa_[e]).cast<float>();
+    element_gradient_t_.col(e) = g[0] * block.col(0) + g[1] * block.col(1) + g[2] * block.col(2) +
+                                 g[3] * block.col(3) + g[4] * block.col(4) + g[5] * block.col(5);
+  }
+}
+
+void DisplayInfluence::AverageToActiveVertices(Eigen::VectorXd& vertex) const {
+  const size_t active = active_vertex_.size();
+  vertex.resize(Eigen::Index(active));
+  for (size_t a = 0; a < active; ++a) {
+    double s = fixed_sed_Pa_[active_vertex_[a]];
+    for (int k = vertex_start_[a]; k < vertex_start_[a + 1]; ++k)
+      s += vertex_weight_[size_t(k)] * element_sed_[vertex_element_[size_t(k)]];
+    vertex[Eigen::Index(a)] = s;
+  }
+}
+
+void DisplayInfluence::ActiveSed(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa) const {
+  ElementSeds(u, false);
+  AverageToActiveVertices(sed_Pa);
+}
+
+void DisplayInfluence::ActiveSedAndJacobianT(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa,
+                                             Eigen::MatrixXd& jacobian_t) const {
+  ElementSeds(u, true);
+  AverageToActiveVertices(sed_Pa);
+  const size_t active = active_vertex_.size();
+  jacobian_t.resize(num_actuators_, Eigen::Index(active));
+  Eigen::VectorXf sum(num_actuators_);
+  for (size_t a = 0; a < active; ++a) {
+    sum.setZero();
+    for (int k = vertex_start_[a]; k < vertex_start_[a + 1]; ++k)
+      sum += float(vertex_weight_[size_t(k)]) * element_gradient_t_.col(vertex_element_[size_t(k)]);
+    jacobian_t.col(Eigen::Index(a)) = sum.cast<double>();
+  }
 }
 
 void DisplayInfluence::Sed(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa) const {
-  ElementSeds(u, false);
-  AverageToVertices(element_sed_, sed_Pa);
+  ActiveSed(u, active_sed_);
+  sed_Pa = fixed_sed_Pa_;
+  for (size_t a = 0; a < active_vertex_.size(); ++a) sed_Pa[active_vertex_[a]] = active_sed_[Eigen::Index(a)];
 }
 
 void DisplayInfluence::SedAndJacobian(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa, Eigen::MatrixXd& jacobian) const {
-  ElementSeds(u, true);
-  AverageToVertices(element_sed_, sed_Pa);
-  const Eigen::MatrixXd& slope = piecewise_ ? effective_slope_ : slope_.front();
-  // dW_e/du = 2 (M_e eps_e)^T E_e, then averaged as the SED is.
-  const Eigen::Index elements = mu_Pa_.size();
-  element_gradient_.resize(elements, num_actuators_);
-  for (Eigen::Index e = 0; e < elements; ++e) {
-    const Eigen::Matrix<double, kStrainComponents, 1> g =
-        SedGradient(eps_.data() + kStrainComponents * e, mu_Pa_[e], lambda_Pa_[e]);
-    element_gradient_.row(e).noalias() = g.transpose() * slope.middleRows<kStrainComponents>(kStrainComponents * e);
-  }
+  ActiveSedAndJacobianT(u, active_sed_, active_jacobian_t_);
+  sed_Pa = fixed_sed_Pa_;
   jacobian.setZero(num_vertices(), num_actuators_);
-  for (int v = 0; v < num_vertices(); ++v)
-    for (int k = vertex_start_[size_t(v)]; k < vertex_start_[size_t(v) + 1]; ++k)
-      jacobian.row(v) += vertex_weight_[size_t(k)] * element_gradient_.row(vertex_element_[size_t(k)]);
+  for (size_t a = 0; a < active_vertex_.size(); ++a) {
+    sed_Pa[active_vertex_[a]] = active_sed_[Eigen::Index(a)];
+    jacobian.row(active_vertex_[a]) = active_jacobian_t_.col(Eigen::Index(a)).transpose();
+  }
 }
 
 }  // namespace sedbridge::render

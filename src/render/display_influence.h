@@ -63,7 +63,7 @@ class DisplayInfluence {
   explicit DisplayInfluence(const ElementStrainInfluence& elements, double prune_relative = 1e-4);
 
   int num_actuators() const { return num_actuators_; }
-  int num_vertices() const { return int(vertex_start_.size()) - 1; }
+  int num_vertices() const { return int(fixed_sed_Pa_.size()); }
   /// Elements evaluated per call (those some actuator strains), of all of the layer's.
   int num_active_elements() const { return int(mu_Pa_.size()); }
   int num_elements() const { return num_elements_; }
@@ -71,6 +71,16 @@ class DisplayInfluence {
   void Sed(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa) const;
   /// The same and its Jacobian dS/du [Pa / command unit] (#vertices x #actuators).
   void SedAndJacobian(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa, Eigen::MatrixXd& jacobian) const;
+
+  /// The vertices whose SED the commands can change (some active element in their average),
+  /// increasing; every other vertex keeps its preload SED whatever the commands.
+  const std::vector<int>& active_vertices() const { return active_vertex_; }
+  /// SED of the active vertices only [Pa] (#active vertices, in active_vertices() order).
+  void ActiveSed(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa) const;
+  /// The same and the transposed Jacobian dS/du [Pa / command unit] (#actuators x #active
+  /// vertices: one contiguous column per vertex, what a Gauss-Newton matrix is built from).
+  void ActiveSedAndJacobianT(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa, Eigen::MatrixXd& jacobian_t) const;
+
   /// Vertex SED of the preloaded state with every command 0 [Pa].
   const Eigen::VectorXd& preload_sed_Pa() const { return preload_sed_Pa_; }
   /// The command below which actuator i does nothing [command unit].
@@ -80,13 +90,16 @@ class DisplayInfluence {
  private:
   /// Keeps the elements some actuator strains; the rest go into fixed_sed_.
   void Prune(const ElementStrainInfluence& in, double prune_relative);
-  /// Element strains eps_ at u and element SEDs element_sed_ (active elements); with
-  /// `slopes`, effective_slope_ holds each actuator's d eps / du at u (its segment's slope,
-  /// 0 below its offset).
-  void ElementSeds(const Eigen::VectorXd& u, bool slopes) const;
+  /// Each actuator's place on its curve at u: its segment and stroke, the slope its
+  /// derivative takes; brings effective_ and intercept_ up to date with them.
+  void Segments(const Eigen::VectorXd& u) const;
+  /// Element SEDs element_sed_ at u and, with `gradient`, dW_e/du into element_gradient_t_
+  /// (#actuators x #active elements), in one pass over the effective slopes.
+  void ElementSeds(const Eigen::VectorXd& u, bool gradient) const;
   /// Segment of v >= 0: the number of knots at or below v.
   int SegmentOf(double v) const;
-  void AverageToVertices(const Eigen::VectorXd& element, Eigen::VectorXd& vertex) const;
+  /// Active vertices' SED from the element SEDs (fixed part included).
+  void AverageToActiveVertices(Eigen::VectorXd& vertex) const;
 
   int num_actuators_ = 0, num_elements_ = 0;
   // Active elements only (rows 6e..6e+5 of each matrix).
@@ -95,15 +108,28 @@ class DisplayInfluence {
   std::vector<Eigen::MatrixXd> strain_at_knot_;
   // Segment k's slope (k = 0: from v = 0); past the last knot the last one goes on.
   std::vector<Eigen::MatrixXd> slope_;
-  // Vertex average over the active elements, plus each vertex's SED from the others.
-  std::vector<int> vertex_start_, vertex_element_;
+  // The curve each actuator is on at the last u, element by element: element e's block of
+  // 6 x #actuators floats (strain component c of actuator i per unit stroke at n (6 e + c) +
+  // i), contiguous, so that eps_e[c] = intercept_e[c] + block_e(c, :) . v: six dot products
+  // and, for the gradient, six axpys over the actuators, all vectorized.
+  // Rebuilt only for the actuators whose segment changed (rare between evaluations). In
+  // single precision: a render streams it once per evaluation, and half the bytes is
+  // close to half the time; a slope's 1e-7 rounding is far below what the fit resolves
+  // (the preload and knot strains, summed into intercept_, stay double).
+  mutable std::vector<float> effective_;
+  mutable Eigen::VectorXd intercept_, stroke_;
+  mutable Eigen::VectorXf stroke_f_;
+  mutable std::vector<int> slope_index_, segment_, intercept_segment_;
+  // Vertex average over the active elements for the active vertices, plus each vertex's SED
+  // from the pruned ones.
+  std::vector<int> active_vertex_, vertex_start_, vertex_element_;
   std::vector<double> vertex_weight_;
   Eigen::VectorXd fixed_sed_Pa_;
   Eigen::VectorXd preload_sed_Pa_, offset_;
   bool piecewise_ = false;  // any offset or knot
-  mutable Eigen::VectorXd eps_, element_sed_;
-  mutable Eigen::MatrixXd effective_slope_;  // #actuators' slopes at the last u (piecewise only)
-  mutable Eigen::MatrixXd element_gradient_;  // dW_e/du, #active elements x #actuators
+  mutable Eigen::VectorXd element_sed_, active_sed_;
+  mutable Eigen::MatrixXf element_gradient_t_;  // single: averaged, then widened once per vertex
+  mutable Eigen::MatrixXd active_jacobian_t_;
 };
 
 }  // namespace sedbridge::render

@@ -43,8 +43,25 @@ const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed
   const double s0 = options_.sed_floor_Pa;
   // The total SED asked for, the preload's included, is what cannot be negative: a target
   // may take SED away where the preload had it (the difference of two display states does).
-  target_root_ = ((target_sed_Pa + influence_.preload_sed_Pa()).cwiseMax(0.0) + Eigen::VectorXd::Constant(target_sed_Pa.size(), s0))
-                     .cwiseSqrt();
+  // Only the vertices the display can change are fitted; the others' residuals are a
+  // constant of the cost (most of the layer on a pin display: the nail's side, the tip).
+  const Eigen::VectorXd total_root =
+      ((target_sed_Pa + influence_.preload_sed_Pa()).cwiseMax(0.0) + Eigen::VectorXd::Constant(target_sed_Pa.size(), s0))
+          .cwiseSqrt();
+  const Eigen::VectorXd resting_root =
+      (influence_.preload_sed_Pa().cwiseMax(0.0) + Eigen::VectorXd::Constant(target_sed_Pa.size(), s0)).cwiseSqrt();
+  const std::vector<int>& active = influence_.active_vertices();
+  target_root_.resize(Eigen::Index(active.size()));
+  fixed_cost_ = 0;
+  size_t a = 0;
+  for (Eigen::Index v = 0; v < total_root.size(); ++v) {
+    if (a < active.size() && active[a] == v) {
+      target_root_[Eigen::Index(a++)] = total_root[v];
+      continue;
+    }
+    const double r = resting_root[v] - total_root[v];
+    fixed_cost_ += 0.5 * r * r;
+  }
   u_ = u_.cwiseMax(0.0).cwiseMin(box_);  // warm start, inside the box
   double cost = Residuals(u_, true);
   for (int it = 0; it < options_.max_iterations; ++it) {
@@ -97,10 +114,10 @@ const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed
 
 void InverseRenderer::PenaltyWeights() {
   Eigen::VectorXd sed;
-  Eigen::MatrixXd dS;
-  influence_.SedAndJacobian(offset_, sed, dS);
+  Eigen::MatrixXd dS_t;
+  influence_.ActiveSedAndJacobianT(offset_, sed, dS_t);
   const Eigen::VectorXd scale = (0.5 * (sed.array().max(0.0) + options_.sed_floor_Pa).sqrt().inverse()).matrix();
-  Eigen::VectorXd strength = (scale.asDiagonal() * dS).colwise().squaredNorm().transpose();
+  Eigen::VectorXd strength = (dS_t * scale.asDiagonal()).rowwise().squaredNorm();
   strength = strength.cwiseProduct(box_).cwiseProduct(box_);
   const double floor = 1e-4 * strength.maxCoeff();
   penalty_weight_.setZero(box_.size());
@@ -113,20 +130,20 @@ double InverseRenderer::Residuals(const Eigen::VectorXd& u, bool with_jacobian) 
   ++result_.evaluations;
   shifted_ = u + offset_;
   if (with_jacobian)
-    influence_.SedAndJacobian(shifted_, sed_, dS_);
+    influence_.ActiveSedAndJacobianT(shifted_, sed_, dS_t_);
   else
-    influence_.Sed(shifted_, sed_);
+    influence_.ActiveSed(shifted_, sed_);
   // S_v(u) >= 0 in exact arithmetic (a sum of non-negative element SEDs); round-off may
   // take a vanishing one below.
   const Eigen::VectorXd root = (sed_.array().max(0.0) + s0).sqrt().matrix();
   r_ = root - target_root_;
-  if (with_jacobian) J_ = (0.5 * root.cwiseInverse()).asDiagonal() * dS_;
-  return 0.5 * r_.squaredNorm() + 0.5 * u.cwiseProduct(u).dot(penalty_weight_);
+  if (with_jacobian) J_t_.noalias() = dS_t_ * (0.5 * root.cwiseInverse()).asDiagonal();
+  return fixed_cost_ + 0.5 * r_.squaredNorm() + 0.5 * u.cwiseProduct(u).dot(penalty_weight_);
 }
 
 void InverseRenderer::NormalEquations(const Eigen::VectorXd& u) {
   const Eigen::Index n = u.size();
-  gradient_.noalias() = J_.transpose() * r_;
+  gradient_.noalias() = J_t_ * r_;
   gradient_ += u.cwiseProduct(penalty_weight_);
   // Free: inside the box, or at a bound the descent direction leaves.
   free_.clear();
@@ -136,12 +153,21 @@ void InverseRenderer::NormalEquations(const Eigen::VectorXd& u) {
     if (!at_lower && !at_upper && box_[i] > 0) free_.push_back(int(i));
   }
   const Eigen::Index m = Eigen::Index(free_.size());
-  H0_.resize(m, m);
+  // J^T J of the free variables: a rank update over the layer's vertices (a symmetric
+  // product, not a general one: Eigen runs general products on OpenMP threads, which
+  // cost more than the product itself at this size and fight the bridge's own threads).
+  H0_.setZero(m, m);
+  if (m == n) {
+    H0_.selfadjointView<Eigen::Lower>().rankUpdate(J_t_);
+  } else {
+    J_free_t_.resize(m, J_t_.cols());
+    for (Eigen::Index a = 0; a < m; ++a) J_free_t_.row(a) = J_t_.row(free_[size_t(a)]);
+    H0_.selfadjointView<Eigen::Lower>().rankUpdate(J_free_t_);
+  }
+  H0_.triangularView<Eigen::StrictlyUpper>() = H0_.transpose();
   g_.resize(m);
   for (Eigen::Index a = 0; a < m; ++a) {
     g_[a] = gradient_[free_[size_t(a)]];
-    for (Eigen::Index b = 0; b <= a; ++b)
-      H0_(a, b) = H0_(b, a) = J_.col(free_[size_t(a)]).dot(J_.col(free_[size_t(b)]));
     H0_(a, a) += penalty_weight_[free_[size_t(a)]];
   }
 }

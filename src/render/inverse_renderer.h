@@ -100,7 +100,10 @@ class InverseRenderer {
   // commands_: offset + stroke where the stroke is > 0, else 0.
   Eigen::VectorXd offset_, box_, commands_, shifted_;
   Eigen::VectorXd penalty_weight_, u_, previous_, target_root_, sed_, r_, step_, trial_, gradient_;
-  Eigen::MatrixXd dS_, J_, H_, H0_;
+  // Over the active vertices (DisplayInfluence::active_vertices), transposed: #actuators x
+  // #vertices, a contiguous column per vertex.
+  Eigen::MatrixXd dS_t_, J_t_, J_free_t_, H_, H0_;
+  double fixed_cost_ = 0;  // 1/2 sum r_v^2 over the vertices no command changes
   Eigen::VectorXd g_;
   double lambda_ = 1e-6;
   std::vector<int> free_;

@@ -34,7 +34,8 @@ TEST(DisplayInfluence, QuadraticFormIsTheElementSedOfTheSuperposedStrain) {
     Eigen::VectorXd sed;
     influence.Sed(u, sed);
     const Eigen::VectorXd direct = DirectSed(in, u);
-    EXPECT_LE((sed - direct).norm(), 1e-12 * direct.norm()) << trial;
+    // The slopes are stored in single precision (display_influence.h): float rounding.
+    EXPECT_LE((sed - direct).norm(), 1e-6 * direct.norm()) << trial;
   }
   Eigen::VectorXd zero_sed;
   influence.Sed(Eigen::VectorXd::Zero(6), zero_sed);
@@ -48,13 +49,15 @@ TEST(DisplayInfluence, JacobianMatchesFiniteDifferences) {
   Eigen::VectorXd sed, plus, minus;
   Eigen::MatrixXd J;
   influence.SedAndJacobian(u, sed, J);
-  const double h = 1e-4;
+  // The SED is quadratic in u: central differences are exact for any step, and a large one
+  // keeps the single-precision slopes' rounding out of the difference quotient.
+  const double h = 0.5;
   for (int a = 0; a < 5; ++a) {
     Eigen::VectorXd up = u, um = u;
     up[a] += h, um[a] -= h;
     influence.Sed(up, plus);
     influence.Sed(um, minus);
-    EXPECT_LE((J.col(a) - (plus - minus) / (2 * h)).norm(), 1e-6 * J.col(a).norm() + 1e-12) << a;
+    EXPECT_LE((J.col(a) - (plus - minus) / (2 * h)).norm(), 1e-5 * J.col(a).norm()) << a;  // single precision
   }
 }
 
