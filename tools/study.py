@@ -3,7 +3,7 @@
 
 usage: study.py run MANIFEST --out DIR [--scheduler tcp://HOST:8786 | --scheduler-file F | --workers N]
                     [--sedbridge build/sedbridge] [--timeout-s 3600] [--retries 0] [--case-threads 1]
-                    [--progress-s 30]
+                    [--progress-s 30] [--dry-run]
        study.py make fidelity-random|accuracy-cost|ccx-references ... --manifest FILE   (tools/study_manifests.py)
 
 MANIFEST holds one JSON object a line (blank lines and lines starting with # are skipped):
@@ -32,6 +32,7 @@ import hashlib
 import json
 import os
 import re
+import shutil
 import signal
 import sys
 import time
@@ -241,7 +242,7 @@ def connect(a):
         return Client(scheduler_file=a.scheduler_file, timeout="30s"), None
     import logging
     n = a.workers or os.cpu_count() or 1
-    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
+    cluster = LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0",
                            silence_logs=logging.ERROR)
     return Client(cluster), cluster
 
@@ -303,6 +304,11 @@ def run_study(a):
         todo.append((c, key))
     print(f"study: {len(cases)} cases in {manifest}; {len(records)} finished earlier (skipped), {len(todo)} to run "
           f"({refail} failed earlier, {changed} changed since)", flush=True)
+    if a.dry_run:
+        for c, _ in todo:
+            cctx = dict(ctx, out=os.path.join(cases_dir, c["name"]), python=sys.executable)
+            print(f"  {c['name']}: " + " ".join(expand(x, cctx) for x in c["command"]))
+        return 0
     rc = 0
     if todo:
         rc = dispatch(a, todo, ctx, log_dir, cases_dir, records, len(cases))
@@ -448,6 +454,14 @@ def gather_results(gather, cases, records, ctx, out, cases_dir):
                   file=sys.stderr)
 
 
+def default_sedbridge():
+    """build/sedbridge in a checkout, P/bin/sedbridge in an installed P/share/sedbridge/tools."""
+    for p in (os.path.join(REPO, "build", "sedbridge"), os.path.join(REPO, "..", "..", "bin", "sedbridge")):
+        if os.path.isfile(p):
+            return os.path.abspath(p)
+    return shutil.which("sedbridge") or os.path.join(REPO, "build", "sedbridge")
+
+
 def interrupt(signum, frame):
     raise KeyboardInterrupt
 
@@ -466,10 +480,11 @@ def main(argv=None):
     r.add_argument("--scheduler", help="a running Dask scheduler, tcp://HOST:8786 (default: a local cluster)")
     r.add_argument("--scheduler-file", help="the scheduler's --scheduler-file (Slurm: tools/study_slurm.sbatch)")
     r.add_argument("--workers", type=int, default=0, help="local cluster: worker processes (default: one a core)")
-    r.add_argument("--sedbridge", default=os.path.join(REPO, "build", "sedbridge"), help="what {sedbridge} names")
+    r.add_argument("--sedbridge", default=default_sedbridge(), help="what {sedbridge} names (default: build/sedbridge)")
     r.add_argument("--timeout-s", type=float, default=3600.0, help="per case, unless its line says (0: none)")
     r.add_argument("--retries", type=int, default=0, help="reruns of a failed case, unless its line says")
     r.add_argument("--case-threads", type=int, default=1, help="OMP_NUM_THREADS of each case")
+    r.add_argument("--dry-run", action="store_true", help="list the cases to run, run nothing")
     r.add_argument("--progress-s", type=float, default=30.0, help="a progress line at least this often")
     sub.add_parser("make", help="write a manifest (tools/study_manifests.py; `study.py make -h`)")
     a = ap.parse_args(argv)
