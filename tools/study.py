@@ -58,7 +58,7 @@ def read_manifest(path):
                 continue
             where = f"{path}:{lineno}"
             try:
-                obj = json.loads(line)
+                obj = json.loads(line.rstrip("\r\n"))
             except json.JSONDecodeError as e:
                 raise ManifestError(f"{where}:{e.colno}: not JSON: {e.msg}")
             if not isinstance(obj, dict):
@@ -96,7 +96,7 @@ def check_case(obj, where, names):
     for k in ("timeout_s", "retries"):
         if k in obj and (not isinstance(obj[k], (int, float)) or obj[k] < 0):
             raise ManifestError(f"{where}:1: \"{k}\" must be a number >= 0")
-    return dict(obj, inputs=inputs, env=env)
+    return dict(obj, inputs=inputs, env=env, where=where)
 
 
 def check_gather(g, where):
@@ -139,7 +139,7 @@ def case_key(case, ctx, manifest_dir):
     for inp in case["inputs"]:
         p = os.path.join(manifest_dir, expand(inp, ctx))
         if not os.path.isfile(p):
-            raise ManifestError(f"case {case['name']}: input {p}: no such file")
+            raise ManifestError(f"{case['where']}:1: input {p}: no such file")
         files[inp] = file_sha256(p)
     if "{python}" in case["command"]:
         files["{python}"] = "python%d.%d" % sys.version_info[:2]
@@ -293,7 +293,7 @@ def run_study(a):
         try:
             key = case_key(c, ctx, ctx["manifest"])
         except ManifestError as e:
-            print(f"study: {manifest}: {e}", file=sys.stderr)
+            print(f"study: {e}", file=sys.stderr)
             return 2
         rec = earlier_record(log_dir, c["name"])
         if rec and rec.get("key") == key and rec.get("status") == "ok":
@@ -310,8 +310,12 @@ def run_study(a):
             print(f"  {c['name']}: " + " ".join(expand(x, cctx) for x in c["command"]))
         return 0
     rc = 0
-    if todo:
-        rc = dispatch(a, todo, ctx, log_dir, cases_dir, records, len(cases))
+    try:
+        if todo:
+            rc = dispatch(a, todo, ctx, log_dir, cases_dir, records, len(cases))
+    except KeyboardInterrupt:  # while the cluster started or stopped
+        print("study: interrupted; the same command resumes the study", file=sys.stderr, flush=True)
+        rc = 130
     write_summary(cases, records, out)
     report_failures(cases, records, log_dir)
     if rc == 130:
@@ -367,7 +371,7 @@ def dispatch(a, todo, ctx, log_dir, cases_dir, records, total):
                 else:
                     progress.failed += 1
                 progress.line(left, f" · {name} {rec['status']} {rec['wall_s']:.1f} s"
-                                    + (f" on {rec['worker']}" if rec["worker"] else "")
+                                    + (f", worker {rec['worker']}" if rec["worker"] else "")
                                     + (" (recorded before its worker died)" if rec.get("reused") else ""))
         return 0
     except KeyboardInterrupt:
