@@ -1,10 +1,11 @@
 #!/usr/bin/python3
-"""tools/study.py on a real `dask-scheduler` and two `dask-worker` processes on 127.0.0.1:
-20 short cases with one worker killed while it runs a case (every case completes exactly
-once, the killed one's again on the other worker), a crashing and a timed-out case reported
-while the others' results are kept, a rerun that runs only the failed cases, an interrupted
-study resumed that runs only the cases it had not recorded. Exits 77 (skip) where
-distributed is not importable (Debian: python3-distributed)."""
+"""tools/study.py: the three shipped studies' manifests and a bad one; then, on a real
+`dask-scheduler` and two `dask-worker` processes on 127.0.0.1, 20 short cases with one worker
+killed while it runs a case (every case completes exactly once, the killed one's again on the
+other worker), a crashing and a timed-out case reported while the others' results are kept, a
+rerun that runs only the failed cases, an interrupted study resumed that runs only the cases it
+had not recorded. Exits 77 (skip) after the manifest checks where distributed is not
+importable (Debian: python3-distributed)."""
 import argparse
 import csv
 import json
@@ -21,12 +22,6 @@ parser.add_argument("--root", required=True)
 parser.add_argument("--sedbridge", required=True)
 parser.add_argument("--work", required=True)
 args = parser.parse_args()
-try:
-    from distributed import Client
-except ImportError:
-    print("SKIP: distributed is not importable (apt-get install python3-distributed)")
-    sys.exit(77)
-
 STUDY = os.path.join(args.root, "tools", "study.py")
 W = os.path.abspath(args.work)
 shutil.rmtree(W, ignore_errors=True)
@@ -42,6 +37,36 @@ def check(ok, what):
     if not ok:
         failures.append(what)
 
+
+def tool(*argv):
+    r = subprocess.run([sys.executable, STUDY] + list(argv), capture_output=True, text=True)
+    return r.returncode, r.stdout + r.stderr
+
+
+# The three shipped studies' manifests (no Dask needed): their cases, listed by --dry-run.
+gen = os.path.join(W, "gen")
+rc, text = tool("make", "fidelity-random", "--seeds", "1-3,7", "--presses", "5", "--manifest", f"{gen}/f.jsonl")
+rc2, text = tool("run", f"{gen}/f.jsonl", "--out", f"{gen}/f", "--sedbridge", args.sedbridge, "--dry-run")
+check(rc == 0 and rc2 == 0 and "4 to run" in text and re.search(r"seed_7: \S+ fidelity --synthetic --random 5 --seed 7 ", text),
+      "fidelity-random: a case a seed")
+rc, text = tool("make", "accuracy-cost", "--quick", "--reference", args.root, "--manifest", f"{gen}/a.jsonl")
+rc2, text = tool("run", f"{gen}/a.jsonl", "--out", f"{gen}/a", "--sedbridge", args.sedbridge, "--dry-run")
+check(rc == 0 and rc2 == 0 and "B_corot_ldlt: " in text and os.path.isfile(f"{gen}/accuracy_cost_scenes/B_corot_ldlt.yaml"),
+      "accuracy-cost: a press a configuration, its scene beside the manifest")
+rc, text = tool("make", "ccx-references", "--manifest", f"{gen}/c.jsonl")
+rc2, text = tool("run", f"{gen}/c.jsonl", "--out", f"{gen}/c", "--dry-run")
+check(rc == 0 and rc2 == 0 and "3 to run" in text and "run_reference.py --model A_pad --element C3D10" in text,
+      "ccx-references: A_pad, A, A_coarse in C3D10")
+with open(f"{gen}/bad.jsonl", "w") as f:
+    f.write('{"name": "x", "command": ["true"]}\n{"name": "y", "command": ["true"]\n')
+rc, text = tool("run", f"{gen}/bad.jsonl", "--out", f"{gen}/bad")
+check(rc == 2 and f"{gen}/bad.jsonl:2:34: not JSON" in text, "a bad manifest: exit 2, FILE:LINE:COLUMN")
+
+try:
+    from distributed import Client
+except ImportError:
+    print("SKIP: distributed is not importable (apt-get install python3-distributed)")
+    sys.exit(1 if failures else 77)
 
 # A case: notes its start (with its parent, the worker's pid), sleeps, then appends its
 # completion to the ledger (outside the study's folder, which a retry clears) and writes {out}.
