@@ -150,11 +150,11 @@ def case_key(case, ctx, manifest_dir):
 def run_case(spec):
     """On a worker: runs one case (with its retries) and returns its record. Self-contained: Dask
     ships it to workers that need not have this file."""
+    import json
     import os
     import shutil
     import signal
     import socket
-    import json
     import subprocess
     import sys
     import time
@@ -192,7 +192,7 @@ def run_case(spec):
                 try:
                     rc = p.wait(timeout=spec["timeout_s"] or None)
                     rec.update(status="ok" if rc == 0 else "failed", rc=rc,
-                               error="" if rc == 0 else f"exit status {rc}")
+                               error="" if rc == 0 else f"exit status {rc}" if rc > 0 else f"killed by signal {-rc}")
                 except subprocess.TimeoutExpired:
                     os.killpg(p.pid, signal.SIGKILL)  # its children too
                     p.wait()
@@ -203,7 +203,7 @@ def run_case(spec):
         if rec["status"] == "ok":
             break
     rec.update(case=spec["name"], key=spec["key"], finished_utc=time.strftime("%Y-%m-%dT%H:%M:%SZ", time.gmtime()))
-    tmp = f"{spec['record']}.tmp{os.getpid()}"
+    tmp = f"{spec['record']}.tmp.{socket.gethostname()}.{os.getpid()}"
     with open(tmp, "w") as f:
         json.dump(rec, f, indent=1)
     os.replace(tmp, spec["record"])  # recorded: finished even if this worker dies now
@@ -400,7 +400,7 @@ def report_failures(cases, records, log_dir):
     for name in bad:
         rec = records[name]
         print(f"study: FAILED {name}: {rec['error']} (attempts {rec['attempts']}, {rec['wall_s']:.1f} s"
-              + (f", {rec['worker']}" if rec["worker"] else "") + f"); stderr tail ({log_dir}/{name}.stderr.txt):",
+              + (f", worker {rec['worker']}" if rec["worker"] else "") + f"); stderr tail ({log_dir}/{name}.stderr.txt):",
               file=sys.stderr)
         for l in stderr_tail(os.path.join(log_dir, name + ".stderr.txt")):
             print("  | " + l, file=sys.stderr)
