@@ -4,13 +4,16 @@ ms/step and the SED error against a reference run (docs/accuracy-cost.md).
 
 usage: accuracy_cost_study.py --reference DIR [--out out/accuracy_cost] [--quick] [--plot-only]
                               [--sedbridge build/sedbridge] [--only NAME,...] [--rescore]
+                              [--runs DIR] [--times CSV]
 
 REFERENCE is a press-shaped result folder (sed_path.csv, merkel_sed.csv,
 force_displacement.csv), e.g. CalculiX model A from tools/ccx/run_reference.py. Every
 configuration runs `sedbridge press` on a scene derived from config/scenes/paper_press.yaml
 and is compared with tools/ccx/compare_paths.py's path_errors. Writes OUT/study.csv
 (one row per configuration), OUT/pareto.png (median ms/step vs normalized-path MAE) and
-prints a markdown table. Each run's own folder stays in OUT/<name>/.
+prints a markdown table. Each run's own folder stays in OUT/<name>/. A study run by
+tools/study.py (`study.py make accuracy-cost`) is scored with --rescore --runs STUDY/cases
+--times STUDY/summary.csv (the run folders and their wall seconds).
 """
 import argparse
 import csv
@@ -207,6 +210,9 @@ def main():
     ap.add_argument("--rescore", action="store_true",
                     help="run nothing: score the run folders already in OUT against --reference (a new reference); "
                          "times come from OUT/study.csv")
+    ap.add_argument("--runs", help="--rescore: the run folders' parent (default: --out)")
+    ap.add_argument("--times", help="--rescore: the times from this CSV's case and wall_s columns "
+                                    "(tools/study.py's summary.csv) instead of OUT/study.csv")
     a = ap.parse_args()
     if a.plot_only:
         write_pareto(read_csv(os.path.join(a.out, "study.csv")), os.path.join(a.out, "pareto.png"))
@@ -225,9 +231,12 @@ def main():
         configs = [c for c in configs if c[0] in keep]
     study_csv = os.path.join(a.out, "study.csv")
     earlier = {r["name"]: r for r in read_csv(study_csv)} if a.rescore and os.path.exists(study_csv) else {}
+    if a.rescore and a.times:
+        earlier = {r["case"]: dict(total_s=r["wall_s"]) for r in read_csv(a.times) if r["status"] == "ok"}
+    runs = a.runs if a.rescore and a.runs else a.out
     rows = []
     for i, (name, kw) in enumerate(configs, 1):
-        d = os.path.join(a.out, name)
+        d = os.path.join(runs, name)
         if a.rescore:
             if not os.path.exists(os.path.join(d, "sed_path.csv")):
                 continue

@@ -17,6 +17,7 @@ PACKAGES=(
   libgmsh-dev gmsh
   calculix-ccx
   python3 python3-matplotlib python3-numpy
+  python3-distributed     # Dask distributed: tools/study.py's local cluster, dask-scheduler, dask-worker
   default-jdk-headless libjchart2d-java xvfb xdotool
 )
 
