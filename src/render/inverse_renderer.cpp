@@ -63,7 +63,7 @@ const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed
     fixed_cost_ += 0.5 * r * r;
   }
   u_ = u_.cwiseMax(0.0).cwiseMin(box_);  // warm start, inside the box
-  double cost = Residuals(u_, true);
+  double cost = Residuals(u_, r_, sed_, &J_t_);
   for (int it = 0; it < options_.max_iterations; ++it) {
     result_.iterations = it + 1;
     NormalEquations(u_);
@@ -77,21 +77,28 @@ const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed
       result_.converged = true;
       break;
     }
-    // Levenberg-Marquardt: a rejected trial raises the damping (a shorter step, turned
-    // toward the gradient), an accepted one lowers it; kept from scan to scan.
+    // Levenberg-Marquardt with Nielsen's damping update: a rejected trial raises the
+    // damping (a shorter step, turned toward the gradient) by a factor that doubles with
+    // each rejection; an accepted one lowers it by how well the model predicted the
+    // decrease. Kept from scan to scan. Each trial is evaluated with its Jacobian: most are
+    // accepted, and an accepted one is then not evaluated twice.
     bool accepted = false, stationary = false;
+    double raise = 2.0;
     for (int attempt = 0; attempt < 16 && !accepted && !stationary; ++attempt) {
       DampedStep();
       trial_ = (u_ + step_).cwiseMax(0.0).cwiseMin(box_);
       stationary = (trial_ - u_).lpNorm<Eigen::Infinity>() <= 1e-14 * std::max(1.0, max_.lpNorm<Eigen::Infinity>());
       if (stationary) break;
-      const double c = Residuals(trial_, false);
+      const double c = Residuals(trial_, trial_r_, trial_sed_, &trial_J_t_);
       if (c < cost) {
         accepted = true;
+        const double gain = (cost - c) / std::max(ModelDecrease(trial_ - u_), 1e-300);
+        const double t = 2.0 * gain - 1.0;
+        lambda_ = std::max(lambda_ * std::max(0.1, 1.0 - t * t * t), options_.damping);
         cost = c;
-        lambda_ = std::max(lambda_ / 10.0, options_.damping);
       } else {
-        lambda_ = std::min(lambda_ * 10.0, 1e12);
+        lambda_ = std::min(lambda_ * raise, 1e12);
+        raise *= 2.0;
       }
     }
     if (!accepted) {
@@ -100,11 +107,11 @@ const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed
     }
     previous_.swap(u_);
     u_ = trial_;
+    r_.swap(trial_r_), sed_.swap(trial_sed_), J_t_.swap(trial_J_t_);
     if (((u_ - previous_).array().abs() <= options_.command_tolerance * max_.array()).all()) {
       result_.converged = true;
       break;
     }
-    cost = Residuals(u_, true);
   }
   result_.cost = cost;
   result_.at_upper_bound = int((u_.array() >= box_.array() && box_.array() > 0).count());
@@ -125,20 +132,29 @@ void InverseRenderer::PenaltyWeights() {
     if (box_[i] > 0) penalty_weight_[i] = options_.command_penalty * std::max(strength[i], floor) / (box_[i] * box_[i]);
 }
 
-double InverseRenderer::Residuals(const Eigen::VectorXd& u, bool with_jacobian) {
+double InverseRenderer::Residuals(const Eigen::VectorXd& u, Eigen::VectorXd& r, Eigen::VectorXd& sed,
+                                  Eigen::MatrixXd* J_t) {
   const double s0 = options_.sed_floor_Pa;
   ++result_.evaluations;
   shifted_ = u + offset_;
-  if (with_jacobian)
-    influence_.ActiveSedAndJacobianT(shifted_, sed_, dS_t_);
+  if (J_t)
+    influence_.ActiveSedAndJacobianT(shifted_, sed, dS_t_);
   else
-    influence_.ActiveSed(shifted_, sed_);
+    influence_.ActiveSed(shifted_, sed);
   // S_v(u) >= 0 in exact arithmetic (a sum of non-negative element SEDs); round-off may
   // take a vanishing one below.
-  const Eigen::VectorXd root = (sed_.array().max(0.0) + s0).sqrt().matrix();
-  r_ = root - target_root_;
-  if (with_jacobian) J_t_.noalias() = dS_t_ * (0.5 * root.cwiseInverse()).asDiagonal();
-  return fixed_cost_ + 0.5 * r_.squaredNorm() + 0.5 * u.cwiseProduct(u).dot(penalty_weight_);
+  const Eigen::VectorXd root = (sed.array().max(0.0) + s0).sqrt().matrix();
+  r = root - target_root_;
+  if (J_t) J_t->noalias() = dS_t_ * (0.5 * root.cwiseInverse()).asDiagonal();
+  return fixed_cost_ + 0.5 * r.squaredNorm() + 0.5 * u.cwiseProduct(u).dot(penalty_weight_);
+}
+
+double InverseRenderer::ModelDecrease(const Eigen::VectorXd& step) const {
+  // The Gauss-Newton model's decrease for the step taken (projected onto the box): only
+  // the free variables move.
+  Eigen::VectorXd s(H0_.rows());
+  for (Eigen::Index a = 0; a < s.size(); ++a) s[a] = step[free_[size_t(a)]];
+  return -(g_.dot(s) + 0.5 * s.dot(H0_ * s));
 }
 
 void InverseRenderer::NormalEquations(const Eigen::VectorXd& u) {

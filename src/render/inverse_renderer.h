@@ -80,8 +80,12 @@ class InverseRenderer {
   void Reset() { u_.setZero(), commands_.setZero(); }
 
  private:
-  /// r (residuals) and J (their Jacobian) at u; returns 1/2 |r|^2.
-  double Residuals(const Eigen::VectorXd& u, bool with_jacobian);
+  /// r (residuals), the active vertices' SED and, if J_t is given, the residuals'
+  /// transposed Jacobian at u; returns the cost.
+  double Residuals(const Eigen::VectorXd& u, Eigen::VectorXd& r, Eigen::VectorXd& sed, Eigen::MatrixXd* J_t);
+  /// What the Gauss-Newton model promises a step (zero off the free variables) lowers the
+  /// cost by.
+  double ModelDecrease(const Eigen::VectorXd& step) const;
   /// The variables free at u (inside the box, or at a bound the descent leaves) and their
   /// Gauss-Newton matrix H0_ and gradient g_.
   void NormalEquations(const Eigen::VectorXd& u);
@@ -103,6 +107,8 @@ class InverseRenderer {
   // Over the active vertices (DisplayInfluence::active_vertices), transposed: #actuators x
   // #vertices, a contiguous column per vertex.
   Eigen::MatrixXd dS_t_, J_t_, J_free_t_, H_, H0_;
+  Eigen::VectorXd trial_r_, trial_sed_;  // the last trial's, swapped in when it is accepted
+  Eigen::MatrixXd trial_J_t_;
   double fixed_cost_ = 0;  // 1/2 sum r_v^2 over the vertices no command changes
   Eigen::VectorXd g_;
   double lambda_ = 1e-6;
