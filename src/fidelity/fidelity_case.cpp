@@ -332,11 +332,13 @@ std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& p
                           : Simulate(Specs(), profile, seed, pad, false);
 }
 
-std::vector<FidelityCase> CalibrationPressesOnSimulatedPad(const std::vector<sensors::CalibrationPress>& presses,
+std::vector<FidelityCase> CalibrationPressesOnSimulatedPad(const std::vector<sensors::CalibrationPress>& all_presses,
                                                            const sensors::SensorProfile& profile, uint64_t seed,
                                                            sensors::PadMechanics pad) {
   // The depth at which the pad carries each press's hold force, as fit-sensor --evaluate-pad
   // finds it.
+  // Only what the simulated pad presses: primitives, not the rig's punches and pairs.
+  const std::vector<sensors::CalibrationPress> presses = sensors::PrimitivePresses(all_presses);
   const std::vector<sensors::PadPressReport> depths = sensors::EvaluatePadOnPresses(presses, profile, SimulatedPad(pad));
   std::vector<SyntheticSpec> specs;
   for (size_t i = 0; i < presses.size(); ++i) {

@@ -189,7 +189,8 @@ TEST(FidelityBenchmark, HeldOutPressesWithARefittedSensorModel) {
                                          "press_14.log", "press_16.log", "press_20.log"};
   std::vector<sensors::CalibrationPress> fit_set, held_out;
   for (auto& p : rig.presses)
-    (std::find(held.begin(), held.end(), p.name) != held.end() ? held_out : fit_set).push_back(p);
+    if (p.name < "press_21.log")  // 00-20: the presses this test was measured on
+      (std::find(held.begin(), held.end(), p.name) != held.end() ? held_out : fit_set).push_back(p);
   ASSERT_EQ(held_out.size(), 6u);
   // Through the YAML that `fit-sensor --out` writes (its printed digits), as a user gets it.
   const std::string yaml = sensors::TactileModelParamsYaml(
