@@ -304,7 +304,7 @@ std::vector<RodRadiusReport> FitRodRadii(const std::vector<CalibrationPress>& pr
   const Eigen::VectorXd inv_sigma = InverseNoise(profile, options.noise_counts);
   std::vector<RodRadiusReport> out;
   for (const CalibrationPress& press : presses) {
-    if (press.shape != PressShape::kCylinder) continue;
+    if (!press.is_primitive() || press.object.shape != ContactShape::kCylinder) continue;
     const auto [hold_begin, hold_end] = HoldWindow(press.protocol);
     int scans = 0;
     for (double t : press.t_s) scans += t >= hold_begin && t <= hold_end;
