@@ -63,11 +63,12 @@ std::string SphereYaml(double r, double x, double y) {
   return yaml;
 }
 
-std::string RodYaml(double r, double yaw, double x, double y) {
+// A rod across the pad (40 mm), or a finite one of length_mm centred on (x, y).
+std::string RodYaml(double r, double yaw, double x, double y, double length_mm = 40) {
   char yaml[256];
   std::snprintf(yaml, sizeof yaml,
-                "{shape: cylinder, radius_mm: %g, length_mm: 40, position_mm: [%g, %g, %g], rpy_deg: [0, 0, %g]", r, x,
-                y, r + kLift_mm, yaw);
+                "{shape: cylinder, radius_mm: %g, length_mm: %g, position_mm: [%g, %g, %g], rpy_deg: [0, 0, %g]", r,
+                length_mm, x, y, r + kLift_mm, yaw);
   return yaml;
 }
 
@@ -94,13 +95,18 @@ void MakeStroke(SyntheticSpec& spec, double yaw_deg, double friction, double mid
   spec.label += slide;
 }
 
-SyntheticSpec RodSpec(const std::string& name, double r, double yaw, double x, double y, double d) {
-  char label[64];
-  std::snprintf(label, sizeof label, "rod R%g yaw %g (%g, %g)", r, yaw, x, y);
-  SyntheticSpec spec{name, label, RodYaml(r, yaw, x, y), d, 0, 0, true,
+SyntheticSpec RodSpec(const std::string& name, double r, double yaw, double x, double y, double d,
+                      double length_mm = 40) {
+  char label[96];
+  if (length_mm < 40)
+    std::snprintf(label, sizeof label, "rod R%g L%g yaw %g (%g, %g)", r, length_mm, yaw, x, y);
+  else
+    std::snprintf(label, sizeof label, "rod R%g yaw %g (%g, %g)", r, yaw, x, y);
+  SyntheticSpec spec{name, label, RodYaml(r, yaw, x, y, length_mm), d, 0, 0, true,
                      Primitive(sensors::ContactShape::kCylinder, x, y, r, yaw), {}};
+  if (length_mm < 40) spec.truth.length_mm = length_mm;
   if (r < contact::kLeaderMinRodRadius_mm)
-    spec.leader_objects_yaml = RodYaml(contact::kLeaderMinRodRadius_mm, yaw, x, y);
+    spec.leader_objects_yaml = RodYaml(contact::kLeaderMinRodRadius_mm, yaw, x, y, length_mm);
   return spec;
 }
 
@@ -428,7 +434,7 @@ std::vector<FidelityCase> CalibrationPressesOnSimulatedPad(const std::vector<sen
     if (o.shape == sensors::ContactShape::kFlat) {
       spec = FlatSpec(name, depth_mm);
     } else if (o.shape == sensors::ContactShape::kCylinder) {
-      spec = RodSpec(name, o.radius_mm, o.yaw_deg, o.x_mm, o.y_mm, depth_mm);
+      spec = RodSpec(name, o.radius_mm, o.yaw_deg, o.x_mm, o.y_mm, depth_mm, o.length_mm > 0 ? o.length_mm : 40);
     } else {
       const double traction = std::hypot(o.shear_x_N, o.shear_y_N) / std::max(o.normal_force_N, 1e-12);
       if (traction > 0) {
