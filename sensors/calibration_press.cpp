@@ -74,24 +74,48 @@ double NewtonsPerCount(const SensorProfile& profile, int taxel, int axis) {
   return n * (cal.taxel_gain.empty() ? 1.0 : cal.taxel_gain[static_cast<size_t>(taxel)]);
 }
 
+const config::EnumNames<PressShape>& NamesOf(PressShape) {
+  static const config::EnumNames<PressShape> names{{PressShape::kSphere, "sphere"},
+                                                   {PressShape::kCylinder, "cylinder"},
+                                                   {PressShape::kFlat, "flat"},
+                                                   {PressShape::kPunch, "punch"},
+                                                   {PressShape::kPair, "pair"}};
+  return names;
+}
+
+std::vector<CalibrationPress> PrimitivePresses(std::vector<CalibrationPress> presses) {
+  presses.erase(std::remove_if(presses.begin(), presses.end(), [](const CalibrationPress& p) { return !p.is_primitive(); }),
+                presses.end());
+  return presses;
+}
+
 namespace {
 
 using config::Field;
 
-/// `object` of one case in cases.json: the object at the peak force.
+/// `object` of one case in cases.json: the object at the peak force (a pair's `objects`:
+/// each as this, without traction or a pair of their own).
 struct PressObjectKeys {
-  ContactShape shape = ContactShape::kSphere;
-  std::array<double, 2> position_mm{};
+  PressShape shape = PressShape::kSphere;
+  std::optional<std::array<double, 2>> position_mm;  ///< required but for a pair
   std::optional<double> radius_mm;  ///< > 0, required for a sphere or a cylinder
   double yaw_deg = 0;
+  std::optional<double> length_mm;  ///< a finite rod's (> 0); a cylinder's only
+  std::optional<std::array<double, 2>> half_size_mm;  ///< a punch's, both > 0
+  std::vector<PressObjectKeys> objects;  ///< a pair's
+  std::vector<double> split;             ///< a pair's: each object's share of the force
   std::array<double, 2> traction{0, 0};  ///< tangential force / normal force
 
   template <typename Archive>
   void Serialize(Archive* a) {
     a->Visit(Field("shape", &shape).Required());
-    a->Visit(Field("position_mm", &position_mm).Required());
+    a->Visit(Field("position_mm", &position_mm));
     a->Visit(Field("radius_mm", &radius_mm));
     a->Visit(Field("yaw_deg", &yaw_deg));
+    a->Visit(Field("length_mm", &length_mm).Unit("mm").Positive());
+    a->Visit(Field("half_size_mm", &half_size_mm).Unit("mm").Positive());
+    a->Visit(Field("objects", &objects));
+    a->Visit(Field("split", &split).Within({0, 1, true, false}));
     a->Visit(Field("traction", &traction));
   }
 };
@@ -121,23 +145,73 @@ struct CasesFile {
   }
 };
 
-// A flat's radius is never used, so only a sphere or cylinder needs one.
-void CheckRadius(const PressObjectKeys& object, const config::MapReader& object_reader) {
-  if (object.shape == ContactShape::kFlat || object.radius_mm.value_or(-1) > 0) return;
-  object_reader.Fail("'radius_mm' (> 0) is required for a " + std::string(ContactShapeName(object.shape)));
+// The keys a shape needs and the keys only other shapes have, checked where they stand: the
+// archive knows each key's type and range, not which shape it belongs to. `in_pair`: one of
+// a pair's objects (no pair and no traction of its own).
+void CheckObject(const PressObjectKeys& object, const YAML::Node& node, const std::string& file, bool in_pair) {
+  config::MapReader reader(node, file);
+  const std::string shape = config::NameOf(object.shape);
+  auto refuse = [&](const char* key, const std::string& why) {
+    if (reader.Has(key)) reader.Fail(reader.Node(key), "'" + std::string(key) + "' " + why);
+  };
+  if (in_pair && object.shape == PressShape::kPair) reader.Fail(reader.Node("shape"), "a pair's objects cannot be pairs");
+  if (in_pair) refuse("traction", "is the pair's, not one of its objects'");
+  // A flat's radius is never used, so only a sphere or cylinder needs one.
+  const bool rounded = object.shape == PressShape::kSphere || object.shape == PressShape::kCylinder;
+  if (rounded && !(object.radius_mm.value_or(-1) > 0))
+    reader.Fail("'radius_mm' (> 0) is required for a " + shape);
+  if (object.shape == PressShape::kPunch || object.shape == PressShape::kPair)
+    refuse("radius_mm", "is a sphere's or a cylinder's, not a " + shape + "'s");
+  if (object.shape != PressShape::kCylinder) refuse("length_mm", "is a cylinder's (a finite rod), not a " + shape + "'s");
+  if (object.shape == PressShape::kPunch && !object.half_size_mm)
+    reader.Fail("'half_size_mm' [a, b] (> 0) is required for a punch");
+  if (object.shape != PressShape::kPunch) refuse("half_size_mm", "is a punch's, not a " + shape + "'s");
+  if (object.shape != PressShape::kPair) {
+    refuse("objects", "are a pair's, not a " + shape + "'s");
+    refuse("split", "is a pair's, not a " + shape + "'s");
+    if (!object.position_mm && object.shape != PressShape::kFlat)
+      reader.Fail("'position_mm' [x, y] is required for a " + shape);
+    return;
+  }
+  refuse("position_mm", "is each of a pair's objects', not the pair's");
+  refuse("yaw_deg", "is each of a pair's objects', not the pair's");
+  if (object.objects.size() != 2) reader.Fail(reader.Has("objects") ? reader.Node("objects") : node, "a pair needs 'objects': two of them");
+  if (!reader.Has("split")) reader.Fail("'split' [s1, s2] (each object's share of force_N) is required for a pair");
+  const YAML::Node split = reader.Node("split");
+  double sum = 0;
+  for (double s : object.split) sum += s;
+  if (object.split.size() != object.objects.size() || std::abs(sum - 1) > 1e-6)
+    reader.Fail(split, "'split' must give each of the pair's objects a share in [0, 1], the shares summing to 1");
+  const YAML::Node objects = reader.Node("objects");
+  for (std::size_t j = 0; j < object.objects.size(); ++j) CheckObject(object.objects[j], objects[j], file, true);
 }
 
-ContactPrimitive PeakObject(const PressCaseKeys& c) {
-  ContactPrimitive o;
-  o.shape = c.object.shape;
-  o.x_mm = c.object.position_mm[0];
-  o.y_mm = c.object.position_mm[1];
-  o.radius_mm = c.object.radius_mm.value_or(0.0);
-  o.yaw_deg = c.object.yaw_deg;
-  o.normal_force_N = c.force_N;
-  o.shear_x_N = c.object.traction[0] * c.force_N;
-  o.shear_y_N = c.object.traction[1] * c.force_N;
-  return o;
+ContactPrimitive PrimitiveOf(const PressObjectKeys& o, double force_N, const std::array<double, 2>& traction) {
+  ContactPrimitive p;
+  p.shape = o.shape == PressShape::kCylinder ? ContactShape::kCylinder
+            : o.shape == PressShape::kFlat   ? ContactShape::kFlat
+                                             : ContactShape::kSphere;
+  p.x_mm = o.position_mm ? (*o.position_mm)[0] : 0.0;
+  p.y_mm = o.position_mm ? (*o.position_mm)[1] : 0.0;
+  p.radius_mm = o.radius_mm.value_or(0.0);
+  p.yaw_deg = o.yaw_deg;
+  p.length_mm = o.length_mm.value_or(0.0);
+  p.normal_force_N = force_N;
+  p.shear_x_N = traction[0] * force_N;
+  p.shear_y_N = traction[1] * force_N;
+  return p;
+}
+
+PressedObject Pressed(const PressObjectKeys& o, double force_N, double share, const std::array<double, 2>& traction) {
+  PressedObject p;
+  p.shape = o.shape;
+  p.primitive = PrimitiveOf(o, share * force_N, traction);
+  if (o.half_size_mm) {
+    p.half_size_mm[0] = (*o.half_size_mm)[0];
+    p.half_size_mm[1] = (*o.half_size_mm)[1];
+  }
+  p.share = share;
+  return p;
 }
 
 void DecodeLog(const std::string& cases_file, const SensorProfile& profile, CalibrationPress* p) {
@@ -167,14 +241,21 @@ std::vector<CalibrationPress> LoadCalibrationPresses(const std::string& cases_js
   std::vector<CalibrationPress> presses;
   for (std::size_t i = 0; i < file.cases.size(); ++i) {
     const PressCaseKeys& c = file.cases[i];
-    CheckRadius(c.object, config::MapReader(doc.root["cases"][i]["object"], doc.file));
+    CheckObject(c.object, doc.root["cases"][i]["object"], doc.file, false);
     CalibrationPress p;
     // Relative to the cases file, or as given when absolute (a selection of presses kept
     // elsewhere, e.g. a held-out set); the name is the file's own.
     const bool absolute = !c.log.empty() && c.log[0] == '/';
     p.name = absolute ? c.log.substr(c.log.rfind('/') + 1) : c.log;
     p.log_path = absolute ? c.log : dir + "/" + c.log;
-    p.object = PeakObject(c);
+    p.shape = c.object.shape;
+    if (p.shape == PressShape::kPair) {
+      for (std::size_t j = 0; j < c.object.objects.size(); ++j)
+        p.objects.push_back(Pressed(c.object.objects[j], c.force_N, c.object.split[j], c.object.traction));
+    } else {
+      p.objects.push_back(Pressed(c.object, c.force_N, 1.0, c.object.traction));
+      if (p.is_primitive()) p.object = p.objects[0].primitive;
+    }
     p.protocol = file.protocol;
     DecodeLog(doc.file, profile, &p);
     presses.push_back(std::move(p));

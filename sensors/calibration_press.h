@@ -4,9 +4,11 @@
 // what `sedbridge fit-sensor` calibrates the forward model to and what the fidelity
 // benchmark runs on.
 //
-// cases.json: {"cases": [{"object": {"shape": "sphere"|"cylinder"|"flat",
-//   "position_mm": [x, y], "radius_mm": R, "yaw_deg": yaw, "traction": [tx, ty]},
-//   "force_N": F, "log": "press_00.log"}, ...]}  (traction: tangential force / normal force)
+// cases.json: {"cases": [{"object": {"shape": "sphere"|"cylinder"|"flat"|"punch"|"pair",
+//   "position_mm": [x, y], "radius_mm": R, "yaw_deg": yaw, "length_mm": L, "traction": [tx, ty],
+//   "half_size_mm": [a, b], "objects": [{...}, {...}], "split": [s1, s2]},
+//   "force_N": F, "log": "press_00.log"}, ...]}  (traction: tangential force / normal force;
+//   length_mm: a finite rod's; half_size_mm: a punch's; objects and split: a pair's)
 // Every press follows the rig's protocol: 0.3 s unloaded, a linear ramp to F over 0.7 s,
 // 0.5 s hold, a 0.3 s linear release, then unloaded.
 
@@ -14,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "common/enum_names.h"
 #include "common/name_value.h"
 #include "sensors/scan.h"
 #include "sensors/sensor_profile.h"
@@ -48,10 +51,39 @@ struct PressProtocol {
   }
 };
 
+/// What a press's object is in cases.json: the forward model's primitives (sphere, cylinder,
+/// flat), a rigid flat-faced punch, or a pair of objects pressed together by one holder. The
+/// forward model has no punch and no pair (yet): their presses are data for the fidelity
+/// benchmark, not for fit-sensor (PrimitivePresses).
+enum class PressShape { kSphere, kCylinder, kFlat, kPunch, kPair };
+const config::EnumNames<PressShape>& NamesOf(PressShape);
+
+/// One rigid object of a press at the peak force, in the pad frame: a primitive's shape,
+/// or a punch. A pair's objects each carry their split of the press's load.
+struct PressedObject {
+  PressShape shape = PressShape::kSphere;  ///< never kPair
+  /// Pose, size and this object's share of the load at the peak (force_N x share, traction
+  /// included). Its `shape` is the primitive's for a sphere, cylinder or flat; a punch uses
+  /// x_mm, y_mm, yaw_deg and the loads only.
+  ContactPrimitive primitive;
+  /// A punch's half sizes along its own axes [mm] (a along (cos yaw, sin yaw)); its edges are
+  /// sharp (the rig's: rounded by 0.2 mm at most).
+  double half_size_mm[2] = {0, 0};
+  double share = 1;  ///< of the press's force
+};
+
 struct CalibrationPress {
   std::string name;               ///< log file name without directory, e.g. "press_03.log"
   std::string log_path;           ///< resolved path of the log
-  ContactPrimitive object;        ///< the object at the peak force (force_N, traction x force)
+  PressShape shape = PressShape::kSphere;  ///< the case's object
+  /// The object at the peak force (force_N, traction x force) as the forward model's
+  /// primitive: only when is_primitive() (a sphere, cylinder or flat); else default.
+  ContactPrimitive object;
+  /// Every object pressed (one; a pair's two), each with its share of the load; a
+  /// primitive's one is `object` as loaded (the code that presses it reads `object`).
+  std::vector<PressedObject> objects;
+  /// The forward model can predict this press (its object is a sphere, cylinder or flat).
+  bool is_primitive() const { return shape != PressShape::kPunch && shape != PressShape::kPair; }
   std::vector<double> t_s;        ///< scan times since the first scan
   std::vector<Eigen::VectorXd> readings_N;  ///< per scan, 3 x #taxels (x, y, z per taxel) [N]
   std::vector<Scan> scans;        ///< the assembled scans themselves
@@ -70,6 +102,10 @@ Eigen::VectorXd ScanReadings_N(const Scan& scan, const SensorProfile& profile);
 /// (N; or Pa / kPa times the taxel area), taxel gain included: the scale that turns count
 /// noise and full-scale readings into readings_N.
 double NewtonsPerCount(const SensorProfile& profile, int taxel, int axis);
+
+/// The presses whose object the forward model knows (is_primitive()), in order: what
+/// fit-sensor fits and evaluates, and what the simulated pad re-makes.
+std::vector<CalibrationPress> PrimitivePresses(std::vector<CalibrationPress> presses);
 
 /// Loads cases.json and decodes every log it names (paths relative to the JSON) with
 /// `profile`. Throws config::ConfigError naming file:line:column for a bad entry, and

@@ -137,6 +137,10 @@ Problem MakeProblem(const std::vector<CalibrationPress>& presses, const SensorPr
                     const TactileModelParams& fixed,
                     const FitOptions& options, bool hold_only) {
   if (profile.axes != 3) throw std::invalid_argument("fit-sensor needs a three-axis profile");
+  for (const CalibrationPress& p : presses)
+    if (!p.is_primitive())
+      throw std::invalid_argument(p.name + ": a " + config::NameOf(p.shape) +
+                                  " is no primitive of the forward model (PrimitivePresses)");
   Problem pr{&presses, &profile, fixed, {}, {}};
   pr.inv_sigma = InverseNoise(profile, options.noise_counts);
   for (size_t i = 0; i < presses.size(); ++i) {
@@ -300,7 +304,7 @@ std::vector<RodRadiusReport> FitRodRadii(const std::vector<CalibrationPress>& pr
   const Eigen::VectorXd inv_sigma = InverseNoise(profile, options.noise_counts);
   std::vector<RodRadiusReport> out;
   for (const CalibrationPress& press : presses) {
-    if (press.object.shape != ContactShape::kCylinder) continue;
+    if (!press.is_primitive() || press.object.shape != ContactShape::kCylinder) continue;
     const auto [hold_begin, hold_end] = HoldWindow(press.protocol);
     int scans = 0;
     for (double t : press.t_s) scans += t >= hold_begin && t <= hold_end;

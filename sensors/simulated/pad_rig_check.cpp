@@ -62,6 +62,8 @@ std::vector<PadPressReport> EvaluatePadOnPresses(const std::vector<CalibrationPr
     for (int a = 0; a < 3; ++a) inv_sigma[3 * k + a] = 1.0 / (noise_counts * NewtonsPerCount(profile, k, a));
   std::vector<PadPressReport> out;
   for (const CalibrationPress& press : presses) {
+    if (!press.is_primitive())
+      throw std::invalid_argument(press.name + ": the rig check presses primitives, not a " + config::NameOf(press.shape));
     const PressProtocol& protocol = press.protocol;
     const double hold = protocol.HoldMid_s(), half = 0.4 * protocol.hold_s;
     const double ramp_window_s = protocol.FromRigTime_s(kRampWindow_s);

@@ -118,7 +118,14 @@ int RunFitSensor(int argc, char** argv) {
   const SensorProfile profile = LoadNamedSensorProfile(args.Get("profile"));
   const std::string cases = config::ResolveResource(args.Get("cases"));
   std::printf("loading presses from %s ...\n", cases.c_str());
-  auto presses = LoadCalibrationPresses(cases, profile);
+  std::vector<CalibrationPress> presses;
+  // A punch or a pair is no primitive of the forward model (yet): said, not fitted.
+  for (CalibrationPress& p : LoadCalibrationPresses(cases, profile))
+    if (p.is_primitive())
+      presses.push_back(std::move(p));
+    else
+      std::printf("  %s: a %s, which the forward model has no primitive for: left out\n", p.name.c_str(),
+                  config::NameOf(p.shape).c_str());
   std::vector<CalibrationPress> held_out;
   if (auto list = args.GetOptional("hold-out")) {
     const std::string names = "," + *list + ",";

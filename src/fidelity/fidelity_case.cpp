@@ -1,7 +1,9 @@
 #include "fidelity/fidelity_case.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <random>
 
 #include "bridge/contact_fe_step.h"
@@ -61,11 +63,12 @@ std::string SphereYaml(double r, double x, double y) {
   return yaml;
 }
 
-std::string RodYaml(double r, double yaw, double x, double y) {
+// A rod across the pad (40 mm), or a finite one of length_mm centred on (x, y).
+std::string RodYaml(double r, double yaw, double x, double y, double length_mm = 40) {
   char yaml[256];
   std::snprintf(yaml, sizeof yaml,
-                "{shape: cylinder, radius_mm: %g, length_mm: 40, position_mm: [%g, %g, %g], rpy_deg: [0, 0, %g]", r, x,
-                y, r + kLift_mm, yaw);
+                "{shape: cylinder, radius_mm: %g, length_mm: %g, position_mm: [%g, %g, %g], rpy_deg: [0, 0, %g]", r,
+                length_mm, x, y, r + kLift_mm, yaw);
   return yaml;
 }
 
@@ -92,13 +95,18 @@ void MakeStroke(SyntheticSpec& spec, double yaw_deg, double friction, double mid
   spec.label += slide;
 }
 
-SyntheticSpec RodSpec(const std::string& name, double r, double yaw, double x, double y, double d) {
-  char label[64];
-  std::snprintf(label, sizeof label, "rod R%g yaw %g (%g, %g)", r, yaw, x, y);
-  SyntheticSpec spec{name, label, RodYaml(r, yaw, x, y), d, 0, 0, true,
+SyntheticSpec RodSpec(const std::string& name, double r, double yaw, double x, double y, double d,
+                      double length_mm = 40) {
+  char label[96];
+  if (length_mm < 40)
+    std::snprintf(label, sizeof label, "rod R%g L%g yaw %g (%g, %g)", r, length_mm, yaw, x, y);
+  else
+    std::snprintf(label, sizeof label, "rod R%g yaw %g (%g, %g)", r, yaw, x, y);
+  SyntheticSpec spec{name, label, RodYaml(r, yaw, x, y, length_mm), d, 0, 0, true,
                      Primitive(sensors::ContactShape::kCylinder, x, y, r, yaw), {}};
+  if (length_mm < 40) spec.truth.length_mm = length_mm;
   if (r < contact::kLeaderMinRodRadius_mm)
-    spec.leader_objects_yaml = RodYaml(contact::kLeaderMinRodRadius_mm, yaw, x, y);
+    spec.leader_objects_yaml = RodYaml(contact::kLeaderMinRodRadius_mm, yaw, x, y, length_mm);
   return spec;
 }
 
@@ -229,27 +237,103 @@ std::vector<geometry::RigidObject> FidelityCase::ObjectsAt(size_t k) const {
   return out;
 }
 
+namespace {
+
+// A rig punch's rounding on the leader [mm]: the rig's edges are rounded by 0.2 mm at most
+// (shared README), and the leader's skin carries contact points about 1 mm apart, so any
+// rounding up to that presses alike; 0.2 keeps the box's surface normal continuous.
+constexpr double kPunchRounding_mm = 0.2;
+// A punch's height above its face [mm]: only its face touches the pad.
+constexpr double kPunchHeight_mm = 10;
+
+// One object of a rig press in words: "sphere R5 (0, 0)", "rod R1 yaw 90 (0, -2)" (a finite
+// rod: "rod R1.5 L6 yaw 120 (-2, 0)"), "flat", "punch 3x3 yaw 0 (0, 0)" (its full sizes).
+std::string LabelOf(const sensors::PressedObject& object) {
+  const sensors::ContactPrimitive& o = object.primitive;
+  char label[96];
+  switch (object.shape) {
+    case sensors::PressShape::kFlat:
+      return "flat";
+    case sensors::PressShape::kSphere:
+      std::snprintf(label, sizeof label, "sphere R%g (%g, %g)", o.radius_mm, o.x_mm, o.y_mm);
+      return label;
+    case sensors::PressShape::kCylinder:
+      if (o.length_mm > 0)
+        std::snprintf(label, sizeof label, "rod R%g L%g yaw %g (%g, %g)", o.radius_mm, o.length_mm, o.yaw_deg, o.x_mm,
+                      o.y_mm);
+      else
+        std::snprintf(label, sizeof label, "rod R%g yaw %g (%g, %g)", o.radius_mm, o.yaw_deg, o.x_mm, o.y_mm);
+      return label;
+    case sensors::PressShape::kPunch:
+      std::snprintf(label, sizeof label, "punch %gx%g yaw %g (%g, %g)", 2 * object.half_size_mm[0],
+                    2 * object.half_size_mm[1], o.yaw_deg, o.x_mm, o.y_mm);
+      return label;
+    case sensors::PressShape::kPair:
+      break;
+  }
+  return "?";
+}
+
+// The object as the leader is pressed with it: a primitive as the bridge presses it
+// (contact::ToRigidObject: a finite rod a capped cylinder of its length), a punch a box of
+// kPunchHeight_mm with its face on the pad, turned by its yaw, edges rounded kPunchRounding_mm.
+geometry::RigidObject LeaderObjectOf(const sensors::PressedObject& object) {
+  if (object.shape != sensors::PressShape::kPunch) return contact::ToRigidObject(object.primitive);
+  geometry::RigidObject o;
+  o.name = "punch";
+  const Eigen::Vector3d half_m(object.half_size_mm[0] * 1e-3, object.half_size_mm[1] * 1e-3, 0.5e-3 * kPunchHeight_mm);
+  const double rounding_m = std::min(kPunchRounding_mm * 1e-3, half_m.minCoeff());
+  o.shape = std::make_shared<geometry::BoxSdf>(half_m, rounding_m);
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = geometry::RotationFromRpyDeg(Eigen::Vector3d(0, 0, object.primitive.yaw_deg));
+  pose.translation() = Eigen::Vector3d(object.primitive.x_mm * 1e-3, object.primitive.y_mm * 1e-3, half_m.z());
+  o.trajectory = geometry::Trajectory(pose);
+  return o;
+}
+
+}  // namespace
+
 FidelityCase FromCalibrationPress(const sensors::CalibrationPress& press) {
   FidelityCase c;
   c.name = press.name.substr(0, press.name.rfind('.'));
-  const auto& o = press.object;
-  char label[96];
-  if (o.shape == sensors::ContactShape::kFlat)
-    std::snprintf(label, sizeof label, "flat");
-  else if (o.shape == sensors::ContactShape::kSphere)
-    std::snprintf(label, sizeof label, "sphere R%g (%g, %g)", o.radius_mm, o.x_mm, o.y_mm);
-  else
-    std::snprintf(label, sizeof label, "rod R%g yaw %g (%g, %g)", o.radius_mm, o.yaw_deg, o.x_mm, o.y_mm);
-  c.label = label;
+  if (press.is_primitive()) {
+    sensors::PressedObject as_given;  // the press's own primitive (a caller may have changed it)
+    as_given.shape = press.shape;
+    as_given.primitive = press.object;
+    c.label = LabelOf(as_given);
+  } else if (press.shape == sensors::PressShape::kPair) {
+    // Both objects pressed together, as one rigid pair, to the press's force: the leader's
+    // press takes one force for all its objects, so the leader's mechanics share it out, not
+    // the rig's split (which the label gives).
+    c.label = "pair:";
+    for (const sensors::PressedObject& o : press.objects) {
+      char share[32];
+      std::snprintf(share, sizeof share, " %.0f%%", 100 * o.share);
+      c.label += (c.label.size() > 5 ? ", " : " ") + LabelOf(o) + share;
+    }
+  } else {
+    c.label = LabelOf(press.objects[0]);
+  }
   c.scans = press.scans;
   c.t_s = press.t_s;
-  for (double t : press.t_s) {
-    const sensors::ContactPrimitive at = press.ObjectAt(t);
-    c.load_N.emplace_back(at.shear_x_N, at.shear_y_N, at.normal_force_N);
+  c.has_primitive = press.is_primitive();
+  if (c.has_primitive) {  // the press's primitive, as fit-sensor and the reconstruction know it
+    for (double t : press.t_s) {
+      const sensors::ContactPrimitive at = press.ObjectAt(t);
+      c.load_N.emplace_back(at.shear_x_N, at.shear_y_N, at.normal_force_N);
+    }
+    c.objects = {contact::ToRigidObject(press.object)};
+    c.primitive = press.object;
+    return c;
   }
-  c.objects = {contact::ToRigidObject(o)};
-  c.has_primitive = true;
-  c.primitive = o;
+  for (double t : press.t_s) {  // a punch's load, or both of a pair's
+    const double f = press.protocol.LoadFraction(t);
+    Eigen::Vector3d load = Eigen::Vector3d::Zero();
+    for (const sensors::PressedObject& o : press.objects)
+      load += f * Eigen::Vector3d(o.primitive.shear_x_N, o.primitive.shear_y_N, o.primitive.normal_force_N);
+    c.load_N.push_back(load);
+  }
+  for (const sensors::PressedObject& o : press.objects) c.objects.push_back(LeaderObjectOf(o));
   return c;
 }
 
@@ -332,11 +416,13 @@ std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& p
                           : Simulate(Specs(), profile, seed, pad, false);
 }
 
-std::vector<FidelityCase> CalibrationPressesOnSimulatedPad(const std::vector<sensors::CalibrationPress>& presses,
+std::vector<FidelityCase> CalibrationPressesOnSimulatedPad(const std::vector<sensors::CalibrationPress>& all_presses,
                                                            const sensors::SensorProfile& profile, uint64_t seed,
                                                            sensors::PadMechanics pad) {
   // The depth at which the pad carries each press's hold force, as fit-sensor --evaluate-pad
   // finds it.
+  // Only what the simulated pad presses: primitives, not the rig's punches and pairs.
+  const std::vector<sensors::CalibrationPress> presses = sensors::PrimitivePresses(all_presses);
   const std::vector<sensors::PadPressReport> depths = sensors::EvaluatePadOnPresses(presses, profile, SimulatedPad(pad));
   std::vector<SyntheticSpec> specs;
   for (size_t i = 0; i < presses.size(); ++i) {
@@ -348,7 +434,7 @@ std::vector<FidelityCase> CalibrationPressesOnSimulatedPad(const std::vector<sen
     if (o.shape == sensors::ContactShape::kFlat) {
       spec = FlatSpec(name, depth_mm);
     } else if (o.shape == sensors::ContactShape::kCylinder) {
-      spec = RodSpec(name, o.radius_mm, o.yaw_deg, o.x_mm, o.y_mm, depth_mm);
+      spec = RodSpec(name, o.radius_mm, o.yaw_deg, o.x_mm, o.y_mm, depth_mm, o.length_mm > 0 ? o.length_mm : 40);
     } else {
       const double traction = std::hypot(o.shear_x_N, o.shear_y_N) / std::max(o.normal_force_N, 1e-12);
       if (traction > 0) {
