@@ -7,10 +7,10 @@ const state = $('state');
 let THREE = null, OrbitControls = null, tip = null, sedScale = 1000, taxelTop = 1;
 let latest = null, drawn = 0, frames = 0;
 
-// Colour map (viridis stops) over [0, 1]; NaN and negatives grey.
+// Colour map (viridis stops) over [0, 1], clamped; NaN (a vertex the field does not carry) grey.
 const STOPS = [[68, 1, 84], [59, 82, 139], [33, 145, 140], [94, 201, 98], [253, 231, 37]];
 function colour(u) {
-  if (!Number.isFinite(u)) return [90, 90, 90];
+  if (!Number.isFinite(u)) return [150, 150, 150];
   u = Math.min(1, Math.max(0, u)) * (STOPS.length - 1);
   const i = Math.min(STOPS.length - 2, Math.floor(u)), f = u - i;
   return STOPS[i].map((c, k) => Math.round(c + f * (STOPS[i + 1][k] - c)));
@@ -79,9 +79,16 @@ function drawTaxels(f) {
   const k = f.contact;
   if (k && k.shape > 0) {
     g.strokeStyle = '#fff'; g.lineWidth = 2; g.setLineDash([6, 4]);
-    const circle = (x, y, r) => { g.beginPath(); g.arc(T.X(x), T.Y(y), Math.max(3, T.s * r), 0, 2 * Math.PI); g.stroke(); };
-    if (k.shape === 1 || k.shape === 4) circle(k.x_mm, k.y_mm, k.radius_mm);
-    if (k.shape === 4) circle(k.x2_mm, k.y2_mm, k.radius2_mm);
+    // A sphere: its lowest point (+) and the contact patch, radius sqrt(2 R d) at the
+    // indentation d the press reached (the sphere itself, R ~ 10-20 mm, would fill the pad).
+    const patch = (x, y, R, d) => {
+      const a = d > 0 ? Math.sqrt(2 * R * d) : 0;
+      const px = T.X(x), py = T.Y(y);
+      g.beginPath(); g.moveTo(px - 6, py); g.lineTo(px + 6, py); g.moveTo(px, py - 6); g.lineTo(px, py + 6); g.stroke();
+      if (a > 0) { g.beginPath(); g.arc(px, py, T.s * a, 0, 2 * Math.PI); g.stroke(); }
+    };
+    if (k.shape === 1 || k.shape === 4) patch(k.x_mm, k.y_mm, k.radius_mm, k.indentation_mm);
+    if (k.shape === 4) patch(k.x2_mm, k.y2_mm, k.radius2_mm, k.indentation_mm);
     if (k.shape === 2) {
       const a = k.yaw_deg * Math.PI / 180, half = (k.length_mm > 0 ? k.length_mm : 40) / 2;
       const dx = Math.cos(a) * half, dy = Math.sin(a) * half, nx = -Math.sin(a) * k.radius_mm, ny = Math.cos(a) * k.radius_mm;
@@ -92,10 +99,10 @@ function drawTaxels(f) {
     }
     g.setLineDash([]);
     // Shear: the contact's whole tangential force, drawn from the contact point (the scan
-    // message carries no per-taxel shear). 1 N = 10 mm on the pad.
+    // message carries no per-taxel shear). 1 N = 20 mm on the pad.
     const sx = k.shear_x_N, sy = k.shear_y_N;
     if (Math.hypot(sx, sy) > 1e-4) {
-      const x0 = T.X(k.x_mm), y0 = T.Y(k.y_mm), x1 = T.X(k.x_mm + 10 * sx), y1 = T.Y(k.y_mm + 10 * sy);
+      const x0 = T.X(k.x_mm), y0 = T.Y(k.y_mm), x1 = T.X(k.x_mm + 20 * sx), y1 = T.Y(k.y_mm + 20 * sy);
       g.strokeStyle = '#0ff'; g.lineWidth = 3; g.beginPath(); g.moveTo(x0, y0); g.lineTo(x1, y1); g.stroke();
       const a = Math.atan2(y1 - y0, x1 - x0);
       g.beginPath(); g.moveTo(x1, y1); g.lineTo(x1 - 10 * Math.cos(a - 0.4), y1 - 10 * Math.sin(a - 0.4));
@@ -105,7 +112,7 @@ function drawTaxels(f) {
   const shapes = ['no contact', 'sphere', 'rod', 'flat', 'two spheres'];
   $('contact-caption').innerHTML = `scan ${scan.sequence} (${scan.sensor_id}), colour 0–${fmt(taxelTop)} kPa` +
     (k ? `<br>contact: ${shapes[k.shape] || k.shape}, force ${fmt(k.normal_force_N)} N, shear (${fmt(k.shear_x_N, 2)}, ${fmt(k.shear_y_N, 2)}) N, ` +
-      `residual ${fmt(k.residual_rms_sigma)} σ, ${k.num_taxels_used ?? k.taxel_used.filter((u) => u === 1 || u === 2).length} taxels used` +
+      `residual ${fmt(k.residual_rms_sigma)} σ, indentation ${fmt(k.indentation_mm)} mm, shear arrow 1 N = 20 mm, ${k.num_taxels_used ?? k.taxel_used.filter((u) => u === 1 || u === 2).length} taxels used` +
       (k.fallback ? ' <span class="flag">FALLBACK: estimate not trusted, pressure map used</span>' : '')
        : '<br>no contact estimate on the bus');
 }
@@ -154,8 +161,8 @@ function setupTip(mesh) {
   const scene = new THREE.Scene();
   scene.background = new THREE.Color(0x1b1b1b);
   const camera = new THREE.PerspectiveCamera(40, (el.clientWidth || 420) / (el.clientHeight || 380), 0.1, 1000);
-  camera.up.set(0, 0, 1);
-  camera.position.set(0, -25, 30);
+  camera.up.set(0, 1, 0);
+  camera.position.set(0, -10, 40);
   const controls = new OrbitControls(camera, renderer.domElement);
   scene.add(new THREE.AmbientLight(0xffffff, 0.8));
   const light = new THREE.DirectionalLight(0xffffff, 1.5); light.position.set(10, -20, 40); scene.add(light);
@@ -174,12 +181,14 @@ function setupTip(mesh) {
     t.merkel = new THREE.Mesh(g, new THREE.MeshLambertMaterial({ vertexColors: true, side: THREE.DoubleSide }));
     scene.add(t.merkel);
     g.computeBoundingSphere();
-    const c = g.boundingSphere.center;
-    controls.target.copy(c);
-    camera.position.set(c.x, c.y - 2.2 * g.boundingSphere.radius, c.z + 2.2 * g.boundingSphere.radius);
+    // Looking onto the pad (down its normal, slightly from below the tip), the tip up, at
+    // the pad frame's origin: where the pressing plane first touches.
+    const r = g.boundingSphere.radius;
+    controls.target.set(0, 0, 0);
+    camera.position.set(0, -0.5 * r, 1.8 * r);
   }
   if (mesh.skin.triangles.length) {
-    const skin = new THREE.Mesh(geometry(mesh.skin), new THREE.MeshLambertMaterial({ color: 0xd8b4a0, transparent: true, opacity: 0.12, depthWrite: false }));
+    const skin = new THREE.Mesh(geometry(mesh.skin), new THREE.MeshLambertMaterial({ color: 0xd8b4a0, transparent: true, opacity: 0.07, depthWrite: false }));
     scene.add(skin);
   }
   controls.update();
@@ -191,14 +200,17 @@ function setupTip(mesh) {
 function drawSed(f) {
   const s = f.sed;
   $('sed-caption').innerHTML = s
-    ? `model ${s.model_id}, ${s.num_vertices} vertices (${s.matched_vertices} on the mesh), SED ${fmt(s.min_finite_Pa)}–${fmt(s.max_finite_Pa)} Pa, step at ${((s.utime - (f.scan ? f.scan.utime : s.utime)) / 1e3).toFixed(1)} ms from the scan shown`
+    ? `model ${s.model_id}, ${s.num_vertices} vertices (${s.matched_vertices} on the mesh, the rest grey), SED ${fmt(s.min_finite_Pa)}–${fmt(s.max_finite_Pa)} Pa, step at ${((s.utime - (f.scan ? f.scan.utime : s.utime)) / 1e3).toFixed(1)} ms from the scan shown`
     : 'no SED field yet';
   if (!tip || !s) return;
   if (s.on_mesh_Pa && tip.merkel) {
+    const tmp = new THREE.Color();
     const col = tip.merkel.geometry.getAttribute('color');
     for (let v = 0; v < tip.n; ++v) {
       const rgb = colour(s.on_mesh_Pa[v] === null ? NaN : s.on_mesh_Pa[v] / sedScale);
-      col.setXYZ(v, rgb[0] / 255, rgb[1] / 255, rgb[2] / 255);
+      // The scale's colours are sRGB; three.js lights in linear space.
+      tmp.setRGB(rgb[0] / 255, rgb[1] / 255, rgb[2] / 255, THREE.SRGBColorSpace);
+      col.setXYZ(v, tmp.r, tmp.g, tmp.b);
     }
     col.needsUpdate = true;
   } else if (s.points) {
@@ -235,6 +247,9 @@ function drawTimelines(f) {
     ? `bridge status: scans ${fmt(b.scan_rate_Hz)} Hz, latency p50 ${fmt(b.latency_p50_ms)} ms, p99 ${fmt(b.latency_p99_ms)} ms, dropped ${b.scans_dropped}` +
       (b.fault_state ? `, FAULT ${b.fault_state}: ${b.fault_message}` : '')
     : 'no bridge status on the bus';
+  const lat = f.timeline.latency_ms.v;
+  if (!f.playback.live && lat.length && lat.every((v) => v === 0))
+    $('status-caption').textContent += ' (per-scan latency is 0 on a replay\'s log clock; the status line has the replay\'s measured percentiles)';
 }
 
 // ---------- frames ----------
@@ -308,8 +323,17 @@ async function main() {
     await new Promise((ok) => setTimeout(ok, 100));
   }
   draw();
+  // ?close-after=N: stop streaming after N frames (headless tests, whose browser waits for
+  // every open request before it writes the page out).
+  const closeAfter = Number(new URLSearchParams(location.search).get('close-after') || 0);
+  let streamed = 0;
   const events = new EventSource('api/events');
-  events.addEventListener('frame', (e) => { take(JSON.parse(e.data)); $('conn').textContent = 'streaming'; });
+  events.addEventListener('frame', (e) => {
+    take(JSON.parse(e.data));
+    $('conn').textContent = 'streaming';
+    state.dataset.streamed = String(++streamed);
+    if (closeAfter > 0 && streamed >= closeAfter) { events.close(); $('conn').textContent = 'closed'; draw(); }
+  });
   events.onerror = () => { $('conn').textContent = 'reconnecting'; };
   const tick = () => { draw(); requestAnimationFrame(tick); };
   requestAnimationFrame(tick);
