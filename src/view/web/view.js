@@ -282,8 +282,18 @@ function showPlayback(p) {
   $('time').textContent = `${p.position_s.toFixed(3)} / ${p.duration_s.toFixed(3)} s`;
 }
 
+// Rates over the last 2 s of wall time, written to #state for measuring the page.
+const stamps = { frame: [], draw: [] };
+function count(kind) {
+  const now = performance.now(), a = stamps[kind];
+  a.push(now);
+  while (a.length && a[0] < now - 2000) a.shift();
+  state.dataset[kind + 'Hz'] = (a.length / 2).toFixed(1);
+}
+
 function take(f) {
   latest = f;
+  count('frame');
   sedScale = f.sed_scale_Pa;
   writeState(f);
 }
@@ -298,6 +308,7 @@ function draw() {
     drawDisplay(f);
     drawTimelines(f);
     state.dataset.drawn = String(f.version);
+    count('draw');
   }
 }
 
