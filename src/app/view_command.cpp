@@ -31,14 +31,18 @@ namespace {
 
 using namespace sedbridge::view;
 
-// The page's files: --web-dir, else the build tree's copy, else an installed tree's.
+// The page's files: --web-dir, else an installed tree's (share/sedbridge/view_web, found as
+// config/ is), else the build tree's copy.
 std::string WebDir(const ArgParser& args) {
   if (auto dir = args.GetOptional("web-dir")) return *dir;
   namespace fs = std::filesystem;
+  const std::string installed = config::ResolveResource("view_web");
+  if (fs::exists(fs::path(installed) / "index.html")) return installed;
 #ifdef SEDBRIDGE_VIEW_WEB_DIR
-  if (fs::exists(fs::path(SEDBRIDGE_VIEW_WEB_DIR) / "index.html")) return SEDBRIDGE_VIEW_WEB_DIR;
+  return SEDBRIDGE_VIEW_WEB_DIR;
+#else
+  return installed;
 #endif
-  return config::ResolveResource("view_web");
 }
 
 bool IsLoopback(const std::string& host) {
@@ -85,11 +89,12 @@ int RunView(int argc, char** argv) {
                  "per-scan latency. From an LCM log (play, pause, seek, speed on the page) or live\n"
                  "from LCM. Read-only: the view subscribes, it never publishes.");
   args.Option("log", "FILE", "play this LCM event log instead of listening live")
-      .Option("lcm-url", "URL", LcmUrlHelp(std::string("LCM's multicast default ") + lcm_io::kDefaultLcmUrl))
+      .Option("lcm-url", "URL", std::string("live: LCM URL to listen on; default: $LCM_DEFAULT_URL if set, else ") +
+                                    lcm_io::kDefaultLcmUrl)
       .Option("bind", "ADDR", "address to serve on; anything but loopback shows the page to the network", "127.0.0.1")
       .Option("port", "N", "TCP port; 0 = any free port", "8053")
       .Option("port-file", "FILE", "write the port served on to FILE (for scripts with --port 0)")
-      .Option("web-dir", "DIR", "the page's files (default: the build's or the install's view_web)")
+      .Option("web-dir", "DIR", "the page's files (default: the install's share/sedbridge/view_web, else the build's)")
       .Option("model", "NAME", "fingertip model for the 3-D panel (default: the log's SED model_id, live: B)")
       .Option("sensor", "NAME", "sensor profile for the taxel layout (default: the scans' sensor_id)")
       .Option("display", "NAME", "display profile for the actuator layout (default: the commands' display_id)")
