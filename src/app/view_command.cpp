@@ -80,15 +80,8 @@ std::string Control(LogPlayer* player, ViewState* state, const std::string& body
   return "";
 }
 
-int RunView(int argc, char** argv) {
-  ArgParser args("sedbridge view",
-                 "A web page that shows the bridge at work: the taxel grid (normal pressure as\n"
-                 "colour) with the contact the bridge reconstructed (its shear as an arrow, its\n"
-                 "residual and flag), the leader's fingertip in 3-D with the Merkel-layer SED on a\n"
-                 "fixed scale, the display's actuators and timelines of force, peak SED and\n"
-                 "per-scan latency. From an LCM log (play, pause, seek, speed on the page) or live\n"
-                 "from LCM. Read-only: the view subscribes, it never publishes.");
-  args.Option("log", "FILE", "play this LCM event log instead of listening live")
+void DeclareOptions(ArgParser* args) {
+  args->Option("log", "FILE", "play this LCM event log instead of listening live")
       .Option("lcm-url", "URL", std::string("live: LCM URL to listen on; default: $LCM_DEFAULT_URL if set, else ") +
                                     lcm_io::kDefaultLcmUrl)
       .Option("bind", "ADDR", "address to serve on; anything but loopback shows the page to the network", "127.0.0.1")
@@ -117,6 +110,83 @@ int RunView(int argc, char** argv) {
           "The page's 3-D and plots come from three.js and uPlot, installed by tools/setup.sh\n"
           "(npm ci in tools/view-web) and copied into the build; nothing is fetched at run time.\n"
           "exit status: 0 ok, 1 error, 2 usage");
+}
+
+// What the frame loop and the page's control requests share.
+struct Session {
+  std::mutex mu;  // guards state, player and dirty: the frame loop and the control requests
+  ViewState state;
+  std::unique_ptr<LogPlayer> player;
+  std::unique_ptr<LiveSource> live;
+  PlaybackInfo playback;
+  FrameStyle style;
+  bool dirty = true;
+  explicit Session(const lcm_io::LcmChannels& ch) : state(ch) {}
+};
+
+// The frame loop: moves the log (or takes the bus's messages), and at most `fps` times a
+// second makes a frame when something changed, until a signal or `duration_s`. Returns the
+// number of frames made.
+int64_t RunFrames(Session& s, ViewLayouts& layouts, const SedMesh& mesh, FrameHub& hub, double fps, double duration_s,
+                  const StopSignals& signals) {
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  const auto period = std::chrono::duration<double>(1.0 / fps);
+  auto last = start;
+  uint64_t sent_version = ~uint64_t(0);
+  int64_t frames = 0;
+  SedVertexMatch match;
+  while (!signals.flag().load()) {
+    if (duration_s > 0 && std::chrono::duration<double>(Clock::now() - start).count() >= duration_s) break;
+    const auto next = last + std::chrono::duration_cast<Clock::duration>(period);
+    if (s.live) {
+      const int wait_ms = int(std::chrono::duration<double, std::milli>(next - Clock::now()).count());
+      s.live->Handle(std::max(0, wait_ms));
+      if (Clock::now() < next) continue;  // more messages before the next frame
+    } else {
+      std::this_thread::sleep_until(next);
+    }
+    const auto now = Clock::now();
+    std::string frame;
+    {
+      std::lock_guard<std::mutex> lock(s.mu);
+      PlaybackInfo& p = s.playback;
+      if (s.player) {
+        const bool was_playing = s.player->playing();
+        s.player->Advance(std::chrono::duration<double>(now - last).count(), &s.state);
+        if (was_playing) s.dirty = true;
+        p.position_s = s.player->position_s();
+        p.duration_s = s.player->duration_s();
+        p.playing = s.player->playing();
+        p.speed = s.player->speed();
+      } else {
+        p.position_s = s.state.last_utime > 0 ? (s.state.last_utime - s.state.first_utime) * 1e-6 : 0;
+        p.duration_s = p.position_s;
+      }
+      if (s.dirty || s.state.version != sent_version) {
+        frame = FrameJson(s.state, layouts, mesh, match, p, s.style);
+        sent_version = s.state.version;
+        s.dirty = false;
+      }
+    }
+    last = now;
+    if (!frame.empty()) {
+      hub.Publish(std::move(frame));
+      ++frames;
+    }
+  }
+  return frames;
+}
+
+int RunView(int argc, char** argv) {
+  ArgParser args("sedbridge view",
+                 "A web page that shows the bridge at work: the taxel grid (normal pressure as\n"
+                 "colour) with the contact the bridge reconstructed (its shear as an arrow, its\n"
+                 "residual and flag), the leader's fingertip in 3-D with the Merkel-layer SED on a\n"
+                 "fixed scale, the display's actuators and timelines of force, peak SED and\n"
+                 "per-scan latency. From an LCM log (play, pause, seek, speed on the page) or live\n"
+                 "from LCM. Read-only: the view subscribes, it never publishes.");
+  DeclareOptions(&args);
   if (!args.Parse(argc, argv)) return 0;
 
   lcm_io::LcmChannels ch;
@@ -143,112 +213,63 @@ int RunView(int argc, char** argv) {
                  "(the page is read-only, but it is not authenticated)\n",
                  bind.c_str());
 
-  std::mutex mu;  // guards state and player: the frame thread and the control requests
-  ViewState state(ch);
-  std::unique_ptr<LogPlayer> player;
-  std::unique_ptr<LiveSource> live;
-  PlaybackInfo playback;
+  Session session(ch);
   const auto log = args.GetOptional("log");
   std::string model = args.GetOptional("model").value_or("");
-  FrameStyle style;
+  FrameStyle& style = session.style;
   if (log) {
-    player = std::make_unique<LogPlayer>(*log, channels);
-    player->SetSpeed(args.GetDouble("speed"));
-    player->Seek(args.GetDouble("start-s"), &state);
-    player->SetPlaying(!args.GetFlag("paused"));
-    style.sed_scale_Pa = player->LargestSed_Pa(ch.sed);
+    session.player = std::make_unique<LogPlayer>(*log, channels);
+    LogPlayer& player = *session.player;
+    player.SetSpeed(args.GetDouble("speed"));
+    player.Seek(args.GetDouble("start-s"), &session.state);
+    player.SetPlaying(!args.GetFlag("paused"));
+    style.sed_scale_Pa = player.LargestSed_Pa(ch.sed);
     if (model.empty()) model = FirstSedModel(*log, ch.sed);
-    playback.source = *log;
+    session.playback.source = *log;
   } else {
     const std::string url = ChooseLcmUrl(args.GetOptional("lcm-url"), lcm_io::kDefaultLcmUrl, "default").url;
-    live = std::make_unique<LiveSource>(url, channels, &state, &mu);
-    playback.live = true;
-    playback.source = url;
+    session.live = std::make_unique<LiveSource>(url, channels, &session.state, &session.mu);
+    session.playback.live = true;
+    session.playback.source = url;
     style.sed_scale_Pa = 1000;
   }
   if (args.Has("sed-scale-Pa")) style.sed_scale_Pa = args.GetDouble("sed-scale-Pa");
   if (!(style.sed_scale_Pa > 0)) style.sed_scale_Pa = 1000;
   if (model.empty()) model = "B";
   const SedMesh mesh = LoadSedMesh(model);
-  if (!mesh.error.empty()) std::fprintf(stderr, "view: no mesh for model '%s' (%s); SED drawn as points\n", model.c_str(), mesh.error.c_str());
+  if (!mesh.error.empty())
+    std::fprintf(stderr, "view: no mesh for model '%s' (%s); SED drawn as points\n", model.c_str(), mesh.error.c_str());
   const std::string mesh_json = MeshJson(mesh, style);
 
   FrameHub hub;
   ViewLayouts layouts(args.GetOptional("sensor").value_or(""), args.GetOptional("display").value_or(""));
-  SedVertexMatch match;
   ViewServerOptions server_options;
   server_options.bind = bind;
   server_options.port = int(port);
   server_options.web_dir = WebDir(args);
   if (!std::filesystem::exists(std::filesystem::path(server_options.web_dir) / "index.html"))
     throw std::runtime_error("no page in '" + server_options.web_dir + "' (build the target sedbridge_view_web, or --web-dir)");
-  bool dirty = true;
   ViewServer server(
       server_options, &hub, [&] { return mesh_json; },
       [&](const std::string& body) -> std::string {
-        if (!player) return "live view: there is no playback to control";
-        std::lock_guard<std::mutex> lock(mu);
-        const std::string why = Control(player.get(), &state, body);
-        dirty = true;
-        return why;
+        if (!session.player) return "live view: there is no playback to control";
+        std::lock_guard<std::mutex> lock(session.mu);
+        session.dirty = true;
+        return Control(session.player.get(), &session.state, body);
       });
   server.Start();
   if (auto file = args.GetOptional("port-file")) std::ofstream(*file) << server.port() << "\n";
   std::fprintf(stderr, "view: serving http://%s:%d/ (%s %s, model %s, SED scale %.4g Pa); Ctrl-C to stop\n",
                bind.find(':') != std::string::npos ? ("[" + bind + "]").c_str() : bind.c_str(), server.port(),
-               log ? "log" : "live", playback.source.c_str(), mesh.model_id.c_str(), style.sed_scale_Pa);
+               log ? "log" : "live", session.playback.source.c_str(), mesh.model_id.c_str(), style.sed_scale_Pa);
 
   StopSignals signals;
-  const double duration_s = args.GetDouble("duration-s");
-  using Clock = std::chrono::steady_clock;
-  const auto start = Clock::now();
-  const auto period = std::chrono::duration<double>(1.0 / fps);
-  auto last = start;
-  uint64_t sent_version = ~uint64_t(0);
-  int64_t frames = 0;
-  while (!signals.flag().load()) {
-    if (duration_s > 0 && std::chrono::duration<double>(Clock::now() - start).count() >= duration_s) break;
-    const auto next = last + std::chrono::duration_cast<Clock::duration>(period);
-    if (live) {
-      const int wait_ms = int(std::chrono::duration<double, std::milli>(next - Clock::now()).count());
-      live->Handle(std::max(0, wait_ms));
-      if (Clock::now() < next) continue;  // more messages before the next frame
-    } else {
-      std::this_thread::sleep_until(next);
-    }
-    const auto now = Clock::now();
-    std::string frame;
-    {
-      std::lock_guard<std::mutex> lock(mu);
-      if (player) {
-        const bool was_playing = player->playing();
-        player->Advance(std::chrono::duration<double>(now - last).count(), &state);
-        if (was_playing) dirty = true;
-        playback.position_s = player->position_s();
-        playback.duration_s = player->duration_s();
-        playback.playing = player->playing();
-        playback.speed = player->speed();
-      } else {
-        playback.position_s = state.last_utime > 0 ? (state.last_utime - state.first_utime) * 1e-6 : 0;
-        playback.duration_s = playback.position_s;
-      }
-      if (dirty || state.version != sent_version) {
-        frame = FrameJson(state, layouts, mesh, match, playback, style);
-        sent_version = state.version;
-        dirty = false;
-      }
-    }
-    last = now;
-    if (!frame.empty()) {
-      hub.Publish(std::move(frame));
-      ++frames;
-    }
-  }
+  const int64_t frames = RunFrames(session, layouts, mesh, hub, fps, args.GetDouble("duration-s"), signals);
   server.Stop();
   std::fprintf(stderr, "view: %lld frames made, %lld sent to %lld page streams; %lld events, %lld malformed rejected\n",
                static_cast<long long>(frames), static_cast<long long>(hub.frames_sent.load()),
-               static_cast<long long>(hub.clients_total.load()), static_cast<long long>(state.events),
-               static_cast<long long>(state.rejected));
+               static_cast<long long>(hub.clients_total.load()), static_cast<long long>(session.state.events),
+               static_cast<long long>(session.state.rejected));
   return signals.ExitCode(0);
 }
 

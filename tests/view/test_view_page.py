@@ -75,7 +75,7 @@ def http(port, path, body=None, timeout=10):
         return e.code, e.read()
 
 
-def raw(port, data, read=True, timeout=5):
+def raw(port, data, read=True, timeout=2):
     """Sends raw bytes; returns what came back (b"" if the server closed)."""
     with socket.create_connection(("127.0.0.1", port), timeout=timeout) as s:
         s.sendall(data)
