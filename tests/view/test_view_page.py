@@ -66,6 +66,11 @@ def messages_at(log_path, t_s):
     return last
 
 
+def read_text(path):
+    with open(path) as f:
+        return f.read()
+
+
 def http(port, path, body=None, timeout=10):
     req = urllib.request.Request("http://127.0.0.1:%d%s" % (port, path), data=body,
                                  method="POST" if body is not None else "GET")
@@ -123,11 +128,11 @@ class ViewPage(unittest.TestCase):
                                      "--paused", "--start-s", str(START_S), "--duration-s", "240"],
                                     stdout=cls.server_log, stderr=subprocess.STDOUT)
         deadline = time.time() + 30
-        while not (os.path.exists(port_file) and open(port_file).read().strip()):
+        while not (os.path.exists(port_file) and read_text(port_file).strip()):
             if time.time() > deadline or cls.view.poll() is not None:
                 raise RuntimeError("the view did not start (see %s)" % cls.server_log.name)
             time.sleep(0.1)
-        cls.port = int(open(port_file).read())
+        cls.port = int(read_text(port_file))
         cls.expected = messages_at(cls.log, START_S)
 
     @classmethod
@@ -265,10 +270,10 @@ class ViewPageWithoutLibraries(unittest.TestCase):
                                  "--duration-s", "120"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         try:
             deadline = time.time() + 30
-            while not (os.path.exists(port_file) and open(port_file).read().strip()):
+            while not (os.path.exists(port_file) and read_text(port_file).strip()):
                 self.assertLess(time.time(), deadline, "the view did not start")
                 time.sleep(0.1)
-            port = int(open(port_file).read())
+            port = int(read_text(port_file))
             run = subprocess.run([chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--virtual-time-budget=5000",
                                   "--dump-dom", "http://127.0.0.1:%d/?close-after=1" % port],
                                  capture_output=True, timeout=120)
