@@ -14,6 +14,8 @@ constexpr char kJson[] = "application/json";
 constexpr auto kWriteTimeout = std::chrono::seconds(5);
 // An idle stream sends a comment this often, so a page that left is noticed.
 constexpr auto kKeepAlive = std::chrono::milliseconds(500);
+// Threads that event streams may not take, so a page can still load with many streams open.
+constexpr int kThreadsKeptFree = 8;
 
 bool WriteEvent(httplib::DataSink& sink, const std::string& frame) {
   const std::string event = "event: frame\ndata: " + frame + "\n\n";
@@ -52,6 +54,12 @@ void ViewServer::Routes() {
     res.set_content(frame, kJson);
   });
   s.Get("/api/events", [this](const httplib::Request&, httplib::Response& res) {
+    // Each stream holds a thread: keep some for the pages' other requests.
+    if (hub_->clients.load() >= options_.threads - kThreadsKeptFree) {
+      res.status = 503;
+      res.set_content("too many pages open\n", "text/plain");
+      return;
+    }
     res.set_header("Cache-Control", "no-cache");
     ++hub_->clients;
     ++hub_->clients_total;

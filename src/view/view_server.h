@@ -25,7 +25,7 @@ struct ViewServerOptions {
   std::string bind = "127.0.0.1";
   int port = 8053;  ///< 0: any free port (port() tells which)
   std::string web_dir;
-  int threads = 64;  ///< each open page holds one for its event stream
+  int threads = 64;  ///< each open page holds one for its event stream (at most threads - 8 streams)
 };
 
 class ViewServer {
