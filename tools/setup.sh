@@ -19,7 +19,27 @@ PACKAGES=(
   python3 python3-matplotlib python3-numpy
   python3-distributed     # Dask distributed: tools/study.py's local cluster, dask-scheduler, dask-worker
   default-jdk-headless libjchart2d-java xvfb xdotool
+  libcpp-httplib-dev      # the web server of `sedbridge view` (src/view/view_server.h)
+  chromium                # headless page tests of `sedbridge view` (tests/view/)
 )
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+
+# The view's page libraries (three.js, uPlot), pinned by tools/view-web/package-lock.json;
+# the build copies them next to the page. Nothing is fetched when the view runs.
+install_view_web() {
+  local dir
+  dir="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)/view-web"
+  if [ -d "$dir/node_modules/three" ] && [ -d "$dir/node_modules/uplot" ]; then return 0; fi
+  # npm only when there is none: a nodejs from elsewhere that bundles npm conflicts with Debian's.
+  if ! command -v npm >/dev/null 2>&1; then
+    echo "setup: installing npm"
+    $SUDO apt-get install -y -qq --no-install-recommends npm
+  fi
+  echo "setup: npm ci in $dir"
+  (cd "$dir" && npm ci --no-audit --no-fund --loglevel=error)
+}
 
 missing=()
 for p in "${PACKAGES[@]}"; do
@@ -30,13 +50,13 @@ done
 
 if [ ${#missing[@]} -eq 0 ]; then
   echo "setup: all ${#PACKAGES[@]} packages present"
+  install_view_web
   exit 0
 fi
 
-SUDO=""
-if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
 echo "setup: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+install_view_web
 echo "setup: done"

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "sedbridge/lcmt_bridge_status.hpp"
+#include "sedbridge/lcmt_contact_estimate.hpp"
 #include "sedbridge/lcmt_display_command.hpp"
 #include "sedbridge/lcmt_merkel_sed.hpp"
 #include "sedbridge/lcmt_sa1_rate_estimate.hpp"
@@ -144,6 +145,20 @@ bool Walk(const lcmt_sa1_rate_estimate*, WireCursor& c) {
   return c.at_end();
 }
 
+bool Walk(const lcmt_contact_estimate*, WireCursor& c) {
+  c.Skip(kFingerprint);
+  c.Skip(2 * kI64);   // utime, source_scan_utime
+  c.Skip(kByte);      // shape
+  c.Skip(12 * kF32);  // x_mm .. normal_force2_N
+  c.Skip(kF32);       // residual_rms_sigma
+  c.Skip(kByte);      // fallback
+  c.Skip(kF32);       // indentation_mm
+  const int32_t n = c.Int32();
+  c.Array(n, kByte);  // taxel_used
+  c.Skip(kI32);       // num_taxels_used
+  return c.at_end();
+}
+
 }  // namespace
 
 template <typename Msg>
@@ -172,6 +187,7 @@ SEDBRIDGE_SAFE_DECODE(lcmt_merkel_sed)
 SEDBRIDGE_SAFE_DECODE(lcmt_tactile_scan)
 SEDBRIDGE_SAFE_DECODE(lcmt_bridge_status)
 SEDBRIDGE_SAFE_DECODE(lcmt_sa1_rate_estimate)
+SEDBRIDGE_SAFE_DECODE(lcmt_contact_estimate)
 #undef SEDBRIDGE_SAFE_DECODE
 
 }  // namespace sedbridge::lcm_io

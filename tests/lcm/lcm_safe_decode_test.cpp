@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sedbridge/lcmt_bridge_status.hpp"
+#include "sedbridge/lcmt_contact_estimate.hpp"
 #include "sedbridge/lcmt_display_command.hpp"
 #include "sedbridge/lcmt_merkel_sed.hpp"
 #include "sedbridge/lcmt_sa1_rate_estimate.hpp"
@@ -61,6 +62,27 @@ TEST(LcmSafeDecode, The160BytePacketWithABillionActuatorsIsRejectedWithoutAlloca
   EXPECT_EQ(m.value.size(), 20u);
   EXPECT_EQ(m.display_id, "suction_4x4");
   EXPECT_TRUE(m.shutdown);
+}
+
+TEST(LcmSafeDecode, ContactEstimateDecodesAndItsTaxelCountIsChecked) {
+  lcmt_contact_estimate c{};
+  c.utime = 7;
+  c.shape = 1;
+  c.radius_mm = 12.5f;
+  c.normal_force_N = 0.75f;
+  c.num_taxels = 16;
+  c.taxel_used.assign(16, 1);
+  c.num_taxels_used = 16;
+  const std::vector<uint8_t> good = Encode(c);
+  lcmt_contact_estimate m;
+  ASSERT_TRUE(SafeDecode(good.data(), good.size(), &m));
+  EXPECT_EQ(m.taxel_used.size(), 16u);
+  EXPECT_FLOAT_EQ(m.radius_mm, 12.5f);
+  for (size_t n = 0; n < good.size(); ++n) EXPECT_FALSE(SafeDecode(good.data(), n, &m)) << "truncated at " << n;
+  // fingerprint 8 + 2 int64 + shape 1 + 12 floats + residual 4 + fallback 1 + indentation 4 -> num_taxels at 82.
+  std::vector<uint8_t> huge = good;
+  PutInt32(huge, 82, 1000000000u);
+  EXPECT_FALSE(SafeDecode(huge.data(), huge.size(), &m));
 }
 
 TEST(LcmSafeDecode, NegativeCountsTruncationAndTrailingBytesAreRejected) {

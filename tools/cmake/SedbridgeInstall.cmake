@@ -23,7 +23,13 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/tools DESTINATION ${SEDBRIDGE_INSTALL_DA
         PATTERN bridge_fidelity_study EXCLUDE
         PATTERN leader_press_compare.cpp EXCLUDE
         PATTERN CMakeLists.txt EXCLUDE
+        PATTERN view-web EXCLUDE
         PATTERN __pycache__ EXCLUDE)
+# The view's page with the libraries the build copied beside it (`sedbridge view` finds it in
+# share/sedbridge/view_web when it runs from an installed tree).
+if(TARGET sedbridge_view)
+  install(DIRECTORY ${SEDBRIDGE_VIEW_WEB_DIR}/ DESTINATION ${SEDBRIDGE_INSTALL_DATA}/view_web)
+endif()
 install(DIRECTORY ${SEDBRIDGE_LCM_PYTHON_DIR}/ DESTINATION ${SEDBRIDGE_INSTALL_DATA}/python
         PATTERN __pycache__ EXCLUDE)
 install(DIRECTORY ${PROJECT_BINARY_DIR}/lcmtypes/cpp/sedbridge DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})

@@ -1,0 +1,61 @@
+#pragma once
+// What the view shows at one moment: the latest message of each bridge channel (decoded with
+// the size-safe decoder: the bus and a log are untrusted input) and the timelines of force,
+// peak Merkel SED and per-scan latency. Fed event by event, from a log or live.
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "lcm/lcm_channels.h"
+#include "sedbridge/lcmt_bridge_status.hpp"
+#include "sedbridge/lcmt_contact_estimate.hpp"
+#include "sedbridge/lcmt_display_command.hpp"
+#include "sedbridge/lcmt_merkel_sed.hpp"
+#include "sedbridge/lcmt_sa1_rate_estimate.hpp"
+#include "sedbridge/lcmt_tactile_scan.hpp"
+
+namespace sedbridge::view {
+
+/// One timeline: time since the first event [s] and value, oldest first.
+struct Series {
+  std::vector<double> t_s, value;
+  void Add(double t, double v);
+};
+
+class ViewState {
+ public:
+  explicit ViewState(lcm_io::LcmChannels channels) : channels_(std::move(channels)) {}
+
+  /// Feeds one event at `utime` (the log's or the receive clock) [us]. Other channels are
+  /// ignored; returns false when the bytes do not decode as the channel's type (counted).
+  bool OnEvent(const std::string& channel, const void* data, std::size_t size, int64_t utime);
+  /// Forgets every message and timeline (a seek backwards replays from the start).
+  void Reset();
+
+  bool have_scan = false, have_contact = false, have_sed = false, have_command = false,
+       have_sa1 = false, have_status = false;
+  lcmt_tactile_scan scan;
+  lcmt_contact_estimate contact;
+  lcmt_merkel_sed sed;
+  lcmt_display_command command;
+  lcmt_sa1_rate_estimate sa1;
+  lcmt_bridge_status status;
+
+  Series force_N;      ///< contact estimate's normal force (+ the second contact's)
+  Series peak_sed_Pa;  ///< max_sed_Pa of each SED field
+  Series latency_ms;   ///< command utime - the utime of the scan behind it
+
+  int64_t events = 0;    ///< events of the bridge's channels taken
+  int64_t rejected = 0;  ///< events whose bytes did not decode
+  int64_t first_utime = 0, last_utime = 0;
+  /// Bumped by every event taken: a frame is sent only when it changed.
+  uint64_t version = 0;
+
+ private:
+  double SinceStart_s(int64_t utime) const { return (utime - first_utime) * 1e-6; }
+  lcm_io::LcmChannels channels_;
+};
+
+}  // namespace sedbridge::view

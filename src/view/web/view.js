@@ -1,0 +1,353 @@
+// sedbridge view: the page. Gets the fingertip mesh once (/api/mesh), then frames: the latest
+// at once (/api/frame) and the rest as Server-Sent Events (/api/events). It sends nothing to
+// the bridge; the only request it makes is the log playback (/api/control).
+
+const $ = (id) => document.getElementById(id);
+const state = $('state');
+let THREE = null, OrbitControls = null, tip = null, sedScale = 1000, taxelTop = 1;
+let latest = null, drawn = 0, frames = 0;
+
+// Colour map (viridis stops) over [0, 1], clamped; NaN (a vertex the field does not carry) grey.
+const STOPS = [[68, 1, 84], [59, 82, 139], [33, 145, 140], [94, 201, 98], [253, 231, 37]];
+function colour(u) {
+  if (!Number.isFinite(u)) return [150, 150, 150];
+  u = Math.min(1, Math.max(0, u)) * (STOPS.length - 1);
+  const i = Math.min(STOPS.length - 2, Math.floor(u)), f = u - i;
+  return STOPS[i].map((c, k) => Math.round(c + f * (STOPS[i + 1][k] - c)));
+}
+const css = (rgb) => `rgb(${rgb[0]},${rgb[1]},${rgb[2]})`;
+const fmt = (v, d = 3) => (v === null || v === undefined || !Number.isFinite(v) ? '–' : Number(v).toPrecision(d));
+
+function missing(text) {
+  const m = $('missing');
+  m.hidden = false;
+  m.textContent += (m.textContent ? '\n' : '') + text;
+}
+
+function loadScript(src) {
+  return new Promise((ok, fail) => {
+    const s = document.createElement('script');
+    s.src = src; s.onload = ok; s.onerror = fail;
+    document.head.appendChild(s);
+  });
+}
+
+async function loadLibraries() {
+  const run = 'run tools/setup.sh (npm ci in tools/view-web) and rebuild (target sedbridge_view_web)';
+  try {
+    THREE = await import('three');
+    OrbitControls = (await import('./vendor/OrbitControls.js')).OrbitControls;
+  } catch (e) {
+    THREE = null;
+    missing('three.js is not in vendor/: ' + run + '. The 3-D panel is off.');
+  }
+  try { await loadScript('vendor/uPlot.iife.min.js'); } catch (e) {
+    missing('uPlot is not in vendor/: ' + run + '. The timelines are off.');
+  }
+  state.dataset.libs = THREE && window.uPlot ? 'ok' : 'missing';
+}
+
+// ---------- pad panels (taxels, display): pad frame x right, y (toward the tip) up ----------
+function padTransform(canvas, xs, ys, margin_mm) {
+  const x0 = Math.min(...xs) - margin_mm, x1 = Math.max(...xs) + margin_mm;
+  const y0 = Math.min(...ys) - margin_mm, y1 = Math.max(...ys) + margin_mm;
+  const s = Math.min(canvas.width / (x1 - x0), canvas.height / (y1 - y0));
+  const ox = (canvas.width - s * (x1 - x0)) / 2, oy = (canvas.height - s * (y1 - y0)) / 2;
+  return { s, X: (x) => ox + s * (x - x0), Y: (y) => canvas.height - oy - s * (y - y0) };
+}
+function rowLayout(n) { return { x_mm: [...Array(n).keys()].map((i) => i * 3), y_mm: Array(n).fill(0), cell_w_mm: 2.5, cell_h_mm: 2.5 }; }
+
+function drawTaxels(f) {
+  const c = $('taxels'), g = c.getContext('2d');
+  g.fillStyle = '#1b1b1b'; g.fillRect(0, 0, c.width, c.height);
+  const scan = f.scan;
+  if (!scan) { g.fillStyle = '#888'; g.fillText('no tactile scan yet', 10, 20); return; }
+  const p = scan.pressure_kPa, L = scan.layout || rowLayout(p.length);
+  const w = L.cell_w_mm || 2, h = L.cell_h_mm || 2;
+  const T = padTransform(c, L.x_mm, L.y_mm, Math.max(w, h));
+  taxelTop = Math.max(taxelTop, ...p.filter(Number.isFinite));
+  const used = f.contact && f.contact.taxel_used.length === p.length ? f.contact.taxel_used : null;
+  g.font = '11px system-ui'; g.textAlign = 'center'; g.textBaseline = 'middle';
+  p.forEach((v, i) => {
+    const x = T.X(L.x_mm[i]), y = T.Y(L.y_mm[i]), pw = T.s * w * 0.92, ph = T.s * h * 0.92;
+    g.fillStyle = scan.valid[i] ? css(colour(v / taxelTop)) : '#444';
+    g.fillRect(x - pw / 2, y - ph / 2, pw, ph);
+    if (used && (used[i] === 0 || used[i] === 3)) { g.strokeStyle = '#f96'; g.lineWidth = 2; g.strokeRect(x - pw / 2, y - ph / 2, pw, ph); }
+    g.fillStyle = v / taxelTop > 0.6 ? '#000' : '#fff';
+    g.fillText(scan.valid[i] ? fmt(v, 3) : 'invalid', x, y);
+  });
+  const k = f.contact;
+  if (k && k.shape > 0) {
+    g.strokeStyle = '#fff'; g.lineWidth = 2; g.setLineDash([6, 4]);
+    // A sphere: its lowest point (+) and the contact patch, radius sqrt(2 R d) at the
+    // indentation d the press reached (the sphere itself, R ~ 10-20 mm, would fill the pad).
+    const patch = (x, y, R, d) => {
+      const a = d > 0 ? Math.sqrt(2 * R * d) : 0;
+      const px = T.X(x), py = T.Y(y);
+      g.beginPath(); g.moveTo(px - 6, py); g.lineTo(px + 6, py); g.moveTo(px, py - 6); g.lineTo(px, py + 6); g.stroke();
+      if (a > 0) { g.beginPath(); g.arc(px, py, T.s * a, 0, 2 * Math.PI); g.stroke(); }
+    };
+    if (k.shape === 1 || k.shape === 4) patch(k.x_mm, k.y_mm, k.radius_mm, k.indentation_mm);
+    if (k.shape === 4) patch(k.x2_mm, k.y2_mm, k.radius2_mm, k.indentation_mm);
+    if (k.shape === 2) {
+      const a = k.yaw_deg * Math.PI / 180, half = (k.length_mm > 0 ? k.length_mm : 40) / 2;
+      const dx = Math.cos(a) * half, dy = Math.sin(a) * half, nx = -Math.sin(a) * k.radius_mm, ny = Math.cos(a) * k.radius_mm;
+      for (const sgn of [-1, 1]) {
+        g.beginPath(); g.moveTo(T.X(k.x_mm - dx + sgn * nx), T.Y(k.y_mm - dy + sgn * ny));
+        g.lineTo(T.X(k.x_mm + dx + sgn * nx), T.Y(k.y_mm + dy + sgn * ny)); g.stroke();
+      }
+    }
+    g.setLineDash([]);
+    // Shear: the contact's whole tangential force, drawn from the contact point (the scan
+    // message carries no per-taxel shear). 1 N = 20 mm on the pad.
+    const sx = k.shear_x_N, sy = k.shear_y_N;
+    if (Math.hypot(sx, sy) > 1e-4) {
+      const x0 = T.X(k.x_mm), y0 = T.Y(k.y_mm), x1 = T.X(k.x_mm + 20 * sx), y1 = T.Y(k.y_mm + 20 * sy);
+      g.strokeStyle = '#0ff'; g.lineWidth = 3; g.beginPath(); g.moveTo(x0, y0); g.lineTo(x1, y1); g.stroke();
+      const a = Math.atan2(y1 - y0, x1 - x0);
+      g.beginPath(); g.moveTo(x1, y1); g.lineTo(x1 - 10 * Math.cos(a - 0.4), y1 - 10 * Math.sin(a - 0.4));
+      g.lineTo(x1 - 10 * Math.cos(a + 0.4), y1 - 10 * Math.sin(a + 0.4)); g.closePath(); g.fillStyle = '#0ff'; g.fill();
+    }
+  }
+  const shapes = ['no contact', 'sphere', 'rod', 'flat', 'two spheres'];
+  $('contact-caption').innerHTML = `scan ${scan.sequence} (${scan.sensor_id}), colour 0–${fmt(taxelTop)} kPa` +
+    (k ? `<br>contact: ${shapes[k.shape] || k.shape}, force ${fmt(k.normal_force_N)} N, shear (${fmt(k.shear_x_N, 2)}, ${fmt(k.shear_y_N, 2)}) N, ` +
+      `residual ${fmt(k.residual_rms_sigma)} σ, indentation ${fmt(k.indentation_mm)} mm, shear arrow 1 N = 20 mm, ${k.num_taxels_used ?? k.taxel_used.filter((u) => u === 1 || u === 2).length} taxels used` +
+      (k.fallback ? ' <span class="flag">FALLBACK: estimate not trusted, pressure map used</span>' : '')
+       : '<br>no contact estimate on the bus');
+}
+
+function drawDisplay(f) {
+  const c = $('display'), g = c.getContext('2d');
+  g.fillStyle = '#1b1b1b'; g.fillRect(0, 0, c.width, c.height);
+  const d = f.display;
+  if (!d) { g.fillStyle = '#888'; g.fillText('no display command yet', 10, 20); $('display-caption').textContent = ''; return; }
+  const v = d.commanded, L = d.layout || rowLayout(v.length), max = (d.layout && d.layout.max) || Math.max(1e-9, ...v);
+  let pitch = Infinity;
+  for (let i = 0; i < L.x_mm.length; ++i) for (let j = i + 1; j < L.x_mm.length; ++j)
+    pitch = Math.min(pitch, Math.hypot(L.x_mm[i] - L.x_mm[j], L.y_mm[i] - L.y_mm[j]));
+  if (!Number.isFinite(pitch) || pitch <= 0) pitch = 3;
+  const T = padTransform(c, L.x_mm, L.y_mm, pitch);
+  const tgt = d.target_sed_Pa, tmax = tgt ? Math.max(1e-9, ...tgt.filter(Number.isFinite)) : 1;
+  g.font = '11px system-ui'; g.textAlign = 'center'; g.textBaseline = 'middle';
+  v.forEach((val, i) => {
+    const x = T.X(L.x_mm[i]), y = T.Y(L.y_mm[i]), r = T.s * pitch * 0.45;
+    g.fillStyle = css(colour(val / max)); g.fillRect(x - r, y - r, 2 * r, 2 * r);
+    if (tgt) { // the target: SED the mapping read at this site, as a ring on the same pad
+      g.strokeStyle = '#fff'; g.lineWidth = 1.5; g.beginPath();
+      g.arc(x, y, Math.max(1, r * 0.9 * Math.sqrt(Math.max(0, tgt[i]) / tmax)), 0, 2 * Math.PI); g.stroke();
+    }
+    g.fillStyle = val / max > 0.6 ? '#000' : '#fff'; g.fillText(fmt(val, 3), x, y);
+  });
+  const flags = ['clamped', 'stale', 'fault', 'shutdown'].filter((k) => d[k]);
+  $('display-caption').innerHTML = `${d.display_id}: commanded ${d.unit} (colour 0–${fmt(max)} ${d.unit}), command ${d.sequence}` +
+    (flags.length ? ` <span class="flag">${flags.join(', ')}</span>` : '') +
+    `<br>target (ring): ${tgt ? 'SED at each site, largest ' + fmt(tmax) + ' Pa (SA1_RATE_ESTIMATE)' : 'not on the bus'}; ` +
+    'delivered: not on the bus (replay --out writes peak_display_sed.csv)';
+}
+
+// ---------- 3-D fingertip ----------
+function setupTip(mesh) {
+  const el = $('tip');
+  let renderer;
+  try { renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true }); } catch (e) {
+    missing('WebGL is not available in this browser: the 3-D panel is off.');
+    state.dataset.webgl = 'no';
+    return null;
+  }
+  state.dataset.webgl = 'yes';
+  renderer.setSize(el.clientWidth || 420, el.clientHeight || 380);
+  el.appendChild(renderer.domElement);
+  const scene = new THREE.Scene();
+  scene.background = new THREE.Color(0x1b1b1b);
+  const camera = new THREE.PerspectiveCamera(40, (el.clientWidth || 420) / (el.clientHeight || 380), 0.1, 1000);
+  camera.up.set(0, 1, 0);
+  camera.position.set(0, -10, 40);
+  const controls = new OrbitControls(camera, renderer.domElement);
+  scene.add(new THREE.AmbientLight(0xffffff, 0.8));
+  const light = new THREE.DirectionalLight(0xffffff, 1.5); light.position.set(10, -20, 40); scene.add(light);
+  const t = { renderer, scene, camera, controls, merkel: null, points: null, n: 0 };
+  const geometry = (part) => {
+    const g = new THREE.BufferGeometry();
+    g.setAttribute('position', new THREE.Float32BufferAttribute(part.xyz_mm, 3));
+    g.setIndex(part.triangles);
+    g.computeVertexNormals();
+    return g;
+  };
+  if (mesh.merkel.triangles.length) {
+    const g = geometry(mesh.merkel);
+    t.n = mesh.merkel.xyz_mm.length / 3;
+    g.setAttribute('color', new THREE.Float32BufferAttribute(new Float32Array(3 * t.n).fill(0.35), 3));
+    t.merkel = new THREE.Mesh(g, new THREE.MeshLambertMaterial({ vertexColors: true, side: THREE.DoubleSide }));
+    scene.add(t.merkel);
+    g.computeBoundingSphere();
+    // Looking onto the pad (down its normal, slightly from below the tip), the tip up, at
+    // the pad frame's origin: where the pressing plane first touches.
+    const r = g.boundingSphere.radius;
+    controls.target.set(0, 0, 0);
+    camera.position.set(0, -0.5 * r, 1.8 * r);
+  }
+  if (mesh.skin.triangles.length) {
+    const skin = new THREE.Mesh(geometry(mesh.skin), new THREE.MeshLambertMaterial({ color: 0xd8b4a0, transparent: true, opacity: 0.07, depthWrite: false }));
+    scene.add(skin);
+  }
+  controls.update();
+  const loop = () => { controls.update(); renderer.render(scene, camera); requestAnimationFrame(loop); };
+  loop();
+  return t;
+}
+
+function drawSed(f) {
+  const s = f.sed;
+  $('sed-caption').innerHTML = s
+    ? `model ${s.model_id}, ${s.num_vertices} vertices (${s.matched_vertices} on the mesh, the rest grey), SED ${fmt(s.min_finite_Pa)}–${fmt(s.max_finite_Pa)} Pa, step at ${((s.utime - (f.scan ? f.scan.utime : s.utime)) / 1e3).toFixed(1)} ms from the scan shown`
+    : 'no SED field yet';
+  if (!tip || !s) return;
+  if (s.on_mesh_Pa && tip.merkel) {
+    const tmp = new THREE.Color();
+    const col = tip.merkel.geometry.getAttribute('color');
+    for (let v = 0; v < tip.n; ++v) {
+      const rgb = colour(s.on_mesh_Pa[v] === null ? NaN : s.on_mesh_Pa[v] / sedScale);
+      // The scale's colours are sRGB; three.js lights in linear space.
+      tmp.setRGB(rgb[0] / 255, rgb[1] / 255, rgb[2] / 255, THREE.SRGBColorSpace);
+      col.setXYZ(v, tmp.r, tmp.g, tmp.b);
+    }
+    col.needsUpdate = true;
+  } else if (s.points) {
+    if (tip.points) tip.scene.remove(tip.points);
+    const g = new THREE.BufferGeometry(), n = s.points.x_mm.length, pos = new Float32Array(3 * n), col = new Float32Array(3 * n);
+    for (let k = 0; k < n; ++k) {
+      pos.set([s.points.x_mm[k], s.points.y_mm[k], s.points.z_mm[k]], 3 * k);
+      col.set(colour(s.points.sed_Pa[k] / sedScale).map((c) => c / 255), 3 * k);
+    }
+    g.setAttribute('position', new THREE.BufferAttribute(pos, 3)); g.setAttribute('color', new THREE.BufferAttribute(col, 3));
+    tip.points = new THREE.Points(g, new THREE.PointsMaterial({ size: 0.4, vertexColors: true }));
+    tip.scene.add(tip.points);
+  }
+}
+
+// ---------- timelines ----------
+const plots = {};
+function drawTimelines(f) {
+  if (!window.uPlot) return;
+  const specs = [['force_N', 'force [N]', '#6cf'], ['peak_sed_Pa', 'peak Merkel SED [Pa]', '#fc6'], ['latency_ms', 'per-scan latency [ms]', '#9f9']];
+  for (const [key, label, stroke] of specs) {
+    const s = f.timeline[key];
+    if (!plots[key]) {
+      const el = document.createElement('div');
+      $('timelines').appendChild(el);
+      plots[key] = new uPlot({ width: 460, height: 120, scales: { x: { time: false } }, legend: { show: true },
+        axes: [{ stroke: '#aaa', grid: { stroke: '#333' } }, { stroke: '#aaa', grid: { stroke: '#333' }, size: 60 }],
+        series: [{ label: 't [s]' }, { label, stroke, width: 1.5 }] }, [[], []], el);
+    }
+    plots[key].setData([s.t_s, s.v.map((v) => (v === null ? undefined : v))]);
+  }
+  const b = f.status;
+  $('status-caption').textContent = b
+    ? `bridge status: scans ${fmt(b.scan_rate_Hz)} Hz, latency p50 ${fmt(b.latency_p50_ms)} ms, p99 ${fmt(b.latency_p99_ms)} ms, dropped ${b.scans_dropped}` +
+      (b.fault_state ? `, FAULT ${b.fault_state}: ${b.fault_message}` : '')
+    : 'no bridge status on the bus';
+  const lat = f.timeline.latency_ms.v;
+  if (!f.playback.live && lat.length && lat.every((v) => v === 0))
+    $('status-caption').textContent += ' (per-scan latency is 0 on a replay\'s log clock; the status line has the replay\'s measured percentiles)';
+}
+
+// ---------- frames ----------
+function writeState(f) {
+  const d = state.dataset;
+  d.frames = String(++frames);
+  d.version = String(f.version);
+  d.positionS = String(f.playback.position_s);
+  d.sedScale = String(f.sed_scale_Pa);
+  d.scanUtime = f.scan ? String(f.scan.utime) : '';
+  d.taxels = f.scan ? f.scan.pressure_kPa.map(String).join(',') : '';
+  d.sedUtime = f.sed ? String(f.sed.utime) : '';
+  d.sedMin = f.sed ? String(f.sed.min_finite_Pa) : '';
+  d.sedMax = f.sed ? String(f.sed.max_finite_Pa) : '';
+  d.sedMatched = f.sed ? String(f.sed.matched_vertices) : '';
+  d.commandSequence = f.display ? String(f.display.sequence) : '';
+  d.commanded = f.display ? f.display.commanded.map(String).join(',') : '';
+  d.contactFlag = f.contact ? (f.contact.fallback ? 'fallback' : 'trusted') : '';
+  d.contactResidual = f.contact ? String(f.contact.residual_rms_sigma) : '';
+}
+
+function showPlayback(p) {
+  $('source').textContent = (p.live ? 'live: ' : 'log: ') + p.source;
+  if (p.live) return;
+  $('controls').hidden = false;
+  $('play').textContent = p.playing ? 'pause' : 'play';
+  const slider = $('slider');
+  slider.max = String(p.duration_s);
+  if (document.activeElement !== slider) slider.value = String(p.position_s);
+  $('time').textContent = `${p.position_s.toFixed(3)} / ${p.duration_s.toFixed(3)} s`;
+}
+
+// Rates over the last 2 s of wall time, written to #state for measuring the page.
+const stamps = { frame: [], draw: [] };
+function count(kind) {
+  const now = performance.now(), a = stamps[kind];
+  a.push(now);
+  while (a.length && a[0] < now - 2000) a.shift();
+  state.dataset[kind + 'Hz'] = (a.length / 2).toFixed(1);
+}
+
+function take(f) {
+  latest = f;
+  count('frame');
+  sedScale = f.sed_scale_Pa;
+  writeState(f);
+}
+
+function draw() {
+  if (latest && drawn !== latest.version + ':' + latest.playback.position_s) {
+    const f = latest;
+    drawn = f.version + ':' + f.playback.position_s;
+    showPlayback(f.playback);
+    drawTaxels(f);
+    drawSed(f);
+    drawDisplay(f);
+    drawTimelines(f);
+    state.dataset.drawn = String(f.version);
+    count('draw');
+  }
+}
+
+const control = (body) => fetch('api/control', { method: 'POST', body });
+$('play').onclick = () => control(latest && latest.playback.playing ? 'pause' : 'play');
+$('slider').onchange = (e) => control('seek ' + e.target.value);
+$('speed').onchange = (e) => control('speed ' + e.target.value);
+
+async function main() {
+  await loadLibraries();
+  const mesh = await (await fetch('api/mesh')).json();
+  sedScale = mesh.sed_scale_Pa;
+  $('sed-hi').textContent = fmt(sedScale, 4) + ' Pa (fixed)';
+  $('sed-lo').textContent = '0 Pa';
+  $('sed-bar').style.background = `linear-gradient(to right, ${STOPS.map((s) => css(s)).join(',')})`;
+  if (mesh.error) missing(`no fingertip mesh (${mesh.error}): SED drawn as points`);
+  state.dataset.meshVertices = String(mesh.merkel.xyz_mm.length / 3);
+  if (THREE) tip = setupTip(mesh);
+  // The latest frame at once, then the stream.
+  for (let tries = 0; tries < 50; ++tries) {
+    const r = await fetch('api/frame');
+    if (r.ok) { take(await r.json()); break; }
+    await new Promise((ok) => setTimeout(ok, 100));
+  }
+  draw();
+  // ?close-after=N: stop streaming after N frames (headless tests, whose browser waits for
+  // every open request before it writes the page out).
+  const closeAfter = Number(new URLSearchParams(location.search).get('close-after') || 0);
+  let streamed = 0;
+  const events = new EventSource('api/events');
+  events.addEventListener('frame', (e) => {
+    take(JSON.parse(e.data));
+    $('conn').textContent = 'streaming';
+    state.dataset.streamed = String(++streamed);
+    if (closeAfter > 0 && streamed >= closeAfter) { events.close(); $('conn').textContent = 'closed'; draw(); }
+  });
+  events.onerror = () => { $('conn').textContent = 'reconnecting'; };
+  const tick = () => { draw(); requestAnimationFrame(tick); };
+  requestAnimationFrame(tick);
+  state.dataset.ready = 'yes';
+}
+main();

@@ -1,0 +1,310 @@
+#!/usr/bin/env python3
+"""`sedbridge view` end to end: the server on a replay's LCM log, the page in headless Chromium.
+
+  test_view_page.py --sedbridge build/sedbridge --python-dir build/lcmtypes/python --work DIR --root SRC
+
+A replay of config/bridge/example_press.log makes the log. The view serves it paused at 1 s;
+Chromium (Debian's `chromium`) loads the page, which waits for its first frame and writes what
+it shows into #state's data-attributes: the taxel values and the SED range must be the log's
+messages at that time (read here with the generated Python types). A screenshot is saved to
+DIR/view.png. The server must survive clients that drop mid-stream, malformed requests and 20
+streams at once. Without npm's packages the page must still draw its 2-D panels and say what to
+run. Exits 77 (skip) without chromium.
+"""
+
+import argparse
+import html.parser
+import math
+import os
+import shutil
+import signal
+import socket
+import struct
+import subprocess
+import sys
+import threading
+import time
+import unittest
+import urllib.error
+import urllib.request
+
+ARGS = None
+START_S = 1.0  # the view starts paused here: the press is under way (force ~0.3 N)
+
+
+def chromium():
+    for name in ("chromium", "chromium-browser"):
+        path = shutil.which(name)
+        if path:
+            return path
+    return None
+
+
+class StateParser(html.parser.HTMLParser):
+    """The data-attributes of <div id="state">."""
+
+    def __init__(self):
+        super().__init__()
+        self.state = None
+
+    def handle_starttag(self, tag, attrs):
+        attrs = dict(attrs)
+        if attrs.get("id") == "state":
+            self.state = {k[5:]: v for k, v in attrs.items() if k.startswith("data-")}
+
+
+def messages_at(log_path, t_s):
+    """The last message of each channel at or before t_s after the log's first event."""
+    import sedbridge_lcm
+    last = {}
+    first = None
+    for event in sedbridge_lcm.EventLog(log_path):
+        first = event.timestamp if first is None else first
+        if (event.timestamp - first) * 1e-6 > t_s + 1e-9:
+            break
+        last[event.channel] = sedbridge_lcm.decode(event.data)
+    return last
+
+
+def read_text(path):
+    with open(path) as f:
+        return f.read()
+
+
+def http(port, path, body=None, timeout=10):
+    req = urllib.request.Request("http://127.0.0.1:%d%s" % (port, path), data=body,
+                                 method="POST" if body is not None else "GET")
+    try:
+        with urllib.request.urlopen(req, timeout=timeout) as r:
+            return r.status, r.read()
+    except urllib.error.HTTPError as e:
+        return e.code, e.read()
+
+
+def raw(port, data, read=True, timeout=2):
+    """Sends raw bytes; returns what came back (b"" if the server closed)."""
+    with socket.create_connection(("127.0.0.1", port), timeout=timeout) as s:
+        s.sendall(data)
+        if not read:
+            return b""
+        out = b""
+        try:
+            while len(out) < 65536:
+                chunk = s.recv(4096)
+                if not chunk:
+                    break
+                out += chunk
+        except socket.timeout:
+            pass
+        return out
+
+
+def open_stream(port, timeout=10):
+    """Opens /api/events and returns (socket, first bytes up to the first frame)."""
+    s = socket.create_connection(("127.0.0.1", port), timeout=timeout)
+    s.sendall(b"GET /api/events HTTP/1.1\r\nHost: 127.0.0.1\r\nAccept: text/event-stream\r\n\r\n")
+    got = b""
+    while b"event: frame" not in got and len(got) < 1 << 20:
+        chunk = s.recv(65536)
+        if not chunk:
+            break
+        got += chunk
+    return s, got
+
+
+class ViewPage(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        os.makedirs(ARGS.work, exist_ok=True)
+        cls.log = os.path.join(ARGS.work, "replay", "bridge.lcmlog")
+        subprocess.run([ARGS.sedbridge, "replay", os.path.join(ARGS.root, "config/bridge/example_press.log"),
+                        "--out", os.path.join(ARGS.work, "replay"), "--no-plots", "--quiet"], check=True,
+                       stdout=subprocess.DEVNULL, env=dict(os.environ, LCM_DEFAULT_URL="memq://"))
+        port_file = os.path.join(ARGS.work, "port")
+        if os.path.exists(port_file):
+            os.remove(port_file)
+        cls.server_log = open(os.path.join(ARGS.work, "view.log"), "w")
+        cls.view = subprocess.Popen([ARGS.sedbridge, "view", "--log", cls.log, "--port", "0", "--port-file", port_file,
+                                     "--paused", "--start-s", str(START_S), "--duration-s", "240"],
+                                    stdout=cls.server_log, stderr=subprocess.STDOUT)
+        deadline = time.time() + 30
+        while not (os.path.exists(port_file) and read_text(port_file).strip()):
+            if time.time() > deadline or cls.view.poll() is not None:
+                raise RuntimeError("the view did not start (see %s)" % cls.server_log.name)
+            time.sleep(0.1)
+        cls.port = int(read_text(port_file))
+        cls.expected = messages_at(cls.log, START_S)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.view.send_signal(signal.SIGTERM)
+        try:
+            cls.view.wait(timeout=15)
+        except subprocess.TimeoutExpired:
+            cls.view.kill()
+        cls.server_log.close()
+
+    def chromium(self, *args):
+        return subprocess.run([chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--use-gl=swiftshader",
+                               "--enable-unsafe-swiftshader", "--virtual-time-budget=8000", "--window-size=1200,1300",
+                               *args, "http://127.0.0.1:%d/?close-after=1" % self.port],
+                              capture_output=True, timeout=120)
+
+    def assertAlive(self):
+        self.assertIsNone(self.view.poll(), "the view exited")
+        status, body = http(self.port, "/api/frame")
+        self.assertEqual(status, 200)
+
+    def test_1_page_shows_the_log_at_that_time(self):
+        run = self.chromium("--dump-dom")
+        self.assertEqual(run.returncode, 0, run.stderr[-2000:])
+        parser = StateParser()
+        parser.feed(run.stdout.decode("utf-8", "replace"))
+        state = parser.state
+        self.assertIsNotNone(state, "no #state in the DOM")
+        self.assertGreaterEqual(int(state["frames"]), 1, "the page drew no frame")
+        # Without npm's packages the build still works and the page says so (test_7).
+        vendored = os.path.exists(os.path.join(ARGS.web_dir, "vendor", "three.module.min.js"))
+        self.assertEqual(state.get("libs"), "ok" if vendored else "missing")
+        scan = self.expected["TACTILE_SCAN"]
+        self.assertEqual(int(state["scan-utime"]), scan.utime)
+        shown = [float(v) for v in state["taxels"].split(",")]
+        self.assertEqual(len(shown), scan.num_taxels)
+        for k, (a, b) in enumerate(zip(shown, scan.pressure_kPa)):
+            self.assertAlmostEqual(a, b, delta=1e-6 * max(1.0, abs(b)), msg="taxel %d" % k)
+        self.assertGreater(max(shown), 1.0, "the scan at 1 s should press (kPa)")
+        sed = self.expected["FINGERTIP_SED"]
+        finite = [v for v in sed.sed_Pa if math.isfinite(v)]
+        self.assertEqual(int(state["sed-utime"]), sed.utime)
+        self.assertAlmostEqual(float(state["sed-min"]), min(finite), delta=1e-6 * max(1.0, min(finite)))
+        self.assertAlmostEqual(float(state["sed-max"]), max(finite), delta=1e-6 * max(finite))
+        self.assertEqual(int(state["sed-matched"]), sed.num_vertices, "SED vertices not on model B's mesh")
+        command = self.expected["DISPLAY_COMMAND"]
+        self.assertEqual(int(state["command-sequence"]), command.sequence)
+        self.assertAlmostEqual(float(state["position-s"]), START_S)
+
+    def test_2_screenshot(self):
+        shot = os.path.join(ARGS.work, "view.png")
+        if os.path.exists(shot):
+            os.remove(shot)
+        run = self.chromium("--screenshot=" + shot)
+        self.assertEqual(run.returncode, 0, run.stderr[-2000:])
+        with open(shot, "rb") as f:
+            head = f.read(24)
+        self.assertEqual(head[:8], b"\x89PNG\r\n\x1a\n")
+        self.assertEqual(struct.unpack(">II", head[16:24]), (1200, 1300))
+        self.assertGreater(os.path.getsize(shot), 20000, "a blank page?")
+
+    def test_3_client_dropping_mid_stream(self):
+        for _ in range(5):
+            s, got = open_stream(self.port)
+            self.assertIn(b"event: frame", got)
+            # Close with a reset (SO_LINGER 0), not a polite FIN.
+            s.setsockopt(socket.SOL_SOCKET, socket.SO_LINGER, struct.pack("ii", 1, 0))
+            s.close()
+        # Drop one while frames flow: play, read a little, drop.
+        self.assertEqual(http(self.port, "/api/control", b"play")[0], 200)
+        s, got = open_stream(self.port)
+        s.recv(4096)
+        s.close()
+        self.assertEqual(http(self.port, "/api/control", b"pause")[0], 200)
+        self.assertAlive()
+
+    def test_4_malformed_requests(self):
+        replies = [
+            raw(self.port, b"\x00\x01\x02 not http at all\r\n\r\n"),
+            raw(self.port, b"GET /" + b"a" * 20000 + b" HTTP/1.1\r\nHost: x\r\n\r\n"),
+            raw(self.port, b"GET / HTTP/1.1\r\n" + b"X-Junk: " + b"b" * 100000 + b"\r\n\r\n"),
+            raw(self.port, b"POST /api/control HTTP/1.1\r\nHost: x\r\nContent-Length: 99999999\r\n\r\nplay"),
+            raw(self.port, b"GET /api/frame HTTP/1.1\r\nHost: x\r\n", read=False),  # never finished
+            raw(self.port, b"GET /../../../../etc/passwd HTTP/1.1\r\nHost: x\r\n\r\n"),
+        ]
+        self.assertNotIn(b"root:", replies[-1], "the mount point served a file outside the page")
+        self.assertEqual(http(self.port, "/api/control", b"rm -rf /")[0], 400)
+        self.assertEqual(http(self.port, "/api/control", b"seek nan")[0], 400)
+        self.assertEqual(http(self.port, "/no/such/page")[0], 404)
+        self.assertAlive()
+
+    def test_5_twenty_streams_at_once(self):
+        results = []
+
+        def client():
+            try:
+                s, got = open_stream(self.port, timeout=20)
+                results.append(b"event: frame" in got)
+                time.sleep(0.5)
+                s.close()
+            except OSError as e:
+                results.append(e)
+
+        threads = [threading.Thread(target=client) for _ in range(20)]
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join(60)
+        self.assertEqual(results, [True] * 20)
+        self.assertAlive()
+
+    def test_6_playback_controls(self):
+        self.assertEqual(http(self.port, "/api/control", b"seek 2.5")[0], 200)
+        time.sleep(0.3)
+        import json
+        frame = json.loads(http(self.port, "/api/frame")[1])
+        self.assertAlmostEqual(frame["playback"]["position_s"], 2.5)
+        self.assertFalse(frame["playback"]["playing"])
+        self.assertEqual(http(self.port, "/api/control", b"seek %g" % START_S)[0], 200)
+
+
+class ViewPageWithoutLibraries(unittest.TestCase):
+    def test_7_page_says_what_to_run(self):
+        web = os.path.join(ARGS.work, "web_without_npm")
+        shutil.rmtree(web, ignore_errors=True)
+        subprocess.run([ARGS.cmake, "-DSRC=" + os.path.join(ARGS.root, "src/view/web"), "-DNODE_MODULES=" + web + "/none",
+                        "-DDEST=" + web, "-P", os.path.join(ARGS.root, "tools/cmake/CopyViewWeb.cmake")],
+                       check=True, stdout=subprocess.DEVNULL)
+        port_file = os.path.join(ARGS.work, "port_without_npm")
+        if os.path.exists(port_file):
+            os.remove(port_file)
+        view = subprocess.Popen([ARGS.sedbridge, "view", "--log", os.path.join(ARGS.work, "replay", "bridge.lcmlog"),
+                                 "--web-dir", web, "--port", "0", "--port-file", port_file, "--paused",
+                                 "--duration-s", "120"], stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        try:
+            deadline = time.time() + 30
+            while not (os.path.exists(port_file) and read_text(port_file).strip()):
+                self.assertLess(time.time(), deadline, "the view did not start")
+                time.sleep(0.1)
+            port = int(read_text(port_file))
+            run = subprocess.run([chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--virtual-time-budget=5000",
+                                  "--dump-dom", "http://127.0.0.1:%d/?close-after=1" % port],
+                                 capture_output=True, timeout=120)
+            dom = run.stdout.decode("utf-8", "replace")
+            parser = StateParser()
+            parser.feed(dom)
+            self.assertEqual(parser.state.get("libs"), "missing")
+            self.assertGreaterEqual(int(parser.state["frames"]), 1, "the 2-D panels still draw")
+            self.assertIn("run tools/setup.sh (npm ci in tools/view-web)", dom)
+        finally:
+            view.terminate()
+            view.wait(15)
+
+
+def main():
+    global ARGS
+    p = argparse.ArgumentParser()
+    p.add_argument("--sedbridge", required=True)
+    p.add_argument("--python-dir", required=True)
+    p.add_argument("--work", required=True)
+    p.add_argument("--root", required=True)
+    p.add_argument("--web-dir", required=True, help="the build's view_web")
+    p.add_argument("--cmake", default="cmake")
+    ARGS, rest = p.parse_known_args()
+    if chromium() is None:
+        print("SKIP: no chromium (Debian: apt-get install chromium; tools/setup.sh installs it)")
+        return 77
+    sys.path.insert(0, ARGS.python_dir)
+    result = unittest.main(argv=[sys.argv[0]] + rest, exit=False, verbosity=2).result
+    return 0 if result.wasSuccessful() else 1
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,184 @@
+// The view's model of the bus: messages by channel, size-safe decoding, timelines, the log
+// player's seek and speed, and the JSON it sends.
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <thread>
+#include <vector>
+
+#include "lcm/lcm_log_writer.h"
+#include "view/frame_hub.h"
+#include "view/frame_json.h"
+#include "view/json_writer.h"
+#include "view/log_player.h"
+#include "view/sed_mesh.h"
+#include "view/view_state.h"
+
+namespace sedbridge::view {
+namespace {
+
+template <typename Msg>
+std::vector<uint8_t> Encode(const Msg& m) {
+  std::vector<uint8_t> b(size_t(m.getEncodedSize()));
+  m.encode(b.data(), 0, int(b.size()));
+  return b;
+}
+
+lcmt_tactile_scan Scan(int64_t utime, float kPa) {
+  lcmt_tactile_scan s{};
+  s.utime = utime;
+  s.sequence = utime / 10000;
+  s.sensor_id = "uskin_4x4";
+  s.num_taxels = 16;
+  s.raw_counts.assign(16, 0);
+  s.pressure_kPa.assign(16, kPa);
+  s.valid.assign(16, 1);
+  return s;
+}
+
+lcmt_merkel_sed Sed(int64_t utime, float peak) {
+  lcmt_merkel_sed m{};
+  m.utime = utime;
+  m.model_id = "B";
+  m.num_vertices = 2;
+  m.num_positions = 2;
+  m.x_mm = {0, 1};
+  m.y_mm = {0, 0};
+  m.z_mm = {-1, -1};
+  m.sed_Pa = {peak / 2, peak};
+  m.max_sed_Pa = peak;
+  return m;
+}
+
+lcmt_display_command Command(int64_t utime, int64_t scan_utime) {
+  lcmt_display_command c{};
+  c.utime = utime;
+  c.sequence = 1;
+  c.source_scan_utime = scan_utime;
+  c.display_id = "suction_4x4";
+  c.unit = "kPa";
+  c.num_actuators = 16;
+  c.value.assign(16, 2.5f);
+  return c;
+}
+
+template <typename Msg>
+bool Feed(ViewState& s, const std::string& channel, const Msg& m, int64_t utime) {
+  const std::vector<uint8_t> b = Encode(m);
+  return s.OnEvent(channel, b.data(), b.size(), utime);
+}
+
+TEST(JsonWriter, NestsEscapesAndWritesNonFiniteAsNull) {
+  JsonWriter w;
+  w.BeginObject().Key("a").Numbers(std::vector<double>{1, NAN, INFINITY, 2.5}).Key("s").String("q\"\\\n");
+  w.Key("o").BeginObject().Key("b").Bool(true).Key("n").Null().EndObject().Key("i").Ints({1, -2}).EndObject();
+  EXPECT_EQ(w.str(), R"({"a":[1,null,null,2.5],"s":"q\"\\\u000a","o":{"b":true,"n":null},"i":[1,-2]})");
+}
+
+TEST(ViewState, TakesEachChannelsLatestAndRejectsBytesOfTheWrongSize) {
+  ViewState s{lcm_io::LcmChannels{}};
+  EXPECT_TRUE(Feed(s, "TACTILE_SCAN", Scan(1000000, 1.5f), 1000000));
+  EXPECT_TRUE(Feed(s, "TACTILE_SCAN", Scan(1010000, 2.5f), 1010000));
+  EXPECT_TRUE(Feed(s, "FINGERTIP_SED", Sed(1012000, 400), 1012000));
+  EXPECT_TRUE(Feed(s, "DISPLAY_COMMAND", Command(1013000, 1010000), 1013000));
+  EXPECT_TRUE(Feed(s, "SOMETHING_ELSE", Scan(1, 1), 1));  // not ours: ignored
+  ASSERT_TRUE(s.have_scan && s.have_sed && s.have_command);
+  EXPECT_FALSE(s.have_contact);
+  EXPECT_FLOAT_EQ(s.scan.pressure_kPa[0], 2.5f);
+  EXPECT_EQ(s.events, 4);
+  ASSERT_EQ(s.latency_ms.value.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.latency_ms.value[0], 3.0);
+  ASSERT_EQ(s.peak_sed_Pa.value.size(), 1u);
+  EXPECT_NEAR(s.peak_sed_Pa.t_s[0], 0.012, 1e-12);
+
+  // A scan whose taxel count its bytes cannot hold: rejected, the last good one stays.
+  std::vector<uint8_t> bad = Encode(Scan(1020000, 9));
+  bad.resize(bad.size() - 3);
+  EXPECT_FALSE(s.OnEvent("TACTILE_SCAN", bad.data(), bad.size(), 1020000));
+  EXPECT_EQ(s.rejected, 1);
+  EXPECT_FLOAT_EQ(s.scan.pressure_kPa[0], 2.5f);
+
+  const uint64_t before = s.version;
+  s.Reset();
+  EXPECT_FALSE(s.have_scan || s.have_sed || s.have_command);
+  EXPECT_TRUE(s.latency_ms.t_s.empty());
+  EXPECT_GT(s.version, before);
+}
+
+TEST(SedVertexMatch, FindsTheFieldsVerticesOnTheMeshByPosition) {
+  SedMesh mesh;
+  mesh.merkel_xyz_mm = {5, 5, 5, 1, 0, -1, 0, 0, -1};
+  SedVertexMatch match;
+  const std::vector<int>& index = match.Match(mesh, {0.0f, 1.0004f, 9.0f}, {0, 0, 0}, {-1, -1, -1});
+  EXPECT_EQ(index, (std::vector<int>{2, 1, -1}));
+  EXPECT_EQ(match.matched(), 2u);
+}
+
+TEST(FrameJson, CarriesTheLatestMessagesAndNullForWhatIsNotOnTheBus) {
+  ViewState s{lcm_io::LcmChannels{}};
+  Feed(s, "TACTILE_SCAN", Scan(1000000, 1.5f), 1000000);
+  Feed(s, "FINGERTIP_SED", Sed(1002000, 300), 1002000);
+  SedMesh mesh;
+  mesh.merkel_xyz_mm = {1, 0, -1, 0, 0, -1};
+  mesh.merkel_triangles = {0, 1, 0};
+  SedVertexMatch match;
+  ViewLayouts layouts("uskin_4x4", "suction_4x4");
+  const std::string f = FrameJson(s, layouts, mesh, match, PlaybackInfo{}, FrameStyle{});
+  EXPECT_NE(f.find(R"("pressure_kPa":[1.5,1.5,)"), std::string::npos) << f;
+  EXPECT_NE(f.find(R"("on_mesh_Pa":[300,150])"), std::string::npos) << f;
+  EXPECT_NE(f.find(R"("min_finite_Pa":150,"max_finite_Pa":300)"), std::string::npos) << f;
+  EXPECT_NE(f.find(R"("contact":null)"), std::string::npos);
+  EXPECT_NE(f.find(R"("display":null)"), std::string::npos);
+  EXPECT_NE(f.find(R"("layout":{"id":"uskin_4x4")"), std::string::npos);
+}
+
+TEST(LogPlayer, PlaysOnTheLogsClockSeeksBackAndStopsAtTheEnd) {
+  const std::string path = (std::filesystem::temp_directory_path() / "view_state_test.lcmlog").string();
+  {
+    lcm_io::LcmLogWriter w(path);
+    for (int k = 0; k < 10; ++k) w.Write("TACTILE_SCAN", Scan(1000000 + k * 100000, float(k)));
+    w.Write("FINGERTIP_SED", Sed(1500000, 800));
+  }
+  LogPlayer player(path, {"TACTILE_SCAN", "FINGERTIP_SED"});
+  EXPECT_NEAR(player.duration_s(), 0.9, 1e-9);
+  EXPECT_DOUBLE_EQ(player.LargestSed_Pa("FINGERTIP_SED"), 800);
+  ViewState s{lcm_io::LcmChannels{}};
+  player.Seek(0.45, &s);
+  EXPECT_FLOAT_EQ(s.scan.pressure_kPa[0], 4);
+  player.SetSpeed(2);
+  player.SetPlaying(true);
+  player.Advance(0.1, &s);  // 0.2 s of log
+  EXPECT_FLOAT_EQ(s.scan.pressure_kPa[0], 6);
+  EXPECT_TRUE(s.have_sed);
+  player.Seek(0.15, &s);  // backwards: replayed from the start
+  EXPECT_FLOAT_EQ(s.scan.pressure_kPa[0], 1);
+  EXPECT_FALSE(s.have_sed);
+  player.Advance(10, &s);
+  EXPECT_FLOAT_EQ(s.scan.pressure_kPa[0], 9);
+  EXPECT_FALSE(player.playing());
+  std::filesystem::remove(path);
+}
+
+TEST(FrameHub, AClientGetsOnlyNewerFramesAndCloseWakesIt) {
+  FrameHub hub;
+  uint64_t seen = 0;
+  std::string frame;
+  EXPECT_FALSE(hub.WaitNewer(&seen, &frame, std::chrono::milliseconds(1)));
+  hub.Publish("a");
+  hub.Publish("b");
+  ASSERT_TRUE(hub.WaitNewer(&seen, &frame, std::chrono::milliseconds(1)));
+  EXPECT_EQ(frame, "b");  // a slow client skips frames
+  EXPECT_EQ(seen, 2u);
+  std::thread closer([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    hub.Close();
+  });
+  EXPECT_FALSE(hub.WaitNewer(&seen, &frame, std::chrono::seconds(10)));
+  closer.join();
+}
+
+}  // namespace
+}  // namespace sedbridge::view
