@@ -14,16 +14,12 @@
 #include "sedbridge/lcmt_merkel_sed.hpp"
 #include "sedbridge/lcmt_sa1_rate_estimate.hpp"
 #include "sedbridge/lcmt_tactile_scan.hpp"
+#include "lcm_test_messages.h"
 
 namespace sedbridge::lcm_io {
 namespace {
 
-template <typename Msg>
-std::vector<uint8_t> Encode(const Msg& m) {
-  std::vector<uint8_t> b(size_t(m.getEncodedSize()));
-  m.encode(b.data(), 0, int(b.size()));
-  return b;
-}
+using test_messages::Encode;
 
 void PutInt32(std::vector<uint8_t>& b, size_t at, uint32_t v) {
   b[at] = uint8_t(v >> 24);

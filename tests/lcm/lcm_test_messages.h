@@ -1,7 +1,9 @@
 #pragma once
-// A DISPLAY_COMMAND as the bridge would publish it, for the LCM stage's tests.
+// A DISPLAY_COMMAND as the bridge would publish it, and any message's bytes, for the LCM
+// stage's tests and the view's.
 
 #include <cstdint>
+#include <vector>
 
 #include "display/display_command.h"
 
@@ -19,6 +21,14 @@ inline display::DisplayCommand Command(int64_t seq) {
   c.value = {0.0, 1.25, 20.0};
   c.clamped = true;
   return c;
+}
+
+/// An lcmgen message's encoded bytes (what a log or the bus carries).
+template <typename Msg>
+std::vector<uint8_t> Encode(const Msg& m) {
+  std::vector<uint8_t> b(size_t(m.getEncodedSize()));
+  m.encode(b.data(), 0, int(b.size()));
+  return b;
 }
 
 }  // namespace sedbridge::lcm_io::test_messages

@@ -10,16 +10,12 @@
 #include "sedbridge/lcmt_merkel_sed.hpp"
 #include "sedbridge/lcmt_sa1_rate_estimate.hpp"
 #include "sedbridge/lcmt_tactile_scan.hpp"
+#include "lcm_test_messages.h"
 
 namespace sedbridge {
 namespace {
 
-template <typename Msg>
-std::vector<uint8_t> Encode(const Msg& m) {
-  std::vector<uint8_t> buf(m.getEncodedSize());
-  EXPECT_EQ(m.encode(buf.data(), 0, buf.size()), static_cast<int>(buf.size()));
-  return buf;
-}
+using lcm_io::test_messages::Encode;
 
 TEST(LcmTypes, TactileScanRoundTrip) {
   lcmt_tactile_scan m;

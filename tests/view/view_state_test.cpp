@@ -16,16 +16,12 @@
 #include "view/log_player.h"
 #include "view/sed_mesh.h"
 #include "view/view_state.h"
+#include "../lcm/lcm_test_messages.h"
 
 namespace sedbridge::view {
 namespace {
 
-template <typename Msg>
-std::vector<uint8_t> Encode(const Msg& m) {
-  std::vector<uint8_t> b(size_t(m.getEncodedSize()));
-  m.encode(b.data(), 0, int(b.size()));
-  return b;
-}
+using lcm_io::test_messages::Encode;
 
 lcmt_tactile_scan Scan(int64_t utime, float kPa) {
   lcmt_tactile_scan s{};
