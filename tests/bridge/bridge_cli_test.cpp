@@ -99,7 +99,9 @@ TEST(BridgeCli, FitSensorEvaluatesASimulatedPadAgainstTheRig) {
   std::string out = RunCommand(fit + " layer --pad-thickness-mm 2.5 --pad-youngs-kPa 230 --pad-poisson 0.2", &status);
   ASSERT_EQ(status, 0) << out;
   EXPECT_NE(out.find("press_17.log"), std::string::npos) << out;
-  EXPECT_NE(out.find("within 1 sigma on every axis: 21, 19 and 21 of 21"), std::string::npos) << out;
+  // Presses 00-20 and 25-28 (the punches and the pair have no primitive yet: left out).
+  EXPECT_NE(out.find("within 1 sigma on every axis: 24, 21 and 24 of 25"), std::string::npos) << out;
+  EXPECT_NE(out.find("press_22.log: a punch, which the forward model has no primitive for: left out"), std::string::npos) << out;
   out = RunCommand(fit + " winkler", &status);
   EXPECT_NE(status, 0) << out;
   EXPECT_NE(out.find("winkler"), std::string::npos) << out;
