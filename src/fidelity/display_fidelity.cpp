@@ -11,6 +11,7 @@
 #include "display/sed_to_command_mapping.h"
 #include "model/fingertip_model.h"
 #include "render/display_rendering.h"
+#include "render/leader_pad.h"
 
 namespace sedbridge::fidelity {
 namespace {
@@ -138,6 +139,9 @@ DisplayFidelity::DisplayFidelity(const std::string& model_name, DisplayFidelityO
       d->rendering = std::make_unique<render::DisplayRendering>(*model_, d->profile, rendering_options);
       info.has_load = true;
       info.precompute_s = d->rendering->precompute_s();
+    } catch (const render::DisplayDoesNotFitPad& e) {  // footprints off the leader's pad: file:line:column
+      info.no_load_status = "does not fit the pad";
+      info.no_load_reason = e.what();
     } catch (const std::invalid_argument& e) {  // no load on the leader for this kind (yet)
       info.no_load_status = "no device load yet";
       info.no_load_reason = e.what();
