@@ -16,6 +16,11 @@
 namespace sedbridge::fidelity {
 namespace {
 
+// An electrotactile display in the list: no load on the leader to render, ever.
+struct NoMechanicalLoad : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
+
 // The shipped display names, for the message refusing an unknown one.
 std::string ShippedDisplays() {
   namespace fs = std::filesystem;
@@ -136,9 +141,15 @@ DisplayFidelity::DisplayFidelity(const std::string& model_name, DisplayFidelityO
     render::DisplayRenderingOptions rendering_options;
     rendering_options.cache_dir = options_.cache_dir;
     try {
+      if (d->profile.kind == display::DisplayKind::kElectrotactile)  // not "yet": it has none
+        throw NoMechanicalLoad(d->profile.name + " is electrotactile: no mechanical load on the finger, no SED to "
+                               "deliver (replay reads its commands against the SA1 rate estimate)");
       d->rendering = std::make_unique<render::DisplayRendering>(*model_, d->profile, rendering_options);
       info.has_load = true;
       info.precompute_s = d->rendering->precompute_s();
+    } catch (const NoMechanicalLoad& e) {
+      info.no_load_status = "no mechanical load";
+      info.no_load_reason = e.what();
     } catch (const render::DisplayDoesNotFitPad& e) {  // footprints off the leader's pad: file:line:column
       info.no_load_status = "does not fit the pad";
       info.no_load_reason = e.what();
