@@ -156,8 +156,10 @@ std::string CheckDeviceFitsPad(const DisplayProfile& p, const PadExtent& pad) {
     std::ostringstream m;
     m << p.actuators_at.str() << ": actuator " << i << " at " << Pair(x, y) << " mm";
     if (device) m << " with its " << Mm(r) << " " << KeysOf(p.kind).noun << " (device at " << p.device_at.str() << ")";
-    m << " is not on the finger's pad, whose contact face spans x " << pad.x_min_mm << ".." << pad.x_max_mm
-      << " mm, y " << pad.y_min_mm << ".." << pad.y_max_mm << " mm (pad frame)";
+    // The extent to 0.01 mm (a mesh's patch has many digits, none of them news).
+    const auto mm = [](double v) { return std::round(v * 100) / 100; };
+    m << " is not on the finger's pad, whose contact face spans x " << mm(pad.x_min_mm) << ".." << mm(pad.x_max_mm)
+      << " mm, y " << mm(pad.y_min_mm) << ".." << mm(pad.y_max_mm) << " mm (pad frame)";
     return m.str();
   }
   return "";
