@@ -147,19 +147,26 @@ void CompleteDisplayDevice(MapReader& d, DisplayProfile& p) {
   CheckSurfaceCoversFootprints(d, p);
 }
 
-std::string CheckDeviceFitsPad(const DisplayProfile& p, double pad_half_x_mm, double pad_half_y_mm) {
+std::string CheckDeviceFitsPad(const DisplayProfile& p, const PadExtent& pad) {
   const bool device = p.has_device_model();
   for (std::size_t i = 0; i < p.size(); ++i) {
     const double r = device ? p.device.footprints[i].radius_mm : 0.0;
-    if (std::abs(p.x_mm[i]) + r <= pad_half_x_mm && std::abs(p.y_mm[i]) + r <= pad_half_y_mm) continue;
+    const double x = p.x_mm[i], y = p.y_mm[i];
+    if (x - r >= pad.x_min_mm && x + r <= pad.x_max_mm && y - r >= pad.y_min_mm && y + r <= pad.y_max_mm) continue;
     std::ostringstream m;
-    m << p.actuators_at.str() << ": actuator " << i << " at " << Pair(p.x_mm[i], p.y_mm[i]) << " mm";
+    m << p.actuators_at.str() << ": actuator " << i << " at " << Pair(x, y) << " mm";
     if (device) m << " with its " << Mm(r) << " " << KeysOf(p.kind).noun << " (device at " << p.device_at.str() << ")";
-    m << " is not on the finger's pad, whose contact face spans +-" << pad_half_x_mm << " mm in x and +-"
-      << pad_half_y_mm << " mm in y (pad frame)";
+    // The extent to 0.01 mm (a mesh's patch has many digits, none of them news).
+    const auto mm = [](double v) { return std::round(v * 100) / 100; };
+    m << " is not on the finger's pad, whose contact face spans x " << mm(pad.x_min_mm) << ".." << mm(pad.x_max_mm)
+      << " mm, y " << mm(pad.y_min_mm) << ".." << mm(pad.y_max_mm) << " mm (pad frame)";
     return m.str();
   }
   return "";
+}
+
+std::string CheckDeviceFitsPad(const DisplayProfile& p, double pad_half_x_mm, double pad_half_y_mm) {
+  return CheckDeviceFitsPad(p, PadExtent{-pad_half_x_mm, pad_half_x_mm, -pad_half_y_mm, pad_half_y_mm});
 }
 
 }  // namespace sedbridge::display

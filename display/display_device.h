@@ -89,10 +89,20 @@ void CompleteDisplayDevice(config::MapReader& device, DisplayProfile& p);
 /// Smallest distance between two actuator sites [mm]; infinity for a single site.
 double NearestActuatorDistance_mm(const std::vector<double>& x_mm, const std::vector<double>& y_mm);
 
-/// Whether the display's actuators lie on the leader's pad, whose contact face spans
-/// [-pad_half_x_mm, pad_half_x_mm] x [-pad_half_y_mm, pad_half_y_mm] in the pad frame: each
-/// footprint whole (a profile without a device model: each site). "" when they do, else a
-/// message starting with the `actuators` key's file:line:column (and naming `device`'s).
+/// The part of the leader's pad a display can touch: the x-y extent of the skin that can
+/// make contact, pad frame [mm] (render::LeaderPadExtent reads it from the leader's FE model:
+/// its candidate contact patch). Not symmetric: the pad reaches further toward the
+/// finger's base (-y) than toward its tip.
+struct PadExtent {
+  double x_min_mm = 0, x_max_mm = 0;
+  double y_min_mm = 0, y_max_mm = 0;
+};
+
+/// Whether the display's actuators lie on the leader's pad: each footprint whole within
+/// `pad` (a profile without a device model: each site). "" when they do, else a message
+/// starting with the `actuators` key's file:line:column (and naming `device`'s).
+std::string CheckDeviceFitsPad(const DisplayProfile& p, const PadExtent& pad);
+/// The same on a pad spanning [-pad_half_x_mm, pad_half_x_mm] x [-pad_half_y_mm, pad_half_y_mm].
 std::string CheckDeviceFitsPad(const DisplayProfile& p, double pad_half_x_mm, double pad_half_y_mm);
 
 }  // namespace sedbridge::display

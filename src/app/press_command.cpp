@@ -9,11 +9,40 @@
 #include "app/command.h"
 #include "app/plot_runner.h"
 #include "common/resource_path.h"
+#include "model/fingertip_model.h"
+#include "render/display_on_leader.h"
+#include "render/display_press.h"
 #include "scene/fingertip_compliance.h"
 #include "scene/press_experiment.h"
 
 namespace sedbridge::app {
 namespace {
+
+// A scene with `display`: the display's commands on the leader's pad, one full contact
+// answer (render/display_press.h), instead of a contact object pushed in steps.
+int RunDisplayPress(const scene::SceneDescription& scene, const std::string& out, bool plots) {
+  const auto t_load = std::chrono::steady_clock::now();
+  const scene::DisplayLoadSection& load = *scene.display;
+  const model::FingertipModel model = model::LoadFingertipModel(scene.model);
+  scene::FingertipCompliance leader(model, render::DisplayLeaderOptions(scene::ComplianceOptionsFromScene(scene)));
+  std::printf("model %s: %d soft nodes, %zu Merkel vertices; display %s (%s, %zu actuators, %s) from %s\n",
+              model.name.c_str(), model.num_soft_nodes(), model.merkel_nodes.size(), load.profile.name.c_str(),
+              display::ToString(load.profile.kind).c_str(), load.profile.size(), load.profile.unit.c_str(),
+              load.profile.file.c_str());
+  const Eigen::VectorXd commands =
+      Eigen::Map<const Eigen::VectorXd>(load.commands.data(), Eigen::Index(load.commands.size()));
+  const render::DisplayPressResult r = render::PressDisplay(leader, load.profile, commands);
+  render::WriteDisplayPress(leader, load.profile, commands, r, out);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_load).count();
+  std::printf("preload %.3f N (%.1f kPa over the actuated area); max Merkel SED %.1f Pa at rest on the display, "
+              "%.1f Pa with the commands (%.1f Pa added at most)\n",
+              r.preload_force_N, load.profile.device.preload_kPa, r.preload_sed_Pa.maxCoeff(), r.sed_Pa.maxCoeff(),
+              (r.sed_Pa - r.preload_sed_Pa).maxCoeff());
+  std::printf("done in %.1f s\n", seconds);
+  if (plots) std::printf("plots: none for a display press (merkel_sed.csv, display_press.vtu)\n");
+  std::printf("results: %s\n", out.c_str());
+  return 0;
+}
 
 int RunPress(int argc, char** argv) {
   ArgParser args("sedbridge press",
@@ -37,7 +66,11 @@ int RunPress(int argc, char** argv) {
           "                          (the OpenMP team it ran on: its own choice unless\n"
           "                          OMP_NUM_THREADS is set)\n"
           "  frames.pvd + frame_*.vtu  deformation and SED for ParaView\n"
-          "  *.png                   force-displacement, area-force, Merkel SED map, SED path plots\n\n"
+          "  *.png                   force-displacement, area-force, Merkel SED map, SED path plots\n"
+          "a scene with `display: {profile, commands}` (config/scenes/display_suction_press.yaml) presses\n"
+          "the display's commands on the pad resting on it instead, by full contact, and writes\n"
+          "merkel_sed.csv, display_added_sed.csv, display_commands.csv, display_press.csv and\n"
+          "display_press.vtu (render/display_press.h)\n\n"
           "example:\n  sedbridge press --model B --out out/press_B");
   if (!args.Parse(argc, argv)) return 0;
 
@@ -59,6 +92,7 @@ int RunPress(int argc, char** argv) {
   }
   const std::string out = args.Get("out");
   std::filesystem::create_directories(out);
+  if (scene.display) return RunDisplayPress(scene, out, !args.GetFlag("no-plots"));
 
   const auto t_load = std::chrono::steady_clock::now();
   scene::FingertipScene fingertip(scene);

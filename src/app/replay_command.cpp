@@ -57,7 +57,8 @@ void PrintReplaySummary(const ReplayResult& r, const std::string& out) {
               static_cast<long long>(r.publish_errors));
   if (!out.empty())
     std::printf("wrote %s/{summary.csv, stage_ms.csv, peak_merkel_sed.csv, peak_command.csv, peak_taxels.csv, %sbridge.lcmlog}\n",
-                out.c_str(), r.have_display_fidelity ? "peak_display_sed.csv, " : "");
+                out.c_str(),
+                r.have_display_fidelity ? "peak_display_sed.csv, " : r.have_sa1_estimate ? "peak_sa1_rate_estimate.csv, " : "");
 }
 
 std::string JoinNames(const std::set<std::string>& names) {
@@ -111,6 +112,8 @@ int RunReplayCommand(int argc, char** argv) {
           "  peak_merkel_sed.csv   Merkel-layer SED at the scan of peak SED (pad frame, mm)\n"
           "  peak_command.csv      display command at that scan; peak_taxels.csv: the taxel pressures\n"
           "  peak_display_sed.csv  display.rendering inverse: the SED the display delivers at that scan (full FE)\n"
+          "  peak_sa1_rate_estimate.csv  electrotactile display (no mechanical load): the SA1 rate ESTIMATE at\n"
+          "                        each electrode from the SED asked at that scan (display/sa1_rate_estimate.h)\n"
           "  bridge_*.png          SED map + display frame at peak, force and max SED over time\n"
           "  frames.pvd, frame_*.vtu  with --vtu-every N: reference mesh + displacement_mm (ParaView: Warp By\n"
           "                        Vector, scale 1), Merkel SED; Time = seconds since the first scan\n\n"

@@ -32,6 +32,12 @@ std::string SaturationNote(const bridge::ReplayResult& r) {
 
 void PrintDisplayRendering(const bridge::ReplayResult& r) {
   std::printf("%s\n", r.display_rendering.c_str());
+  if (r.have_sa1_estimate)
+    std::printf("electrotactile: no mechanical load on the finger, no SED to deliver; read against the SA1 rate "
+                "ESTIMATE (display/sa1_rate_estimate.h: a saturating function of SED, illustrative parameters, not "
+                "fitted): at the peak scan %.0f spikes/s (estimate) at electrode %d, site SED %.1f Pa "
+                "(peak_sa1_rate_estimate.csv)\n",
+                r.sa1_peak_rate_estimate_Hz, r.sa1_peak_electrode, r.sa1_peak_site_sed_Pa);
   if (!r.inverse_rendering) return;
   std::printf("inverse renderer a scan: wall median %.3f ms, p99 %.3f ms, max %.3f ms; CPU median %.3f ms, p99 %.3f "
               "ms, max %.3f ms (%lld scans, %lld stopped at the iteration limit)\n",

@@ -12,8 +12,9 @@ namespace {
 std::string WhyNotInverse(const BridgeConfig& config, const display::DisplayProfile& profile) {
   const std::string kind = display::ToString(profile.kind);
   if (profile.kind == display::DisplayKind::kElectrotactile)
-    return profile.name + " is electrotactile: no mechanical load on the leader (it renders against the SA1 "
-                          "rate estimate)";
+    return profile.name + " is electrotactile: no mechanical load on the leader, no SED for the inverse FE to "
+                          "fit (the curve gives its commands; replay and simulate read them against the SA1 rate "
+                          "estimate, peak_sa1_rate_estimate.csv)";
   if (!profile.has_device_model()) return profile.name + " has no device model (profile key `device`)";
   if (!render::HasMechanicalLoad(profile.kind))
     return "no model of a " + kind + " display's load on the leader yet (render::MakeDisplayOnLeader)";

@@ -9,6 +9,7 @@
 
 #include "bridge/display_requests.h"
 #include "bridge/make_fe_step.h"
+#include "bridge/sa1_rate_at_peak.h"
 #include "lcm/contact_estimate_message.h"
 #include "common/wall_clock.h"
 #include "scene/vtu_writer.h"
@@ -199,8 +200,10 @@ void WriteReplayFiles(const std::filesystem::path& dir, const ReplayResult& resu
                       const display::DisplayProfile& dp, const BridgeConfig& config,
                       const sensors::SensorProfile& profile) {
   WriteSummaryCsv((dir / "summary.csv").string(), result.rows);
-  // Written by FinishInverse for the inverse rendering only: no stale one from an earlier run.
+  // Written by FinishInverse for the inverse rendering only, by FinishSa1Estimate for an
+  // electrotactile display only: no stale one from an earlier run.
   std::filesystem::remove(dir / "peak_display_sed.csv");
+  std::filesystem::remove(dir / "peak_sa1_rate_estimate.csv");
   WriteStageCsv((dir / "stage_ms.csv").string(), result.rows);
   std::ofstream sed((dir / "peak_merkel_sed.csv").string());
   sed << "x_mm,y_mm,z_mm,sed_Pa\n";
@@ -251,6 +254,23 @@ void FinishInverse(InverseDisplayRequests& inverse, const PeakSnapshot& peak, co
   for (size_t k = 0; k < f.size(); ++k)
     out << k << ',' << f.x_mm[k] << ',' << f.y_mm[k] << ',' << f.z_mm[k] << ',' << delivered[Eigen::Index(k)] << '\n';
   if (!out) throw std::runtime_error("write failed: " + path);
+}
+
+// Electrotactile (no mechanical load on the finger): the SA1 rate ESTIMATE at each electrode
+// from the SED asked at the peak scan, what its commands are read against
+// (peak_sa1_rate_estimate.csv in `out_dir` unless empty).
+void FinishSa1Estimate(const display::DisplayProfile& dp, const PeakSnapshot& peak, const std::string& out_dir,
+                       ReplayResult* result) {
+  if (peak.sed_Pa < 0) return;
+  const Sa1RateAtSites e = EstimateSa1RateAtSites(dp, peak.field);
+  if (e.peak_site < 0) return;
+  result->have_sa1_estimate = true;
+  result->sa1_peak_electrode = e.peak_site;
+  result->sa1_peak_rate_estimate_Hz = e.rate_Hz[size_t(e.peak_site)];
+  result->sa1_peak_site_sed_Pa = e.sed_at_site_Pa[size_t(e.peak_site)];
+  if (!out_dir.empty())
+    WriteSa1RateEstimateCsv((std::filesystem::path(out_dir) / "peak_sa1_rate_estimate.csv").string(), dp, e,
+                            peak.command.value);
 }
 
 }  // namespace
@@ -335,6 +355,7 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   CountCeiling(dp, peak.command, &result);
   if (!options.out_dir.empty()) WriteReplayFiles(options.out_dir, result, peak, dp, config, profile);
   if (requests.inverse) FinishInverse(*requests.inverse, peak, options.out_dir, &result);
+  if (dp.kind == display::DisplayKind::kElectrotactile) FinishSa1Estimate(dp, peak, options.out_dir, &result);
   return result;
 }
 

@@ -107,6 +107,12 @@ struct ReplayResult {
   bool have_display_fidelity = false;
   DisplayFidelity display_fidelity;
   std::string display_fidelity_error;
+  /// Electrotactile (no mechanical load): the SA1 rate ESTIMATE (display/sa1_rate_estimate.h,
+  /// bridge/sa1_rate_at_peak.h) at the electrodes from the SED asked at the peak scan.
+  bool have_sa1_estimate = false;
+  int sa1_peak_electrode = -1;
+  double sa1_peak_rate_estimate_Hz = 0;  ///< the largest, at sa1_peak_electrode [spikes/s]
+  double sa1_peak_site_sed_Pa = 0;       ///< the SED sampled at that electrode [Pa]
   int64_t idle_ticks = 0;       ///< display ticks while a paced source was silent
   bool stopped_early = false;   ///< `stop` was set before the source's end
 };

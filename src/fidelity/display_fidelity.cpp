@@ -11,9 +11,15 @@
 #include "display/sed_to_command_mapping.h"
 #include "model/fingertip_model.h"
 #include "render/display_rendering.h"
+#include "render/leader_pad.h"
 
 namespace sedbridge::fidelity {
 namespace {
+
+// An electrotactile display in the list: no load on the leader to render, ever.
+struct NoMechanicalLoad : std::invalid_argument {
+  using std::invalid_argument::invalid_argument;
+};
 
 // The shipped display names, for the message refusing an unknown one.
 std::string ShippedDisplays() {
@@ -135,9 +141,18 @@ DisplayFidelity::DisplayFidelity(const std::string& model_name, DisplayFidelityO
     render::DisplayRenderingOptions rendering_options;
     rendering_options.cache_dir = options_.cache_dir;
     try {
+      if (d->profile.kind == display::DisplayKind::kElectrotactile)  // not "yet": it has none
+        throw NoMechanicalLoad(d->profile.name + " is electrotactile: no mechanical load on the finger, no SED to "
+                               "deliver (replay reads its commands against the SA1 rate estimate)");
       d->rendering = std::make_unique<render::DisplayRendering>(*model_, d->profile, rendering_options);
       info.has_load = true;
       info.precompute_s = d->rendering->precompute_s();
+    } catch (const NoMechanicalLoad& e) {
+      info.no_load_status = "no mechanical load";
+      info.no_load_reason = e.what();
+    } catch (const render::DisplayDoesNotFitPad& e) {  // footprints off the leader's pad: file:line:column
+      info.no_load_status = "does not fit the pad";
+      info.no_load_reason = e.what();
     } catch (const std::invalid_argument& e) {  // no load on the leader for this kind (yet)
       info.no_load_status = "no device load yet";
       info.no_load_reason = e.what();

@@ -52,7 +52,9 @@ std::vector<DisplayRenderingMethod> ParseRenderings(const std::string& list);
 struct DisplayFidelityRow {
   std::string case_name, display, rendering;
   /// "ok"; "no valid truth" (delivered vs asked only); "no device load yet" (a display whose
-  /// load on the leader is not built: nothing rendered); "precompute failed" (its influence
+  /// load on the leader is not built: nothing rendered); "does not fit the pad" (footprints
+  /// off the leader's pad, render/leader_pad.h: nothing rendered); "no mechanical load"
+  /// (electrotactile: nothing to render on the leader); "precompute failed" (its influence
   /// could not be built: nothing rendered); "deliver failed: ..." (contact solve).
   std::string status;
   bool scored = false;          ///< delivered vs truth measured (status "ok")
@@ -91,7 +93,8 @@ class DisplayFidelity {
     int actuators = 0;
     bool has_load = false;      ///< rendered and delivered on the leader
     /// Why not, when !has_load: "no device load yet" (the kind has no load on the leader:
-    /// MakeDisplayOnLeader refuses it) or "precompute failed" (a contact solve of the
+    /// MakeDisplayOnLeader refuses it), "no mechanical load" (electrotactile), "does not fit the pad" (render::DisplayDoesNotFitPad,
+    /// the reason names the profile's file:line:column) or "precompute failed" (a contact solve of the
     /// influence did not converge); the rows carry it as their status.
     std::string no_load_status;
     std::string no_load_reason; ///< the message behind it

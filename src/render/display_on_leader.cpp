@@ -47,6 +47,12 @@ Maker MakerOf(display::DisplayKind kind) {
 
 }  // namespace
 
+scene::FingertipComplianceOptions DisplayLeaderOptions(scene::FingertipComplianceOptions base) {
+  base.face_samples = true;
+  base.contact.max_iterations = std::max(base.contact.max_iterations, 200);
+  return base;
+}
+
 bool HasMechanicalLoad(display::DisplayKind kind) { return MakerOf(kind) != nullptr; }
 
 void AddLayerOf(const scene::FingertipCompliance& leader, ElementStrainInfluence& in) {

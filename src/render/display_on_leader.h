@@ -67,6 +67,12 @@ ElementStrainInfluence InfluenceByPresses(DisplayOnLeader& display, const scene:
                                           double reference, const std::string& what,
                                           int* failed_actuators = nullptr);
 
+/// The leader's contact options a display on it needs: `base` (bone, contact stiffness,
+/// cache folder) with face contact (holes and pins are narrower than the skin-node spacing)
+/// and at least 200 contact iterations (a rising pin moves the contact set far: the skin
+/// lifts off the plate around it). What DisplayRendering and the display press build.
+scene::FingertipComplianceOptions DisplayLeaderOptions(scene::FingertipComplianceOptions base = {});
+
 /// The display of `device`'s kind pressed on `leader` (kept by reference). Throws
 /// std::invalid_argument for a kind without a mechanical load (electrotactile) or no
 /// device model, std::runtime_error when the preload press fails.

@@ -4,6 +4,8 @@
 #include <chrono>
 #include <stdexcept>
 
+#include "render/leader_pad.h"
+
 namespace sedbridge::render {
 
 Eigen::VectorXd MaxCommands(const display::DisplayProfile& profile) {
@@ -20,12 +22,10 @@ DisplayRendering::DisplayRendering(const model::FingertipModel& leader_model, co
     throw std::invalid_argument("display rendering: profile '" + profile.name +
                                 "' has no device model (key device); it renders by the curve only");
   scene::FingertipComplianceOptions leader_options;
-  leader_options.face_samples = true;  // holes and pins narrower than the skin-node spacing
   leader_options.contact.cache_dir = options.cache_dir;
-  // A rising pin moves the contact set far (skin lifts off the plate around it): more
-  // Newton iterations than a press of one object needs.
-  leader_options.contact.max_iterations = std::max(leader_options.contact.max_iterations, 200);
-  leader_ = std::make_unique<scene::FingertipCompliance>(leader_model, leader_options);
+  leader_ = std::make_unique<scene::FingertipCompliance>(leader_model, DisplayLeaderOptions(leader_options));
+  // Refused before the precompute: an actuator off the pad would touch no contact point.
+  CheckDisplayFitsLeaderPad(profile, *leader_);
   display_ = MakeDisplayOnLeader(*leader_, profile.device);
   const double reference = options.reference_command > 0 ? options.reference_command : display_->default_reference_command();
   DisplayInfluence influence(display_->Influence(reference), options.prune_relative);

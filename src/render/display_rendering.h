@@ -42,7 +42,9 @@ class DisplayRendering {
   /// @param leader_model the leader's fingertip model (must outlive this object)
   /// @param profile      a display profile with a device model (suction or pin)
   /// Throws std::invalid_argument for a profile without a device model (electrotactile
-  /// included), std::runtime_error when a press of the precompute fails.
+  /// included), DisplayDoesNotFitPad (an std::invalid_argument naming the profile's
+  /// file:line:column) for one whose footprints leave the leader's pad
+  /// (render/leader_pad.h), std::runtime_error when a press of the precompute fails.
   DisplayRendering(const model::FingertipModel& leader_model, const display::DisplayProfile& profile,
                    DisplayRenderingOptions options = {});
 

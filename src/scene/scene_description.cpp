@@ -1,6 +1,11 @@
 #include "scene/scene_description.h"
 
+#include <filesystem>
+#include <sstream>
 #include <stdexcept>
+#include <string>
+
+#include "display/display_profile.h"
 
 #include "common/yaml_read_archive.h"
 #include "scene/fingertip_compliance.h"
@@ -33,6 +38,49 @@ SolverKind FastPresetSolver(const SceneDescription& s) {
     }
   }
   return SolverKind::kPcgWarp;
+}
+
+// "0.5" for messages (std::to_string prints 0.500000).
+std::string Number(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+// Key `display`: the profile loaded, one command per actuator, each within [0, the
+// actuator's safety maximum] (what the limiter would let reach the finger).
+DisplayLoadSection ReadDisplayLoad(MapReader& scene) {
+  MapReader d = scene.Child("display");
+  DisplayLoadSection load;
+  const YAML::Node profile_node = d.Node("profile");
+  const std::string name = config::As<std::string>(profile_node, d.file(), "profile");
+  const std::string path = display::ResolveDisplayProfilePath(name);
+  if (!std::filesystem::exists(path))
+    d.Fail(profile_node, "display profile '" + name + "': no such file (" + path +
+                             "; a shipped name is a file of config/displays/)");
+  load.profile = display::LoadDisplayProfile(path);  // its own errors name its file:line:column
+  if (!load.profile.has_device_model())
+    d.Fail(profile_node, "display profile '" + name + "' (" + display::ToString(load.profile.kind) +
+                             ") has no device model (key `device`): no mechanical load on the finger to press" +
+                             (load.profile.kind == display::DisplayKind::kElectrotactile
+                                  ? " (electrotactile: its rendering is against the SA1 rate estimate)"
+                                  : ""));
+  const YAML::Node commands_node = d.Node("commands");
+  load.commands = config::As<std::vector<double>>(commands_node, d.file(), "commands");
+  const display::DisplayProfile& p = load.profile;
+  if (load.commands.size() != p.size())
+    d.Fail(commands_node, "'commands' has " + std::to_string(load.commands.size()) + " entries; " + p.name + " has " +
+                              std::to_string(p.size()) + " actuators (one command each, in its order)");
+  for (std::size_t i = 0; i < load.commands.size(); ++i) {
+    const double max = p.safety.max_per_actuator.empty() ? p.safety.max : p.safety.max_per_actuator[i];
+    if (load.commands[i] < 0 || load.commands[i] > max)
+      d.Fail(commands_node[i], "command " + std::to_string(i) + " (" + Number(load.commands[i]) + " " + p.unit +
+                                   ") is outside [0, " + Number(max) + "] " + p.unit + ", actuator " +
+                                   std::to_string(i) + "'s safety maximum in " + p.file +
+                                   " (the limiter lets no more reach the finger)");
+  }
+  d.Finish();
+  return load;
 }
 
 SceneDescription Parse(const config::YamlDocument& doc) {
@@ -75,6 +123,14 @@ SceneDescription Parse(const config::YamlDocument& doc) {
     MapReader c(doc.root["contact"], doc.file);
     s.contact->objects_pad_frame = geometry::ParseRigidObjects(c, "objects");
     if (s.contact->objects_pad_frame.empty()) c.Fail(c.Node("objects"), "'objects' is empty");
+  }
+  if (doc.root["display"]) {
+    s.display = ReadDisplayLoad(r);
+    // One load at a time, solved as the display rendering solves it (render/display_press.h).
+    if (s.contact) r.Fail(r.Node("display"), "'display' and 'contact' are two loads; a display press has no contact object");
+    if (s.solver != SolverKind::kCompliance)
+      r.Fail(r.Node("display"), "a display press is solved by the compliance method, as the display rendering is: "
+                                "the scene needs solver.type: compliance (a linear, quasi-static scene with the bone fixed)");
   }
   // The preset was applied before `contact` was read; its solver choice depends on it.
   if (s.preset == "fast" && s.contact && !solver_type_given) s.solver = FastPresetSolver(s);

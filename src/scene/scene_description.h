@@ -16,6 +16,7 @@
 #include "fem/penalty_contact_force.h"
 #include "fem/simulation.h"
 #include "common/geometry/rigid_object.h"
+#include "display/display_profile.h"
 #include "scene/merkel_side.h"
 
 namespace sedbridge::scene {
@@ -100,6 +101,15 @@ struct OutputSection {
   }
 };
 
+/// Scene key `display`: a press by a display worn on the finger instead of a contact
+/// object — its actuators at `commands` on the pad resting on it (render/display_press.h):
+/// "what does this command do to the finger?". Read and checked by scene_description.cpp:
+/// the profile loads, one command per actuator, each in [0, the actuator's safety maximum].
+struct DisplayLoadSection {
+  display::DisplayProfile profile;  ///< key `profile`: a shipped name or a path
+  std::vector<double> commands;     ///< key `commands`: one per actuator [the profile's unit]
+};
+
 /// Scene `solver.type`.
 enum class SolverKind {
   kCholmod,       ///< "cholmod": supernodal Cholesky (the default)
@@ -139,6 +149,8 @@ struct SceneDescription {
   std::optional<ContactSection> contact;
   std::optional<FrictionSection> friction;  ///< needs contact
   bool surface_traction = false;            ///< the bridge's sensor-driven load
+  /// A display press (no `contact`; solver.type compliance, as the display rendering's).
+  std::optional<DisplayLoadSection> display;
   OutputSection outputs;
 
   SceneElasticity elasticity_name() const;
@@ -178,6 +190,7 @@ struct SceneDescription {
     a->Visit(Field("contact", &contact));  // absent: no contact term
     a->Visit(Field("friction", &friction));  // needs contact; a = 0 is dropped after reading
     a->Visit(Field("surface_traction", &surface_traction));
+    a->HandRead("display");  // profile, commands: scene_description.cpp
     a->Visit(Field("outputs", &outputs));
   }
 };

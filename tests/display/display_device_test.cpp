@@ -95,7 +95,7 @@ TEST(DisplayDevice, ShippedProfilesParseWithTheirDeviceBlocks) {
   EXPECT_DOUBLE_EQ(pin.device.tip_radius_mm, 0.5);
   EXPECT_DOUBLE_EQ(pin.device.travel_mm, 2.0);
   EXPECT_GE(pin.device.travel_mm, pin.range_max);
-  EXPECT_EQ(pin.device.surface_center_mm, (std::array<double, 2>{0.0, 1.0}));  // the grid's center_mm
+  EXPECT_EQ(pin.device.surface_center_mm, (std::array<double, 2>{0.0, 0.0}));  // the grid's center_mm
 
   EXPECT_FALSE(LoadNamedDisplayProfile("electrotactile_4x4").has_device_model());
 }
@@ -269,13 +269,28 @@ TEST(DisplayDevice, CheckDeviceFitsPadAcceptsTheShippedDisplaysAndRefusesAWiderG
   wider.erase(wider.find("device:"), wider.find("range:") - wider.find("device:"));
   wider.replace(wider.find("rows: 2, cols: 3, pitch_mm: [2.0, 1.0]"), 38, "rows: 2, cols: 10, pitch_mm: [2.0, 1.0]");
   EXPECT_EQ(CheckDeviceFitsPad(Parse(wider), kPadHalfX_mm, kPadHalfY_mm),
-            "p.yaml:4:1: actuator 0 at (-9, 1.5) mm is not on the finger's pad, whose contact face spans +-8 mm in x "
-            "and +-10 mm in y (pad frame)");
+            "p.yaml:4:1: actuator 0 at (-9, 1.5) mm is not on the finger's pad, whose contact face spans x -8..8 mm, "
+            "y -10..10 mm (pad frame)");
   EXPECT_EQ(CheckDeviceFitsPad(Parse(Suction()), kPadHalfX_mm, kPadHalfY_mm), "");
   // On a pad narrower than the footprints: the device's radius counts.
   EXPECT_EQ(CheckDeviceFitsPad(Parse(Suction()), 2.2, kPadHalfY_mm),
             "p.yaml:4:1: actuator 0 at (-2, 1.5) mm with its 0.4 mm hole (device at p.yaml:6:1) is not on the "
-            "finger's pad, whose contact face spans +-2.2 mm in x and +-10 mm in y (pad frame)");
+            "finger's pad, whose contact face spans x -2.2..2.2 mm, y -10..10 mm (pad frame)");
+}
+
+// The leader's pad is not symmetric (it reaches further toward the finger's base than toward
+// its tip): each side of the extent is checked on its own, the footprint's radius counted.
+TEST(DisplayDevice, CheckDeviceFitsPadChecksEachSideOfAnAsymmetricPad) {
+  const DisplayProfile p = Parse(Suction());  // holes of 0.4 mm at x -2, 0, 2 and y 1.5 (tip row), 0.5
+  EXPECT_EQ(CheckDeviceFitsPad(p, PadExtent{-2.45, 2.45, 0.05, 1.95}), "");  // 0.05 mm to spare each side
+  const auto refuses = [&](const PadExtent& pad, const std::string& start) {
+    const std::string m = CheckDeviceFitsPad(p, pad);
+    EXPECT_EQ(m.rfind(start, 0), 0u) << m;
+  };
+  refuses({-2.35, 2.45, 0.05, 1.95}, "p.yaml:4:1: actuator 0 at (-2, 1.5) mm with its 0.4 mm hole");
+  refuses({-2.45, 2.35, 0.05, 1.95}, "p.yaml:4:1: actuator 2 at (2, 1.5) mm");
+  refuses({-2.45, 2.45, 0.05, 1.85}, "p.yaml:4:1: actuator 0 at (-2, 1.5) mm");
+  refuses({-2.45, 2.45, 0.15, 1.95}, "p.yaml:4:1: actuator 3 at (-2, 0.5) mm");
 }
 
 }  // namespace

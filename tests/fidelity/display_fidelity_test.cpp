@@ -85,6 +85,26 @@ TEST(DisplayFidelity, PinDisplayRowsAreFilledWithinTheLimitsForBothRenderings) {
   }
 }
 
+// Listed, never rendered: electrotactile (no mechanical load, not "yet") and a display
+// whose footprints leave the leader's pad (pin_16x16 on B: refused naming its `actuators`
+// key's file:line:column, before its precompute).
+TEST(DisplayFidelity, ElectrotactileAndADisplayOffThePadAreListedWithWhy) {
+  DisplayFidelityOptions options;
+  options.displays = {"electrotactile_4x4", "pin_16x16"};
+  DisplayFidelity fidelity(kModel, options);
+  ASSERT_EQ(fidelity.displays().size(), 2u);
+  const auto& electro = fidelity.displays()[0];
+  EXPECT_FALSE(electro.has_load);
+  EXPECT_EQ(electro.no_load_status, "no mechanical load");
+  EXPECT_NE(electro.no_load_reason.find("SA1 rate estimate"), std::string::npos) << electro.no_load_reason;
+  const auto& wide = fidelity.displays()[1];
+  EXPECT_FALSE(wide.has_load);
+  EXPECT_EQ(wide.no_load_status, "does not fit the pad");
+  const display::DisplayProfile p = display::LoadNamedDisplayProfile("pin_16x16");
+  EXPECT_EQ(wide.no_load_reason.rfind(p.actuators_at.str() + ": actuator 0 at (-7.5, 7.5) mm", 0), 0u)
+      << wide.no_load_reason;
+}
+
 TEST(DisplayFidelity, UnknownDisplayIsRefusedBeforeAnyPrecompute) {
   DisplayFidelityOptions options;
   options.displays = {"pin_6x4", "pin_7x7"};

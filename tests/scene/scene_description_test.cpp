@@ -55,6 +55,64 @@ TEST(SceneDescription, ErrorsNameTheLine) {
   ExpectErrorAt("model: B\nbone: {mode: fixed, motion: {}}\n", 2, "needs mode: tracked");
 }
 
+// A display press: `display: {profile, commands}`, the compliance method, no contact object.
+constexpr const char* kDisplayScene =
+    "model: B\n"
+    "elasticity: linear\n"
+    "dynamics: {integrator: quasi_static, steps: 1}\n"
+    "solver: {type: compliance}\n"
+    "bone: {mode: fixed}\n";
+
+TEST(SceneDescription, DisplayPressReadsTheProfileAndOneCommandPerActuator) {
+  const SceneDescription s = ParseSceneDescription(
+      std::string(kDisplayScene) + "display:\n  profile: suction_4x4\n  commands: [0, 0, 0, 0, 0, 10, 10, 0, 0, 10, 10, 0, 0, 0, 0, 20]\n",
+      "d.yaml");
+  ASSERT_TRUE(s.display.has_value());
+  EXPECT_EQ(s.display->profile.name, "suction_4x4");
+  ASSERT_EQ(s.display->commands.size(), 16u);
+  EXPECT_EQ(s.display->commands[5], 10.0);
+  EXPECT_EQ(s.display->commands[15], 20.0);  // safety.max: the most that reaches the finger
+  EXPECT_FALSE(s.contact.has_value());
+
+  const SceneDescription shipped =
+      ReadSceneDescription(config::ResolveResource("config/scenes/display_suction_press.yaml"));
+  ASSERT_TRUE(shipped.display.has_value());
+  EXPECT_EQ(shipped.display->profile.name, "suction_4x4");
+  EXPECT_EQ(shipped.display->commands.size(), shipped.display->profile.size());
+}
+
+TEST(SceneDescription, DisplayPressErrorsNameTheLineAndColumn) {
+  const std::string scene = kDisplayScene;
+  // Wrong length: at the list.
+  ExpectErrorAt(scene + "display:\n  profile: suction_4x4\n  commands: [1, 2, 3]\n", 8,
+                "'commands' has 3 entries; suction_4x4 has 16 actuators");
+  // Out of range: at the entry (column of the fourth value).
+  try {
+    ParseSceneDescription(scene + "display:\n  profile: pin_6x4\n  commands: [0, 0, 0, 1.6" +
+                              ", 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]\n",
+                          "bad.yaml");
+    FAIL() << "accepted a pin above its safety maximum";
+  } catch (const config::ConfigError& e) {
+    EXPECT_EQ(e.where().line, 8) << e.what();
+    EXPECT_EQ(e.where().column, 23) << e.what();  // the 1.6
+    EXPECT_NE(std::string(e.what()).find("command 3 (1.6 mm) is outside [0, 1.5] mm"), std::string::npos) << e.what();
+  }
+  ExpectErrorAt(scene + "display:\n  profile: suction_4x4\n  commands: [-1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]\n", 8,
+                "command 0 (-1 kPa) is outside [0, 20] kPa");
+  ExpectErrorAt(scene + "display:\n  profile: suction_5x5\n  commands: [0]\n", 7, "display profile 'suction_5x5'");
+  ExpectErrorAt(scene + "display:\n  profile: electrotactile_4x4\n  commands: [0]\n", 7,
+                "no mechanical load on the finger to press (electrotactile");
+  ExpectErrorAt(scene + "display:\n  profile: suction_4x4\n  commands: [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]\n"
+                        "  gain: 2\n",
+                9, "unknown key 'gain'");
+  // One load at a time, solved as the display rendering is.
+  ExpectErrorAt(scene + "contact: {objects: [{shape: plane}]}\n"
+                        "display: {profile: suction_4x4, commands: [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]}\n",
+                7, "two loads");
+  ExpectErrorAt("model: B\ndisplay: {profile: suction_4x4, commands: [0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]}\n", 2,
+                "solver.type: compliance");
+}
+
 TEST(SceneDescription, PresetThenExplicitKeysOverride) {
   const SceneDescription s = ParseSceneDescription("model: B\npreset: fast\nsolver: {type: pcg_jacobi}\n", "p.yaml");
   EXPECT_EQ(s.elasticity, fem::ElasticFormulation::kLinear);
