@@ -169,6 +169,29 @@ TEST(FaultyTaxelReplay, StatusNamesTheStuckTaxelAndTheFitLeavesItOut) {
   }
 }
 
+// The replay's peak_taxels.csv says each taxel's health at the peak scan, for
+// tools/plot_bridge.py to cross the masked ones out.
+TEST(FaultyTaxelReplay, PeakTaxelsCsvSaysWhichTaxelIsMasked) {
+  const std::string log = EditedLog(5, Fault::kStuck);
+  const auto dir = std::filesystem::temp_directory_path() / ("sedbridge_faulty_peak_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  ReplayOptions options;
+  options.out_dir = dir.string();
+  sensors::CandumpLogSource source(log);
+  testing::ReplayWithConfigProfiles(FaultyConfig(FeStepKind::kContact), source, options);
+  std::filesystem::remove(log);
+  std::ifstream in(dir / "peak_taxels.csv");
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  std::filesystem::remove_all(dir);
+  ASSERT_EQ(lines.size(), 17u);
+  EXPECT_EQ(lines[0], "taxel,x_mm,y_mm,pressure_Pa,health");
+  for (int k = 0; k < 16; ++k) {
+    const std::string& l = lines[size_t(k + 1)];
+    EXPECT_EQ(l.substr(l.rfind(',') + 1), k == 5 ? "stuck" : "ok") << l;
+  }
+}
+
 TEST(FaultyTaxelReplay, HealthyLogReportsEveryTaxelOkAndUsed) {
   const Published got = ReplayPublished(testing::ExampleLogPath());
   ASSERT_FALSE(got.status.empty());
