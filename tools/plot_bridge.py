@@ -8,14 +8,15 @@ where given, the plots mark commands that reached it (the SED mapping saturated)
 
 Reads DIR/summary.csv, DIR/peak_merkel_sed.csv, DIR/peak_command.csv, DIR/peak_taxels.csv
 (and DIR/peak_display_sed.csv where the display was rendered by inverse FE) and writes
-  DIR/bridge_peak.png      at the scan of peak SED: the taxel pressures on the pad, the
+  DIR/bridge_peak.png      at the scan of peak SED: the taxel pressures on the pad (taxels
+                           masked by taxel health crossed out in red, with why), the
                            Merkel-layer SED under the pad (the target), with inverse
                            rendering the SED the display produces on the leader (full FE,
                            same colour scale), the display command (pad frame: x lateral,
                            y toward the tip)
   DIR/bridge_timeline.png  force (the sensor's taxel sum, and what the leader was pressed
-                           with where that differs) and max Merkel SED over time, max
-                           command below
+                           with where that differs; scans with taxels left out shaded)
+                           and max Merkel SED over time, max command below
 
 Run with /usr/bin/python3 (needs matplotlib; Debian: python3-matplotlib).
 """
@@ -64,6 +65,13 @@ def main():
         applied = col(summary, "applied_force_N")
         if any(abs(a - m) > 1e-3 * max(1e-9, abs(m)) for a, m in zip(applied, measured)):
             a1.plot(t, applied, color="tab:blue", ls="--", label="applied on the leader")
+    # Scans with taxels left out (masked by taxel health, or invalid): shaded.
+    if summary and "invalid_taxels" in summary[0]:
+        out_ = [int(r["invalid_taxels"]) > 0 for r in summary]
+        if any(out_):
+            a1.fill_between(t, 0, max(measured + [1e-9]), where=out_, color="tab:red", alpha=0.12, step="mid",
+                            label="taxels left out (%d of %d scans, up to %d)" % (
+                                sum(out_), len(out_), max(int(r["invalid_taxels"]) for r in summary)))
     a1.set_ylabel("force [N]", color="tab:blue")
     a1.legend(loc="upper left", fontsize=8)
     b1 = a1.twinx()
@@ -128,6 +136,16 @@ def main():
                     what += ", %.1f mm long" % float(c["length_mm"])
             ax.text(0.02, 0.02, what + (" (fallback)" if c["fallback"] == "1" else ""),
                     transform=ax.transAxes, color="red", fontsize=8)
+    # Taxels taxel health masked at the peak (peak_taxels.csv's health): a red cross and why;
+    # their pressure is not their reading (left out, or filled from their neighbours).
+    masked = [r for r in taxels if r.get("health", "ok") not in ("ok", "drifting")]
+    if masked:
+        ax.scatter(col(masked, "x_mm"), col(masked, "y_mm"), s=300, marker="x", color="red", linewidths=2.5)
+        for r in masked:
+            ax.annotate("%s %s" % (r["taxel"], r["health"]), (float(r["x_mm"]), float(r["y_mm"])), color="red",
+                        fontsize=8, xytext=(0, 9), textcoords="offset points", ha="center")
+        ax.text(0.02, 0.95, "masked: " + ", ".join("%s %s" % (r["taxel"], r["health"]) for r in masked),
+                transform=ax.transAxes, color="red", fontsize=8)
     ax.set_title("taxels (registered on the pad)")
     ax = axes[1]
     under = [r for r in sed if float(r["z_mm"]) > -6.0]  # the pad side of the Merkel layer

@@ -22,6 +22,8 @@
 #include "sensors/scan_assembler.h"
 #include "sensors/scan_csv.h"
 #include "sensors/socketcan_source.h"
+#include "sensors/taxel_health.h"
+#include "sensors/taxel_health_episodes.h"
 #include "sensors/taxel_heatmap.h"
 
 namespace sedbridge::app {
@@ -111,7 +113,7 @@ DecodeRequest ReadDecodeRequest(const ArgParser& args) {
 // Where the decoded scans go: the CSV rows, the count, and the scan kept for the heatmap.
 class DecodedScans {
  public:
-  DecodedScans(const SensorProfile& profile, const DecodeRequest& request) : request_(request) {
+  DecodedScans(const SensorProfile& profile, const DecodeRequest& request) : request_(request), health_(profile) {
     if (request.csv_path) {
       csv_.open(*request.csv_path);
       if (!csv_) throw std::runtime_error("cannot write " + *request.csv_path);
@@ -122,6 +124,9 @@ class DecodedScans {
   void Take(const Scan& s) {
     ++total_;
     if (first_utime_ < 0) first_utime_ = s.utime;
+    // Taxel health as the bridge judges it (the CSV keeps the readings as decoded).
+    health_.Apply(s);
+    episodes_.Observe(health_, (s.utime - first_utime_) * 1e-6);
     if (csv_.is_open()) {
       row_.clear();
       AppendScanCsvRow(s, &row_);
@@ -134,6 +139,7 @@ class DecodedScans {
   int64_t first_utime() const { return first_utime_; }  // heatmap title: time since the first scan
   bool wrote_csv() const { return csv_.is_open(); }
   const Scan* chosen() const { return have_chosen_ ? &chosen_ : nullptr; }
+  const TaxelHealthEpisodes& taxel_health() const { return episodes_; }
 
  private:
   void KeepForHeatmap(const Scan& s) {
@@ -148,6 +154,8 @@ class DecodedScans {
   }
 
   const DecodeRequest& request_;
+  TaxelHealth health_;
+  TaxelHealthEpisodes episodes_;
   std::ofstream csv_;
   std::string row_;
   int64_t total_ = 0;
@@ -254,6 +262,7 @@ void PrintDecodeReport(const DecodeRequest& request, const SensorProfile& profil
       std::printf("  %s:%lld: %s: %s\n", request.log_path.c_str(), static_cast<long long>(b.line_number),
                   b.reason.c_str(), Printable(b.text).c_str());
   }
+  if (scans.total() > 0) std::printf("%s", scans.taxel_health().Report().c_str());
   if (scans.wrote_csv()) std::printf("wrote %s\n", request.csv_path->c_str());
 }
 
@@ -291,7 +300,9 @@ int RunDecode(int argc, char** argv) {
                  "Prints counts of frames, scans and every kind of bad line or frame. A bad line\n"
                  "never stops the decode; it is reported with its line number. With --interface it\n"
                  "reads a live SocketCAN bus instead (kernel filters from the profile, error frames,\n"
-                 "kernel time stamps) for --duration-s seconds or until Ctrl-C.");
+                 "kernel time stamps) for --duration-s seconds or until Ctrl-C. Taxel health, as the\n"
+                 "bridge judges it (the profile's taxel_health): each taxel masked, why (stuck high,\n"
+                 "dead, frozen) and from when to when.");
   DeclareDecodeArgs(args);
   if (!args.Parse(argc, argv)) return 0;
   const SensorProfile profile = LoadNamedSensorProfile(args.Get("profile"));

@@ -31,6 +31,8 @@
 #include "lcm/lcm_channels.h"
 #include "lcm/lcm_safe_decode.h"
 #include "lcm/merkel_sed_message.h"
+#include "lcm/taxel_health_message.h"
+#include "sedbridge/lcmt_bridge_status.hpp"
 #include "sedbridge/lcmt_display_command.hpp"
 #include "sedbridge/lcmt_merkel_sed.hpp"
 
@@ -91,6 +93,7 @@ struct LiveState {
   bool have_command = false, have_sed = false, new_command = false;
   DisplayCommand command;
   SedField sed;
+  std::vector<int8_t> taxel_health;  ///< the latest BRIDGE_STATUS's
   int64_t commands = 0, fields = 0;
   int64_t rejected = 0;  ///< messages whose array counts their bytes cannot hold (or not decodable)
   // Raw subscriptions: lcm-cpp's typed subscribe would decode (and allocate from the count
@@ -110,6 +113,14 @@ struct LiveState {
     have_command = new_command = true;
     ++commands;
   }
+  void OnStatus(const lcm::ReceiveBuffer* rbuf, const std::string&) {
+    lcmt_bridge_status m;
+    if (!SafeDecode(rbuf->data, rbuf->data_size, &m)) {
+      ++rejected;
+      return;
+    }
+    taxel_health = m.taxel_health;
+  }
   void OnSed(const lcm::ReceiveBuffer* rbuf, const std::string&) {
     lcmt_merkel_sed m;
     if (!SafeDecode(rbuf->data, rbuf->data_size, &m)) {
@@ -122,9 +133,12 @@ struct LiveState {
   }
 };
 
-void Show(const std::string& frame, bool clear) {
+// The frame, and under it which taxels the bridge masks and why (its BRIDGE_STATUS, when
+// one was seen): a masked taxel's readings do not drive the display.
+void Show(const std::string& frame, const std::vector<int8_t>& taxel_health, bool clear) {
   if (clear) std::fputs("\033[H\033[2J", stdout);
   std::fputs(frame.c_str(), stdout);
+  if (!taxel_health.empty()) std::printf("%s\n", DescribeTaxelHealth(taxel_health).c_str());
   std::fflush(stdout);
 }
 
@@ -141,6 +155,7 @@ int RunLive(const ArgParser& args, const LcmChannels& ch, LayoutSource& layouts,
   LiveState state;
   lcm.subscribe(ch.command, &LiveState::OnCommand, &state);
   lcm.subscribe(ch.sed, &LiveState::OnSed, &state);
+  lcm.subscribe(ch.status, &LiveState::OnStatus, &state);
   const double duration_s = args.GetDouble("duration-s");
   const double fps = std::max(0.5, args.GetDouble("fps"));
   const bool once = args.GetFlag("once");
@@ -159,7 +174,7 @@ int RunLive(const ArgParser& args, const LcmChannels& ch, LayoutSource& layouts,
       last_draw = Clock::now();
       Show(RenderHeatmap(layouts.For(state.command), state.command,
                          state.have_sed ? &state.sed : nullptr, style),
-           clear);
+           state.taxel_health, clear);
       if (once) break;
     }
   }
@@ -193,7 +208,7 @@ int RunLogTerminal(const ArgParser& args, const std::vector<DisplayFrame>& frame
   if (once) {
     const std::size_t i = PeakFrame(frames);
     const DisplayFrame& f = frames[i];
-    Show(RenderHeatmap(layouts.For(f.command), f.command, f.has_sed ? &f.sed : nullptr, style), clear);
+    Show(RenderHeatmap(layouts.For(f.command), f.command, f.has_sed ? &f.sed : nullptr, style), f.taxel_health, clear);
     std::printf("frame %zu of %zu: the largest command in the log (t = %.3f s after the first frame)\n", i + 1,
                 frames.size(), (f.log_utime - frames.front().log_utime) * 1e-6);
     return 0;
@@ -205,7 +220,7 @@ int RunLogTerminal(const ArgParser& args, const std::vector<DisplayFrame>& frame
       if (dt > 0) std::this_thread::sleep_for(std::chrono::duration<double>(std::min(dt, 5.0)));
     }
     Show(RenderHeatmap(layouts.For(f.command), f.command, f.has_sed ? &f.sed : nullptr, style),
-         clear);
+         f.taxel_health, clear);
   }
   return 0;
 }
@@ -253,6 +268,8 @@ int RunDisplayView(int argc, char** argv) {
       .Option("profile", "YAML", "display profile for the layout (default: from display_id)")
       .Option("command-channel", "NAME", "display command channel", "DISPLAY_COMMAND")
       .Option("sed-channel", "NAME", "Merkel SED channel", "FINGERTIP_SED")
+      .Option("status-channel", "NAME", "bridge status channel: under each frame, the taxels the bridge masks and why",
+              "BRIDGE_STATUS")
       .Option("fps", "N", "frames per second shown / sampled from a log", "10")
       .Option("speed", "X", "log replay speed in the terminal; 0 = no waiting", "1")
       .Option("duration-s", "S", "live: stop after S seconds; 0 = until Ctrl-C", "0")
@@ -274,7 +291,8 @@ int RunDisplayView(int argc, char** argv) {
   LcmChannels ch;
   ch.command = args.Get("command-channel");
   ch.sed = args.Get("sed-channel");
-  if (!IsUpperSnake(ch.command) || !IsUpperSnake(ch.sed))
+  ch.status = args.Get("status-channel");
+  if (!IsUpperSnake(ch.command) || !IsUpperSnake(ch.sed) || !IsUpperSnake(ch.status))
     throw UsageError("channel names must be UPPER_SNAKE");
   HeatmapStyle style;
   style.color = !args.GetFlag("no-color");

@@ -11,6 +11,7 @@
 #include "bridge/make_fe_step.h"
 #include "bridge/sa1_rate_at_peak.h"
 #include "lcm/contact_estimate_message.h"
+#include "lcm/taxel_health_message.h"
 #include "common/wall_clock.h"
 #include "scene/vtu_writer.h"
 #include "sensors/frame_pump.h"
@@ -100,6 +101,7 @@ struct PeakSnapshot {
   display::SedField field;
   display::DisplayCommand command;
   TaxelValues values;
+  std::vector<int8_t> taxel_health;  // lcm_io::TaxelHealthCode per taxel at the peak scan
   bool have_contact = false;
   lcmt_contact_estimate contact{};
 
@@ -108,6 +110,10 @@ struct PeakSnapshot {
     field = pipeline.last_field();
     command = pipeline.last_command();
     values = pipeline.last_values();
+    const sensors::TaxelHealth& health = pipeline.taxel_health();
+    taxel_health.assign(static_cast<size_t>(health.taxel_count()), 0);
+    for (int k = 0; k < health.taxel_count(); ++k)
+      taxel_health[static_cast<size_t>(k)] = static_cast<int8_t>(lcm_io::TaxelHealthCodeOf(health, k));
     if (const contact::ContactReport* m = pipeline.fe().contact_report()) contact = lcm_io::ToLcm(*m), have_contact = true;
   }
 };
@@ -216,11 +222,14 @@ void WriteReplayFiles(const std::filesystem::path& dir, const ReplayResult& resu
     cmd << k << ',' << dp.x_mm[k] << ',' << dp.y_mm[k] << ','
         << (k < peak.command.value.size() ? peak.command.value[k] : 0.0) << '\n';
   std::ofstream tax((dir / "peak_taxels.csv").string());
-  tax << "taxel,x_mm,y_mm,pressure_Pa\n";
+  // health: taxel health at the peak scan (lcm_io::TaxelHealthName; a masked taxel's
+  // pressure is not its reading), for tools/plot_bridge.py to mark.
+  tax << "taxel,x_mm,y_mm,pressure_Pa,health\n";
   const PadRegistration reg(profile.taxels, config.registration);
   for (size_t k = 0; k < peak.values.pressure_Pa.size() && k < profile.taxels.size(); ++k) {
     const Eigen::Vector2d p = reg.ToPad({profile.taxels[k].x_mm, profile.taxels[k].y_mm});
-    tax << k << ',' << p.x() << ',' << p.y() << ',' << peak.values.pressure_Pa[k] << '\n';
+    tax << k << ',' << p.x() << ',' << p.y() << ',' << peak.values.pressure_Pa[k] << ','
+        << lcm_io::TaxelHealthName(k < peak.taxel_health.size() ? peak.taxel_health[k] : 0) << '\n';
   }
   if (peak.have_contact) WritePeakContactCsv((dir / "peak_contact.csv").string(), peak.contact, profile);
 }

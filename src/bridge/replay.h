@@ -9,7 +9,8 @@
 //                           max_command,latency_ms,stepped,invalid_taxels
 //   peak_merkel_sed.csv     x_mm,y_mm,z_mm,sed_Pa of the Merkel layer at the scan of peak SED
 //   peak_command.csv        actuator,x_mm,y_mm,value (display unit) at that scan
-//   peak_taxels.csv         taxel,x_mm,y_mm,pressure_Pa (pad frame, registered) at that scan
+//   peak_taxels.csv         taxel,x_mm,y_mm,pressure_Pa,health (pad frame, registered) at that
+//                           scan; health: ok, stuck, dead, frozen (masked), drifting (re-tared)
 //   peak_display_sed.csv    inverse rendering only: vertex,x_mm,y_mm,z_mm,sed_Pa, the SED the
 //                           published commands at that scan add to the leader's preloaded pad
 //                           (full contact FE), the same vertices as peak_merkel_sed.csv

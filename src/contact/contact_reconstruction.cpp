@@ -264,35 +264,62 @@ void ContactReconstructor::LeaveOutLoneMisfit(Selection& s) {
   if (!(options_.lone_taxel_share > 0) || !(best.chi2 > options_.max_rms_sigma * options_.max_rms_sigma * s.dof) ||
       !best.prediction.valid || !Plausible(best.model))
     return;
-  // The best fit's residuals per taxel.
+  // The best fit's residuals per taxel (prediction - reading, in noise units).
   const Eigen::VectorXd r = (Predicted(best) - obs_).cwiseProduct(weight_);
   const int n = profile_.taxel_count;
-  int worst = -1;
-  double worst_chi2 = 0;
+  // Two candidates: the taxel that carries the most misfit, and the one that reads the most
+  // below what the fit predicts. A fit that bent around a dead taxel under the contact
+  // (a small sphere moved off it) spreads its misfit over the taxels beside it, which read
+  // more than it can explain; the dead one still reads less than predicted, by less.
+  int worst = -1, deficit = -1;
+  double worst_chi2 = 0, deficit_sigma = 0;
   for (int k = 0; k < n; ++k) {
     if (saturated_[size_t(k)] || !(weight_[3 * k + 2] > 0)) continue;  // a saturated taxel is hard contact
     const double c = r.segment(3 * k, 3).squaredNorm();
     if (c > worst_chi2) worst_chi2 = c, worst = k;
+    if (r[3 * k + 2] > deficit_sigma) deficit_sigma = r[3 * k + 2], deficit = k;
   }
-  if (worst < 0 || worst_chi2 < options_.lone_taxel_share * best.chi2) return;
+  if (worst >= 0 && worst_chi2 >= options_.lone_taxel_share * best.chi2 && RefitWithout(worst, s, false)) return;
+  if (deficit >= 0 && deficit != worst) RefitWithout(deficit, s, true);
+}
+
+bool ContactReconstructor::RefitWithout(int k, Selection& s, bool must_stand_alone) {
+  const Fit& best = s.best;
   // Refit without it, warm from the best fit (its parts do not depend on the weights).
-  const Eigen::VectorXd saved = weight_.segment(3 * worst, 3);
-  weight_.segment(3 * worst, 3).setZero();
+  const Eigen::VectorXd saved = weight_.segment(3 * k, 3);
+  weight_.segment(3 * k, 3).setZero();
   const bool amortized = options_.selection == ModelSelection::kAmortized;
-  const Fit refit = FitModel(Problem(), best.model, 0, amortized ? options_.warm_scan_evaluations : 0,
-                             FitMode::kLevenbergMarquardt, &best.prediction);
+  Fit refit = FitModel(Problem(), best.model, 0, amortized ? options_.warm_scan_evaluations : 0,
+                       FitMode::kLevenbergMarquardt, &best.prediction);
   Tally(refit);
+  if (IsFiniteRod(refit.model.first) && !refit.model.pair && !Plausible(refit.model)) {
+    // A rod that ended short of the taxel (a dead one at its end) reaches across the pad
+    // once the taxel is out: the rod across the pad, from the same pose.
+    Hypothesis crossing = refit.model;
+    crossing.first.length_mm = 0;
+    Fit across = FitModel(Problem(), crossing, 0, amortized ? options_.warm_scan_evaluations : 0);
+    Tally(across);
+    if (across.chi2 < refit.chi2 || !Plausible(refit.model)) refit = std::move(across);
+  }
   const double dof = std::max(1.0, s.dof - 3.0 * estimate_.averaged_scans);
-  if (!(refit.chi2 <= options_.max_rms_sigma * options_.max_rms_sigma * dof) || !Plausible(refit.model)) {
-    weight_.segment(3 * worst, 3) = saved;
-    return;
+  bool accept = refit.chi2 <= options_.max_rms_sigma * options_.max_rms_sigma * dof && Plausible(refit.model);
+  if (accept && must_stand_alone) {
+    // Its misfit stands alone: the refit predicts it worse than it explains all the others
+    // together (the share rule's counterpart, judged by the fit that left it out).
+    const double alone = (Predicted(refit) - obs_).segment(3 * k, 3).cwiseProduct(saved).squaredNorm();
+    accept = refit.prediction.valid && alone >= refit.chi2;
+  }
+  if (!accept) {
+    weight_.segment(3 * k, 3) = saved;
+    return false;
   }
   s.best = refit;
   s.dof = dof;
-  lone_taxel_ = worst;
-  estimate_.taxel_use[size_t(worst)] = TaxelUse::kLoneMisfit;
+  lone_taxel_ = k;
+  estimate_.taxel_use[size_t(k)] = TaxelUse::kLoneMisfit;
   --estimate_.taxels_used;
   ++counters_.lone_taxels_left_out;
+  return true;
 }
 
 Eigen::VectorXd ContactReconstructor::Predicted(const Fit& fit) const {

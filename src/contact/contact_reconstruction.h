@@ -24,7 +24,11 @@
 //    taxel carries at least lone_taxel_share of is refitted (warm, from it) without that
 //    taxel; the refit answers when it explains the others within max_rms_sigma (a taxel
 //    that lies and that taxel health has not masked yet; TaxelUse::kLoneMisfit), and stays
-//    out of the contact episode's later scans until the fit predicts its readings again;
+//    out of the contact episode's later scans until the fit predicts its readings again.
+//    Failing that, the taxel that reads the most below the fit is tried the same way, and
+//    answers when its misfit under the refit is at least all the others' (a fit that bent
+//    around a dead taxel puts most of its misfit on the live ones beside it); a finite rod
+//    that the refit stretches across the pad is refitted as the rod across it;
 //  - a fit whose RMS residual exceeds max_rms_sigma, or that leaves the plausible domain
 //    (position off the pad, radius outside [min, max]), is a fallback: the caller uses the
 //    pressure-map boundary condition instead, and it is counted.
@@ -130,6 +134,10 @@ class ContactReconstructor {
   void FlatWhenNothing(Selection& s);
   /// A fit that one taxel's misfit would send to the fallback, redone without that taxel.
   void LeaveOutLoneMisfit(Selection& s);
+  /// s.best refitted without taxel k; true (s.best replaced, k the lone misfit) when the
+  /// refit explains the others within max_rms_sigma and, must_stand_alone, k's misfit under
+  /// the refit is at least the others' together.
+  bool RefitWithout(int k, Selection& s, bool must_stand_alone);
   /// The lone misfit left out since an earlier scan comes back when the accepted fit
   /// predicts its readings within max_rms_sigma.
   void MaybeTakeBackLoneTaxel(const Fit& fit);

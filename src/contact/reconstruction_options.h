@@ -27,7 +27,9 @@ struct ReconstructionOptions {
   /// redone without that taxel, and the refit answers when it explains the others within
   /// max_rms_sigma (contact_reconstruction.h). 0 = off. A leave-one-out refit, not a robust
   /// loss inside every fit: scans that fit keep their answers bit for bit, and only a scan
-  /// that would fall back pays one more warm fit.
+  /// that would fall back pays a few more warm fits (at most two candidates, the second the
+  /// taxel that reads the most below the fit, and a finite rod's refit across the pad:
+  /// contact_reconstruction.h).
   double lone_taxel_share = 0.5;
   double min_radius_mm = 0.3;     ///< plausible radii for spheres and rods
   double max_radius_mm = 60;

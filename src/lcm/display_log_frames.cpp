@@ -8,6 +8,7 @@
 #include "lcm/display_command_message.h"
 #include "lcm/lcm_log_reader.h"
 #include "lcm/merkel_sed_message.h"
+#include "sedbridge/lcmt_bridge_status.hpp"
 
 namespace sedbridge::lcm_io {
 
@@ -18,6 +19,7 @@ std::vector<DisplayFrame> ReadDisplayFrames(const std::string& log_path,
   std::vector<DisplayFrame> frames;
   display::SedField sed;
   bool has_sed = false;
+  std::vector<int8_t> taxel_health;
   bool have_next = false;
   int64_t next_frame_utime = 0;
   const int64_t period_us = fps > 0 ? static_cast<int64_t>(1e6 / fps) : 0;
@@ -33,6 +35,13 @@ std::vector<DisplayFrame> ReadDisplayFrames(const std::string& log_path,
       }
       sed = FromLcm(m);
       has_sed = true;
+    } else if (e->channel == channels.status) {
+      lcmt_bridge_status m;
+      if (!LcmLogReader::Decode(*e, &m)) {
+        ++bad;
+        continue;
+      }
+      taxel_health = m.taxel_health;
     } else if (e->channel == channels.command) {
       lcmt_display_command m;
       if (!LcmLogReader::Decode(*e, &m)) {
@@ -44,6 +53,7 @@ std::vector<DisplayFrame> ReadDisplayFrames(const std::string& log_path,
       f.command = FromLcm(m);
       f.has_sed = has_sed;
       if (has_sed) f.sed = sed;
+      f.taxel_health = taxel_health;
       if (frames.size() < max_frames && (!have_next || e->timestamp >= next_frame_utime)) {
         frames.push_back(f);
         have_next = true;

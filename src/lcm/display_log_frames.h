@@ -3,6 +3,7 @@
 // events at a fixed frame rate, and write them as JSON lines for tools/plot_display_frames.py.
 
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,9 @@ struct DisplayFrame {
   display::DisplayCommand command;
   bool has_sed = false;     ///< a SED field was seen at or before this command
   display::SedField sed;             ///< the latest one
+  /// lcmt_bridge_status::taxel_health[] of the latest BRIDGE_STATUS at or before this
+  /// command (empty: none seen, or it reported no taxels).
+  std::vector<int8_t> taxel_health;
 };
 
 /// Reads `log_path` and keeps one command per 1/fps of log time (the first command at or after

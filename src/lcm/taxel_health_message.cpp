@@ -23,6 +23,27 @@ TaxelHealthCode TaxelHealthCodeOf(const sensors::TaxelHealth& health, int taxel)
   return health.retare_offset_N(taxel) != 0 ? TaxelHealthCode::kDrifting : TaxelHealthCode::kOk;
 }
 
+std::string DescribeTaxelHealth(const std::vector<int8_t>& codes) {
+  if (codes.empty()) return "taxel health: not reported";
+  std::string masked, drifting;
+  int n_masked = 0;
+  for (size_t k = 0; k < codes.size(); ++k) {
+    const auto code = static_cast<TaxelHealthCode>(codes[k]);
+    if (code == TaxelHealthCode::kOk) continue;
+    if (code == TaxelHealthCode::kDrifting) {
+      drifting += (drifting.empty() ? "" : ", ") + std::to_string(k);
+      continue;
+    }
+    ++n_masked;  // stuck, dead, frozen, or a code of a newer sender: not trusted
+    masked += (masked.empty() ? "" : ", ") + std::to_string(k) + " " + TaxelHealthName(codes[k]);
+  }
+  const std::string total = std::to_string(codes.size());
+  std::string out = n_masked == 0 ? (drifting.empty() ? "taxel health: all " + total + " ok" : "taxel health: none of " + total + " masked")
+                                  : "taxel health: " + std::to_string(n_masked) + " of " + total + " masked (" + masked + ")";
+  if (!drifting.empty()) out += "; drifting (re-tared): " + drifting;
+  return out;
+}
+
 void SetTaxelHealth(const sensors::TaxelHealth& health, lcmt_bridge_status* s) {
   const int n = health.taxel_count();
   s->num_taxels = n;

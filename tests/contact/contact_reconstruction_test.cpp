@@ -915,5 +915,52 @@ TEST(ContactReconstruction, ALoneLyingTaxelIsLeftOutOfTheFitNotTheContact) {
   EXPECT_EQ(r.counters().lone_taxels_left_out, 0);
 }
 
+
+// A rig press with taxel k dead from the first scan (it repeats its readings of the quiet
+// scans before the contact), reconstructed to the middle of the hold.
+ContactEstimate WithDeadTaxelAtHold(const sensors::CalibrationPress& press, int k, ContactReconstructor* r) {
+  const size_t quiet = 30;  // the protocol's unloaded 0.3 s at 100 Hz
+  const double t_hold = sensors::PressProtocol().HoldMid_s();
+  ContactEstimate e;
+  for (size_t i = 0; i < press.readings_N.size() && press.t_s[i] <= t_hold; ++i) {
+    Eigen::VectorXd readings = press.readings_N[i];
+    readings.segment(3 * k, 3) = press.readings_N[i % quiet].segment(3 * k, 3);
+    e = r->Reconstruct(readings, std::vector<uint8_t>(16, 1));
+  }
+  return e;
+}
+
+// A fit that bent around a dead taxel while the press loaded (rig press_04, a 5 mm sphere
+// between taxels 5 and 9, taxel 5 dead: a 0.3 mm sphere beside taxel 9) carries its misfit on
+// the live taxels beside it, not on the dead one: the dead one is the taxel that reads most
+// below the fit, and the refit without it explains the others (its misfit stands alone).
+// A rod that ended short of a dead taxel at its end (press_13, taxel 1) is refitted as the
+// rod across the pad.
+TEST(ContactReconstruction, ADeadTaxelTheFitBentAroundIsLeftOut) {
+  struct Case {
+    int press, taxel;
+    ContactShape shape;
+  };
+  for (const Case& c : {Case{4, 5, ContactShape::kSphere}, Case{13, 1, ContactShape::kCylinder}}) {
+    SCOPED_TRACE("press_" + std::to_string(c.press) + ", taxel " + std::to_string(c.taxel) + " dead");
+    const sensors::CalibrationPress& press = Rig()[size_t(c.press)];
+    ContactReconstructor r(Uskin());
+    const ContactEstimate e = WithDeadTaxelAtHold(press, c.taxel, &r);
+    ASSERT_TRUE(e.ok) << e.problem;
+    ASSERT_EQ(e.taxel_use.size(), 16u);
+    EXPECT_EQ(e.taxel_use[size_t(c.taxel)], TaxelUse::kLoneMisfit);
+    EXPECT_EQ(e.primitive.shape, c.shape);
+    EXPECT_LT(e.rms_sigma, 1.6);
+    EXPECT_NEAR(e.primitive.normal_force_N, press.object.normal_force_N, 0.1 * press.object.normal_force_N);
+    if (c.shape == ContactShape::kSphere) {
+      EXPECT_LT(std::hypot(e.primitive.x_mm - press.object.x_mm, e.primitive.y_mm - press.object.y_mm), 0.5);
+    } else {
+      EXPECT_EQ(e.primitive.length_mm, 0);  // across the pad, as the rod is
+      EXPECT_NEAR(std::abs(std::sin(e.primitive.yaw_deg * 3.14159265358979 / 180)), 1.0, 0.02);
+      EXPECT_NEAR(e.primitive.x_mm, press.object.x_mm, 0.5);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace sedbridge::contact

@@ -12,7 +12,11 @@
 #include <string>
 #include <unistd.h>
 
+#include "lcm/display_command_message.h"
 #include "lcm/display_session.h"
+#include "lcm/lcm_log_writer.h"
+#include "lcm/taxel_health_message.h"
+#include "sedbridge/lcmt_bridge_status.hpp"
 #include "tests/common/child_process.h"
 
 namespace sedbridge::display {
@@ -66,6 +70,35 @@ TEST_F(DisplayViewCli, TerminalOnceShowsThePeakFrameAndSaysWhich) {
   EXPECT_NE(r.output.find("the largest command in the log"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("peak 2.5e+03 Pa"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("colour scale 0..2.5e+03 Pa (fixed)"), std::string::npos) << r.output;
+}
+
+// Under the frame, the taxels the bridge masks and why, from its BRIDGE_STATUS in the log; a
+// log without one (a display session alone) says nothing about taxels.
+TEST_F(DisplayViewCli, SaysWhichTaxelsTheBridgeMasks) {
+  const ShellResult plain = RunShell(std::string(SEDBRIDGE_BINARY) + " display-view --log " + log_ + " --once --no-color");
+  ASSERT_EQ(plain.status, 0) << plain.output;
+  EXPECT_EQ(plain.output.find("taxel health"), std::string::npos) << plain.output;
+  const std::string log = (dir_ / "health.lcmlog").string();
+  {
+    LcmLogWriter w(log);
+    for (int k = 0; k < 5; ++k) {
+      lcmt_bridge_status s{};
+      s.utime = 1'000'000 + k * 10'000;
+      s.num_taxels = 16;
+      s.taxel_health.assign(16, 0);
+      if (k >= 2) s.taxel_health[5] = static_cast<int8_t>(TaxelHealthCode::kStuckHigh);
+      w.Write("BRIDGE_STATUS", s);
+      DisplayCommand c;
+      c.utime = s.utime;
+      c.sequence = k;
+      c.value = {0.0, 0.0};
+      w.Write("DISPLAY_COMMAND", ToLcm(c));
+    }
+  }
+  const ShellResult r = RunShell(std::string(SEDBRIDGE_BINARY) + " display-view --log " + log + " --speed 0 --no-color");
+  ASSERT_EQ(r.status, 0) << r.output;
+  EXPECT_NE(r.output.find("taxel health: all 16 ok"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("taxel health: 1 of 16 masked (5 stuck)"), std::string::npos) << r.output;
 }
 
 TEST_F(DisplayViewCli, MidRunFrameShowsAStrongerCentre) {

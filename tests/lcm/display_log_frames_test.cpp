@@ -11,6 +11,8 @@
 #include "lcm/display_command_message.h"
 #include "lcm/lcm_log_writer.h"
 #include "lcm/merkel_sed_message.h"
+#include "lcm/taxel_health_message.h"
+#include "sedbridge/lcmt_bridge_status.hpp"
 
 namespace sedbridge::lcm_io {
 using namespace sedbridge::display;  // the structs the messages carry
@@ -62,6 +64,47 @@ TEST(DisplayLogFrames, SamplesAtTheFrameRateAndKeepsTheLastCommand) {
   const auto capped = ReadDisplayFrames(path, LcmChannels{}, 0, 5);
   ASSERT_EQ(capped.size(), 5u);
   EXPECT_TRUE(capped.back().command.shutdown);
+  std::filesystem::remove(path);
+}
+
+// display-view's line under each frame: the latest BRIDGE_STATUS's taxel health at or before
+// the command, said in words (which taxels are masked, and why).
+TEST(DisplayLogFrames, FramesCarryTheLatestTaxelHealthSaidInWords) {
+  const std::string path = Temp("health.lcmlog");
+  {
+    LcmLogWriter log(path);
+    for (int k = 0; k < 10; ++k) {
+      const int64_t t = 1'000'000 + k * 10'000;
+      if (k == 5) {
+        lcmt_bridge_status s{};
+        s.utime = t;
+        s.num_taxels = 16;
+        s.taxel_health.assign(16, 0);
+        s.taxel_health[5] = static_cast<int8_t>(TaxelHealthCode::kStuckHigh);
+        s.taxel_health[9] = static_cast<int8_t>(TaxelHealthCode::kDead);
+        s.taxel_health[2] = static_cast<int8_t>(TaxelHealthCode::kDrifting);
+        log.Write("BRIDGE_STATUS", s);
+      }
+      DisplayCommand c;
+      c.utime = t;
+      c.sequence = k;
+      c.value = {0.1 * k};
+      log.Write("DISPLAY_COMMAND", ToLcm(c));
+    }
+  }
+  std::size_t bad = 99;
+  const auto frames = ReadDisplayFrames(path, LcmChannels{}, 0, 1000, &bad);
+  EXPECT_EQ(bad, 0u);
+  ASSERT_EQ(frames.size(), 10u);
+  EXPECT_TRUE(frames[4].taxel_health.empty());  // no status yet
+  ASSERT_EQ(frames[5].taxel_health.size(), 16u);
+  EXPECT_EQ(frames[9].taxel_health, frames[5].taxel_health);
+  EXPECT_EQ(DescribeTaxelHealth(frames[5].taxel_health),
+            "taxel health: 2 of 16 masked (5 stuck, 9 dead); drifting (re-tared): 2");
+  EXPECT_EQ(DescribeTaxelHealth(std::vector<int8_t>(16, 0)), "taxel health: all 16 ok");
+  EXPECT_EQ(DescribeTaxelHealth({0, 4}), "taxel health: none of 2 masked; drifting (re-tared): 1");
+  EXPECT_EQ(DescribeTaxelHealth({0, 3, 0, 42}), "taxel health: 2 of 4 masked (1 frozen, 3 ?)");
+  EXPECT_EQ(DescribeTaxelHealth({}), "taxel health: not reported");
   std::filesystem::remove(path);
 }
 

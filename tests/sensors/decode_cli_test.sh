@@ -45,6 +45,16 @@ for profile in uskin_4x4 cyskin_16 barrett_bh8_pad; do
   [ "$(head -1 $profile.csv)" = "$(head -1 $profile.truth.csv)" ] || fail "$profile header"
 done
 
+# 2b. Taxel health: which taxels were masked, why and when (the example press; taxel 5 stuck
+# high from the first scan by tools/edit_taxel_log.py).
+"$bin" decode --profile uskin_4x4 "$src/config/bridge/example_press.log" > healthy.txt
+grep -q '^taxel health: no taxel masked$' healthy.txt || fail "healthy log: taxel health"
+python3 "$src/tools/edit_taxel_log.py" "$src/config/bridge/example_press.log" stuck5.log --taxel 5 --mode stuck
+"$bin" decode --profile uskin_4x4 stuck5.log > stuck5.txt
+cat stuck5.txt
+grep -q '^taxel health: 1 masking; masked at the end: 5 stuck high$' stuck5.txt || fail "stuck taxel: taxel health"
+grep -Eq '^  taxel 5 stuck high: masked 0\.0[0-9]+ s to the end \([0-9]+ scans\)$' stuck5.txt || fail "stuck taxel: episode"
+
 # 3. Same seed, same log.
 "$bin" make-log --profile cyskin_16 --scene "$src/config/scenes/sensor_sphere_press.yaml" \
     --duration-s 0.5 --seed 1 --out again.log > /dev/null

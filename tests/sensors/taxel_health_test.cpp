@@ -2,6 +2,7 @@
 // forward model plus the profile's noise: faulty taxels are masked, real contacts are not.
 
 #include "sensors/taxel_health.h"
+#include "sensors/taxel_health_episodes.h"
 
 #include <gtest/gtest.h>
 
@@ -175,6 +176,47 @@ TEST_F(TaxelHealthTest, TaxelThatFailsMidPressAndRecoversIsMaskedThenBack) {
   EXPECT_EQ(health.counters().masked_dead, 1);
   EXPECT_EQ(health.counters().recovered, 1);
   EXPECT_EQ(health.masked_count(), 0);
+}
+
+// `sedbridge decode`'s story of the press above: taxel 5 masked dead from about 0.5 s, back
+// about 0.2 s after it works again; a healthy press tells that nothing was masked.
+TEST_F(TaxelHealthTest, EpisodesSayWhichTaxelWasMaskedWhyAndWhen) {
+  TaxelHealth health(profile_);
+  TaxelHealthEpisodes episodes;
+  Run(
+      health, 250, [&](int i) { return Sphere(kMiddleX, kMiddleY, 5, 0.8 * std::min(i, 30) / 30); },
+      [&](int i, Scan& s) {
+        if (i >= 50 && i < 100) SetNormal(s, 5, s.force_N[5] - (Sphere(kMiddleX, kMiddleY, 5, 0.8))[3 * 5 + 2], Area_m2());
+      },
+      [&](int i, const Scan&) { episodes.Observe(health, 0.01 * i); });
+  ASSERT_EQ(episodes.episodes().size(), 1u);
+  const TaxelHealthEpisode& e = episodes.episodes()[0];
+  EXPECT_EQ(e.taxel, 5);
+  EXPECT_EQ(e.fault, TaxelFault::kDead);
+  EXPECT_GE(e.from_s, 0.5 - 1e-9);
+  EXPECT_LE(e.from_s, 0.6 + 1e-9);
+  EXPECT_GE(e.to_s, 1.19 - 1e-9);
+  EXPECT_LE(e.to_s, 1.3 + 1e-9);
+  EXPECT_EQ(e.scans, std::lround((e.to_s - e.from_s) / 0.01));
+  const std::string report = episodes.Report();
+  EXPECT_NE(report.find("taxel health: 1 masking; masked at the end: none"), std::string::npos) << report;
+  EXPECT_NE(report.find("  taxel 5 dead: masked 0."), std::string::npos) << report;
+
+  TaxelHealth healthy(profile_);
+  TaxelHealthEpisodes none;
+  Run(healthy, 60, [&](int i) { return Sphere(kMiddleX, kMiddleY, 5, 0.8 * std::min(i, 30) / 30); }, {},
+      [&](int i, const Scan&) { none.Observe(healthy, 0.01 * i); });
+  EXPECT_EQ(none.Report(), "taxel health: no taxel masked\n");
+
+  // Stuck from the first scan: still masked at the end.
+  TaxelHealth stuck(profile_);
+  TaxelHealthEpisodes open;
+  Run(stuck, 40, [&](int) { return Quiet(); }, [&](int, Scan& s) { SetNormal(s, 3, 2.5, Area_m2()); },
+      [&](int i, const Scan&) { open.Observe(stuck, 0.01 * i); });
+  ASSERT_EQ(open.episodes().size(), 1u);
+  EXPECT_EQ(open.episodes()[0].to_s, -1);
+  EXPECT_NE(open.Report().find("masked at the end: 3 stuck high"), std::string::npos) << open.Report();
+  EXPECT_NE(open.Report().find("s to the end ("), std::string::npos) << open.Report();
 }
 
 TEST_F(TaxelHealthTest, TwoAdjacentTaxelsFailing) {
