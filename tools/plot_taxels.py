@@ -2,9 +2,11 @@
 """Taxel heatmap of one tactile scan.
 
 Reads the CSV written by `sedbridge decode --heatmap-png` (columns taxel, x_mm, y_mm,
-pressure_kPa, shear_x_kPa, shear_y_kPa, valid) and draws each taxel as a square of its
-sensing size coloured by normal pressure; invalid taxels are hatched grey; shear, when
-present, is drawn as arrows on one fixed scale with a key ("shear N kPa").
+pressure_kPa, shear_x_kPa, shear_y_kPa, valid, and optionally health) and draws each taxel as
+a square of its sensing size coloured by normal pressure; invalid taxels are hatched grey;
+a taxel that taxel health masks (health other than "healthy") is crossed out in red with the
+reason, as the bridge's plots mark it; shear, when present, is drawn as arrows on one fixed
+scale with a key ("shear N kPa").
 
 usage: /usr/bin/python3 tools/plot_taxels.py TAXELS.csv OUT.png [--title T] [--size-mm W H]
 Exit status 3 when matplotlib is missing (Debian: apt-get install python3-matplotlib).
@@ -43,15 +45,23 @@ def main():
     valid = [r["valid"] == "1" for r in rows]
     w, h = args.size_mm if args.size_mm else (1.0, 1.0)
 
-    vmax = max([p for p, v in zip(ps, valid) if v] + [1e-9])
+    healthy = [r.get("health", "") in ("", "healthy") for r in rows]
+    # The colour scale of the taxels health trusts: a stuck taxel's phantom would flatten it.
+    vmax = max([p for p, v, ok in zip(ps, valid, healthy) if v and ok] + [1e-9])
     cmap = plt.get_cmap("viridis")
     fig, ax = plt.subplots(figsize=(5.5, 5.5))
     for x, y, p, ok in zip(xs, ys, ps, valid):
         if ok:
-            ax.add_patch(Rectangle((x - w / 2, y - h / 2), w, h, color=cmap(max(p, 0) / vmax)))
+            ax.add_patch(Rectangle((x - w / 2, y - h / 2), w, h, color=cmap(min(max(p, 0) / vmax, 1.0))))
         else:
             ax.add_patch(Rectangle((x - w / 2, y - h / 2), w, h, facecolor="0.8", hatch="//",
                                    edgecolor="0.5"))
+    masked = [(x, y, r.get("health", "")) for x, y, r in zip(xs, ys, rows)
+              if r.get("health", "") not in ("", "healthy")]
+    for x, y, why in masked:
+        ax.plot([x - w / 2, x + w / 2], [y - h / 2, y + h / 2], color="red", linewidth=2)
+        ax.plot([x - w / 2, x + w / 2], [y + h / 2, y - h / 2], color="red", linewidth=2)
+        ax.text(x, y - h / 2, "masked:\n" + why, color="red", ha="center", va="bottom", fontsize=7)
     shear_max = max([(a * a + b * b) ** 0.5 for a, b, ok in zip(sx, sy, valid) if ok] + [0.0])
     if shear_max > 0:
         # Fixed scale: the largest arrow is 0.8 taxel widths long; the key below reads it in kPa.

@@ -125,32 +125,44 @@ class DecodedScans {
     ++total_;
     if (first_utime_ < 0) first_utime_ = s.utime;
     // Taxel health as the bridge judges it (the CSV keeps the readings as decoded).
-    health_.Apply(s);
+    const Scan& trusted = health_.Apply(s);
     episodes_.Observe(health_, (s.utime - first_utime_) * 1e-6);
     if (csv_.is_open()) {
       row_.clear();
       AppendScanCsvRow(s, &row_);
       csv_ << row_;
     }
-    if (request_.heatmap_png) KeepForHeatmap(s);
+    if (request_.heatmap_png) KeepForHeatmap(s, trusted);
   }
 
   int64_t total() const { return total_; }
   int64_t first_utime() const { return first_utime_; }  // heatmap title: time since the first scan
   bool wrote_csv() const { return csv_.is_open(); }
   const Scan* chosen() const { return have_chosen_ ? &chosen_ : nullptr; }
+  /// Each taxel's health when the chosen scan was taken ("healthy", "stuck high", ...).
+  const std::vector<std::string>& chosen_health() const { return chosen_health_; }
   const TaxelHealthEpisodes& taxel_health() const { return episodes_; }
 
  private:
-  void KeepForHeatmap(const Scan& s) {
+  // `trusted`: the scan as taxel health passes it on (masked taxels and stuck-high suspects
+  // invalid); the peak is theirs, so that a stuck taxel's phantom is not drawn as the press.
+  void KeepForHeatmap(const Scan& s, const Scan& trusted) {
     if (request_.heatmap_scan >= 0) {
-      if (s.sequence == request_.heatmap_scan) chosen_ = s, have_chosen_ = true;
+      if (s.sequence == request_.heatmap_scan) Choose(s, trusted);
       return;
     }
     double peak = 0;
-    for (int i = 0; i < s.num_taxels; ++i)
-      if (s.valid[i]) peak = std::max(peak, s.pressure_Pa[i]);
-    if (peak > chosen_peak_) chosen_ = s, chosen_peak_ = peak, have_chosen_ = true;
+    for (int i = 0; i < trusted.num_taxels; ++i)
+      if (trusted.valid[i]) peak = std::max(peak, trusted.pressure_Pa[i]);
+    if (peak > chosen_peak_) Choose(s, trusted), chosen_peak_ = peak;
+  }
+  void Choose(const Scan& s, const Scan& trusted) {
+    chosen_ = s, have_chosen_ = true;
+    chosen_health_.clear();
+    for (int i = 0; i < health_.taxel_count(); ++i) {
+      const bool left_out = i < s.num_taxels && s.valid[i] && !(i < trusted.num_taxels && trusted.valid[i]);
+      chosen_health_.push_back(health_.masked(i) || !left_out ? ToString(health_.fault(i)) : "left out");
+    }
   }
 
   const DecodeRequest& request_;
@@ -158,6 +170,7 @@ class DecodedScans {
   TaxelHealthEpisodes episodes_;
   std::ofstream csv_;
   std::string row_;
+  std::vector<std::string> chosen_health_;
   int64_t total_ = 0;
   int64_t first_utime_ = -1;
   Scan chosen_;
@@ -275,7 +288,7 @@ void DrawHeatmap(const DecodeRequest& request, const SensorProfile& profile, con
   }
   const std::string& png = *request.heatmap_png;
   const std::string taxel_csv = png + ".csv";
-  WriteTaxelCsv(profile, *chosen, taxel_csv);
+  WriteTaxelCsv(profile, *chosen, taxel_csv, scans.chosen_health());
   std::printf("wrote %s (scan %lld)\n", taxel_csv.c_str(), static_cast<long long>(chosen->sequence));
   char when[96];
   std::snprintf(when, sizeof when, "\nt = %.3f s after the first scan%s", (chosen->utime - scans.first_utime()) * 1e-6,

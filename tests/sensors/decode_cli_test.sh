@@ -54,6 +54,10 @@ python3 "$src/tools/edit_taxel_log.py" "$src/config/bridge/example_press.log" st
 cat stuck5.txt
 grep -q '^taxel health: 1 masking; masked at the end: 5 stuck high$' stuck5.txt || fail "stuck taxel: taxel health"
 grep -Eq '^  taxel 5 stuck high: masked 0\.0[0-9]+ s to the end \([0-9]+ scans\)$' stuck5.txt || fail "stuck taxel: episode"
+# The heatmap's CSV says which taxel is masked at the drawn scan (plot_taxels.py crosses it out).
+"$bin" decode --profile uskin_4x4 stuck5.log --heatmap-png stuck5.png > /dev/null 2>&1 || true
+grep -q '^5,.*,stuck high$' stuck5.png.csv || fail "stuck taxel: heatmap CSV health of taxel 5"
+[ "$(grep -c ',healthy$' stuck5.png.csv)" = 15 ] || fail "stuck taxel: heatmap CSV, 15 healthy taxels"
 
 # 3. Same seed, same log.
 "$bin" make-log --profile cyskin_16 --scene "$src/config/scenes/sensor_sphere_press.yaml" \
