@@ -101,6 +101,9 @@ struct BridgeConfig {
   /// display.rendering: inverse | curve; absent: inverse where the display can be rendered
   /// so (a device model of a kind with a mechanical load on the leader), else the curve.
   std::optional<RenderingMethod> display_rendering;
+  /// display.render_iterations: inverse rendering's Levenberg-Marquardt iterations a scan at
+  /// most (warm-started: what a scan leaves, the next goes on from).
+  int display_render_iterations = 8;
 
   // rates:
   double status_Hz = 10;  ///< BRIDGE_STATUS rate (pipeline clock)
@@ -150,6 +153,7 @@ struct BridgeConfig {
     a->Section("display", [&](auto* d) {
       d->Visit(Field("profile", &display_profile).Required());
       d->Visit(Field("rendering", &display_rendering));
+      d->Visit(Field("render_iterations", &display_render_iterations).InRange(1, 200));
     });
     a->Section("rates", [&](auto* q) {
       q->Visit(Field("status_Hz", &status_Hz).Unit("Hz").InRange(kMinStatus_Hz, kMaxStatus_Hz));

@@ -45,6 +45,7 @@ InverseDisplayRequests::InverseDisplayRequests(const BridgeConfig& config, const
              " actuators of " + profile.name + ") ...");
   render::DisplayRenderingOptions options;
   options.cache_dir = config.compliance_cache_dir;
+  options.renderer.max_iterations = config.display_render_iterations;
   rendering_ = std::make_unique<render::DisplayRendering>(model_, profile, options);
   target_Pa_.resize(merkel_rest_pad_mm.cols());
   precompute_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -111,6 +111,16 @@ TEST(BridgeConfig, DisplayRenderingIsInverseOrCurveAndItsErrorsNameFileLineColum
                     "bridge.yaml:4:14", "merkel_region");
 }
 
+// The renderer's iterations a scan: 8 unless said, 1..200, a bad value named where it stands.
+TEST(BridgeConfig, RenderIterationsAreBoundedAndNamedWhereTheyStand) {
+  EXPECT_EQ(ParseBridgeConfig("display: {profile: suction_4x4}\n", "b.yaml").display_render_iterations, 8);
+  EXPECT_EQ(ParseBridgeConfig("display: {profile: suction_4x4, render_iterations: 2}\n", "b.yaml").display_render_iterations, 2);
+  ExpectErrorNaming("display:\n  profile: suction_4x4\n  render_iterations: 0\n", "bridge.yaml", "bridge.yaml:3:22",
+                    "render_iterations");
+  ExpectErrorNaming("display:\n  profile: suction_4x4\n  render_iterations: 2.5\n", "bridge.yaml", "bridge.yaml:3:22",
+                    "render_iterations");
+}
+
 TEST(BridgeConfig, LcmSectionIsReadThroughItsSchema) {
   const BridgeConfig c = ParseBridgeConfig("lcm:\n  log: out/x.lcmlog\n  channels: {contact: LEFT_CONTACT}\n", "b.yaml");
   EXPECT_EQ(c.lcm.log_path, "out/x.lcmlog");
