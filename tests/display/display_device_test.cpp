@@ -12,6 +12,7 @@
 #include "common/config_error.h"
 #include "display/display_profile.h"
 #include "display_test_util.h"
+#include "tests/common/file_lines.h"
 
 namespace sedbridge::display {
 namespace {
@@ -237,16 +238,7 @@ TEST(DisplayDevice, ListedSitesUseTheirBoundingBoxCentreAndNearestDistance) {
   EXPECT_EQ(NearestActuatorDistance_mm({1.0}, {2.0}), std::numeric_limits<double>::infinity());
 }
 
-// 1-based number of the line of `path` that starts with `start` (0: none).
-int LineOf(const std::string& path, const std::string& start) {
-  std::ifstream in(path);
-  int number = 0;
-  for (std::string line; std::getline(in, line);) {
-    ++number;
-    if (line.rfind(start, 0) == 0) return number;
-  }
-  return 0;
-}
+using test_util::LineOf;
 
 TEST(DisplayDevice, CheckDeviceFitsPadAcceptsTheShippedDisplaysAndRefusesAWiderGrid) {
   for (const char* name : {"suction_4x4", "pin_6x4", "electrotactile_4x4", "suction_8x8", "pin_8x8", "pin_16x16"}) {

@@ -14,20 +14,12 @@
 #include "render/display_on_leader.h"
 #include "render/display_rendering.h"
 #include "scene/fingertip_compliance.h"
+#include "tests/common/file_lines.h"
 
 namespace sedbridge::render {
 namespace {
 
-// 1-based number of the first line of `path` that starts with `start` (0: none).
-int LineOf(const std::string& path, const std::string& start) {
-  std::ifstream in(path);
-  int number = 0;
-  for (std::string line; std::getline(in, line);) {
-    ++number;
-    if (line.rfind(start, 0) == 0) return number;
-  }
-  return 0;
-}
+using test_util::LineOf;
 
 // Measured 2026-11-29 (docs/display-rendering.md): B's skin facing the pad within 6 mm of
 // its apex spans x -6.90..7.03 mm, y -15.79..6.42 mm; B_coarse's x -5.86..7.97, y -15.77..5.97.
