@@ -1,6 +1,6 @@
 #pragma once
 // The pressure of a rigid flat-faced punch on the sensor's pad, on the forward model's load
-// grid: the first part of a punch primitive for the forward model (issue 51). Not yet a
+// grid: the first part of a punch primitive for the forward model. Not yet a
 // ContactShape: the reconstruction does not fit it, and nothing but its test and the rig
 // check below calls it.
 //

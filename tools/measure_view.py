@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Measures `sedbridge view` as issue 53 asks: the view's CPU at 30 Hz (no page, one page in
+"""Measures `sedbridge view`: the view's CPU at 30 Hz (no page, one page in
 headless Chromium, 20 event streams), the page's frame and draw rates, and the bridge's
 per-scan latency with and without a view and a page on the bus.
 
