@@ -5,20 +5,11 @@
 #include <stdexcept>
 
 #include "fem/tet_sed.h"
+#include "render/element_sed_kernel.h"
 
 namespace sedbridge::render {
 
 namespace {
-
-// dW/deps of W = mu eps:eps + lambda/2 tr(eps)^2 in this file's component order (the shear
-// components count twice in eps:eps): 2 mu eps_ii + lambda tr, and 4 mu eps_ij.
-Eigen::Matrix<double, kStrainComponents, 1> SedGradient(const double* eps, double mu_Pa, double lambda_Pa) {
-  const double tr = eps[0] + eps[1] + eps[2];
-  Eigen::Matrix<double, kStrainComponents, 1> g;
-  for (int i = 0; i < 3; ++i) g[i] = 2.0 * mu_Pa * eps[i] + lambda_Pa * tr;
-  for (int i = 3; i < 6; ++i) g[i] = 4.0 * mu_Pa * eps[i];
-  return g;
-}
 
 void CheckSizes(const ElementStrainInfluence& in) {
   const Eigen::Index elements = in.mu_Pa.size();
@@ -96,7 +87,18 @@ void DisplayInfluence::Prune(const ElementStrainInfluence& in, double prune_rela
     slope_.push_back((strain_at_knot_[k] - start) / (knot_command_[k] - v0));
   }
   if (knot_command_.empty()) slope_.push_back(gather(in.strain_per_command));
-  effective_.assign(size_t(rows) * size_t(num_actuators_), 0.0f);
+  // Each slope, per actuator, in the kernel's chunk layout: a segment change copies blocks.
+  const size_t chunks = SedChunks(active.size());
+  for (const Eigen::MatrixXd& slope : slope_) {
+    std::vector<float> blocks(size_t(num_actuators_) * chunks * kStrainComponents * kSedLanes, 0.0f);
+    for (int i = 0; i < num_actuators_; ++i)
+      for (size_t e = 0; e < active.size(); ++e)
+        for (int c = 0; c < kStrainComponents; ++c)
+          blocks[((size_t(i) * chunks + e / kSedLanes) * kStrainComponents + size_t(c)) * kSedLanes + e % kSedLanes] =
+              float(slope(Eigen::Index(kStrainComponents * e + size_t(c)), i));
+    chunked_slope_.push_back(std::move(blocks));
+  }
+  effective_.assign(SedChunks(active.size()) * size_t(num_actuators_) * kStrainComponents * kSedLanes, 0.0f);
   slope_index_.assign(size_t(num_actuators_), -1);
   segment_.assign(size_t(num_actuators_), 0);
   intercept_segment_.clear();  // none built yet
@@ -147,21 +149,46 @@ void DisplayInfluence::Segments(const Eigen::VectorXd& u) const {
     stroke_[i] = moving ? v : 0.0;
     if (slope == slope_index_[size_t(i)]) continue;
     slope_index_[size_t(i)] = slope;
-    const size_t rows = size_t(mu_Pa_.size()) * kStrainComponents;
-    for (size_t r = 0; r < rows; ++r)
-      effective_[r * size_t(n) + size_t(i)] = slope < 0 ? 0.0f : float(slope_[size_t(slope)](Eigen::Index(r), i));
+    constexpr size_t block = kStrainComponents * kSedLanes;
+    const size_t chunks = SedChunks(size_t(mu_Pa_.size()));
+    for (size_t b = 0; b < chunks; ++b) {
+      float* to = effective_.data() + (b * size_t(n) + size_t(i)) * block;
+      if (slope < 0) {
+        std::fill(to, to + block, 0.0f);
+        continue;
+      }
+      const float* from = chunked_slope_[size_t(slope)].data() + (size_t(i) * chunks + b) * block;
+      std::copy(from, from + block, to);
+    }
   }
   // The strain at v on segment k >= 1 is eps(knot k-1) + (v - knot) slope_k = intercept +
-  // v slope_k: the intercepts summed once per set of segments.
+  // v slope_k. The intercept is kept up to date with the actuators whose segment changed
+  // (on a 64-pin display a full sum streams 64 columns of the layer's strain), and summed
+  // afresh every kInterceptRefresh updates so that rounding cannot creep.
   if (segment_ == intercept_segment_) return;
-  intercept_segment_ = segment_;
-  intercept_ = preload_strain_;
+  constexpr int kInterceptRefresh = 256;
+  const bool fresh = intercept_segment_.size() != segment_.size() || ++intercept_updates_ >= kInterceptRefresh;
+  if (fresh) {
+    intercept_ = preload_strain_;
+    intercept_updates_ = 0;
+  }
   for (int i = 0; i < n; ++i) {
     const int k = segment_[size_t(i)];
-    if (k < 1) continue;
-    intercept_ += strain_at_knot_[size_t(k - 1)].col(i);
-    intercept_ -= knot_command_[size_t(k - 1)] * slope_[size_t(slope_index_[size_t(i)])].col(i);
+    if (fresh) {
+      if (k >= 1) AddKnotIntercept(i, k, 1.0);
+      continue;
+    }
+    const int was = intercept_segment_[size_t(i)];
+    if (k == was) continue;
+    if (was >= 1) AddKnotIntercept(i, was, -1.0);
+    if (k >= 1) AddKnotIntercept(i, k, 1.0);
   }
+  intercept_segment_ = segment_;
+}
+
+void DisplayInfluence::AddKnotIntercept(int i, int k, double sign) const {
+  const Eigen::MatrixXd& slope = slope_[size_t(std::min(k, int(slope_.size()) - 1))];
+  intercept_ += sign * (strain_at_knot_[size_t(k - 1)].col(i) - knot_command_[size_t(k - 1)] * slope.col(i));
 }
 
 void DisplayInfluence::ElementSeds(const Eigen::VectorXd& u, bool gradient) const {
@@ -170,22 +197,10 @@ void DisplayInfluence::ElementSeds(const Eigen::VectorXd& u, bool gradient) cons
   stroke_f_ = stroke_.cast<float>();
   element_sed_.resize(elements);
   if (gradient) element_gradient_t_.resize(n, elements);
-  for (Eigen::Index e = 0; e < elements; ++e) {
-    // The element's 6 x #actuators block: contiguous, read once for the strain and again,
-    // from cache, for the gradient. Spelled as dot products and one sum of columns: a
-    // general matrix product at this size spends more on dispatch than on arithmetic.
-    const Eigen::Map<const Eigen::MatrixXf> block(effective_.data() + size_t(e) * size_t(n) * kStrainComponents, n,
-                                                  kStrainComponents);
-    Eigen::Matrix<double, kStrainComponents, 1> eps = intercept_.segment<kStrainComponents>(kStrainComponents * e);
-    for (int c = 0; c < kStrainComponents; ++c) eps[c] += double(block.col(c).dot(stroke_f_));
-    fem::SymmetricStrainSed<double>(eps[0], eps[1], eps[2], eps[3], eps[4], eps[5], mu_Pa_[e], lambda_Pa_[e],
-                                    element_sed_[e]);
-    if (!gradient) continue;
-    // dW_e/du_i = (dW/deps)^T d eps_e/du_i
-    const Eigen::Matrix<float, kStrainComponents, 1> g = SedGradient(eps.data(), mu_Pa_[e], lambda_Pa_[e]).cast<float>();
-    element_gradient_t_.col(e) = g[0] * block.col(0) + g[1] * block.col(1) + g[2] * block.col(2) +
-                                 g[3] * block.col(3) + g[4] * block.col(4) + g[5] * block.col(5);
-  }
+  scratch_.resize(size_t(n) * kSedLanes);
+  ChunkedElementSeds(size_t(elements), int(n), effective_.data(), stroke_f_.data(), intercept_.data(), mu_Pa_.data(),
+                     lambda_Pa_.data(), element_sed_.data(), gradient ? element_gradient_t_.data() : nullptr,
+                     scratch_.data());
 }
 
 void DisplayInfluence::AverageToActiveVertices(Eigen::VectorXd& vertex) const {

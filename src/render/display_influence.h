@@ -93,6 +93,8 @@ class DisplayInfluence {
   /// Each actuator's place on its curve at u: its segment and stroke, the slope its
   /// derivative takes; brings effective_ and intercept_ up to date with them.
   void Segments(const Eigen::VectorXd& u) const;
+  /// Adds sign x actuator i's share of the intercept on segment k >= 1.
+  void AddKnotIntercept(int i, int k, double sign) const;
   /// Element SEDs element_sed_ at u and, with `gradient`, dW_e/du into element_gradient_t_
   /// (#actuators x #active elements), in one pass over the effective slopes.
   void ElementSeds(const Eigen::VectorXd& u, bool gradient) const;
@@ -108,10 +110,13 @@ class DisplayInfluence {
   std::vector<Eigen::MatrixXd> strain_at_knot_;
   // Segment k's slope (k = 0: from v = 0); past the last knot the last one goes on.
   std::vector<Eigen::MatrixXd> slope_;
-  // The curve each actuator is on at the last u, element by element: element e's block of
-  // 6 x #actuators floats (strain component c of actuator i per unit stroke at n (6 e + c) +
-  // i), contiguous, so that eps_e[c] = intercept_e[c] + block_e(c, :) . v: six dot products
-  // and, for the gradient, six axpys over the actuators, all vectorized.
+  // slope_ in single precision, per actuator in the kernel's chunk layout: actuator i's
+  // block of chunk b at (i #chunks + b) 48.
+  std::vector<std::vector<float>> chunked_slope_;
+  // The curve each actuator is on at the last u: the slope of element e's strain component
+  // c per unit stroke of actuator i at ChunkedSlopeIndex(e, c, i, n) (render/
+  // element_sed_kernel.h: eight elements a chunk, one vector lane each), so that eps_e =
+  // intercept_e + slopes_e . v and its gradient vectorize across elements.
   // Rebuilt only for the actuators whose segment changed (rare between evaluations). In
   // single precision: a render streams it once per evaluation, and half the bytes is
   // close to half the time; a slope's 1e-7 rounding is far below what the fit resolves
@@ -119,7 +124,9 @@ class DisplayInfluence {
   mutable std::vector<float> effective_;
   mutable Eigen::VectorXd intercept_, stroke_;
   mutable Eigen::VectorXf stroke_f_;
+  mutable std::vector<float> scratch_;
   mutable std::vector<int> slope_index_, segment_, intercept_segment_;
+  mutable int intercept_updates_ = 0;
   // Vertex average over the active elements for the active vertices, plus each vertex's SED
   // from the pruned ones.
   std::vector<int> active_vertex_, vertex_start_, vertex_element_;

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <random>
 #include <stdexcept>
 
 #include "fem/tet_sed.h"
@@ -59,6 +61,43 @@ TEST(DisplayInfluence, JacobianMatchesFiniteDifferences) {
     influence.Sed(um, minus);
     EXPECT_LE((J.col(a) - (plus - minus) / (2 * h)).norm(), 1e-5 * J.col(a).norm()) << a;  // single precision
   }
+}
+
+// Pins: an offset, two knots with the slope falling after each (the skin stiffening) and
+// every actuator crossing segments on the way. The intercept a render keeps is updated per
+// actuator that changed segment (display_influence.h); after hundreds of such changes the
+// SED must be what a fresh influence computes at the same commands.
+TEST(DisplayInfluence, PiecewiseSedDoesNotDependOnThePathTaken) {
+  ElementStrainInfluence in = testing::SyntheticInfluence(7, 45, 1e-3);
+  in.command_offset = {0.0, 0.5, 1.0, 0.2, 0.0, 2.0, 0.7};
+  in.knot_command = {2.0, 5.0};
+  in.strain_at_knot = {2.0 * in.strain_per_command, 3.5 * in.strain_per_command};
+  const DisplayInfluence walked(in);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> command(0.0, 9.0);
+  Eigen::VectorXd u(7), sed, fresh_sed, jacobian_sed;
+  Eigen::MatrixXd J, fresh_J;
+  for (int step = 0; step < 600; ++step) {
+    for (int i = 0; i < 7; ++i) u[i] = command(rng);
+    walked.Sed(u, sed);
+  }
+  walked.SedAndJacobian(u, jacobian_sed, J);
+  const DisplayInfluence fresh(in);
+  fresh.SedAndJacobian(u, fresh_sed, fresh_J);
+  EXPECT_LE((sed - fresh_sed).norm(), 1e-12 * fresh_sed.norm());
+  EXPECT_LE((jacobian_sed - fresh_sed).norm(), 1e-12 * fresh_sed.norm());
+  EXPECT_LE((J - fresh_J).norm(), 1e-12 * fresh_J.norm());
+  // And both are the element SED of the piecewise strain, evaluated directly.
+  Eigen::VectorXd eps = in.preload_strain;
+  for (int i = 0; i < 7; ++i) {
+    const double v = std::max(0.0, u[i] - in.command_offset[size_t(i)]);
+    const double scale = v < 2.0 ? v : v < 5.0 ? 2.0 + 0.5 * (v - 2.0) : 3.5 + 0.5 * (v - 5.0);
+    eps += scale * in.strain_per_command.col(i);
+  }
+  ElementStrainInfluence linear = in;
+  linear.strain_per_command.setZero();
+  linear.preload_strain = eps;
+  EXPECT_LE((fresh_sed - DirectSed(linear, Eigen::VectorXd::Zero(7))).norm(), 1e-6 * fresh_sed.norm());
 }
 
 TEST(DisplayInfluence, InconsistentSizesAreRefused) {

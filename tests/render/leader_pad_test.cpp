@@ -65,8 +65,9 @@ TEST(LeaderPad, TheShippedDisplaysFitButTheSixteenMillimetrePinArrayIsRefused) {
                 0u)
           << m;
       EXPECT_NE(m.find("candidate contact patch of model " + std::string(model_name)), std::string::npos) << m;
-      if (std::string(model_name) == "B")
+      if (std::string(model_name) == "B") {
         EXPECT_NE(m.find("spans x -6.9..7.03 mm, y -15.79..6.42 mm (pad frame)"), std::string::npos) << m;
+      }
     }
   }
 }
