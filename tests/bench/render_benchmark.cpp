@@ -124,7 +124,7 @@ void BM_InverseRenderOnModelB(benchmark::State& state) {
 // Arguments: display, prune exponent, iterations allowed a scan (8: the default; fewer buy
 // time per scan with the fit, measured by median_rel_l2).
 BENCHMARK(BM_InverseRenderOnModelB)->ArgsProduct({{0, 1, 3}, {4}, {8}})->Unit(benchmark::kMicrosecond);
-BENCHMARK(BM_InverseRenderOnModelB)->ArgsProduct({{0, 1}, {4}, {1, 2, 4, 32}})->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_InverseRenderOnModelB)->ArgsProduct({{0, 1, 3}, {4}, {1, 2, 4, 32}})->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 
