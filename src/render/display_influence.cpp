@@ -52,6 +52,7 @@ DisplayInfluence::DisplayInfluence(const ElementStrainInfluence& in, double prun
                 : Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(in.command_offset.data(), num_actuators_));
   piecewise_ = !in.knot_command.empty() || (offset_.array() > 0).any();
   Prune(in, prune_relative);
+  if (!piecewise_ && num_actuators_ <= kMaxVertexFormActuators) BuildVertexForms();
   Sed(Eigen::VectorXd::Zero(num_actuators_), preload_sed_Pa_);
 }
 
@@ -203,6 +204,16 @@ void DisplayInfluence::ElementSeds(const Eigen::VectorXd& u, bool gradient) cons
                      scratch_.data());
 }
 
+void DisplayInfluence::FormSeds(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa, Eigen::MatrixXd* jacobian_t) const {
+  const size_t active = active_vertex_.size();
+  stroke_f_ = u.cast<float>();
+  scratch_.resize(size_t(num_actuators_));
+  sed_Pa.resize(Eigen::Index(active));
+  if (jacobian_t) jacobian_t->resize(num_actuators_, Eigen::Index(active));
+  VertexFormSeds(active, num_actuators_, vertex_forms_.data(), vertex_constant_.data(), stroke_f_.data(), sed_Pa.data(),
+                 jacobian_t ? jacobian_t->data() : nullptr, scratch_.data());
+}
+
 void DisplayInfluence::AverageToActiveVertices(Eigen::VectorXd& vertex) const {
   const size_t active = active_vertex_.size();
   vertex.resize(Eigen::Index(active));
@@ -214,13 +225,55 @@ void DisplayInfluence::AverageToActiveVertices(Eigen::VectorXd& vertex) const {
   }
 }
 
+void DisplayInfluence::BuildVertexForms() {
+  // W(eps) = 1/2 eps^T D eps with D = 2 mu diag(1, 1, 1, 2, 2, 2) + lambda 1 1^T on the normal
+  // components (the shear ones count twice in eps:eps), so W(eps0 + E u) = W(eps0) +
+  // (E^T D eps0) . u + u^T (1/2 E^T D E) u, summed over the vertex's elements.
+  const int n = num_actuators_;
+  const size_t active = active_vertex_.size(), stride = size_t(n) + size_t(n) * size_t(n);
+  const Eigen::MatrixXd& slope = slope_.front();
+  vertex_forms_.assign(active * stride, 0.0f);
+  vertex_constant_.setZero(Eigen::Index(active));
+  Eigen::VectorXd g(n);
+  Eigen::MatrixXd Q(n, n);
+  for (size_t a = 0; a < active; ++a) {
+    double constant = fixed_sed_Pa_[active_vertex_[a]];
+    g.setZero(), Q.setZero();
+    for (int k = vertex_start_[a]; k < vertex_start_[a + 1]; ++k) {
+      const int e = vertex_element_[size_t(k)];
+      const double w = vertex_weight_[size_t(k)], mu = mu_Pa_[e], lambda = lambda_Pa_[e];
+      Eigen::Matrix<double, kStrainComponents, kStrainComponents> D = Eigen::Matrix<double, kStrainComponents, kStrainComponents>::Zero();
+      for (int c = 0; c < 3; ++c) D(c, c) = 2.0 * mu, D(c + 3, c + 3) = 4.0 * mu;
+      D.topLeftCorner<3, 3>().array() += lambda;
+      const auto eps0 = preload_strain_.segment<kStrainComponents>(kStrainComponents * e);
+      const auto E = slope.middleRows<kStrainComponents>(kStrainComponents * e);
+      constant += w * 0.5 * eps0.dot(D * eps0);
+      g += w * (E.transpose() * (D * eps0));
+      Q += w * 0.5 * (E.transpose() * D * E);
+    }
+    vertex_constant_[Eigen::Index(a)] = constant;
+    float* form = vertex_forms_.data() + a * stride;
+    for (int i = 0; i < n; ++i) form[i] = float(g[i]);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) form[n + i * n + j] = float(Q(j, i));
+  }
+}
+
 void DisplayInfluence::ActiveSed(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa) const {
+  if (!vertex_forms_.empty()) {
+    FormSeds(u, sed_Pa, nullptr);
+    return;
+  }
   ElementSeds(u, false);
   AverageToActiveVertices(sed_Pa);
 }
 
 void DisplayInfluence::ActiveSedAndJacobianT(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa,
                                              Eigen::MatrixXd& jacobian_t) const {
+  if (!vertex_forms_.empty()) {
+    FormSeds(u, sed_Pa, &jacobian_t);
+    return;
+  }
   ElementSeds(u, true);
   AverageToActiveVertices(sed_Pa);
   const size_t active = active_vertex_.size();

@@ -95,6 +95,14 @@ class DisplayInfluence {
   void Segments(const Eigen::VectorXd& u) const;
   /// Adds sign x actuator i's share of the intercept on segment k >= 1.
   void AddKnotIntercept(int i, int k, double sign) const;
+  /// A linear influence (no offsets, no knots) of at most this many actuators is evaluated
+  /// from per-vertex quadratic forms (#actuators^2 floats a vertex: fewer bytes than the
+  /// elements' 6 x #actuators each, 469 vertices against 5228 elements on B).
+  static constexpr int kMaxVertexFormActuators = 32;
+  /// vertex_forms_ and vertex_constant_ from the active elements (linear influence).
+  void BuildVertexForms();
+  /// Active vertices' SED (and transposed Jacobian) from the vertex forms.
+  void FormSeds(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa, Eigen::MatrixXd* jacobian_t) const;
   /// Element SEDs element_sed_ at u and, with `gradient`, dW_e/du into element_gradient_t_
   /// (#actuators x #active elements), in one pass over the effective slopes.
   void ElementSeds(const Eigen::VectorXd& u, bool gradient) const;
@@ -125,6 +133,11 @@ class DisplayInfluence {
   mutable Eigen::VectorXd intercept_, stroke_;
   mutable Eigen::VectorXf stroke_f_;
   mutable std::vector<float> scratch_;
+  // Linear influences of few actuators: per active vertex g (#actuators) and Q (#actuators^2,
+  // column by column) of S = constant + g . u + u^T Q u (element_sed_kernel.h), single
+  // precision, and the constant (the preload's SED, pruned elements included) in double.
+  std::vector<float> vertex_forms_;
+  Eigen::VectorXd vertex_constant_;
   mutable std::vector<int> slope_index_, segment_, intercept_segment_;
   mutable int intercept_updates_ = 0;
   // Vertex average over the active elements for the active vertices, plus each vertex's SED

@@ -64,4 +64,27 @@ void ChunkedElementSeds(size_t elements, int n, const float* slopes, const float
   }
 }
 
+SEDBRIDGE_SED_CLONES
+void VertexFormSeds(size_t vertices, int n, const float* forms, const double* constant, const float* u,
+                    double* sed_Pa, double* jacobian_t, float* scratch) {
+  const size_t stride = size_t(n) + size_t(n) * size_t(n);
+  for (size_t v = 0; v < vertices; ++v) {
+    const float* g = forms + v * stride;
+    const float* Q = g + n;
+    // q = Q u, a column axpy per actuator (vectorized over the column, no horizontal sums).
+    for (int j = 0; j < n; ++j) scratch[j] = 0.0f;
+    for (int i = 0; i < n; ++i) {
+      const float ui = u[i];
+      const float* column = Q + size_t(i) * size_t(n);
+      for (int j = 0; j < n; ++j) scratch[j] += column[j] * ui;
+    }
+    float linear = 0.0f, quadratic = 0.0f;
+    for (int j = 0; j < n; ++j) linear += g[j] * u[j], quadratic += u[j] * scratch[j];
+    sed_Pa[v] = constant[v] + double(linear) + double(quadratic);
+    if (!jacobian_t) continue;
+    double* out = jacobian_t + v * size_t(n);
+    for (int j = 0; j < n; ++j) out[j] = double(g[j] + 2.0f * scratch[j]);
+  }
+}
+
 }  // namespace sedbridge::render

@@ -116,6 +116,7 @@ void BM_InverseRenderOnModelB(benchmark::State& state) {
   state.counters["actuators"] = rendering->num_actuators();
   state.counters["elements"] = rendering->influence().num_active_elements();
   state.counters["of_elements"] = rendering->influence().num_elements();
+  state.counters["vertices"] = double(rendering->influence().active_vertices().size());
   state.counters["precompute_s"] = rendering->precompute_s();
   state.counters["gn_iterations"] = double(iterations) / double(state.iterations());
   state.counters["sed_evaluations"] = double(evaluations) / double(state.iterations());
