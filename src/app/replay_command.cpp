@@ -116,6 +116,8 @@ int ReplayHand(const ArgParser& args, const BridgeConfig& config, sensors::Frame
   }
   std::printf("\nhand: %zu fingers, %lld frames, %lld scans in %.3f s\n", hand.names.size(),
               static_cast<long long>(hand.frames), static_cast<long long>(scans), hand.wall_s);
+  std::printf("leader models (fe.step contact): %d loaded, %d fingers share one (%d share its compliance precompute)\n",
+              hand.leader_models_loaded, hand.leader_models_shared, hand.leader_operators_shared);
   for (const auto& [bus, count] : hand.unclaimed_frames)
     std::printf("frames no finger claims on %s: %lld\n", bus.c_str(), static_cast<long long>(count));
   if (signals.signal_number()) {

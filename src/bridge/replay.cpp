@@ -340,6 +340,8 @@ class FingerRun {
     pipeline_->Tick(utime);
     last_tick_utime_ = utime;
   }
+  /// Log time of this finger's last scan (-1: none yet).
+  int64_t last_scan_utime() const { return result_.rows.empty() ? -1 : last_utime_; }
   /// Log time of this finger's last scan or tick (-1: none yet).
   int64_t last_activity_utime() const { return std::max(result_.rows.empty() ? -1 : last_utime_, last_tick_utime_); }
 
@@ -427,14 +429,18 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
 
 namespace {
 
-// The silent fingers' display ticks before finger `speaking`'s scan at log time `utime`.
+// The silent fingers' display ticks before finger `speaking`'s scan at log time `utime`: a
+// finger whose sensor is overdue (no scan for two of its scan periods) is ticked at its
+// rates.tick_Hz, as `run` ticks a silent bus, so its watchdog ramps its display to zero. A
+// finger whose scans come on time is not ticked: its outputs are those of its replay alone.
 void TickSilentFingers(std::vector<std::unique_ptr<FingerRun>>& runs, const std::vector<HandFinger>& fingers,
                        int speaking, int64_t utime) {
   for (size_t j = 0; j < runs.size(); ++j) {
-    if (int(j) == speaking) continue;
-    const int64_t last = runs[j]->last_activity_utime();
-    const auto period_us = static_cast<int64_t>(1e6 / fingers[j].config.tick_Hz);
-    if (last >= 0 && utime - last >= period_us) runs[j]->Tick(utime);
+    if (int(j) == speaking || runs[j]->last_scan_utime() < 0) continue;
+    const auto tick_period_us = static_cast<int64_t>(1e6 / fingers[j].config.tick_Hz);
+    const auto overdue_us = static_cast<int64_t>(2e6 / fingers[j].profile.scan_rate_Hz);
+    if (utime - runs[j]->last_scan_utime() > overdue_us && utime - runs[j]->last_activity_utime() >= tick_period_us)
+      runs[j]->Tick(utime);
   }
 }
 
@@ -449,14 +455,20 @@ HandReplayResult RunHandReplay(std::vector<HandFinger> fingers, sensors::FrameSo
     router.Claim(int(i), fingers[i].name, fingers[i].config.can_interface, fingers[i].profile);
   // Every finger's leader model first: one that fails to load stops the start-up before any
   // display session exists, so no display has been driven.
+  // The same leader model named twice is loaded and precomputed once, shared read-only.
+  LeaderModelCache leaders;
   for (HandFinger& f : fingers) {
     if (f.fe) continue;
     try {
-      f.fe = MakeFeStep(f.config, f.profile, options.vtu_every > 0 && !options.out_dir.empty(), &f.display_profile);
+      f.fe = MakeFeStep(f.config, f.profile, options.vtu_every > 0 && !options.out_dir.empty(), &f.display_profile,
+                        &leaders);
     } catch (const std::exception& e) {
       throw std::runtime_error("finger '" + f.name + "': leader model '" + f.config.model + "': " + e.what());
     }
   }
+  result.leader_models_loaded = leaders.models_loaded();
+  result.leader_models_shared = leaders.models_shared();
+  result.leader_operators_shared = leaders.operators_shared();
   std::vector<std::unique_ptr<FingerRun>> runs;
   std::vector<sensors::ScanAssembler*> assemblers;
   auto zero_all = [&] {

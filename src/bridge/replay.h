@@ -144,6 +144,9 @@ struct HandReplayResult {
   /// Frames no finger claimed, per interface (sensors::FrameRouter).
   std::map<std::string, int64_t> unclaimed_frames;
   int64_t frames = 0;                    ///< frames read from the source
+  /// Leader models (fe.step contact) loaded, and taken by a later finger from an earlier one
+  /// (the model; its compliance precompute), bridge/leader_model_cache.h.
+  int leader_models_loaded = 0, leader_models_shared = 0, leader_operators_shared = 0;
   double wall_s = 0;                     ///< the scan loop, all fingers
   bool stopped_early = false;
 };

@@ -18,6 +18,7 @@
 #include "lcm/lcm_log_reader.h"
 #include "sedbridge/lcmt_display_command.hpp"
 #include "sensors/candump_log.h"
+#include "sensors/interface_filter_source.h"
 #include "tests/bridge/bridge_test_util.h"
 
 namespace sedbridge::bridge {
@@ -172,6 +173,44 @@ TEST(MultiFingerReplay, FingersWithDifferentSensorsAndDisplaysAndTheSameFilesRun
   }
   EXPECT_GT(summaries[0].size(), 1000u);
   EXPECT_EQ(summaries[0], summaries[1]);
+}
+
+std::string SummaryWithoutLatency(const std::vector<ReplayRow>& rows) {
+  std::string out;
+  char buf[256];
+  for (const ReplayRow& r : rows) {
+    std::snprintf(buf, sizeof buf, "%lld,%.9g,%.9g,%.9g,%.9g,%d,%d\n", static_cast<long long>(r.utime), r.total_force_N,
+                  r.applied_force_N, r.max_sed_Pa, r.max_command, r.stepped ? 1 : 0, r.invalid_taxels);
+    out += buf;
+  }
+  return out;
+}
+
+TEST(MultiFingerReplay, SharedLeaderModelGivesEachFingerWhatItsReplayAloneGives) {
+  const std::string dir = TempDir("shared");
+  const std::string log = TwoBusLog(dir, 10);
+  std::ifstream in(testing::TestConfigPath());
+  std::stringstream yaml;
+  yaml << in.rdbuf() << "fe: {model: B_coarse, preset: fast, step: contact, compliance_cache: " << dir << "/cache}\n"
+       << "fingers:\n  - {name: thumb, sensor: {interface: can0}}\n  - {name: index, sensor: {interface: can1}}\n";
+  std::string text = yaml.str();
+  text.replace(text.find("fe: {model: B_coarse, preset: fast}\n"), std::string("fe: {model: B_coarse, preset: fast}\n").size(), "");
+  const BridgeConfig config = ParseBridgeConfig(text, "hand.yaml");
+  sensors::CandumpLogSource source(log);
+  const HandReplayResult hand = RunHandReplay(HandOf(config), source, ReplayOptions{});
+  EXPECT_EQ(hand.leader_models_loaded, 1);
+  EXPECT_EQ(hand.leader_models_shared, 1);
+  EXPECT_EQ(hand.leader_operators_shared, 1);
+  const std::vector<Finger> fingers = FingersOf(config);
+  for (size_t i = 0; i < 2; ++i) {
+    sensors::CandumpLogSource whole(log);
+    sensors::InterfaceFilterSource one_bus(whole, fingers[i].config.can_interface);
+    const ReplayResult alone = testing::ReplayWithConfigProfiles(fingers[i].config, one_bus, ReplayOptions{});
+    ASSERT_EQ(hand.fingers[i].rows.size(), 300u);
+    EXPECT_EQ(SummaryWithoutLatency(hand.fingers[i].rows), SummaryWithoutLatency(alone.rows)) << fingers[i].name;
+    EXPECT_GT(hand.fingers[i].rows[size_t(hand.fingers[i].peak_index)].max_sed_Pa, 100.0);
+  }
+  std::filesystem::remove_all(dir);
 }
 
 TEST(MultiFingerReplay, LeaderModelThatFailsStopsStartUpBeforeAnyDisplayIsDriven) {
