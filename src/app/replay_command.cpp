@@ -114,8 +114,8 @@ int ReplayHand(const ArgParser& args, const BridgeConfig& config, sensors::Frame
         RunPlotScript("plot_bridge.py", PlotBridgeArgs(dir, hand.fingers[i])))
       std::printf("plots: %s/bridge_peak.png, %s/bridge_timeline.png\n", dir.c_str(), dir.c_str());
   }
-  std::printf("\nhand: %zu fingers, %lld frames, %lld scans in %.3f s\n", hand.names.size(),
-              static_cast<long long>(hand.frames), static_cast<long long>(scans), hand.wall_s);
+  std::printf("\nhand: %zu fingers on %d threads, %lld frames, %lld scans in %.3f s\n", hand.names.size(),
+              hand.finger_threads, static_cast<long long>(hand.frames), static_cast<long long>(scans), hand.wall_s);
   std::printf("leader models (fe.step contact): %d loaded, %d fingers share one (%d share its compliance precompute)\n",
               hand.leader_models_loaded, hand.leader_models_shared, hand.leader_operators_shared);
   for (const auto& [bus, count] : hand.unclaimed_frames)
@@ -147,6 +147,7 @@ int RunReplayCommand(int argc, char** argv) {
       .Option("out", "DIR", "output folder", "out/replay")
       .Option("lcm-url", "URL", LcmUrlHelp("memq:// (the log file only); e.g. udpm://239.255.76.67:7667?ttl=1"))
       .Option("threads", "N", "OpenMP threads for the FE step (1 is fastest for a small model on a busy machine)", "1")
+      .Option("finger-threads", "N", "a config with fingers: threads the fingers run on (the output is the same for any N)", "1")
       .Option("vtu-every", "N", "also write frames.pvd + frame_*.vtu every N scans (ParaView)", "0")
       .Flag("no-plots", "write CSV and the LCM log only")
       .Flag("quiet", "no progress lines")
@@ -184,6 +185,8 @@ int RunReplayCommand(int argc, char** argv) {
   if (!config.fingers.empty()) {
     ReplayOptions options = ReadReplayOutputOptions(args, config);
     options.stop = &signals.flag();
+    options.finger_threads = static_cast<int>(args.GetInt("finger-threads"));
+    if (options.finger_threads < 1) throw UsageError("--finger-threads must be >= 1");
     if (speed != "max") options.paced_speed = playback.speed, options.idle_tick_period_us = int64_t(1e6 / config.tick_Hz);
     std::printf("replay %s with %s (%zu fingers)\n", log_path.c_str(), config_path.c_str(), config.fingers.size());
     return ReplayHand(args, config, log, std::move(options), signals);

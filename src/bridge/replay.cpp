@@ -8,6 +8,8 @@
 #include <stdexcept>
 
 #include "bridge/display_requests.h"
+#include "bridge/finger_workers.h"
+#include "bridge/leader_model_cache.h"
 #include "bridge/make_fe_step.h"
 #include "bridge/sa1_rate_at_peak.h"
 #include "lcm/contact_estimate_message.h"
@@ -336,14 +338,7 @@ class FingerRun {
     ++result_.idle_ticks;
   }
   /// Display tick at log time `utime` (a hand: this finger's sensor silent while another's speaks).
-  void Tick(int64_t utime) {
-    pipeline_->Tick(utime);
-    last_tick_utime_ = utime;
-  }
-  /// Log time of this finger's last scan (-1: none yet).
-  int64_t last_scan_utime() const { return result_.rows.empty() ? -1 : last_utime_; }
-  /// Log time of this finger's last scan or tick (-1: none yet).
-  int64_t last_activity_utime() const { return std::max(result_.rows.empty() ? -1 : last_utime_, last_tick_utime_); }
+  void Tick(int64_t utime) { pipeline_->Tick(utime); }
 
   /// Zero the display without letting a second error out (an error is on its way).
   void ShutdownQuietly() {
@@ -387,7 +382,6 @@ class FingerRun {
   std::unique_ptr<VtuFrames> frames_;
   int64_t last_utime_ = 0;
   int64_t last_scan_wall_ = WallClockUtime();
-  int64_t last_tick_utime_ = -1;
 };
 
 // The pump's options of a replay (paced or not, stop flag); on_idle is the caller's.
@@ -429,19 +423,52 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
 
 namespace {
 
-// The silent fingers' display ticks before finger `speaking`'s scan at log time `utime`: a
-// finger whose sensor is overdue (no scan for two of its scan periods) is ticked at its
-// rates.tick_Hz, as `run` ticks a silent bus, so its watchdog ramps its display to zero. A
-// finger whose scans come on time is not ticked: its outputs are those of its replay alone.
-void TickSilentFingers(std::vector<std::unique_ptr<FingerRun>>& runs, const std::vector<HandFinger>& fingers,
-                       int speaking, int64_t utime) {
-  for (size_t j = 0; j < runs.size(); ++j) {
-    if (int(j) == speaking || runs[j]->last_scan_utime() < 0) continue;
-    const auto tick_period_us = static_cast<int64_t>(1e6 / fingers[j].config.tick_Hz);
-    const auto overdue_us = static_cast<int64_t>(2e6 / fingers[j].profile.scan_rate_Hz);
-    if (utime - runs[j]->last_scan_utime() > overdue_us && utime - runs[j]->last_activity_utime() >= tick_period_us)
-      runs[j]->Tick(utime);
+// When a hand's fingers get display ticks (kept by the pump's thread, whatever thread a finger
+// runs on): a finger whose sensor is overdue (no scan for two of its scan periods) is ticked
+// at its rates.tick_Hz, as `run` ticks a silent bus, so its watchdog ramps its display to
+// zero. A finger whose scans come on time is not ticked: its outputs are its replay alone's.
+class SilentFingerTicks {
+ public:
+  explicit SilentFingerTicks(const std::vector<HandFinger>& fingers) : last_scan_(fingers.size(), -1), last_activity_(fingers.size(), -1) {
+    for (const HandFinger& f : fingers) {
+      tick_period_us_.push_back(static_cast<int64_t>(1e6 / f.config.tick_Hz));
+      overdue_us_.push_back(static_cast<int64_t>(2e6 / f.profile.scan_rate_Hz));
+    }
   }
+  /// Finger `speaking` has a scan at `utime`: calls tick(j) for every finger j to tick first.
+  template <typename Tick>
+  void BeforeScan(int speaking, int64_t utime, const Tick& tick) {
+    for (size_t j = 0; j < last_scan_.size(); ++j) {
+      if (int(j) == speaking || last_scan_[j] < 0) continue;
+      if (utime - last_scan_[j] > overdue_us_[j] && utime - last_activity_[j] >= tick_period_us_[j]) {
+        last_activity_[j] = utime;
+        tick(int(j));
+      }
+    }
+    last_scan_[size_t(speaking)] = last_activity_[size_t(speaking)] = utime;
+  }
+
+ private:
+  std::vector<int64_t> last_scan_, last_activity_, tick_period_us_, overdue_us_;
+};
+
+// Every finger's leader model first: one that fails to load stops the start-up before any
+// display session exists, so no display has been driven. The same leader model named twice
+// is loaded and precomputed once, shared read-only.
+void BuildFeSteps(std::vector<HandFinger>& fingers, const ReplayOptions& options, HandReplayResult* result) {
+  LeaderModelCache leaders;
+  for (HandFinger& f : fingers) {
+    if (f.fe) continue;
+    try {
+      f.fe = MakeFeStep(f.config, f.profile, options.vtu_every > 0 && !options.out_dir.empty(), &f.display_profile,
+                        &leaders);
+    } catch (const std::exception& e) {
+      throw std::runtime_error("finger '" + f.name + "': leader model '" + f.config.model + "': " + e.what());
+    }
+  }
+  result->leader_models_loaded = leaders.models_loaded();
+  result->leader_models_shared = leaders.models_shared();
+  result->leader_operators_shared = leaders.operators_shared();
 }
 
 }  // namespace
@@ -453,22 +480,7 @@ HandReplayResult RunHandReplay(std::vector<HandFinger> fingers, sensors::FrameSo
   sensors::FrameRouter router;
   for (size_t i = 0; i < fingers.size(); ++i)
     router.Claim(int(i), fingers[i].name, fingers[i].config.can_interface, fingers[i].profile);
-  // Every finger's leader model first: one that fails to load stops the start-up before any
-  // display session exists, so no display has been driven.
-  // The same leader model named twice is loaded and precomputed once, shared read-only.
-  LeaderModelCache leaders;
-  for (HandFinger& f : fingers) {
-    if (f.fe) continue;
-    try {
-      f.fe = MakeFeStep(f.config, f.profile, options.vtu_every > 0 && !options.out_dir.empty(), &f.display_profile,
-                        &leaders);
-    } catch (const std::exception& e) {
-      throw std::runtime_error("finger '" + f.name + "': leader model '" + f.config.model + "': " + e.what());
-    }
-  }
-  result.leader_models_loaded = leaders.models_loaded();
-  result.leader_models_shared = leaders.models_shared();
-  result.leader_operators_shared = leaders.operators_shared();
+  BuildFeSteps(fingers, options, &result);
   std::vector<std::unique_ptr<FingerRun>> runs;
   std::vector<sensors::ScanAssembler*> assemblers;
   auto zero_all = [&] {
@@ -490,21 +502,30 @@ HandReplayResult RunHandReplay(std::vector<HandFinger> fingers, sensors::FrameSo
     throw;
   }
   const auto t0 = Clock::now();
+  FingerWorkers workers(int(runs.size()), options.finger_threads);
+  SilentFingerTicks ticks(fingers);
   sensors::PumpOptions pump = ReplayPumpOptions(options);
   if (options.paced_speed > 0)
     pump.on_idle = [&](int64_t wall) {
-      for (auto& run : runs) run->IdleTick(wall);
+      for (size_t j = 0; j < runs.size(); ++j) workers.Post(int(j), [run = runs[j].get(), wall] { run->IdleTick(wall); });
     };
   sensors::PumpResult pumped;
   try {
     pumped = sensors::PumpRoutedFrames(
         source, router, assemblers,
-        [&](int index, const sensors::Scan& scan, int64_t wall) {
-          TickSilentFingers(runs, fingers, index, scan.utime);
-          runs[size_t(index)]->Process(scan, wall);
+        [&](int index, sensors::Scan& scan, int64_t wall) {
+          ticks.BeforeScan(index, scan.utime, [&](int j) {
+            workers.Post(j, [run = runs[size_t(j)].get(), utime = scan.utime] { run->Tick(utime); });
+          });
+          workers.Post(index, [run = runs[size_t(index)].get(), s = std::move(scan), wall] { run->Process(s, wall); });
         },
         pump);
+    workers.Finish();
   } catch (...) {
+    try {
+      workers.Finish();
+    } catch (...) {
+    }
     zero_all();
     throw;
   }
@@ -512,6 +533,7 @@ HandReplayResult RunHandReplay(std::vector<HandFinger> fingers, sensors::FrameSo
   result.frames = pumped.frames;
   result.stopped_early = pumped.stopped;
   result.unclaimed_frames = router.unclaimed();
+  result.finger_threads = workers.threads();
   try {
     for (auto& run : runs) result.fingers.push_back(run->Finish(result.wall_s, pumped.stopped));
   } catch (...) {

@@ -120,7 +120,7 @@ TEST(MultiFingerReplay, SilentSensorRampsItsOwnDisplayToZeroWhileTheOthersGoOn) 
   std::filesystem::remove_all(dir);
 }
 
-TEST(MultiFingerReplay, FingersWithDifferentSensorsAndDisplaysAndTheSameFilesRunToRun) {
+TEST(MultiFingerReplay, FingersWithDifferentSensorsAndDisplaysGiveTheSameFilesOnOneAndTwoThreads) {
   // The shipped three-finger log: uskin_4x4 on can0 and can1, cyskin_16 (one axis, 250 Hz) on can0.
   const BridgeConfig config = HandConfig(
       "  - {name: thumb, sensor: {profile: uskin_4x4, interface: can0}}\n"
@@ -133,7 +133,9 @@ TEST(MultiFingerReplay, FingersWithDifferentSensorsAndDisplaysAndTheSameFilesRun
     sensors::CandumpLogSource source(log);
     ReplayOptions options;
     options.out_dir = dir;
+    options.finger_threads = run == 0 ? 1 : 2;  // the same files on any number of threads
     const HandReplayResult r = RunHandReplay(HandOf(config), source, options);
+    EXPECT_EQ(r.finger_threads, options.finger_threads);
     ASSERT_EQ(r.fingers.size(), 3u);
     EXPECT_EQ(r.fingers[0].rows.size(), 300u);
     EXPECT_EQ(r.fingers[1].rows.size(), 750u);
@@ -168,6 +170,8 @@ TEST(MultiFingerReplay, FingersWithDifferentSensorsAndDisplaysAndTheSameFilesRun
         for (const std::string& c : cols) summaries[run] += c + ',';
         summaries[run] += '\n';
       }
+      for (const Command& c : CommandsOn(dir + "/" + finger + "/bridge.lcmlog", "DISPLAY_COMMAND" + FingerChannelSuffix(finger)))
+        summaries[run] += std::to_string(c.utime) + ' ' + std::to_string(c.max) + (c.shutdown ? " shutdown\n" : "\n");
     }
     std::filesystem::remove_all(dir);
   }
