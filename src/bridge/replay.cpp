@@ -314,9 +314,15 @@ class FingerRun {
 
   /// One scan through the pipeline, its row, the peak snapshot and the optional VTU frame.
   void Process(const sensors::Scan& scan, int64_t receive_wall) {
-    pipeline_->SetSensorCounters(assembler_->counters(), source_.Stats());
+    Process(scan, receive_wall, assembler_->counters(), source_.Stats());
+  }
+  /// The same with the sensor's counters as they were when the scan was emitted (a hand on
+  /// several threads: the pump's thread owns the assembler and the source).
+  void Process(const sensors::Scan& scan, int64_t receive_wall, const sensors::BadFrameCounters& counters,
+               const sensors::FrameSourceStats& source_stats) {
+    pipeline_->SetSensorCounters(counters, source_stats);
     const ScanOutcome o = pipeline_->ProcessScan(scan, scan.utime, receive_wall);
-    last_utime_ = scan.utime;
+    last_utime_ = end_utime_ = scan.utime;
     last_scan_wall_ = receive_wall;
     result_.rows.push_back(RowOf(scan, o));
     const size_t index = result_.rows.size() - 1;
@@ -337,13 +343,18 @@ class FingerRun {
     pipeline_->Tick(last_utime_ + static_cast<int64_t>((wall - last_scan_wall_) * options_.paced_speed));
     ++result_.idle_ticks;
   }
-  /// Display tick at log time `utime` (a hand: this finger's sensor silent while another's speaks).
-  void Tick(int64_t utime) { pipeline_->Tick(utime); }
+  /// Display tick at log time `utime` (a hand: this finger's sensor silent while another's
+  /// speaks), with the sensor's counters then (a bus-off shows on its BRIDGE_STATUS).
+  void Tick(int64_t utime, const sensors::BadFrameCounters& counters, const sensors::FrameSourceStats& source_stats) {
+    pipeline_->SetSensorCounters(counters, source_stats);
+    pipeline_->Tick(utime);
+    end_utime_ = std::max(end_utime_, utime);
+  }
 
   /// Zero the display without letting a second error out (an error is on its way).
   void ShutdownQuietly() {
     try {
-      pipeline_->Shutdown(last_utime_);
+      pipeline_->Shutdown(end_utime_);
     } catch (...) {
     }
   }
@@ -353,7 +364,7 @@ class FingerRun {
     result_.wall_s = wall_s;
     result_.stopped_early = stopped_early;
     pipeline_->SetSensorCounters(assembler_->counters(), source_.Stats());
-    pipeline_->Shutdown(last_utime_);
+    pipeline_->Shutdown(end_utime_);
     result_.fe_counters = pipeline_->fe().CountersLine();
     result_.taxel_health = pipeline_->taxel_health().Summary();
     if (options_.on_finish) options_.on_finish(*pipeline_);
@@ -381,6 +392,7 @@ class FingerRun {
   PeakSnapshot peak_;
   std::unique_ptr<VtuFrames> frames_;
   int64_t last_utime_ = 0;
+  int64_t end_utime_ = 0;  // the last scan's or (a hand) tick's: the shutdown's time stamp
   int64_t last_scan_wall_ = WallClockUtime();
 };
 
@@ -514,10 +526,14 @@ HandReplayResult RunHandReplay(std::vector<HandFinger> fingers, sensors::FrameSo
     pumped = sensors::PumpRoutedFrames(
         source, router, assemblers,
         [&](int index, sensors::Scan& scan, int64_t wall) {
+          // The counters are read here, on the pump's thread, which owns assemblers and source.
           ticks.BeforeScan(index, scan.utime, [&](int j) {
-            workers.Post(j, [run = runs[size_t(j)].get(), utime = scan.utime] { run->Tick(utime); });
+            workers.Post(j, [run = runs[size_t(j)].get(), utime = scan.utime, c = assemblers[size_t(j)]->counters(),
+                             st = source.Stats()] { run->Tick(utime, c, st); });
           });
-          workers.Post(index, [run = runs[size_t(index)].get(), s = std::move(scan), wall] { run->Process(s, wall); });
+          workers.Post(index, [run = runs[size_t(index)].get(), s = std::move(scan), wall,
+                               c = assemblers[size_t(index)]->counters(),
+                               st = source.Stats()] { run->Process(s, wall, c, st); });
         },
         pump);
     workers.Finish();

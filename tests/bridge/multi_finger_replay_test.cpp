@@ -16,6 +16,7 @@
 #include "bridge/fingers.h"
 #include "bridge/replay.h"
 #include "lcm/lcm_log_reader.h"
+#include "sedbridge/lcmt_bridge_status.hpp"
 #include "sedbridge/lcmt_display_command.hpp"
 #include "sensors/candump_log.h"
 #include "sensors/interface_filter_source.h"
@@ -31,8 +32,9 @@ std::string TempDir(const std::string& name) {
   return dir;
 }
 
-// The example log on can0 and, until `can1_until_s` after its start, the same frames on can1.
-std::string TwoBusLog(const std::string& dir, double can1_until_s) {
+// The example log on can0 and, until `can1_until_s` after its start, the same frames on can1
+// (then, with `bus_off`, a bus-off error frame on can1).
+std::string TwoBusLog(const std::string& dir, double can1_until_s, bool bus_off = false) {
   std::ifstream in(testing::ExampleLogPath());
   const std::string path = dir + "/two_bus.log";
   std::ofstream out(path);
@@ -43,6 +45,10 @@ std::string TwoBusLog(const std::string& dir, double can1_until_s) {
     if (t0 < 0) t0 = t;
     const size_t bus = line.find(" can0 ");
     if (bus != std::string::npos && t - t0 < can1_until_s) out << line.substr(0, bus) << " can1 " << line.substr(bus + 6) << '\n';
+    if (bus_off && t - t0 >= can1_until_s) {
+      out << line.substr(0, bus) << " can1 20000040#0000000000000000\n";  // CAN_ERR_FLAG | CAN_ERR_BUSOFF
+      bus_off = false;
+    }
   }
   return path;
 }
@@ -117,6 +123,43 @@ TEST(MultiFingerReplay, SilentSensorRampsItsOwnDisplayToZeroWhileTheOthersGoOn) 
   ASSERT_FALSE(index.empty());
   EXPECT_TRUE(thumb.back().shutdown && thumb.back().max == 0.f);
   EXPECT_TRUE(index.back().shutdown && index.back().max == 0.f);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(MultiFingerReplay, BusOffOnOneBusFaultsThatFingerAloneAndRampsItsDisplayToZero) {
+  const std::string dir = TempDir("bus_off");
+  const std::string log = TwoBusLog(dir, 1.2, true);
+  const BridgeConfig config = HandConfig("  - {name: thumb, sensor: {interface: can0}}\n"
+                                         "  - {name: index, sensor: {interface: can1}}\n");
+  sensors::CandumpLogSource source(log);
+  ReplayOptions options;
+  options.out_dir = dir + "/out";
+  options.finger_threads = 2;
+  const HandReplayResult r = RunHandReplay(HandOf(config), source, options);
+  EXPECT_EQ(r.fingers[1].bad_frames.bus_off_events, 1);
+  EXPECT_EQ(r.fingers[0].bad_frames.bus_off_events, 0);
+  const int64_t late = r.fingers[0].rows.front().utime + 1'700'000;
+  auto status_at = [&](const std::string& finger) {
+    lcm_io::LcmLogReader reader(options.out_dir + "/" + finger + "/bridge.lcmlog");
+    lcmt_bridge_status last{};
+    while (const lcm::LogEvent* e = reader.Next()) {
+      lcmt_bridge_status st;
+      if (e->channel == "BRIDGE_STATUS" + FingerChannelSuffix(finger) && lcm_io::LcmLogReader::Decode(*e, &st) &&
+          st.utime <= late && st.fault_message != "shut down")
+        last = st;
+    }
+    return last;
+  };
+  EXPECT_EQ(status_at("index").fault_state, 2);
+  EXPECT_EQ(status_at("index").fault_message, "CAN bus-off");
+  EXPECT_EQ(status_at("thumb").fault_state, 0);
+  float index_late = 0, thumb_late = 0;
+  for (const Command& c : CommandsOn(options.out_dir + "/index/bridge.lcmlog", "DISPLAY_COMMAND_INDEX"))
+    if (!c.shutdown && c.utime > late - 200'000) index_late = std::max(index_late, c.max);
+  for (const Command& c : CommandsOn(options.out_dir + "/thumb/bridge.lcmlog", "DISPLAY_COMMAND_THUMB"))
+    if (!c.shutdown && c.utime > late - 200'000 && c.utime < late) thumb_late = std::max(thumb_late, c.max);
+  EXPECT_EQ(index_late, 0.f);
+  EXPECT_GT(thumb_late, 0.5f);
   std::filesystem::remove_all(dir);
 }
 
