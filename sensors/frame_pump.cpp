@@ -45,4 +45,54 @@ PumpResult PumpFrames(FrameSource& source, ScanAssembler& assembler, const ScanC
   return result;
 }
 
+namespace {
+
+void HandOutRouted(std::vector<Scan>* scans, int index, int64_t receive_wall_utime, const RoutedScanCallback& on_scan,
+                   PumpResult* result) {
+  for (Scan& scan : *scans) {
+    ++result->scans;
+    on_scan(index, scan, receive_wall_utime);
+  }
+  scans->clear();
+}
+
+}  // namespace
+
+PumpResult PumpRoutedFrames(FrameSource& source, FrameRouter& router, const std::vector<ScanAssembler*>& assemblers,
+                            const RoutedScanCallback& on_scan, const PumpOptions& options) {
+  if (!options.wall_clock_utime) throw std::invalid_argument("PumpRoutedFrames needs a wall clock");
+  PumpResult result;
+  std::vector<Scan> scans;
+  const int n = static_cast<int>(assemblers.size());
+  while (!source.Done()) {
+    if (options.stop && options.stop()) {
+      result.stopped = true;
+      return result;
+    }
+    const std::optional<Frame> frame = source.Next(options.frame_wait_us);
+    const int64_t wall = options.wall_clock_utime();
+    if (frame) {
+      ++result.frames;
+      if (options.on_frame) options.on_frame(*frame);
+      for (int index : router.Route(*frame)) {
+        if (index < 0 || index >= n) throw std::out_of_range("FrameRouter names sensor " + std::to_string(index));
+        assemblers[size_t(index)]->Push(*frame, &scans);
+        HandOutRouted(&scans, index, wall, on_scan, &result);
+      }
+      continue;
+    }
+    if (source.Done()) break;  // the end, not a timeout
+    for (int index = 0; index < n; ++index) {
+      if (options.poll_on_timeout) assemblers[size_t(index)]->Poll(wall, &scans);
+      HandOutRouted(&scans, index, wall, on_scan, &result);
+    }
+    if (options.on_idle) options.on_idle(wall);
+  }
+  for (int index = 0; index < n; ++index) {
+    assemblers[size_t(index)]->Flush(&scans);
+    HandOutRouted(&scans, index, options.wall_clock_utime(), on_scan, &result);
+  }
+  return result;
+}
+
 }  // namespace sedbridge::sensors

@@ -5,8 +5,10 @@
 
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "sensors/can_frame.h"
+#include "sensors/frame_router.h"
 #include "sensors/frame_source.h"
 #include "sensors/scan.h"
 #include "sensors/scan_assembler.h"
@@ -51,5 +53,15 @@ using ScanCallback = std::function<void(Scan& scan, int64_t receive_wall_utime)>
 /// callbacks or the source propagate. Throws std::invalid_argument without a wall clock.
 PumpResult PumpFrames(FrameSource& source, ScanAssembler& assembler, const ScanCallback& on_scan,
                       const PumpOptions& options);
+
+/// A scan of sensor `index` (its assembler's place in PumpRoutedFrames' list).
+using RoutedScanCallback = std::function<void(int index, Scan& scan, int64_t receive_wall_utime)>;
+
+/// PumpFrames for several sensors on one source (a hand): each frame goes to the assemblers
+/// `router` names (FrameRouter::Route; unclaimed frames are counted there), a timeout polls
+/// every assembler, the end flushes each in index order. Scans are handed out in the order
+/// the frames that finished them came, so a log gives the same order run to run.
+PumpResult PumpRoutedFrames(FrameSource& source, FrameRouter& router, const std::vector<ScanAssembler*>& assemblers,
+                            const RoutedScanCallback& on_scan, const PumpOptions& options);
 
 }  // namespace sedbridge::sensors

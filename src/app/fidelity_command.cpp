@@ -18,6 +18,7 @@
 #include "app/display_fidelity_report.h"
 #include "app/plot_runner.h"
 #include "bridge/bridge_config.h"
+#include "bridge/fingers.h"
 #include "common/resource_path.h"
 #include "display/display_profile.h"
 #include "fidelity/faulty_taxel_fidelity.h"
@@ -309,6 +310,7 @@ int RunFidelity(int argc, char** argv) {
   AddFidelityOptions(args);
   if (!args.Parse(argc, argv)) return 0;
   BridgeConfig config = LoadBridgeConfig(config::ResolveResource(args.Get("config")));
+  RequireOneFinger(config, "fidelity");
   if (auto dir = args.GetOptional("cache-dir")) config.compliance_cache_dir = *dir;
   if (args.GetFlag("node-contact")) config.face_contact = false;
   const std::string model = args.GetOptional("model").value_or(config.model);

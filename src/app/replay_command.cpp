@@ -13,6 +13,7 @@
 #include "app/plot_runner.h"
 #include "app/replay_output_options.h"
 #include "bridge/bridge_config.h"
+#include "bridge/fingers.h"
 #include "bridge/replay.h"
 #include "bridge/scene_fe_step.h"
 #include "common/resource_path.h"
@@ -86,6 +87,51 @@ std::string WhyNoScans(const sensors::CandumpLogSource& log, const sensors::Inte
          "' (a different sensor? try --profile, or `sedbridge decode --profile NAME LOG` to see the counts)";
 }
 
+// A hand (`fingers:` in the config): every finger's frames from the one log, routed by
+// interface and CAN id; a summary and files per finger (DIR/<finger>/).
+int ReplayHand(const ArgParser& args, const BridgeConfig& config, sensors::FrameSource& log, ReplayOptions options,
+               const StopSignals& signals) {
+  if (args.Has("profile") || args.Has("interface"))
+    throw UsageError("--profile and --interface are one finger's: a config with 'fingers:' names each finger's own");
+  std::vector<HandFinger> fingers;
+  for (Finger& f : FingersOf(config)) {
+    std::printf("finger %s: sensor %s (id offset %d) on %s, model %s/%s, display %s\n", f.name.c_str(),
+                f.config.sensor_profile.c_str(), f.config.can_id_offset, f.config.can_interface.c_str(),
+                f.config.model.c_str(), f.config.preset.c_str(), f.config.display_profile.c_str());
+    HandFinger h{f.name, f.config, LoadFingerSensorProfile(f.config),
+                 display::LoadNamedDisplayProfile(f.config.display_profile), nullptr};
+    fingers.push_back(std::move(h));
+  }
+  std::fflush(stdout);
+  const HandReplayResult hand = RunHandReplay(std::move(fingers), log, options);
+  int64_t scans = 0;
+  for (size_t i = 0; i < hand.names.size(); ++i) {
+    const std::string dir = options.out_dir.empty() ? "" : options.out_dir + "/" + hand.names[i];
+    std::printf("\n== finger %s ==\n", hand.names[i].c_str());
+    PrintReplaySummary(hand.fingers[i], dir);
+    scans += static_cast<long long>(hand.fingers[i].rows.size());
+    if (!args.GetFlag("no-plots") && !hand.fingers[i].rows.empty() && !dir.empty() &&
+        RunPlotScript("plot_bridge.py", PlotBridgeArgs(dir, hand.fingers[i])))
+      std::printf("plots: %s/bridge_peak.png, %s/bridge_timeline.png\n", dir.c_str(), dir.c_str());
+  }
+  std::printf("\nhand: %zu fingers on %d threads, %lld frames, %lld scans in %.3f s\n", hand.names.size(),
+              hand.finger_threads, static_cast<long long>(hand.frames), static_cast<long long>(scans), hand.wall_s);
+  std::printf("leader models (fe.step contact): %d loaded, %d fingers share one (%d share its compliance precompute)\n",
+              hand.leader_models_loaded, hand.leader_models_shared, hand.leader_operators_shared);
+  for (const auto& [bus, count] : hand.unclaimed_frames)
+    std::printf("frames no finger claims on %s: %lld\n", bus.c_str(), static_cast<long long>(count));
+  if (signals.signal_number()) {
+    std::printf("stopped by %s: every display driven to zero, logs closed\n", SignalName(signals.signal_number()));
+    return signals.ExitCode(0);
+  }
+  if (scans == 0) {
+    std::fprintf(stderr, "sedbridge replay: error: no finger's frames made a scan (check each finger's sensor.interface "
+                         "and ids against the log)\n");
+    return 1;
+  }
+  return 0;
+}
+
 int RunReplayCommand(int argc, char** argv) {
   ArgParser args("sedbridge replay",
                  "Replays a candump log of the follower's tactile sensor through the whole bridge:\n"
@@ -101,6 +147,7 @@ int RunReplayCommand(int argc, char** argv) {
       .Option("out", "DIR", "output folder", "out/replay")
       .Option("lcm-url", "URL", LcmUrlHelp("memq:// (the log file only); e.g. udpm://239.255.76.67:7667?ttl=1"))
       .Option("threads", "N", "OpenMP threads for the FE step (1 is fastest for a small model on a busy machine)", "1")
+      .Option("finger-threads", "N", "a config with fingers: threads the fingers run on (the output is the same for any N)", "1")
       .Option("vtu-every", "N", "also write frames.pvd + frame_*.vtu every N scans (ParaView)", "0")
       .Flag("no-plots", "write CSV and the LCM log only")
       .Flag("quiet", "no progress lines")
@@ -135,6 +182,15 @@ int RunReplayCommand(int argc, char** argv) {
   SetFeThreads(static_cast<int>(args.GetInt("threads")));
   const std::string log_path = config::ResolveResource(args.Get("LOG"));
   sensors::CandumpLogSource log(log_path, playback);
+  if (!config.fingers.empty()) {
+    ReplayOptions options = ReadReplayOutputOptions(args, config);
+    options.stop = &signals.flag();
+    options.finger_threads = static_cast<int>(args.GetInt("finger-threads"));
+    if (options.finger_threads < 1) throw UsageError("--finger-threads must be >= 1");
+    if (speed != "max") options.paced_speed = playback.speed, options.idle_tick_period_us = int64_t(1e6 / config.tick_Hz);
+    std::printf("replay %s with %s (%zu fingers)\n", log_path.c_str(), config_path.c_str(), config.fingers.size());
+    return ReplayHand(args, config, log, std::move(options), signals);
+  }
   sensors::InterfaceFilterSource source(log, args.GetOptional("interface").value_or(""));
   ReplayOptions options = ReadReplayOutputOptions(args, config);
   options.stop = &signals.flag();

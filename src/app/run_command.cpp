@@ -10,6 +10,7 @@
 #include "app/lcm_url.h"
 #include "app/stop_signals.h"
 #include "bridge/bridge_config.h"
+#include "bridge/fingers.h"
 #include "bridge/display_requests.h"
 #include "bridge/live_bridge.h"
 #include "bridge/make_fe_step.h"
@@ -46,6 +47,7 @@ int RunLiveCommand(int argc, char** argv) {
 
   SetFeThreads(static_cast<int>(args.GetInt("threads")));
   BridgeConfig config = LoadBridgeConfig(config::ResolveResource(args.Get("config")));
+  RequireOneFinger(config, "run");
   const LcmUrlChoice lcm_url = ChooseLcmUrl(args.GetOptional("lcm-url"), config.lcm.url, "config lcm.url");
   config.lcm.url = lcm_url.url;
   const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile(config.sensor_profile);

@@ -10,6 +10,7 @@
 #include "app/plot_runner.h"
 #include "app/replay_output_options.h"
 #include "bridge/bridge_config.h"
+#include "bridge/fingers.h"
 #include "bridge/replay.h"
 #include "bridge/scene_fe_step.h"
 #include "common/resource_path.h"
@@ -45,6 +46,7 @@ int RunSimulateCommand(int argc, char** argv) {
   SetFeThreads(static_cast<int>(args.GetInt("threads")));
   const std::string config_path = config::ResolveResource(args.Get("config"));
   BridgeConfig config = LoadBridgeConfig(config_path);
+  RequireOneFinger(config, "simulate");
   if (auto profile = args.GetOptional("profile")) config.sensor_profile = *profile;
   const std::string scene_path = config::ResolveResource(args.Get("SCENE"));
   sensors::SimulatedSensorConfig sim = sensors::LoadSimulatedSensorScene(scene_path, config.sensor_profile);

@@ -4,6 +4,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "bridge/fingers.h"
 #include "common/resource_path.h"
 #include "common/yaml_read_archive.h"
 
@@ -30,6 +31,7 @@ BridgeConfig Parse(const config::YamlDocument& doc) {
            "'rendering: inverse' needs 'fe.merkel_region: layer' (the inverse renderer fits the SED of the layer under "
            "the display; 'merkel_region: display' computes only the vertices the curve samples)");
   if (r.Has("lcm")) lcm_io::CheckChannelNames(MapReader(doc.root["lcm"], doc.file));
+  CheckFingers(c, r);
   r.Finish();
   return c;
 }

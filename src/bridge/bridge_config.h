@@ -6,6 +6,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "bridge/pad_registration.h"
 #include "bridge/taxel_values.h"
@@ -65,6 +66,31 @@ enum class RenderingMethod {
 const config::EnumNames<RenderingMethod>& NamesOf(RenderingMethod);
 const char* ToString(RenderingMethod method);
 
+/// One entry of the bridge config's `fingers:` list: what differs between the fingers of a
+/// hand (its sensor on its bus, its leader model, its display). A key left out takes the
+/// bridge's own (`sensor.profile`, `sensor.interface`, `fe.model`, `display.profile`);
+/// everything else (FE, traction, rates, LCM) is the bridge's for every finger.
+struct FingerConfig {
+  std::string name;  ///< [A-Za-z][A-Za-z0-9_]*, unique; its channels end in _<NAME> (upper case)
+  std::optional<std::string> sensor_profile, can_interface, model, display_profile;
+  /// sensor.id_offset: added to every CAN id of the sensor profile (two boards of one kind on
+  /// one bus answer on ids apart by their board number)
+  int can_id_offset = 0;
+
+  template <typename Archive>
+  void Serialize(Archive* a) {
+    using config::Field;
+    a->Visit(Field("name", &name).Required());
+    a->Section("sensor", [&](auto* s) {
+      s->Visit(Field("profile", &sensor_profile));
+      s->Visit(Field("interface", &can_interface));
+      s->Visit(Field("id_offset", &can_id_offset).InRange(-0x1FFFFFFF, 0x1FFFFFFF));
+    });
+    a->Section("fe", [&](auto* f) { f->Visit(Field("model", &model)); });
+    a->Section("display", [&](auto* d) { d->Visit(Field("profile", &display_profile)); });
+  }
+};
+
 /// Every key is named in Serialize, with its range; the member initialisers are the
 /// defaults. Channel names are checked after reading (lcm_io::CheckChannelNames).
 struct BridgeConfig {
@@ -74,6 +100,7 @@ struct BridgeConfig {
   std::string sensor_profile = "uskin_4x4";  ///< shipped name or YAML path
   std::string can_interface = "can0";        ///< live mode (sedbridge run)
   int tare_scans = 0;                        ///< automatic tare over N quiet scans (0 = profile offsets)
+  int can_id_offset = 0;                     ///< a finger's sensor.id_offset (FingerConfig; 0 = the profile's ids)
 
   // fe:
   std::string model = "B";      ///< model name or path (model::LoadFingertipModel)
@@ -115,6 +142,9 @@ struct BridgeConfig {
 
   // lcm:
   lcm_io::LcmSettings lcm;
+
+  // fingers: empty = one finger, the keys above (bridge/fingers.h: FingersOf).
+  std::vector<FingerConfig> fingers;
 
   template <typename Archive>
   void Serialize(Archive* a) {
@@ -164,6 +194,7 @@ struct BridgeConfig {
       o->Visit(Field("publish_scans", &publish_scans));
     });
     a->Visit(Field("lcm", &lcm));
+    a->Visit(Field("fingers", &fingers));
   }
 };
 

@@ -39,9 +39,10 @@ struct CpuTimer {
 ContactFeStep::ContactFeStep(const std::string& model_name, const sensors::SensorProfile& profile,
                              const PadRegistration& registration, std::unique_ptr<FeStep> fallback,
                              scene::FingertipComplianceOptions leader, contact::ReconstructionOptions options,
-                             scene::PressToForceOptions press, const model::MerkelVertexFilter& merkel_filter)
-    : fallback_(std::move(fallback)) {
-  model_ = std::make_unique<model::FingertipModel>(LoadBridgeModel(model_name, merkel_filter));
+                             scene::PressToForceOptions press, const model::MerkelVertexFilter& merkel_filter,
+                             std::shared_ptr<const model::FingertipModel> model)
+    : model_(std::move(model)), fallback_(std::move(fallback)) {
+  if (!model_) model_ = std::make_shared<const model::FingertipModel>(LoadBridgeModel(model_name, merkel_filter));
   stage_ = std::make_unique<contact::ContactStage>(*model_, profile, LeaderPadOf(registration), std::move(leader),
                                                    options, press);
   const int vertices = int(stage_->leader().merkel_rest_pad_mm().cols());
@@ -54,6 +55,10 @@ ContactFeStep::ContactFeStep(const std::string& model_name, const sensors::Senso
 }
 
 ContactFeStep::~ContactFeStep() = default;
+
+std::shared_ptr<const fem::ComplianceOperator> ContactFeStep::leader_operator() const {
+  return stage_->leader().contact().shared_operator();
+}
 
 const Eigen::Matrix3Xd& ContactFeStep::merkel_rest_pad_mm() const { return stage_->leader().merkel_rest_pad_mm(); }
 

@@ -18,6 +18,7 @@
 #include "contact/contact_object.h"
 #include "contact/contact_reconstruction.h"
 #include "contact/contact_stage.h"
+#include "fem/compliance_operator.h"
 #include "model/fingertip_model.h"
 
 namespace sedbridge::bridge {
@@ -42,11 +43,14 @@ class ContactFeStep final : public FeStep {
   ///                    (ReconstructedPressOptions(); fe.contact_tolerance sets its contact one)
   /// @param merkel_filter the Merkel vertices whose SED is computed (empty = the whole
   ///                    layer); the fallback must have been built with the same
+  /// @param model       the leader model already loaded with merkel_filter (a hand's fingers
+  ///                    share it: bridge/leader_model_cache.h), used read-only; null: loaded here
   ContactFeStep(const std::string& model_name, const sensors::SensorProfile& profile,
                 const PadRegistration& registration, std::unique_ptr<FeStep> fallback,
                 scene::FingertipComplianceOptions leader, contact::ReconstructionOptions options = {},
                 scene::PressToForceOptions press = contact::ReconstructedPressOptions(),
-                const model::MerkelVertexFilter& merkel_filter = {});
+                const model::MerkelVertexFilter& merkel_filter = {},
+                std::shared_ptr<const model::FingertipModel> model = nullptr);
   ~ContactFeStep() override;
 
   /// Needs values.scan (set by ScanConditioner); without it the fallback answers.
@@ -71,6 +75,9 @@ class ContactFeStep final : public FeStep {
   const contact::ContactEstimate& last_estimate() const { return stage_->report().estimate; }
   const contact::ContactStepCounters& counters() const { return stage_->counters(); }
   const contact::ContactReconstructor& reconstructor() const { return stage_->reconstructor(); }
+  /// The leader model and its compliance precompute, for another finger to share.
+  const std::shared_ptr<const model::FingertipModel>& leader_model() const { return model_; }
+  std::shared_ptr<const fem::ComplianceOperator> leader_operator() const;
   /// Wall time per step of the two stages (also in each result's report.stage_ms as
   /// kReconstruction and kPress): reconstruction, and the press on the leader (contact
   /// solves + Merkel SED), over the scans that reached them.
@@ -89,7 +96,7 @@ class ContactFeStep final : public FeStep {
   /// The stage times of a scan into their run statistics.
   void RecordStageTimes(const contact::ContactStepOutcome& outcome, const StageTimes& times);
 
-  std::unique_ptr<model::FingertipModel> model_;
+  std::shared_ptr<const model::FingertipModel> model_;
   std::unique_ptr<contact::ContactStage> stage_;
   std::unique_ptr<FeStep> fallback_;
   enum class LastStep { kNone, kPressed, kFallback } last_ = LastStep::kNone;

@@ -22,8 +22,34 @@ model::MerkelVertexFilter DisplayFootprint(const display::DisplayProfile& displa
   return {[mapping](const Eigen::Vector3d& p_mm) { return mapping->Reads(p_mm.x(), p_mm.y(), p_mm.z()); }, what};
 }
 
+namespace {
+
+// fe.step contact's leader: from `leaders` when another finger built the same (model, Merkel
+// region, contact options), else built here and left in `leaders` for the next.
+std::unique_ptr<FeStep> MakeContactStep(const BridgeConfig& config, const sensors::SensorProfile& profile,
+                                        std::unique_ptr<FeStep> fallback, scene::FingertipComplianceOptions leader,
+                                        const model::MerkelVertexFilter& region, LeaderModelCache* leaders) {
+  const PadRegistration registration(profile.taxels, config.registration);
+  if (!leaders)
+    return std::make_unique<ContactFeStep>(config.model, profile, registration, std::move(fallback), std::move(leader),
+                                           ReconstructionOptionsOf(config), ReconstructedPressOptions(config), region);
+  const std::string model_key = config.model + "|" + (region ? region.what : std::string("layer"));
+  const std::string op_key = model_key + "|" + config.compliance_cache_dir + "|" + (config.face_contact ? "faces" : "nodes") +
+                             "|" + (leader.contact.full_field ? "full" : "contact");
+  auto model = leaders->Model(model_key, [&] { return LoadBridgeModel(config.model, region); });
+  leader.contact.shared_operator = leaders->Operator(op_key);
+  const bool first = !leader.contact.shared_operator;
+  auto step = std::make_unique<ContactFeStep>(config.model, profile, registration, std::move(fallback),
+                                              std::move(leader), ReconstructionOptionsOf(config),
+                                              ReconstructedPressOptions(config), region, std::move(model));
+  if (first) leaders->Remember(op_key, step->leader_operator());
+  return step;
+}
+
+}  // namespace
+
 std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::SensorProfile& profile,
-                                   bool full_field, const display::DisplayProfile* display) {
+                                   bool full_field, const display::DisplayProfile* display, LeaderModelCache* leaders) {
   model::MerkelVertexFilter region;
   std::optional<display::DisplayProfile> loaded;  // the config's display, read once for the nested steps
   if (config.merkel_region == MerkelRegion::kDisplay) {
@@ -37,7 +63,7 @@ std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::Se
                  profile.name.c_str());
     BridgeConfig map = config;
     map.fe_step = FeStepKind::kReduced;
-    return MakeFeStep(map, profile, false, display);
+    return MakeFeStep(map, profile, false, display, leaders);
   }
   if (config.fe_step == FeStepKind::kContact) {
     // The pressure map stays as the fallback for scans the reconstruction cannot explain.
@@ -45,9 +71,7 @@ std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::Se
     map.fe_step = FeStepKind::kReduced;
     scene::FingertipComplianceOptions leader = contact::LeaderComplianceOptions(config.compliance_cache_dir, config.face_contact);
     leader.contact.full_field = full_field;
-    return std::make_unique<ContactFeStep>(config.model, profile, PadRegistration(profile.taxels, config.registration),
-                                           MakeFeStep(map, profile, false, display), std::move(leader),
-                                           ReconstructionOptionsOf(config), ReconstructedPressOptions(config), region);
+    return MakeContactStep(config, profile, MakeFeStep(map, profile, false, display), std::move(leader), region, leaders);
   }
   if (config.fe_step == FeStepKind::kReduced)
     return std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, config.preset), profile,

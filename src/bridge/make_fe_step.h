@@ -6,6 +6,7 @@
 
 #include "bridge/bridge_config.h"
 #include "bridge/fe_step.h"
+#include "bridge/leader_model_cache.h"
 #include "display/display_profile.h"
 #include "model/fingertip_model.h"
 #include "sensors/sensor_profile.h"
@@ -18,8 +19,12 @@ namespace sedbridge::bridge {
 /// `full_field`: the step keeps what VTU frames of the whole mesh need (contact step only).
 /// `display`: with fe.merkel_region: display, the profile whose sampling footprint bounds
 /// the Merkel layer (null: config.display_profile is loaded).
+/// `leaders`: fe.step contact's leader model and compliance precompute are taken from it
+/// when another finger built them for the same model, Merkel region and contact options,
+/// and left there for the next (null: built for this step alone).
 std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::SensorProfile& profile,
-                                   bool full_field = false, const display::DisplayProfile* display = nullptr);
+                                   bool full_field = false, const display::DisplayProfile* display = nullptr,
+                                   LeaderModelCache* leaders = nullptr);
 
 /// The Merkel vertices `display`'s mapping reads (display::SedToCommandMapping::Reads).
 model::MerkelVertexFilter DisplayFootprint(const display::DisplayProfile& display);

@@ -8,6 +8,8 @@
 #include <stdexcept>
 
 #include "bridge/display_requests.h"
+#include "bridge/finger_workers.h"
+#include "bridge/leader_model_cache.h"
 #include "bridge/make_fe_step.h"
 #include "bridge/sa1_rate_at_peak.h"
 #include "lcm/contact_estimate_message.h"
@@ -15,6 +17,7 @@
 #include "common/wall_clock.h"
 #include "scene/vtu_writer.h"
 #include "sensors/frame_pump.h"
+#include "sensors/frame_router.h"
 #include "sensors/scan_assembler.h"
 
 namespace sedbridge::bridge {
@@ -282,52 +285,119 @@ void FinishSa1Estimate(const display::DisplayProfile& dp, const PeakSnapshot& pe
                             peak.command.value);
 }
 
-}  // namespace
+// One finger's replay: its pipeline, assembler, rows, peak and files (ReplayResult). The
+// one-finger replay and the hand's run the same steps: build, Process each scan, Finish.
+class FingerRun {
+ public:
+  FingerRun(const BridgeConfig& config, const sensors::SensorProfile& profile,
+            const display::DisplayProfile& display_profile, std::unique_ptr<FeStep> fe,
+            const sensors::FrameSource& source, const ReplayOptions& options)
+      : config_(config), profile_(profile), options_(options), source_(source) {
+    using Clock = std::chrono::steady_clock;
+    const auto t_setup = Clock::now();
+    if (!fe) fe = MakeFeStep(config, profile, options.vtu_every > 0 && !options.out_dir.empty(), &display_profile);
+    result_.fe_description = fe->Describe();
+    requests_ = MakeDisplayRequests(config, display_profile, fe->merkel_rest_pad_mm(),
+                                    [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
+    result_.display_rendering = requests_.Describe();
+    result_.inverse_rendering = bool(requests_.inverse);
+    if (requests_.inverse) std::fprintf(stderr, "%s\n", result_.display_rendering.c_str());
+    pipeline_ = std::make_unique<BridgePipeline>(config, profile, display_profile, std::move(fe),
+                                                 ReplayLcmSettings(config, options), BridgePipeline::WallClock{},
+                                                 requests_.source());
+    result_.display_unit = pipeline_->display().controller().profile().unit;
+    assembler_ = std::make_unique<sensors::ScanAssembler>(profile, ReplayAssemblerOptions(config, options));
+    result_.setup_s = std::chrono::duration<double>(Clock::now() - t_setup).count();
+    if (options.on_start) options.on_start(*pipeline_);
+    frames_ = std::make_unique<VtuFrames>(pipeline_->fe(), options);
+  }
 
-ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile& profile,
-                       const display::DisplayProfile& display_profile, std::unique_ptr<FeStep> fe,
-                       sensors::FrameSource& source, const ReplayOptions& options) {
-  using Clock = std::chrono::steady_clock;
-  ReplayResult result;
-  const auto t_setup = Clock::now();
-  if (!fe) fe = MakeFeStep(config, profile, options.vtu_every > 0 && !options.out_dir.empty(), &display_profile);
-  result.fe_description = fe->Describe();
-  const DisplayRequests requests = MakeDisplayRequests(
-      config, display_profile, fe->merkel_rest_pad_mm(), [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
-  result.display_rendering = requests.Describe();
-  result.inverse_rendering = bool(requests.inverse);
-  if (requests.inverse) std::fprintf(stderr, "%s\n", result.display_rendering.c_str());
-  BridgePipeline pipeline(config, profile, display_profile, std::move(fe), ReplayLcmSettings(config, options), {},
-                          requests.source());
-  result.display_unit = pipeline.display().controller().profile().unit;
-  sensors::ScanAssembler assembler(profile, ReplayAssemblerOptions(config, options));
-  result.setup_s = std::chrono::duration<double>(Clock::now() - t_setup).count();
-  if (options.on_start) options.on_start(pipeline);
-
-  PeakSnapshot peak;
-  VtuFrames frames(pipeline.fe(), options);
-  int64_t last_utime = 0;
-  // One scan through the pipeline, its row, the peak snapshot and the optional VTU frame.
-  int64_t last_scan_wall = WallClockUtime();
-  auto process = [&](const sensors::Scan& scan, int64_t receive_wall) {
-    pipeline.SetSensorCounters(assembler.counters(), source.Stats());
-    const ScanOutcome o = pipeline.ProcessScan(scan, scan.utime, receive_wall);
-    last_utime = scan.utime;
-    last_scan_wall = receive_wall;
-    result.rows.push_back(RowOf(scan, o));
-    const size_t index = result.rows.size() - 1;
-    if (o.stepped && o.max_sed_Pa > peak.sed_Pa) {
-      peak.Take(pipeline, o.max_sed_Pa);
-      result.peak_index = static_cast<int>(index);
+  /// One scan through the pipeline, its row, the peak snapshot and the optional VTU frame.
+  void Process(const sensors::Scan& scan, int64_t receive_wall) {
+    Process(scan, receive_wall, assembler_->counters(), source_.Stats());
+  }
+  /// The same with the sensor's counters as they were when the scan was emitted (a hand on
+  /// several threads: the pump's thread owns the assembler and the source).
+  void Process(const sensors::Scan& scan, int64_t receive_wall, const sensors::BadFrameCounters& counters,
+               const sensors::FrameSourceStats& source_stats) {
+    pipeline_->SetSensorCounters(counters, source_stats);
+    const ScanOutcome o = pipeline_->ProcessScan(scan, scan.utime, receive_wall);
+    last_utime_ = end_utime_ = scan.utime;
+    last_scan_wall_ = receive_wall;
+    result_.rows.push_back(RowOf(scan, o));
+    const size_t index = result_.rows.size() - 1;
+    if (o.stepped && o.max_sed_Pa > peak_.sed_Pa) {
+      peak_.Take(*pipeline_, o.max_sed_Pa);
+      result_.peak_index = static_cast<int>(index);
     }
-    frames.AfterScan(o.stepped, index, scan.utime, result.rows.front().utime, result.rows.back().applied_force_N);
-    if (options.on_scan) options.on_scan(o, pipeline);
-    if (options.progress && result.rows.size() % kProgressEveryScans == 0)
-      std::fprintf(stderr, "  %zu scans (log time %.2f s)\n", result.rows.size(),
-                   (scan.utime - result.rows.front().utime) * 1e-6);
-  };
+    frames_->AfterScan(o.stepped, index, scan.utime, result_.rows.front().utime, result_.rows.back().applied_force_N);
+    if (options_.on_scan) options_.on_scan(o, *pipeline_);
+    if (options_.progress && result_.rows.size() % kProgressEveryScans == 0)
+      std::fprintf(stderr, "  %zu scans (log time %.2f s)\n", result_.rows.size(),
+                   (scan.utime - result_.rows.front().utime) * 1e-6);
+  }
 
-  const auto t0 = Clock::now();
+  /// Paced source silent at wall time `wall`: ticks the display in log time.
+  void IdleTick(int64_t wall) {
+    if (result_.rows.empty()) return;
+    pipeline_->Tick(last_utime_ + static_cast<int64_t>((wall - last_scan_wall_) * options_.paced_speed));
+    ++result_.idle_ticks;
+  }
+  /// Display tick at log time `utime` (a hand: this finger's sensor silent while another's
+  /// speaks), with the sensor's counters then (a bus-off shows on its BRIDGE_STATUS).
+  void Tick(int64_t utime, const sensors::BadFrameCounters& counters, const sensors::FrameSourceStats& source_stats) {
+    pipeline_->SetSensorCounters(counters, source_stats);
+    pipeline_->Tick(utime);
+    end_utime_ = std::max(end_utime_, utime);
+  }
+
+  /// Zero the display without letting a second error out (an error is on its way).
+  void ShutdownQuietly() {
+    try {
+      pipeline_->Shutdown(end_utime_);
+    } catch (...) {
+    }
+  }
+
+  /// After the source: display to zero, counters, files; the result.
+  ReplayResult Finish(double wall_s, bool stopped_early) {
+    result_.wall_s = wall_s;
+    result_.stopped_early = stopped_early;
+    pipeline_->SetSensorCounters(assembler_->counters(), source_.Stats());
+    pipeline_->Shutdown(end_utime_);
+    result_.fe_counters = pipeline_->fe().CountersLine();
+    result_.taxel_health = pipeline_->taxel_health().Summary();
+    if (options_.on_finish) options_.on_finish(*pipeline_);
+    CollectCounters(*pipeline_, *assembler_, source_, &result_);
+    const display::DisplayProfile& dp = pipeline_->display().controller().profile();
+    CountCeiling(dp, peak_.command, &result_);
+    if (!options_.out_dir.empty()) WriteReplayFiles(options_.out_dir, result_, peak_, dp, config_, profile_);
+    if (requests_.inverse) FinishInverse(*requests_.inverse, peak_, options_.out_dir, &result_);
+    if (dp.kind == display::DisplayKind::kElectrotactile) FinishSa1Estimate(dp, peak_, options_.out_dir, &result_);
+    return std::move(result_);
+  }
+
+  sensors::ScanAssembler& assembler() { return *assembler_; }
+  BridgePipeline& pipeline() { return *pipeline_; }
+
+ private:
+  BridgeConfig config_;
+  sensors::SensorProfile profile_;
+  ReplayOptions options_;
+  const sensors::FrameSource& source_;
+  ReplayResult result_;
+  DisplayRequests requests_;
+  std::unique_ptr<BridgePipeline> pipeline_;
+  std::unique_ptr<sensors::ScanAssembler> assembler_;
+  PeakSnapshot peak_;
+  std::unique_ptr<VtuFrames> frames_;
+  int64_t last_utime_ = 0;
+  int64_t end_utime_ = 0;  // the last scan's or (a hand) tick's: the shutdown's time stamp
+  int64_t last_scan_wall_ = WallClockUtime();
+};
+
+// The pump's options of a replay (paced or not, stop flag); on_idle is the caller's.
+sensors::PumpOptions ReplayPumpOptions(const ReplayOptions& options) {
   const bool paced = options.paced_speed > 0;
   if (paced && options.idle_tick_period_us <= 0) throw std::invalid_argument("idle_tick_period_us must be > 0");
   sensors::PumpOptions pump;
@@ -335,36 +405,157 @@ ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile&
   pump.frame_wait_us = paced ? options.idle_tick_period_us : -1;
   pump.wall_clock_utime = WallClockUtime;
   pump.poll_on_timeout = false;  // a log's gaps are the recording's, not a late scan
-  if (options.stop) pump.stop = [&] { return options.stop->load(); };
-  pump.on_idle = [&](int64_t wall) {
-    if (!paced || result.rows.empty()) return;
-    pipeline.Tick(last_utime + static_cast<int64_t>((wall - last_scan_wall) * options.paced_speed));
-    ++result.idle_ticks;
-  };
+  if (options.stop) pump.stop = [&options] { return options.stop->load(); };
+  return pump;
+}
+
+}  // namespace
+
+ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile& profile,
+                       const display::DisplayProfile& display_profile, std::unique_ptr<FeStep> fe,
+                       sensors::FrameSource& source, const ReplayOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  FingerRun finger(config, profile, display_profile, std::move(fe), source, options);
+  const auto t0 = Clock::now();
+  sensors::PumpOptions pump = ReplayPumpOptions(options);
+  if (options.paced_speed > 0) pump.on_idle = [&](int64_t wall) { finger.IdleTick(wall); };
+  bool stopped = false;
   try {
-    result.stopped_early = sensors::PumpFrames(source, assembler, process, pump).stopped;
+    stopped = sensors::PumpFrames(source, finger.assembler(),
+                                  [&](const sensors::Scan& scan, int64_t wall) { finger.Process(scan, wall); }, pump)
+                  .stopped;
   } catch (...) {
     // Zero first, then let the error out (the log is closed when the pipeline goes). A
     // second error while shutting down must not replace the first.
+    finger.ShutdownQuietly();
+    throw;
+  }
+  return finger.Finish(std::chrono::duration<double>(Clock::now() - t0).count(), stopped);
+}
+
+namespace {
+
+// When a hand's fingers get display ticks (kept by the pump's thread, whatever thread a finger
+// runs on): a finger whose sensor is overdue (no scan for two of its scan periods) is ticked
+// at its rates.tick_Hz, as `run` ticks a silent bus, so its watchdog ramps its display to
+// zero. A finger whose scans come on time is not ticked: its outputs are its replay alone's.
+class SilentFingerTicks {
+ public:
+  explicit SilentFingerTicks(const std::vector<HandFinger>& fingers) : last_scan_(fingers.size(), -1), last_activity_(fingers.size(), -1) {
+    for (const HandFinger& f : fingers) {
+      tick_period_us_.push_back(static_cast<int64_t>(1e6 / f.config.tick_Hz));
+      overdue_us_.push_back(static_cast<int64_t>(2e6 / f.profile.scan_rate_Hz));
+    }
+  }
+  /// Finger `speaking` has a scan at `utime`: calls tick(j) for every finger j to tick first.
+  template <typename Tick>
+  void BeforeScan(int speaking, int64_t utime, const Tick& tick) {
+    for (size_t j = 0; j < last_scan_.size(); ++j) {
+      if (int(j) == speaking || last_scan_[j] < 0) continue;
+      if (utime - last_scan_[j] > overdue_us_[j] && utime - last_activity_[j] >= tick_period_us_[j]) {
+        last_activity_[j] = utime;
+        tick(int(j));
+      }
+    }
+    last_scan_[size_t(speaking)] = last_activity_[size_t(speaking)] = utime;
+  }
+
+ private:
+  std::vector<int64_t> last_scan_, last_activity_, tick_period_us_, overdue_us_;
+};
+
+// Every finger's leader model first: one that fails to load stops the start-up before any
+// display session exists, so no display has been driven. The same leader model named twice
+// is loaded and precomputed once, shared read-only.
+void BuildFeSteps(std::vector<HandFinger>& fingers, const ReplayOptions& options, HandReplayResult* result) {
+  LeaderModelCache leaders;
+  for (HandFinger& f : fingers) {
+    if (f.fe) continue;
     try {
-      pipeline.Shutdown(last_utime);
+      f.fe = MakeFeStep(f.config, f.profile, options.vtu_every > 0 && !options.out_dir.empty(), &f.display_profile,
+                        &leaders);
+    } catch (const std::exception& e) {
+      throw std::runtime_error("finger '" + f.name + "': leader model '" + f.config.model + "': " + e.what());
+    }
+  }
+  result->leader_models_loaded = leaders.models_loaded();
+  result->leader_models_shared = leaders.models_shared();
+  result->leader_operators_shared = leaders.operators_shared();
+}
+
+}  // namespace
+
+HandReplayResult RunHandReplay(std::vector<HandFinger> fingers, sensors::FrameSource& source,
+                               const ReplayOptions& options) {
+  using Clock = std::chrono::steady_clock;
+  HandReplayResult result;
+  sensors::FrameRouter router;
+  for (size_t i = 0; i < fingers.size(); ++i)
+    router.Claim(int(i), fingers[i].name, fingers[i].config.can_interface, fingers[i].profile);
+  BuildFeSteps(fingers, options, &result);
+  std::vector<std::unique_ptr<FingerRun>> runs;
+  std::vector<sensors::ScanAssembler*> assemblers;
+  auto zero_all = [&] {
+    for (auto& run : runs) run->ShutdownQuietly();
+  };
+  try {
+    // A finger whose display rendering fails to build stops the start-up: the ones already
+    // built are zeroed.
+    for (HandFinger& f : fingers) {
+      ReplayOptions own = options;
+      own.can_interface = f.config.can_interface;
+      if (!options.out_dir.empty()) own.out_dir = (std::filesystem::path(options.out_dir) / f.name).string();
+      runs.push_back(std::make_unique<FingerRun>(f.config, f.profile, f.display_profile, std::move(f.fe), source, own));
+      assemblers.push_back(&runs.back()->assembler());
+      result.names.push_back(f.name);
+    }
+  } catch (...) {
+    zero_all();
+    throw;
+  }
+  const auto t0 = Clock::now();
+  FingerWorkers workers(int(runs.size()), options.finger_threads);
+  SilentFingerTicks ticks(fingers);
+  sensors::PumpOptions pump = ReplayPumpOptions(options);
+  if (options.paced_speed > 0)
+    pump.on_idle = [&](int64_t wall) {
+      for (size_t j = 0; j < runs.size(); ++j) workers.Post(int(j), [run = runs[j].get(), wall] { run->IdleTick(wall); });
+    };
+  sensors::PumpResult pumped;
+  try {
+    pumped = sensors::PumpRoutedFrames(
+        source, router, assemblers,
+        [&](int index, sensors::Scan& scan, int64_t wall) {
+          // The counters are read here, on the pump's thread, which owns assemblers and source.
+          ticks.BeforeScan(index, scan.utime, [&](int j) {
+            workers.Post(j, [run = runs[size_t(j)].get(), utime = scan.utime, c = assemblers[size_t(j)]->counters(),
+                             st = source.Stats()] { run->Tick(utime, c, st); });
+          });
+          workers.Post(index, [run = runs[size_t(index)].get(), s = std::move(scan), wall,
+                               c = assemblers[size_t(index)]->counters(),
+                               st = source.Stats()] { run->Process(s, wall, c, st); });
+        },
+        pump);
+    workers.Finish();
+  } catch (...) {
+    try {
+      workers.Finish();
     } catch (...) {
     }
+    zero_all();
     throw;
   }
   result.wall_s = std::chrono::duration<double>(Clock::now() - t0).count();
-  pipeline.SetSensorCounters(assembler.counters(), source.Stats());
-  pipeline.Shutdown(last_utime);
-  result.fe_counters = pipeline.fe().CountersLine();
-  result.taxel_health = pipeline.taxel_health().Summary();
-  if (options.on_finish) options.on_finish(pipeline);
-
-  CollectCounters(pipeline, assembler, source, &result);
-  const display::DisplayProfile& dp = pipeline.display().controller().profile();
-  CountCeiling(dp, peak.command, &result);
-  if (!options.out_dir.empty()) WriteReplayFiles(options.out_dir, result, peak, dp, config, profile);
-  if (requests.inverse) FinishInverse(*requests.inverse, peak, options.out_dir, &result);
-  if (dp.kind == display::DisplayKind::kElectrotactile) FinishSa1Estimate(dp, peak, options.out_dir, &result);
+  result.frames = pumped.frames;
+  result.stopped_early = pumped.stopped;
+  result.unclaimed_frames = router.unclaimed();
+  result.finger_threads = workers.threads();
+  try {
+    for (auto& run : runs) result.fingers.push_back(run->Finish(result.wall_s, pumped.stopped));
+  } catch (...) {
+    zero_all();
+    throw;
+  }
   return result;
 }
 

@@ -23,6 +23,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -65,6 +66,10 @@ struct ReplayOptions {
   /// Ticks are stamped in log time (last scan + elapsed wall time x speed). 0 = unpaced.
   double paced_speed = 0;
   int64_t idle_tick_period_us = 5000;  ///< [us], > 0
+  /// A hand (RunHandReplay): threads the fingers run on (bridge/finger_workers.h: each
+  /// finger on one thread, its scans in order, so the output is the same for any count);
+  /// the callbacks above are then called on those threads. 1 = the caller's thread.
+  int finger_threads = 1;
 };
 
 struct ReplayRow {
@@ -127,6 +132,40 @@ struct ReplayResult {
 ReplayResult RunReplay(const BridgeConfig& config, const sensors::SensorProfile& profile,
                        const display::DisplayProfile& display_profile, std::unique_ptr<FeStep> fe,
                        sensors::FrameSource& source, const ReplayOptions& options);
+
+/// One finger of a hand's replay (bridge/fingers.h: FingersOf gives name and config).
+struct HandFinger {
+  std::string name;
+  BridgeConfig config;                   ///< the finger's (its channels, interface, ids)
+  sensors::SensorProfile profile;        ///< its ids already moved (LoadFingerSensorProfile)
+  display::DisplayProfile display_profile;
+  std::unique_ptr<FeStep> fe;            ///< nullptr: built from config
+};
+
+struct HandReplayResult {
+  std::vector<std::string> names;        ///< the fingers, in config order
+  std::vector<ReplayResult> fingers;     ///< one per finger, same order
+  /// Frames no finger claimed, per interface (sensors::FrameRouter).
+  std::map<std::string, int64_t> unclaimed_frames;
+  int64_t frames = 0;                    ///< frames read from the source
+  /// Leader models (fe.step contact) loaded, and taken by a later finger from an earlier one
+  /// (the model; its compliance precompute), bridge/leader_model_cache.h.
+  int leader_models_loaded = 0, leader_models_shared = 0, leader_operators_shared = 0;
+  double wall_s = 0;                     ///< the scan loop, all fingers
+  int finger_threads = 1;                ///< threads the fingers ran on
+  bool stopped_early = false;
+};
+
+/// A hand: every finger's frames from one source (a `candump -l any` log of several buses),
+/// routed by interface and CAN id to that finger's assembler, each scan through that
+/// finger's pipeline, one finger after another in the order the log gives (deterministic:
+/// a replay gives the same files run to run, on any options.finger_threads). While one finger's sensor is silent and
+/// another's scans come, the silent one's display is ticked in log time at its rates.tick_Hz,
+/// so its watchdog ramps it to zero while the others go on. Every way out zeroes every
+/// display. Files: RunReplay's, in out_dir/<finger name>/ for each finger. Throws
+/// std::invalid_argument when two fingers claim one CAN id on one interface.
+HandReplayResult RunHandReplay(std::vector<HandFinger> fingers, sensors::FrameSource& source,
+                               const ReplayOptions& options);
 
 /// Writes summary.csv for `rows`.
 void WriteSummaryCsv(const std::string& path, const std::vector<ReplayRow>& rows);

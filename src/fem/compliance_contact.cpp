@@ -59,12 +59,21 @@ ComplianceContact::ComplianceContact(const TetMesh& mesh, std::vector<std::uniqu
   if (options_.exact_contact && options_.friction_anisotropy > 0)
     throw std::invalid_argument("compliance contact: pseudo friction needs the penalty law (not exact_contact)");
   sed_map_ = std::make_unique<ComplianceSedMap>(elastic, std::move(sed_vertices), SedMapOptionsOf(options_));
-  {
+  if (options_.shared_operator) {
+    // Built once for this model by another contact (a hand's fingers on one leader model):
+    // read-only here, the node scratch is this contact's own.
+    op_ = std::move(options_.shared_operator);
+    if (&op_->mesh() != &mesh || op_->candidate_nodes() != candidate_nodes || op_->sed_nodes() != sed_map_->sed_nodes() ||
+        op_->face_samples().size() != options_.face_samples.size() || op_->has_full_field() != options_.full_field)
+      throw std::invalid_argument("compliance contact: the shared operator was built for another mesh, candidates, "
+                                  "SED nodes, face samples or full field");
+  } else {
     SystemMatrix K;
     AssembleRestStiffness(mesh, terms_, K);
-    op_ = std::make_unique<ComplianceOperator>(mesh, K, std::move(candidate_nodes), sed_map_->sed_nodes(),
-                                               OperatorOptionsOf(options_));
+    op_ = std::make_shared<const ComplianceOperator>(mesh, K, std::move(candidate_nodes), sed_map_->sed_nodes(),
+                                                     OperatorOptionsOf(options_));
   }
+  op_scratch_ = op_->MakeScratch();
   sed_map_->BindOperator(op_->G());
   x_ = Eigen::Map<const Eigen::VectorXd>(mesh.rest_positions_m.data(), mesh.rest_positions_m.size());
   f_c_ = u_c_ = u_t_ = Eigen::VectorXd::Zero(3 * num_samples());
@@ -560,9 +569,9 @@ void ComplianceContact::AddSedForces() {
     return;
   }
   // G is over the nodes: the samples' forces go to their nodes first.
-  for (int j : loaded_) op_->AddSampleForce(j, f_c_.segment<3>(3 * j));
-  sed_map_->BeginForces(op_->num_forced_nodes());
-  op_->TakeNodeForces([&](int node, const Eigen::Vector3d& f) { sed_map_->AddNodeForce(node, f); });
+  for (int j : loaded_) op_->AddSampleForce(j, f_c_.segment<3>(3 * j), op_scratch_);
+  sed_map_->BeginForces(Eigen::Index(op_scratch_.forced_nodes.size()));
+  op_->TakeNodeForces([&](int node, const Eigen::Vector3d& f) { sed_map_->AddNodeForce(node, f); }, op_scratch_);
 }
 
 }  // namespace sedbridge::fem

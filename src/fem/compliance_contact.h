@@ -76,6 +76,11 @@ struct ComplianceContactOptions {
   /// precompute (the cache holds the nodes' blocks); the products go through the nodes.
   /// Empty: node contact, the paper's and the full FE's.
   std::vector<ContactSample> face_samples;
+  /// An operator another contact built for the same mesh object, candidate nodes, SED nodes,
+  /// face samples and full_field (ComplianceContact::shared_operator()): used read-only
+  /// instead of a precompute of its own (a hand's fingers on one leader model). Null: built
+  /// here. Throws std::invalid_argument when it does not fit.
+  std::shared_ptr<const ComplianceOperator> shared_operator;
 };
 
 /// One contact step's answer. Contacts are (node, object) pairs, as PenaltyContactForce.
@@ -220,6 +225,8 @@ class ComplianceContact {
   const ComplianceSedMap& sed_map() const { return *sed_map_; }
   /// The precomputed operator (W, G, the cache) this contact solves with.
   const ComplianceOperator& compliance_operator() const { return *op_; }
+  /// The same operator, for another contact on this mesh to share (shared_operator).
+  std::shared_ptr<const ComplianceOperator> shared_operator() const { return op_; }
 
   const ComplianceContactOptions& options() const { return options_; }
   /// The solve's tolerance (ComplianceContactOptions::relative_tolerance) for the steps
@@ -337,7 +344,8 @@ class ComplianceContact {
   std::vector<std::unique_ptr<ForceTerm>> terms_;
   ComplianceContactOptions options_;
   std::unique_ptr<ComplianceSedMap> sed_map_;
-  std::unique_ptr<ComplianceOperator> op_;
+  std::shared_ptr<const ComplianceOperator> op_;
+  NodeForceScratch op_scratch_;  // this contact's own: op_ may be shared
   double precompute_s_ = 0;
 
   // Per-step state: contact pairs p = candidate * #objects + object.

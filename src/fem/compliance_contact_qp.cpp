@@ -24,7 +24,7 @@ using column_products::SetThreeColumns;
 void ComplianceContact::CandidateDisplacements(bool normal_forces_only) {
   u_c_.setZero();
   if (!normal_forces_only || num_objects_ <= 0) {
-    op_->AddWTimes(loaded_, [](int j) { return j; }, [&](int j) { return Eigen::Vector3d(f_c_.segment<3>(3 * j)); }, u_c_);
+    op_->AddWTimes(loaded_, [](int j) { return j; }, [&](int j) { return Eigen::Vector3d(f_c_.segment<3>(3 * j)); }, u_c_, op_scratch_);
     return;
   }
   // A sample's force is the sum of its pairs' l_p n_p: where every such pair's row still
@@ -48,7 +48,7 @@ void ComplianceContact::CandidateDisplacements(bool normal_forces_only) {
     for (int o = 0; o < no; ++o)
       if (lambda_N_[j * no + o] > 0) from_t.push_back(j * no + o);
   }
-  op_->AddWTimes(from_w, [](int j) { return j; }, [&](int j) { return Eigen::Vector3d(f_c_.segment<3>(3 * j)); }, u_c_);
+  op_->AddWTimes(from_w, [](int j) { return j; }, [&](int j) { return Eigen::Vector3d(f_c_.segment<3>(3 * j)); }, u_c_, op_scratch_);
   AddColumnsOfT(from_t, [&](int p) { return t_slot_of_row_[size_t(p)]; }, [&](int p) { return lambda_N_[p]; }, u_c_);
 }
 
@@ -241,7 +241,7 @@ int ComplianceContact::BuildQpRows(int no, const Eigen::Vector3d& tau) {
   // Only samples with a normal force or a sample load hold a share, and loaded_ lists them
   // (this iteration's forces, in order).
   u_t_.setZero(3 * c);
-  op_->AddWTimes(loaded_, [](int j) { return j; }, [&](int j) { return Eigen::Vector3d(held_.segment<3>(3 * j)); }, u_t_);
+  op_->AddWTimes(loaded_, [](int j) { return j; }, [&](int j) { return Eigen::Vector3d(held_.segment<3>(3 * j)); }, u_t_, op_scratch_);
   // Rows: force lambda_r along dir_r at node_r with "gap" g_r (linearized about the current
   // positions) and compliance c_r: lambda_r = -g_r(new) / c_r. Normal rows are bounded
   // (lambda >= 0: the penalty never pulls); friction rows (two tangent directions of an
@@ -323,7 +323,7 @@ void ComplianceContact::PredictDisplacements(const Eigen::VectorXd& l) {
                    const int r = passive_[size_t(a)];
                    return Eigen::Vector3d(l[r] * row_dir_.col(r));
                  },
-                 u_new_);
+                 u_new_, op_scratch_);
 }
 
 bool ComplianceContact::RunActiveSet(int rows, const ForceControl* control, double* delta, bool* ok) {

@@ -104,8 +104,6 @@ ComplianceOperator::ComplianceOperator(const TetMesh& mesh, const SystemMatrix& 
   rest_samples_m_.resize(3, c);
   for (int j = 0; j < c; ++j) rest_samples_m_.col(j) = mesh.rest_positions_m.col(candidates_[size_t(j)]);
   sample_node_ = candidates_;
-  node_force_ = node_u_ = Eigen::VectorXd::Zero(3 * c);
-  node_forced_.assign(size_t(c), 0);
   if (!options_.face_samples.empty()) AddFaceSamples();
   precompute_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
@@ -158,14 +156,22 @@ void ComplianceOperator::AddFaceSamples() {
   }
 }
 
-void ComplianceOperator::AddSampleForce(int j, const Eigen::Vector3d& f) const {
+NodeForceScratch ComplianceOperator::MakeScratch() const {
+  const int c = int(candidates_.size());
+  NodeForceScratch s;
+  s.node_force = s.node_u = Eigen::VectorXd::Zero(3 * c);
+  s.node_forced.assign(size_t(c), 0);
+  return s;
+}
+
+void ComplianceOperator::AddSampleForce(int j, const Eigen::Vector3d& f, NodeForceScratch& scratch) const {
   const int c = int(candidates_.size());
   auto add = [&](int node, const Eigen::Vector3d& g) {
-    if (!node_forced_[size_t(node)]) {
-      node_forced_[size_t(node)] = 1;
-      forced_nodes_.push_back(node);
+    if (!scratch.node_forced[size_t(node)]) {
+      scratch.node_forced[size_t(node)] = 1;
+      scratch.forced_nodes.push_back(node);
     }
-    node_force_.segment<3>(3 * node) += g;
+    scratch.node_force.segment<3>(3 * node) += g;
   };
   if (j < c) {
     add(j, f);
@@ -188,8 +194,9 @@ void ComplianceOperator::AddToSamples(const Eigen::VectorXd& u_nodes, Eigen::Vec
 Eigen::VectorXd ComplianceOperator::FullPositions(const std::vector<int>& loaded, const Eigen::VectorXd& f_samples_N) const {
   if (F_.size() == 0) return {};
   Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(mesh_.rest_positions_m.data(), mesh_.rest_positions_m.size());
-  for (int j : loaded) AddSampleForce(j, f_samples_N.segment<3>(3 * j));  // F_ is over the nodes
-  ApplyNodeForces(F_, x);
+  NodeForceScratch scratch = MakeScratch();
+  for (int j : loaded) AddSampleForce(j, f_samples_N.segment<3>(3 * j), scratch);  // F_ is over the nodes
+  ApplyNodeForces(F_, x, scratch);
   return x;
 }
 

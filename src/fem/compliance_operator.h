@@ -56,6 +56,16 @@ const ElasticTetForce& LinearElasticTermOf(const std::vector<std::unique_ptr<For
 /// K at rest [N/m] from the model's own terms (quasi-static: stiffness only), into K.
 void AssembleRestStiffness(const TetMesh& mesh, const std::vector<std::unique_ptr<ForceTerm>>& terms, SystemMatrix& K);
 
+/// The node scratch of the products through the nodes (B^T f: face samples' forces spread
+/// onto their nodes). Each user of an operator holds its own, so one operator, built once,
+/// is shared read-only by several contacts (a hand's fingers on one leader model).
+struct NodeForceScratch {
+  Eigen::VectorXd node_force, node_u;
+  std::vector<int> forced_nodes;
+  std::vector<char> node_forced;
+};
+
+
 class ComplianceOperator {
  public:
   /// @param mesh            rest mesh (must outlive this object)
@@ -67,6 +77,7 @@ class ComplianceOperator {
                      std::vector<int> sed_nodes, ComplianceOperatorOptions options = {});
 
   int num_candidates() const { return int(candidates_.size()); }
+  const TetMesh& mesh() const { return mesh_; }
   /// Contact points: the candidate nodes, then the face samples.
   int num_samples() const { return int(rest_samples_m_.cols()); }
   const std::vector<int>& candidate_nodes() const { return candidates_; }
@@ -83,15 +94,17 @@ class ComplianceOperator {
   /// u_samples += W f over `items`: the force force(item) [N] at contact point
   /// sample_of(item) (zero forces skipped).
   template <typename Items, typename SampleOf, typename Force>
-  void AddWTimes(const Items& items, const SampleOf& sample_of, const Force& force, Eigen::VectorXd& u_samples) const;
+  void AddWTimes(const Items& items, const SampleOf& sample_of, const Force& force, Eigen::VectorXd& u_samples,
+                 NodeForceScratch& scratch) const;
   /// Spreads a contact point's force [N] onto its nodes (the node scratch); TakeNodeForces
   /// then hands them out.
-  void AddSampleForce(int sample, const Eigen::Vector3d& f_N) const;
+  void AddSampleForce(int sample, const Eigen::Vector3d& f_N, NodeForceScratch& scratch) const;
   /// Calls take(node, force) for every candidate node with a force in the scratch, in the
   /// order they got one, and clears them.
   template <typename Take>
-  void TakeNodeForces(const Take& take) const;
-  int num_forced_nodes() const { return int(forced_nodes_.size()); }
+  void TakeNodeForces(const Take& take, NodeForceScratch& scratch) const;
+  /// A zeroed scratch of this operator's size.
+  NodeForceScratch MakeScratch() const;
   /// Every node's position [m] (3 #nodes) under the contact points' forces f_samples_N
   /// (3 #samples) at `loaded`; full_field only (empty otherwise).
   Eigen::VectorXd FullPositions(const std::vector<int>& loaded, const Eigen::VectorXd& f_samples_N) const;
@@ -109,7 +122,7 @@ class ComplianceOperator {
   void AddFaceSamples();
   /// y += A (the node scratch) over the nodes with a force, which are then cleared.
   template <typename Matrix>
-  void ApplyNodeForces(const Matrix& A, Eigen::VectorXd& y) const;
+  void ApplyNodeForces(const Matrix& A, Eigen::VectorXd& y, NodeForceScratch& scratch) const;
   /// u_samples += B u_nodes.
   void AddToSamples(const Eigen::VectorXd& u_nodes, Eigen::VectorXd& u_samples) const;
 
@@ -119,33 +132,29 @@ class ComplianceOperator {
   Eigen::MatrixXd W_, G_, F_;  // F_: K^-1 H^T for every dof (full_field only)
   Eigen::MatrixXd W_nodes_;    // face samples: W over the nodes (G_ and F_ stay over the nodes)
   Eigen::Matrix3Xd rest_samples_m_;
-  // Scratch of the products through the nodes (B^T f): mutable, the products are const.
-  mutable Eigen::VectorXd node_force_, node_u_;
-  mutable std::vector<int> forced_nodes_;
-  mutable std::vector<char> node_forced_;
   double precompute_s_ = 0;
   bool loaded_from_cache_ = false;
   std::string cache_file_, cache_rejected_;
 };
 
 template <typename Take>
-void ComplianceOperator::TakeNodeForces(const Take& take) const {
-  for (int node : forced_nodes_) {
-    take(node, Eigen::Vector3d(node_force_.segment<3>(3 * node)));
-    node_force_.segment<3>(3 * node).setZero();
-    node_forced_[size_t(node)] = 0;
+void ComplianceOperator::TakeNodeForces(const Take& take, NodeForceScratch& scratch) const {
+  for (int node : scratch.forced_nodes) {
+    take(node, Eigen::Vector3d(scratch.node_force.segment<3>(3 * node)));
+    scratch.node_force.segment<3>(3 * node).setZero();
+    scratch.node_forced[size_t(node)] = 0;
   }
-  forced_nodes_.clear();
+  scratch.forced_nodes.clear();
 }
 
 template <typename Matrix>
-void ComplianceOperator::ApplyNodeForces(const Matrix& A, Eigen::VectorXd& y) const {
-  TakeNodeForces([&](int node, const Eigen::Vector3d& f) { column_products::AddColumns3(A, node, f, y); });
+void ComplianceOperator::ApplyNodeForces(const Matrix& A, Eigen::VectorXd& y, NodeForceScratch& scratch) const {
+  TakeNodeForces([&](int node, const Eigen::Vector3d& f) { column_products::AddColumns3(A, node, f, y); }, scratch);
 }
 
 template <typename Items, typename SampleOf, typename Force>
 void ComplianceOperator::AddWTimes(const Items& items, const SampleOf& sample_of, const Force& force,
-                                   Eigen::VectorXd& u_samples) const {
+                                   Eigen::VectorXd& u_samples, NodeForceScratch& scratch) const {
   if (options_.face_samples.empty()) {
     for (int item : items) {
       const Eigen::Vector3d f = force(item);
@@ -155,12 +164,12 @@ void ComplianceOperator::AddWTimes(const Items& items, const SampleOf& sample_of
   }
   for (int item : items) {
     const Eigen::Vector3d f = force(item);
-    if (!f.isZero(0.0)) AddSampleForce(sample_of(item), f);
+    if (!f.isZero(0.0)) AddSampleForce(sample_of(item), f, scratch);
   }
-  if (forced_nodes_.empty()) return;  // no force (a press without shear: the tangential part)
-  node_u_.setZero();
-  ApplyNodeForces(W_nodes_, node_u_);
-  AddToSamples(node_u_, u_samples);
+  if (scratch.forced_nodes.empty()) return;  // no force (a press without shear: the tangential part)
+  scratch.node_u.setZero();
+  ApplyNodeForces(W_nodes_, scratch.node_u, scratch);
+  AddToSamples(scratch.node_u, u_samples);
 }
 
 }  // namespace sedbridge::fem
