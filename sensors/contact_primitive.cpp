@@ -4,7 +4,8 @@ namespace sedbridge::sensors {
 
 const config::EnumNames<ContactShape>& NamesOf(ContactShape) {
   static const config::EnumNames<ContactShape> names{
-      {ContactShape::kSphere, "sphere"}, {ContactShape::kCylinder, "cylinder"}, {ContactShape::kFlat, "flat"}};
+      {ContactShape::kSphere, "sphere"}, {ContactShape::kCylinder, "cylinder"}, {ContactShape::kFlat, "flat"},
+      {ContactShape::kPunch, "punch"}};
   return names;
 }
 

@@ -1,5 +1,6 @@
 #pragma once
-// The contact primitive: one object pressed onto a pad (sphere, rod, flat), with its pose,
+// The contact primitive: one object pressed onto a pad (sphere, rod, flat, flat-faced
+// punch), with its pose,
 // size and load. The central concept of the contact path: the sensor's forward model
 // predicts readings from it, contact reconstruction (src/contact/) recovers it from a scan,
 // and the leader press and the simulated pad press its rigid object.
@@ -16,25 +17,28 @@
 namespace sedbridge::sensors {
 
 /// The contact shapes the model and the reconstruction know.
-enum class ContactShape { kSphere, kCylinder, kFlat };
+enum class ContactShape { kSphere, kCylinder, kFlat, kPunch };
 
-/// "sphere", "cylinder", "flat": the one name table (common/enum_names.h).
+/// "sphere", "cylinder", "flat", "punch": the one name table (common/enum_names.h).
 const config::EnumNames<ContactShape>& NamesOf(ContactShape);
-/// "sphere" | "cylinder" | "flat"; throws std::invalid_argument for anything else.
+/// "sphere" | "cylinder" | "flat" | "punch"; throws std::invalid_argument for anything else.
 ContactShape ContactShapeFromName(const std::string& name);
 const char* ContactShapeName(ContactShape shape);
 
 /// One object pressed onto the sensor pad, in the pad frame.
 struct ContactPrimitive {
   ContactShape shape = ContactShape::kSphere;
-  double x_mm = 0;        ///< sphere: lowest point; cylinder: a point on the axis (a finite rod: its centre); flat: unused
+  double x_mm = 0;        ///< sphere: lowest point; cylinder: a point on the axis (a finite rod: its centre); punch: its face's centre; flat: unused
   double y_mm = 0;
   double radius_mm = 5;   ///< sphere/cylinder radius
-  double yaw_deg = 0;     ///< cylinder axis direction (cos yaw, sin yaw, 0)
+  double yaw_deg = 0;     ///< cylinder axis direction (cos yaw, sin yaw, 0); a punch's first side
   double length_mm = 0;   ///< cylinder: its length, centred on (x, y) [mm]; 0 = crosses the whole pad
   double normal_force_N = 0;  ///< pressing force (>= 0)
   double shear_x_N = 0;   ///< total tangential force on the pad (object drags the pad along +x)
   double shear_y_N = 0;
+  /// Punch: a rectangular face's half sizes along (cos yaw, sin yaw) and across it [mm]
+  /// (sensors/flat_punch_pressure.h); radius_mm unused.
+  double half_size_mm[2] = {0, 0};
 };
 
 }  // namespace sedbridge::sensors

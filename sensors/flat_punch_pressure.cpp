@@ -78,4 +78,70 @@ std::vector<SurfaceLoad> FlatPunchLoads(const TactileForwardModel& model, const 
   return loads;
 }
 
+FlatPunch FlatPunchOf(const ContactPrimitive& c) {
+  FlatPunch punch;
+  punch.x_mm = c.x_mm;
+  punch.y_mm = c.y_mm;
+  punch.half_size_mm[0] = c.half_size_mm[0];
+  punch.half_size_mm[1] = c.half_size_mm[1];
+  punch.yaw_deg = c.yaw_deg;
+  punch.normal_force_N = c.normal_force_N;
+  return punch;
+}
+
+void SplatFlatPunch(const FlatPunch& punch, const Eigen::Vector2d& origin, double h, int n,
+                    std::vector<SurfaceLoad>* loads) {
+  const double a = punch.half_size_mm[0], b = punch.round ? a : punch.half_size_mm[1];
+  if (!(a > 0 && b > 0) || !(punch.normal_force_N > 0) || !(h > 0) || n <= 0) return;
+  const double rounding = std::max(punch.rounding_mm, 0.0);
+  const double c = std::cos(punch.yaw_deg * M_PI / 180), s = std::sin(punch.yaw_deg * M_PI / 180);
+  // Dense accumulation over the grid, the touched cells listed (a thread's buffers).
+  thread_local std::vector<double> grid;
+  thread_local std::vector<int> touched;
+  grid.assign(size_t(n) * size_t(n), 0.0);
+  touched.clear();
+  double total = 0;
+  auto add = [&](int col, int row, double w) {
+    if (col < 0 || row < 0 || col >= n || row >= n || !(w > 0)) return;
+    double& g = grid[size_t(row) * size_t(n) + size_t(col)];
+    if (g == 0) touched.push_back(row * n + col);
+    g += w;
+  };
+  auto deposit = [&](double u, double v, double w) {
+    total += w;
+    const double gx = (punch.x_mm + c * u - s * v - origin.x()) / h, gy = (punch.y_mm + s * u + c * v - origin.y()) / h;
+    const double fx = std::floor(gx), fy = std::floor(gy), tx = gx - fx, ty = gy - fy;
+    const int i = int(fx), j = int(fy);
+    add(i, j, w * (1 - tx) * (1 - ty));
+    add(i + 1, j, w * tx * (1 - ty));
+    add(i, j + 1, w * (1 - tx) * ty);
+    add(i + 1, j + 1, w * tx * ty);
+  };
+  constexpr int m = kPunchStripsPerSide;
+  if (punch.round) {
+    constexpr int rings = m / 2;
+    for (int i = 0; i < rings; ++i) {
+      const double r0 = a * i / rings, r1 = a * (i + 1) / rings, rm = 0.5 * (r0 + r1);
+      const double w = CappedRingIntegral(r1, a, rounding) - CappedRingIntegral(r0, a, rounding);
+      const int sectors = 4 * (i + 1);
+      for (int k = 0; k < sectors; ++k) {
+        const double t = 2 * M_PI * (k + 0.5) / sectors;
+        deposit(rm * std::cos(t), rm * std::sin(t), w / sectors);
+      }
+    }
+  } else {
+    double wu[m], wv[m];
+    for (int j = 0; j < m; ++j) {
+      wu[j] = StripWeight(-a + 2 * a * j / m, -a + 2 * a * (j + 1) / m, a, rounding);
+      wv[j] = StripWeight(-b + 2 * b * j / m, -b + 2 * b * (j + 1) / m, b, rounding);
+    }
+    for (int i = 0; i < m; ++i)
+      for (int j = 0; j < m; ++j) deposit(-a + a * (2 * i + 1) / m, -b + b * (2 * j + 1) / m, wu[i] * wv[j]);
+  }
+  if (!(total > 0)) return;
+  std::sort(touched.begin(), touched.end());
+  const double scale = punch.normal_force_N / total;
+  for (const int cell : touched) loads->push_back({cell, scale * grid[size_t(cell)], 0, 0});
+}
+
 }  // namespace sedbridge::sensors

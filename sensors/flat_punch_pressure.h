@@ -1,8 +1,7 @@
 #pragma once
 // The pressure of a rigid flat-faced punch on the sensor's pad, on the forward model's load
-// grid: the first part of a punch primitive for the forward model. Not yet a
-// ContactShape: the reconstruction does not fit it, and nothing but its test and the rig
-// check below calls it.
+// grid: the forward model's punch (ContactShape::kPunch, SplatFlatPunch) and the rig check
+// (FlatPunchLoads).
 //
 // A rigid flat punch on an elastic half-space loads its edges most:
 //   round (radius a):        p(r) = F / (2 pi a sqrt(a^2 - r^2))          (Boussinesq)
@@ -38,5 +37,21 @@ struct FlatPunch {
 /// quarter cell, so the edge's concentration is kept where a sampled law would miss it.
 /// rounding_mm at or above the half size gives a uniform face.
 std::vector<SurfaceLoad> FlatPunchLoads(const TactileForwardModel& model, const FlatPunch& punch);
+
+/// A punch primitive (ContactShape::kPunch) as the forward model presses it: its pose, half
+/// sizes and force, rectangular, with the rig's rounding (FlatPunch's default).
+FlatPunch FlatPunchOf(const ContactPrimitive& punch);
+
+/// Strips a side of the rectangle (SplatFlatPunch): a fixed count, so that the loads do not
+/// jump as the half sizes change (a fit differences them).
+constexpr int kPunchStripsPerSide = 24;
+/// The same pressure (rectangle, or round: rings) for a fit: each strip's exact share of the
+/// force, spread bilinearly over the four cells around its centre, so the loads move smoothly
+/// with the pose and size (FlatPunchLoads' nearest cell moves them in jumps). Grid: n x n
+/// cells of side h, cell 0's centre at `origin`, cell = row * n + column; cells off it get
+/// nothing (the pad ends there), and the rest is not scaled back (as FlatPunchLoads). The
+/// loads are appended to `loads` (normal only), in cell order. About 10 us.
+void SplatFlatPunch(const FlatPunch& punch, const Eigen::Vector2d& origin, double h, int n,
+                    std::vector<SurfaceLoad>* loads);
 
 }  // namespace sedbridge::sensors

@@ -8,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "sensors/flat_punch_pressure.h"
+
 namespace sedbridge::sensors {
 
 namespace {
@@ -454,6 +456,9 @@ void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLo
       }
       break;
     }
+    case ContactShape::kPunch:
+      SplatFlatPunch(FlatPunchOf(c), {grid_x0_mm_, grid_y0_mm_}, h, grid_n_, loads);
+      break;
     case ContactShape::kFlat:
       add_box(-half, half, -half, half,
               [&](double x, double y) { return Coverage1d(x, h, half) * Coverage1d(y, h, half); });
@@ -501,6 +506,8 @@ double TactileForwardModel::PatchCellsEstimate(const ContactPrimitive& c) const 
       const double b = RodHalfWidth_mm(F / L, c.radius_mm);
       return std::min(2.0 * b * (L + 2.0 * kGridMargin_mm), grid_area) / (h * h);
     }
+    case ContactShape::kPunch:  // the face's cells and a ring of the splat's around it
+      return std::min(4.0 * (c.half_size_mm[0] + 0.5 * h) * (c.half_size_mm[1] + 0.5 * h), grid_area) / (h * h);
     default: return 0;
   }
 }

@@ -12,6 +12,8 @@
 //                edge of length_mm: a ruler's, a key's) loads only its own length; the
 //                band is widened to sqrt(b^2 + w^2), w = rod_min_halfwidth_mm (the sensor's
 //                cover spreads a thin line over a width of its own)
+//       punch    a rigid rectangular flat face, loaded most at its edges
+//                (sensors/flat_punch_pressure.h: SplatFlatPunch)
 //       flat     uniform over the pad square (side pad_size_mm)
 //     each scaled so the cells sum to the normal force F; a tangential force T (stroking)
 //     is spread over the same cells in proportion to p.

@@ -23,6 +23,14 @@ geometry::RigidObject RigidObjectOf(const ContactPrimitive& p, double rod_half_l
       pose.linear() = geometry::RotationFromRpyDeg(Eigen::Vector3d(0, 0, p.yaw_deg));
       pose.translation() = Eigen::Vector3d(p.x_mm * 1e-3, p.y_mm * 1e-3, r_m);
       break;
+    case ContactShape::kPunch: {
+      o.name = "punch";
+      const Eigen::Vector3d half_m(p.half_size_mm[0] * 1e-3, p.half_size_mm[1] * 1e-3, 0.5e-3 * kPunchHeight_mm);
+      o.shape = std::make_shared<geometry::BoxSdf>(half_m, std::min(kPunchRounding_mm * 1e-3, half_m.minCoeff()));
+      pose.linear() = geometry::RotationFromRpyDeg(Eigen::Vector3d(0, 0, p.yaw_deg));
+      pose.translation() = Eigen::Vector3d(p.x_mm * 1e-3, p.y_mm * 1e-3, half_m.z());
+      break;
+    }
     case ContactShape::kFlat:
       o.name = "flat";
       o.shape = std::make_shared<geometry::PlaneSdf>();

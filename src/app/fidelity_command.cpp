@@ -259,7 +259,7 @@ void ReportCase(const FidelityRow& r, const FidelityMaps& maps, std::ofstream& c
   std::fflush(stdout);
   char line[2048];
   std::snprintf(line, sizeof line,
-                "%s,\"%s\",%s,%g,%g,%g,%g,%g,%d,%s,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%s,%s,%g,%g,%d,%d,%d,%g,%g,%g,%g,%g\n",
+                "%s,\"%s\",%s,%g,%g,%g,%g,%g,%d,%s,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%g,%s,%s,%g,%g,%d,%d,%d,%g,%g,%g,%g,%g,%d,%d,%g\n",
                 r.name.c_str(), r.label.c_str(), r.truth_is_primitive ? sensors::ContactShapeName(t.shape) : "other", t.x_mm, t.y_mm, t.radius_mm, t.yaw_deg,
                 t.normal_force_N, r.recon_ok ? 1 : 0, recon_shape, e.x_mm, e.y_mm,
                 e.radius_mm, e.yaw_deg, recon_force_N, e.shear_x_N, e.shear_y_N, r.recon_rms_sigma,
@@ -269,7 +269,9 @@ void ReportCase(const FidelityRow& r, const FidelityMaps& maps, std::ofstream& c
                 r.recon_error.command_rel_l2, r.recon_median_us, r.recon_max_us, r.truth_press.c_str(),
                 r.recon_press.c_str(), r.map_error.peak_region_offset_mm, r.recon_error.peak_region_offset_mm,
                 r.truth_valid ? 1 : 0, map_within ? 1 : 0, recon_within ? 1 : 0, e2.x_mm, e2.y_mm, e2.radius_mm,
-                e2.normal_force_N, e.length_mm);
+                e2.normal_force_N, e.shape == sensors::ContactShape::kPunch ? 2 * e.half_size_mm[0] : e.length_mm,
+                r.recon_inadequate ? 1 : 0, r.recon_inadequate_scans,
+                e.shape == sensors::ContactShape::kPunch ? 2 * e.half_size_mm[1] : 0.0);
   csv << line;
   std::ofstream m(out + "/maps/" + r.name + ".csv");
   m << "x_mm,y_mm,z_mm,truth_sed_Pa,map_sed_Pa,recon_sed_Pa\n";
@@ -331,7 +333,8 @@ int RunFidelity(int argc, char** argv) {
          "recon_max_sed_Pa,map_peak_ratio,map_rel_l2,map_peak_offset_mm,map_command_rel_l2,recon_peak_ratio,"
          "recon_rel_l2,recon_peak_offset_mm,recon_command_rel_l2,recon_median_us,recon_max_us,truth_press,recon_press,"
          "map_peak_region_offset_mm,recon_peak_region_offset_mm,truth_valid,map_within_targets,recon_within_targets,"
-         "recon2_x_mm,recon2_y_mm,recon2_radius_mm,recon2_force_N,recon_length_mm\n";
+         "recon2_x_mm,recon2_y_mm,recon2_radius_mm,recon2_force_N,recon_length_mm,recon_inadequate,"
+         "recon_inadequate_scans,recon_width_mm\n";
   std::printf("%-16s %-8s %6s | %-8s %6s %5s %6s | map: %5s %5s %5s | recon: %5s %5s %5s\n", "case", "object", "F_N",
               "recon", "R_mm", "dxy", "F_N", "peak", "L2", "off", "peak", "L2", "off");
   TargetTally tally;

@@ -159,6 +159,7 @@ void BridgePipeline::PublishContact(int64_t now_utime, ScanOutcome* outcome) {
   const contact::ContactReport* report = fe_->contact_report();
   if (!report) return;
   const StageTimer timer(outcome->stage_ms, Stage::kPublish);
+  if (report->estimate.model_inadequate) ++model_inadequate_scans_;
   lcmt_contact_estimate msg = lcm_io::ToLcm(*report);
   msg.utime = now_utime;
   display_->publisher().Publish(display_->publisher().channels().contact, msg);
@@ -278,6 +279,7 @@ lcmt_bridge_status BridgePipeline::MakeStatus(int64_t now_utime) const {
   s.limiter_p50_ms = static_cast<float>(p50[Stage::kLimiter]);
   s.publish_p50_ms = static_cast<float>(p50[Stage::kPublish]);
   lcm_io::SetTaxelHealth(health_, &s);
+  s.model_inadequate_scans = model_inadequate_scans_;
   return s;
 }
 

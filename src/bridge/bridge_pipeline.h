@@ -164,6 +164,7 @@ class BridgePipeline {
   int64_t status_period_us_;
   int64_t window_start_utime_ = -1;
   int64_t window_scans_ = 0, window_steps_ = 0, window_commands_ = 0, window_invalid_ = 0;
+  int64_t model_inadequate_scans_ = 0;  // since start: CONTACT_ESTIMATE model_inadequate (BRIDGE_STATUS)
   double window_rates_[3] = {0, 0, 0};
   LatencySummary window_latency_;
   StageTimes window_stage_p50_ms_;

@@ -34,6 +34,12 @@ struct ContactEstimate {
   int evaluation_cost = 0;    ///< the same weighted by patch size, as the amortized budgets count them
   bool warm_started = false;  ///< the last scan's estimate was refined, no model selection
   std::string problem;        ///< why not ok
+  /// Contact, and no model explains the scans within noise: the best fit's RMS residual (over
+  /// the hold window, in single-scan noise) above what noise and the model's error leave
+  /// (ReconstructionOptions::adequacy_z, model_error_sigma), or no plausible fit at all
+  /// (every fallback). Said, never silent: the answer may be the
+  /// wrong object even when ok (CONTACT_ESTIMATE model_inadequate).
+  bool model_inadequate = false;
   /// Per taxel (sensor profile order), how the fit weighed it: TaxelUse. Empty when the scan
   /// did not reach the fit (wrong size).
   std::vector<TaxelUse> taxel_use;

@@ -33,6 +33,13 @@ void AppendShapeUnknowns(const ContactPrimitive& p, Eigen::VectorXd* u, int* i) 
       }
       break;
     }
+    case ContactShape::kPunch:
+      (*u)[(*i)++] = p.x_mm;
+      (*u)[(*i)++] = p.y_mm;
+      (*u)[(*i)++] = std::log(p.half_size_mm[0]);
+      (*u)[(*i)++] = std::log(p.half_size_mm[1]);
+      (*u)[(*i)++] = p.yaw_deg * kPi / 180;
+      break;
     case ContactShape::kFlat: break;
   }
   (*u)[(*i)++] = std::log(std::max(p.normal_force_N, 1e-6));
@@ -43,7 +50,11 @@ void AppendShapeUnknowns(const ContactPrimitive& p, Eigen::VectorXd* u, int* i) 
 bool IsFiniteRod(const ContactPrimitive& p) { return p.shape == ContactShape::kCylinder && p.length_mm > 0; }
 
 int UnknownCount(ContactShape s, bool pair, bool finite, bool shear) {
-  const int base = pair ? 2 * kSphereUnknowns : s == ContactShape::kFlat ? 1 : finite ? 6 : 4;
+  const int base = pair                       ? 2 * kSphereUnknowns
+                   : s == ContactShape::kFlat  ? 1
+                   : s == ContactShape::kPunch ? kPunchUnknowns
+                   : finite                    ? 6
+                                               : 4;
   return base + (shear ? 2 : 0);
 }
 
@@ -72,6 +83,18 @@ ContactPrimitive ShapeFromUnknowns(ContactShape shape, bool finite, const double
         p.y_mm += along * std::sin(yaw);
         p.length_mm = 2 * std::exp(std::clamp(u[i++], std::log(kMinHalfLength_mm), std::log(kMaxHalfLength_mm)));
       }
+      break;
+    }
+    case ContactShape::kPunch: {
+      p.x_mm = u[i++];
+      p.y_mm = u[i++];
+      for (double& half : p.half_size_mm)
+        half = std::exp(std::clamp(u[i++], std::log(kMinPunchHalfSize_mm), std::log(kMaxPunchHalfSize_mm)));
+      // A rectangle turned by 180 deg is itself: its yaw in [-90, 90).
+      double deg = std::remainder(u[i++] * 180 / kPi, 180.0);
+      if (deg >= 90) deg -= 180;
+      p.yaw_deg = deg;
+      p.radius_mm = 0;
       break;
     }
     case ContactShape::kFlat: p.radius_mm = 0; break;

@@ -7,6 +7,7 @@
 //   rod:         offset of the axis from the pad centre along its normal, yaw, log R, log F
 //   finite rod:  offset, yaw, log R, centre along the axis, log half-length, log F
 //   flat:        log F
+//   punch:       x, y (the face's centre), log a, log b (half sizes), yaw, log F
 //   pair:        two spheres' (8), the second's after the first's
 // then, with shear, T_x, T_y [N] (the whole tangential force).
 
@@ -30,6 +31,10 @@ constexpr int kSphereUnknowns = 4;
 
 /// A finite rod's half-length stays within these [mm] (longer crosses the pad anyway).
 constexpr double kMinHalfLength_mm = 0.25, kMaxHalfLength_mm = 15;
+/// A punch's half sizes stay within these [mm]: narrower is a rod's edge to the sensor (its
+/// taxels 4.7 mm apart), wider covers the pad.
+constexpr double kMinPunchHalfSize_mm = 0.25, kMaxPunchHalfSize_mm = 8;
+constexpr int kPunchUnknowns = 6;
 
 /// A cylinder of finite length (an edge), not one across the pad.
 bool IsFiniteRod(const sensors::ContactPrimitive& p);

@@ -66,9 +66,13 @@ bool ContactReconstructor::Plausible(const ContactPrimitive& p) const {
   if (!std::isfinite(p.x_mm) || !std::isfinite(p.y_mm) || !std::isfinite(p.normal_force_N) ||
       !std::isfinite(p.shear_x_N) || !std::isfinite(p.shear_y_N))
     return false;
-  if (p.shape != ContactShape::kFlat &&
-      (p.radius_mm < options_.min_radius_mm || p.radius_mm > options_.max_radius_mm))
+  if (p.shape == ContactShape::kPunch) {
+    for (const double half : p.half_size_mm)
+      if (!(half >= kMinPunchHalfSize_mm && half <= kMaxPunchHalfSize_mm)) return false;
+  } else if (p.shape != ContactShape::kFlat &&
+             (p.radius_mm < options_.min_radius_mm || p.radius_mm > options_.max_radius_mm)) {
     return false;
+  }
   if (IsFiniteRod(p)) {
     // An edge: at least min_rod_length_mm and its diameter long (a stubby cylinder's patch
     // is a sphere's: a held-out 15 mm sphere was read as a rod of radius 11 mm, 4.9 mm long,
@@ -125,6 +129,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
   if (!std::isfinite(s.best.chi2)) {
     estimate_.problem = "no shape fitted";
     ++counters_.fallbacks;
+    FlagInadequate(s.dof);
     have_last_ = false;  // the candidate (amortized) goes on from its iterate
     have_last_chi2_ = false;
     return estimate_;
@@ -134,7 +139,20 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
   LeaveOutLoneMisfit(s);
   Accept(s.best, s.warm_won, s.dof);
   if (carried_lone && estimate_.ok) MaybeTakeBackLoneTaxel(s.best);
+  FlagInadequate(s.dof);
   return estimate_;
+}
+
+void ContactReconstructor::FlagInadequate(double dof) {
+  // No model explains the contact within noise: nothing plausible, or a residual above the
+  // hold mean's noise (a chi^2 test at adequacy_z) and the model's own error
+  // (reconstruction_options.h). dof = m channels x N scans.
+  const double n = std::max(1, estimate_.averaged_scans), m = std::max(1.0, dof / n);
+  const double allowed = (1 + options_.adequacy_z * std::sqrt(2 / m)) / n +
+                         options_.model_error_sigma * options_.model_error_sigma;
+  estimate_.model_inadequate =
+      estimate_.contact && !(estimate_.ok && estimate_.rms_sigma * estimate_.rms_sigma <= allowed);
+  if (estimate_.model_inadequate) ++counters_.model_inadequate;
 }
 
 bool ContactReconstructor::LoadScan(const Eigen::VectorXd& readings_N, const std::vector<uint8_t>& valid,
@@ -219,6 +237,7 @@ const ContactEstimate& ContactReconstructor::NoContact() {
   lone_taxel_ = -1;
   explored_ = 0;
   pair_checked_ = false;
+  punch_round_ = false;
   return estimate_;
 }
 

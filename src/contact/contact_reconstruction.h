@@ -70,6 +70,7 @@ struct ReconstructionCounters {
   int64_t lone_taxels_left_out = 0;  ///< fits redone without the one taxel that carried their misfit
   int64_t lone_taxel_scans = 0;      ///< scans fitted without a lone misfit left out on an earlier scan
   int64_t evaluations = 0;     ///< forward-model evaluations, all scans (the cost, deterministic)
+  int64_t model_inadequate = 0;  ///< contact scans no model explained within noise (ContactEstimate::model_inadequate)
 };
 
 class ContactReconstructor {
@@ -91,6 +92,7 @@ class ContactReconstructor {
     lone_taxel_ = -1;
     explored_ = 0;
     pair_checked_ = false;
+    punch_round_ = false;
     hold_.Reset();
   }
 
@@ -145,6 +147,9 @@ class ContactReconstructor {
   Eigen::VectorXd Predicted(const Fit& fit) const;
   /// The best fit into estimate_ and the warm start (or a fallback).
   void Accept(const Fit& fit, bool warm, double dof);
+  /// estimate_.model_inadequate (and its counter) from the accepted answer; dof: its
+  /// weighted channels times the scans averaged.
+  void FlagInadequate(double dof);
 
   FitProblem Problem() const;
   Fit FitStart(const SelectionStart& start, const Selection& s);
@@ -178,6 +183,7 @@ class ContactReconstructor {
   int next_start_ = 0;   // amortized selection: next start to try
   int explored_ = 0;     // starts tried in this contact episode
   bool pair_checked_ = false;  // the pair's quick check ran in this contact episode
+  bool punch_round_ = false;   // a punch replaced another shape in this contact episode (AdvanceCandidates)
   // Amortized selection: the candidate being fitted over several scans (its iterate) and
   // the evaluations it has spent.
   bool have_candidate_ = false;

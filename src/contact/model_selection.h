@@ -25,12 +25,14 @@ struct SelectionStart {
   double radius_mm, yaw_deg;
   bool pair = false, finite = false;
 };
+/// A punch start's half size across its principal direction [mm].
+constexpr double kPunchStartHalfSize_mm = 1.5;
 
 /// A scan's starts: spheres of 3 and 10 mm, rods of 1, 1.5 (across) and 3 mm along the
-/// principal direction, the flat; then the finite rod (fit_finite_rods) and the pair last
-/// (fit_pairs).
+/// principal direction, the flat; then the finite rod (fit_finite_rods), the pair
+/// (fit_pairs) and the punch (fit_punches) last.
 struct SelectionStarts {
-  SelectionStart start[8];
+  SelectionStart start[9];
   int count = 0;
   int pair = 0;  ///< index of the pair's start (== count without fit_pairs)
 };
@@ -39,7 +41,9 @@ SelectionStarts MakeStarts(const ReconstructionOptions& options, const NormalMom
 /// A start's first guess: `guess` (centroid, force) with the start's shape, radius and yaw. A
 /// finite rod: centred on the centroid, as long as the readings spread. A pair: two 3 mm
 /// spheres, each with half the force, on the principal axis either side of the centroid, as
-/// far apart as the readings spread.
+/// far apart as the readings spread. A punch: centred on the centroid, turned to the
+/// principal direction, kPunchStartHalfSize_mm across it and longer along it as the readings
+/// spread more that way.
 Hypothesis StartHypothesis(const ReconstructionOptions& options, const sensors::ContactPrimitive& guess,
                            const NormalMoments& moments, const SelectionStart& start);
 

@@ -86,6 +86,8 @@ std::string ObjectKind(const FidelityRow& row) {
       return "flat";
     case sensors::ContactShape::kCylinder:
       return "rod";
+    case sensors::ContactShape::kPunch:
+      return "punch";
     case sensors::ContactShape::kSphere:
       return std::hypot(t.shear_x_N, t.shear_y_N) > 0.05 * t.normal_force_N ? "stroke" : "sphere";
   }
@@ -172,6 +174,8 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
   row.recon_second = at_peak.second;
   row.recon_ok = at_peak.ok && at_peak.contact;
   row.recon_rms_sigma = at_peak.rms_sigma;
+  row.recon_inadequate = at_peak.model_inadequate;
+  row.recon_inadequate_scans = static_cast<int>(recon.counters().model_inadequate);
 
   maps->merkel_pad_mm = leader_->merkel_rest_pad_mm();
   // Truth.

@@ -81,6 +81,8 @@ struct FidelityRow {
   sensors::ContactPrimitive recon_second;  ///< a pair's second sphere
   bool recon_ok = false;               ///< false: fell back to the map
   double recon_rms_sigma = 0;
+  bool recon_inadequate = false;       ///< the peak scan's estimate flagged model_inadequate
+  int recon_inadequate_scans = 0;      ///< contact scans up to the peak flagged model_inadequate
   double truth_max_sed_Pa = 0, map_max_sed_Pa = 0, recon_max_sed_Pa = 0;
   std::string truth_press, recon_press;  ///< PressToForce status
   /// False when the truth press did not reach the measured force (the object cannot load

@@ -239,13 +239,6 @@ std::vector<geometry::RigidObject> FidelityCase::ObjectsAt(size_t k) const {
 
 namespace {
 
-// A rig punch's rounding on the leader [mm]: the rig's edges are rounded by 0.2 mm at most
-// (shared README), and the leader's skin carries contact points about 1 mm apart, so any
-// rounding up to that presses alike; 0.2 keeps the box's surface normal continuous.
-constexpr double kPunchRounding_mm = 0.2;
-// A punch's height above its face [mm]: only its face touches the pad.
-constexpr double kPunchHeight_mm = 10;
-
 // One object of a rig press in words: "sphere R5 (0, 0)", "rod R1 yaw 90 (0, -2)" (a finite
 // rod: "rod R1.5 L6 yaw 120 (-2, 0)"), "flat", "punch 3x3 yaw 0 (0, 0)" (its full sizes).
 std::string LabelOf(const sensors::PressedObject& object) {
@@ -275,20 +268,15 @@ std::string LabelOf(const sensors::PressedObject& object) {
 }
 
 // The object as the leader is pressed with it: a primitive as the bridge presses it
-// (contact::ToRigidObject: a finite rod a capped cylinder of its length), a punch a box of
-// kPunchHeight_mm with its face on the pad, turned by its yaw, edges rounded kPunchRounding_mm.
+// (contact::ToRigidObject: a finite rod a capped cylinder of its length), a punch as the
+// bridge presses a reconstructed one (sensors::RigidObjectOf: a box with rounded edges).
 geometry::RigidObject LeaderObjectOf(const sensors::PressedObject& object) {
   if (object.shape != sensors::PressShape::kPunch) return contact::ToRigidObject(object.primitive);
-  geometry::RigidObject o;
-  o.name = "punch";
-  const Eigen::Vector3d half_m(object.half_size_mm[0] * 1e-3, object.half_size_mm[1] * 1e-3, 0.5e-3 * kPunchHeight_mm);
-  const double rounding_m = std::min(kPunchRounding_mm * 1e-3, half_m.minCoeff());
-  o.shape = std::make_shared<geometry::BoxSdf>(half_m, rounding_m);
-  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = geometry::RotationFromRpyDeg(Eigen::Vector3d(0, 0, object.primitive.yaw_deg));
-  pose.translation() = Eigen::Vector3d(object.primitive.x_mm * 1e-3, object.primitive.y_mm * 1e-3, half_m.z());
-  o.trajectory = geometry::Trajectory(pose);
-  return o;
+  sensors::ContactPrimitive punch = object.primitive;
+  punch.shape = sensors::ContactShape::kPunch;
+  punch.half_size_mm[0] = object.half_size_mm[0];
+  punch.half_size_mm[1] = object.half_size_mm[1];
+  return contact::ToRigidObject(punch);
 }
 
 }  // namespace

@@ -12,12 +12,14 @@ lcmt_contact_estimate ToLcm(const contact::ContactReport& report) {
             : e.two_contacts                              ? 4
             : p.shape == sensors::ContactShape::kSphere   ? 1
             : p.shape == sensors::ContactShape::kCylinder ? 2
+            : p.shape == sensors::ContactShape::kPunch    ? 5
                                                           : 3;
   m.x_mm = static_cast<float>(p.x_mm);
   m.y_mm = static_cast<float>(p.y_mm);
   m.radius_mm = static_cast<float>(p.radius_mm);
   m.yaw_deg = static_cast<float>(p.yaw_deg);
-  m.length_mm = static_cast<float>(p.length_mm);
+  m.length_mm = static_cast<float>(p.shape == sensors::ContactShape::kPunch ? 2 * p.half_size_mm[0] : p.length_mm);
+  m.width_mm = p.shape == sensors::ContactShape::kPunch ? static_cast<float>(2 * p.half_size_mm[1]) : 0.0f;
   m.normal_force_N = static_cast<float>(p.normal_force_N);
   m.shear_x_N = static_cast<float>(p.shear_x_N);
   m.shear_y_N = static_cast<float>(p.shear_y_N);
@@ -35,6 +37,7 @@ lcmt_contact_estimate ToLcm(const contact::ContactReport& report) {
   m.taxel_used.reserve(e.taxel_use.size());
   for (const contact::TaxelUse use : e.taxel_use) m.taxel_used.push_back(static_cast<int8_t>(use));
   m.num_taxels_used = e.taxels_used;
+  m.model_inadequate = e.model_inadequate ? 1 : 0;
   return m;
 }
 

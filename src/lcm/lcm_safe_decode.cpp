@@ -132,6 +132,7 @@ bool Walk(const lcmt_bridge_status*, WireCursor& c) {
   c.Array(taxels, kByte);  // taxel_health
   c.Skip(4 * kI32);  // taxels_stuck, taxels_dead, taxels_frozen, taxels_drifting
   c.Skip(4 * kI64);  // taxel_scans_left_out, taxels_masked_total, taxels_recovered, taxel_retares
+  c.Skip(kI64);      // model_inadequate_scans
   return c.at_end();
 }
 
@@ -156,6 +157,8 @@ bool Walk(const lcmt_contact_estimate*, WireCursor& c) {
   const int32_t n = c.Int32();
   c.Array(n, kByte);  // taxel_used
   c.Skip(kI32);       // num_taxels_used
+  c.Skip(kByte);      // model_inadequate
+  c.Skip(kF32);       // width_mm
   return c.at_end();
 }
 

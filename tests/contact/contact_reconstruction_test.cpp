@@ -10,6 +10,7 @@
 
 #include "common/resource_path.h"
 #include "sensors/calibration_press.h"
+#include "tests/contact/reconstruction_test_support.h"
 
 namespace sedbridge::contact {
 namespace {
@@ -17,10 +18,10 @@ namespace {
 using sensors::ContactPrimitive;
 using sensors::ContactShape;
 
-const sensors::SensorProfile& Uskin() {
-  static const sensors::SensorProfile p = sensors::LoadNamedSensorProfile("uskin_4x4");
-  return p;
-}
+using test_support::HeldFor;
+using test_support::Noisy;
+using test_support::ReadingsOf;
+using test_support::Uskin;
 
 const std::vector<sensors::CalibrationPress>& Rig() {
   static const auto presses = sensors::LoadCalibrationPresses(
@@ -40,33 +41,6 @@ ContactPrimitive SphereAt(double x_mm, double y_mm, double radius_mm, double for
   ContactPrimitive c;
   c.x_mm = x_mm, c.y_mm = y_mm, c.radius_mm = radius_mm, c.normal_force_N = force_N;
   return c;
-}
-
-// The calibrated model's readings of contacts pressed at once (the sensor is linear in the
-// surface load: the readings add).
-Eigen::VectorXd ReadingsOf(std::initializer_list<ContactPrimitive> contacts) {
-  static const sensors::TactileForwardModel model(Uskin(), Uskin().forward_model);
-  Eigen::VectorXd sum = Eigen::VectorXd::Zero(3 * Uskin().taxel_count), one;
-  for (const ContactPrimitive& c : contacts) {
-    model.Predict(c, &one);
-    sum += one;
-  }
-  return sum;
-}
-
-Eigen::VectorXd Noisy(const Eigen::VectorXd& r, std::mt19937_64* rng) {
-  std::normal_distribution<double> n(0, 1);
-  Eigen::VectorXd out = r;
-  for (Eigen::Index i = 0; i < out.size(); ++i) out[i] += n(*rng) * 2 * (i % 3 == 2 ? 0.0005 : 0.0002);
-  return out;
-}
-
-// The estimate after `scans` noisy scans of the same readings (all taxels valid): a hold.
-ContactEstimate HeldFor(ContactReconstructor* r, const Eigen::VectorXd& reading, std::mt19937_64* rng,
-                        int scans = 40) {
-  ContactEstimate e;
-  for (int k = 0; k < scans; ++k) e = r->Reconstruct(Noisy(reading, rng), std::vector<uint8_t>(16, 1));
-  return e;
 }
 
 TEST(ContactReconstruction, RigSpheresFromOneNoisyScan) {
@@ -949,7 +923,7 @@ TEST(ContactReconstruction, ADeadTaxelTheFitBentAroundIsLeftOut) {
     ASSERT_TRUE(e.ok) << e.problem;
     ASSERT_EQ(e.taxel_use.size(), 16u);
     EXPECT_EQ(e.taxel_use[size_t(c.taxel)], TaxelUse::kLoneMisfit);
-    EXPECT_EQ(e.primitive.shape, c.shape);
+    EXPECT_EQ(e.primitive.shape, c.shape) << ContactShapeName(e.primitive.shape);
     EXPECT_LT(e.rms_sigma, 1.6);
     EXPECT_NEAR(e.primitive.normal_force_N, press.object.normal_force_N, 0.1 * press.object.normal_force_N);
     if (c.shape == ContactShape::kSphere) {

@@ -32,5 +32,21 @@ TEST(ContactEstimateMessage, AScanThatNeverReachedTheFitHasNoTaxels) {
   EXPECT_EQ(m.num_taxels_used, 0);
 }
 
+TEST(ContactEstimateMessage, APunchSaysItsSidesAndAnInadequateModelIsSaid) {
+  contact::ContactReport report;
+  report.estimate.contact = true;
+  report.estimate.ok = true;
+  report.estimate.model_inadequate = true;
+  report.estimate.primitive.shape = sensors::ContactShape::kPunch;
+  report.estimate.primitive.half_size_mm[0] = 2.5;
+  report.estimate.primitive.half_size_mm[1] = 1.0;
+  const lcmt_contact_estimate m = ToLcm(report);
+  EXPECT_EQ(m.shape, 5);
+  EXPECT_EQ(m.length_mm, 5.0f);
+  EXPECT_EQ(m.width_mm, 2.0f);
+  EXPECT_EQ(m.model_inadequate, 1);
+  EXPECT_EQ(ToLcm(contact::ContactReport{}).model_inadequate, 0);
+}
+
 }  // namespace
 }  // namespace sedbridge::lcm_io

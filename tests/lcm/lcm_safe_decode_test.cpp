@@ -148,10 +148,10 @@ TEST(LcmSafeDecode, EveryTypeRoundTripsAndRejectsInflatedCounts) {
     lcmt_bridge_status out;
     EXPECT_FALSE(SafeDecode(bad.data(), bad.size(), &out));
   }
-  // The per-taxel health count: after it come 2 bytes of states, 4 int32 and 4 int64.
+  // The per-taxel health count: after it come 2 bytes of states, 4 int32 and 5 int64.
   {
     std::vector<uint8_t> bad = Encode(status);
-    PutInt32(bad, bad.size() - (4 + 2 + 16 + 32), 1000000000u);
+    PutInt32(bad, bad.size() - (4 + 2 + 16 + 40), 1000000000u);
     lcmt_bridge_status out;
     EXPECT_FALSE(SafeDecode(bad.data(), bad.size(), &out));
   }

@@ -65,6 +65,7 @@ TEST(LcmTypes, StatusAndSa1RoundTrip) {
   s.taxels_drifting = 1;
   s.taxel_scans_left_out = 250;
   s.taxel_retares = 2;
+  s.model_inadequate_scans = 7;
   lcmt_bridge_status ds;
   const auto buf = Encode(s);
   ASSERT_GT(ds.decode(buf.data(), 0, buf.size()), 0);
@@ -75,6 +76,7 @@ TEST(LcmTypes, StatusAndSa1RoundTrip) {
   EXPECT_EQ(ds.taxels_drifting, 1);
   EXPECT_EQ(ds.taxel_scans_left_out, 250);
   EXPECT_EQ(ds.taxel_retares, 2);
+  EXPECT_EQ(ds.model_inadequate_scans, 7);
 
   lcmt_sa1_rate_estimate r;
   r.utime = 2;
@@ -97,12 +99,16 @@ TEST(LcmTypes, ContactEstimateRoundTripWithTheTaxelsUsed) {
   m.num_taxels = 4;
   m.taxel_used = {1, 0, 2, 1};
   m.num_taxels_used = 3;
+  m.model_inadequate = 1;
+  m.width_mm = 2.5f;
   const auto buf = Encode(m);
   lcmt_contact_estimate d;
   ASSERT_EQ(d.decode(buf.data(), 0, buf.size()), static_cast<int>(buf.size()));
   EXPECT_FLOAT_EQ(d.indentation_mm, 0.2f);
   EXPECT_EQ(d.taxel_used, (std::vector<int8_t>{1, 0, 2, 1}));
   EXPECT_EQ(d.num_taxels_used, 3);
+  EXPECT_EQ(d.model_inadequate, 1);
+  EXPECT_EQ(d.width_mm, 2.5f);
 }
 
 TEST(LcmTypes, DecodingTheWrongTypeFails) {

@@ -66,6 +66,7 @@ class ReplayLogRoundTrip(unittest.TestCase):
         self.assertIn("peak Merkel SED", r.stdout)
         self.assertIn("taxel health (last status): all 16 ok", r.stdout)
         self.assertIn("contact fit: fewest taxels used 16 of 16", r.stdout)
+        self.assertIn("contact scans no model explained within noise: ", r.stdout)
 
 
 class EventLogFormat(unittest.TestCase):

@@ -59,6 +59,8 @@ def read_log(path):
         lying = ["%d %s" % (k, TAXEL_HEALTH.get(code, "?")) for k, code in enumerate(last_status.taxel_health) if code]
         print("taxel health (last status): %s; %d taxel-scans left out" %
               (", ".join(lying) if lying else "all %d ok" % last_status.num_taxels, last_status.taxel_scans_left_out))
+    if last_status is not None:
+        print("contact scans no model explained within noise: %d" % last_status.model_inadequate_scans)
     if fewest_used is not None:
         left_out = [str(k) for k, used in enumerate(fewest_used.taxel_used) if used in (0, 3)]
         print("contact fit: fewest taxels used %d of %d%s" % (fewest_used.num_taxels_used, fewest_used.num_taxels,
