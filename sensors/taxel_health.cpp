@@ -25,6 +25,9 @@ constexpr double kFitNoiseSigma2 = 9;
 constexpr double kFitSlack = 0.003;
 // Stuck high under a press: at most this many taxels judged so in one scan (each costs a fit).
 constexpr int kMaxExcessPerScan = 3;
+// ... each the one taxel whose leaving out explains the others this many times better than
+// leaving out any other does.
+constexpr double kExcessDistinct = 10;
 
 int Scans(double seconds, double rate_Hz, int at_least) {
   return std::max(at_least, static_cast<int>(std::lround(seconds * rate_Hz)));
@@ -278,17 +281,24 @@ bool TaxelHealth::MarkExcess(const Scan& scan) {
   for (int round = 0; round < kMaxExcessPerScan; ++round) {
     int& outlier = outlier_;
     outlier = -1;
-    double least_res = std::numeric_limits<double>::infinity();
+    double least_res = std::numeric_limits<double>::infinity(), next_res = least_res;
     for (int k = 0; k < n_; ++k) {
       if (!Usable(k, scan)) continue;
       const double res = LeaveOutResidual(k);
-      if (res < least_res) least_res = res, outlier = k;
+      if (res < least_res) next_res = least_res, least_res = res, outlier = k;
+      else next_res = std::min(next_res, res);
     }
     if (outlier < 0) break;
     const double zk = z_[size_t(outlier)], sk = sigma_N_[size_t(outlier)];
-    if (!(zk > t_.dead_margin_sigma * sk) || !OthersLoaded(outlier, scan)) break;
+    // It alone lies (leaving out any other explains the rest kExcessDistinct times worse),
+    // and by more than the others read together: no contact on the pad does that (a rod or
+    // a flat the point loads explain poorly is not judged).
+    if (!(zk > t_.dead_margin_sigma * sk) || !(kExcessDistinct * least_res < next_res)) break;
+    double others = 0;
+    for (int j = 0; j < n_; ++j) others += j != outlier && Usable(j, scan) ? z_[size_t(j)] : 0.0;
+    if (!OthersLoaded(outlier, scan)) break;
     const double most = Implied_N(outlier, scan, true);
-    if (!(most >= 0) || !(t_.dead_fraction * zk > most)) break;
+    if (!(most >= 0) || !(t_.dead_fraction * zk > most) || !(zk - most > others)) break;
     suspect_[size_t(outlier)] = 1;
     outlier = -1;
     any = true;

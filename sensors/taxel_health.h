@@ -17,7 +17,10 @@
 //               read above dead_margin_sigma of their noise), the mirror of dead below: the
 //               taxel whose leaving out lets one point load explain the others best reads
 //               more than the most such a load predicts for it, over dead_fraction (and
-//               above dead_margin_sigma); the test is redone without it, up to 3 a scan.
+//               above dead_margin_sigma), by more than the others read together, and
+//               leaving out any other taxel explains them ten times worse (a rod or flat
+//               the point loads explain poorly is not judged); the test is redone without
+//               it, up to 3 a scan.
 //               Suspect in one scan: left out of that scan at once (and out of the dead
 //               test's fit, whose others would read below a fit bent towards it); for
 //               stuck_after_s running: masked;
