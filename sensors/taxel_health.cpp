@@ -23,6 +23,11 @@ constexpr double kRingFitRelative = 0.2;
 // readings' square norm) of the best fit's residual is as good an explanation.
 constexpr double kFitNoiseSigma2 = 9;
 constexpr double kFitSlack = 0.003;
+// Stuck high under a press: at most this many taxels judged so in one scan (each costs a fit).
+constexpr int kMaxExcessPerScan = 3;
+// ... each the one taxel whose leaving out explains the others this many times better than
+// leaving out any other does.
+constexpr double kExcessDistinct = 10;
 
 int Scans(double seconds, double rate_Hz, int at_least) {
   return std::max(at_least, static_cast<int>(std::lround(seconds * rate_Hz)));
@@ -58,6 +63,7 @@ TaxelHealth::TaxelHealth(const SensorProfile& profile)
   state_.resize(size_t(n_));
   z_.assign(size_t(n_), 0.0);
   suspect_.assign(size_t(n_), 0);
+  dead_suspect_.assign(size_t(n_), 0);
   sigma_N_.resize(size_t(n_));
   sigma_shear_N_.assign(size_t(n_), 0.0);
   for (int k = 0; k < n_; ++k) {
@@ -191,13 +197,22 @@ void TaxelHealth::Judge(const Scan& scan) {
   for (const TaxelState& s : state_) noisy += s.unchanged_run < kNoisyRunScans;
   const bool sensor_noisy = 2 * noisy >= n_;
   // Stuck-high suspects first: they are no evidence of a load for the dead test's fit.
-  for (int k = 0; k < n_; ++k) suspect_[size_t(k)] = ModelBased() && scan.valid[size_t(k)] && Stuck(k, scan);
+  for (int k = 0; k < n_; ++k) {
+    suspect_[size_t(k)] = ModelBased() && scan.valid[size_t(k)] && Stuck(k, scan);
+    dead_suspect_[size_t(k)] = 0;
+  }
   // The dead test needs a loaded ring: on a quiet scan there is nothing to fit.
   const double sigma_min = *std::min_element(sigma_N_.begin(), sigma_N_.end());
   bool loaded = false;
   for (int k = 0; k < n_; ++k) loaded |= z_[size_t(k)] > t_.dead_margin_sigma * sigma_min;
   const bool fit = ModelBased() && loaded;
-  if (fit) FitPointLoads(scan);
+  outlier_ = -1;
+  if (fit) {
+    FitPointLoads(scan);
+    // A taxel stuck high under a press is no evidence either: its neighbours would read
+    // below a fit bent towards it and be judged dead.
+    MarkExcess(scan);
+  }
   for (int k = 0; k < n_; ++k) {
     if (!scan.valid[size_t(k)]) continue;
     TaxelState& s = state_[size_t(k)];
@@ -211,6 +226,9 @@ void TaxelHealth::Judge(const Scan& scan) {
     }
     const bool frozen = frozen_scans_ > 0 && sensor_noisy && s.unchanged_run >= frozen_scans_;
     if (!masked(k)) {
+      // Left out at once only if it is the one whose leaving out explains the others best
+      // (a healthy taxel beside a dead one may read below a fit bent by it, in some scans).
+      dead_suspect_[size_t(k)] = dead && k == outlier_;
       s.stuck_run = stuck ? s.stuck_run + 1 : 0;
       s.dead_run = dead ? s.dead_run + 1 : 0;
       if (frozen) Mask(k, TaxelFault::kFrozen);
@@ -254,6 +272,61 @@ void TaxelHealth::FitPointLoads(const Scan& scan) {
   }
 }
 
+bool TaxelHealth::MarkExcess(const Scan& scan) {
+  // The taxel whose leaving out explains the rest best is the one that lies, if any: a
+  // healthy taxel beside a dead one reads more than a fit bent by the dead one implies,
+  // but leaving the dead one out explains the rest better. If it reads too much, it is a
+  // suspect, and the fit is redone without it (the next worst, up to kMaxExcessPerScan).
+  bool any = false;
+  for (int round = 0; round < kMaxExcessPerScan; ++round) {
+    int& outlier = outlier_;
+    outlier = -1;
+    double least_res = std::numeric_limits<double>::infinity(), next_res = least_res;
+    for (int k = 0; k < n_; ++k) {
+      if (!Usable(k, scan)) continue;
+      const double res = LeaveOutResidual(k);
+      if (res < least_res) next_res = least_res, least_res = res, outlier = k;
+      else next_res = std::min(next_res, res);
+    }
+    if (outlier < 0) break;
+    const double zk = z_[size_t(outlier)], sk = sigma_N_[size_t(outlier)];
+    // It alone lies (leaving out any other explains the rest kExcessDistinct times worse),
+    // and by more than the others read together: no contact on the pad does that (a rod or
+    // a flat the point loads explain poorly is not judged).
+    if (!(zk > t_.dead_margin_sigma * sk) || !(kExcessDistinct * least_res < next_res)) break;
+    double others = 0;
+    for (int j = 0; j < n_; ++j) others += j != outlier && Usable(j, scan) ? z_[size_t(j)] : 0.0;
+    if (!OthersLoaded(outlier, scan)) break;
+    const double most = Implied_N(outlier, scan, true);
+    if (!(most >= 0) || !(t_.dead_fraction * zk > most) || !(zk - most > others)) break;
+    suspect_[size_t(outlier)] = 1;
+    outlier = -1;
+    any = true;
+    FitPointLoads(scan);
+  }
+  return any;
+}
+
+bool TaxelHealth::OthersLoaded(int k, const Scan& scan) const {
+  double others = 0, top = 0, var = 0;
+  for (int j = 0; j < n_; ++j) {
+    if (j == k || !Usable(j, scan)) continue;
+    others += z_[size_t(j)], top = std::max(top, z_[size_t(j)]), var += sigma_N_[size_t(j)] * sigma_N_[size_t(j)];
+  }
+  return var > 0 && others - top > t_.dead_margin_sigma * std::sqrt(var);
+}
+
+double TaxelHealth::LeaveOutResidual(int k) const {
+  const double zk = z_[size_t(k)];
+  double best = std::numeric_limits<double>::infinity();
+  for (Eigen::Index p = 0; p < responses_.rows(); ++p) {
+    const double r = responses_(p, k);
+    const double num = fit_num_[p] - zk * r, den = fit_den_[p] - r * r;
+    if (den > 0 && num > 0) best = std::min(best, fit_zz_ - zk * zk - num * num / den);
+  }
+  return best;
+}
+
 double TaxelHealth::RingPrediction_N(int k, const Scan& scan) const {
   // Only a taxel below its ring's largest reading, that reading above noise, can be dead
   // (most scans: nothing to fit).
@@ -262,6 +335,11 @@ double TaxelHealth::RingPrediction_N(int k, const Scan& scan) const {
     if (Usable(j, scan)) ring_max = std::max(ring_max, z_[size_t(j)]);
   const double zk = z_[size_t(k)], sk = sigma_N_[size_t(k)];
   if (!(ring_max > t_.dead_margin_sigma * sk) || !(zk < ring_max)) return -1;
+  return Implied_N(k, scan, false);
+}
+
+double TaxelHealth::Implied_N(int k, const Scan& scan, bool most) const {
+  const double zk = z_[size_t(k)], sk = sigma_N_[size_t(k)];
   const bool in_fit = Usable(k, scan);
   const double zz = fit_zz_ - (in_fit ? zk * zk : 0), var = fit_var_ - (in_fit ? sk * sk : 0);
   // Every point load that explains the others about as well as the best one does is a
@@ -278,9 +356,10 @@ double TaxelHealth::RingPrediction_N(int k, const Scan& scan) const {
   }
   if (!(best_res <= kRingFitRelative * kRingFitRelative * zz + kFitNoiseSigma2 * var)) return -1;
   const double acceptable = best_res + kFitNoiseSigma2 * var + kFitSlack * zz;
-  double least = std::numeric_limits<double>::infinity();
+  double least = std::numeric_limits<double>::infinity(), greatest = -1;
   for (Eigen::Index p = 0; p < responses_.rows(); ++p)
-    if (fit_res_[p] <= acceptable) least = std::min(least, fit_pred_[p]);
+    if (fit_res_[p] <= acceptable) least = std::min(least, fit_pred_[p]), greatest = std::max(greatest, fit_pred_[p]);
+  if (most) return greatest;
   return std::isfinite(least) ? least : -1;
 }
 
@@ -324,11 +403,11 @@ const Scan& TaxelHealth::Output(const Scan& scan) {
   left_out_ = 0;
   bool retared = false;
   for (int k = 0; k < n_; ++k) {
-    left_out_ += masked(k) || suspect_[size_t(k)];
+    left_out_ += LeftOut(k);
     retared |= state_[size_t(k)].offset_N != 0;
   }
   counters_.masked_taxel_scans += left_out_;
-  for (int k = 0; k < n_; ++k) counters_.suspect_taxel_scans += !masked(k) && suspect_[size_t(k)];
+  for (int k = 0; k < n_; ++k) counters_.suspect_taxel_scans += !masked(k) && LeftOut(k);
   if (left_out_ == 0 && !retared) return scan;
   out_ = scan;
   for (int k = 0; k < n_; ++k) {
@@ -337,7 +416,7 @@ const Scan& TaxelHealth::Output(const Scan& scan) {
       out_.force_N[size_t(k)] -= offset;
       out_.pressure_Pa[size_t(k)] -= offset / area_m2_;
     }
-    if (masked(k) || suspect_[size_t(k)]) {
+    if (LeftOut(k)) {
       out_.valid[size_t(k)] = 0;
       out_.flags[size_t(k)] = uint8_t((out_.flags[size_t(k)] & ~kTaxelSaturated) | kTaxelMasked);
     }
@@ -352,7 +431,7 @@ std::string TaxelHealth::Summary() const {
   const TaxelHealthCounters& c = counters_;
   return "taxel health: " + std::to_string(masked_count()) + " masked now" + (now.empty() ? "" : " (" + now + ")") +
          "; " + std::to_string(c.masked_taxel_scans) + " taxel-scans left out (" + std::to_string(c.suspect_taxel_scans) +
-         " stuck-high suspects before masking); masked " + std::to_string(c.masked_frozen) + " frozen, " +
+         " suspects before masking); masked " + std::to_string(c.masked_frozen) + " frozen, " +
          std::to_string(c.masked_stuck) + " stuck high, " + std::to_string(c.masked_dead) + " dead; " +
          std::to_string(c.recovered) + " recovered; " + std::to_string(c.retares) + " drift re-tares";
 }

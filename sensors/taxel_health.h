@@ -13,14 +13,25 @@
 //               their noise + |own shear| / its noise, per unit own normal reading; its
 //               least over the pad is the taxel's least spread). Suspect when the observed
 //               E is below isolated_fraction x least spread x reading, by
-//               isolated_margin_sigma. Suspect in one scan: left out of that scan at once;
-//               for stuck_after_s running: masked;
+//               isolated_margin_sigma. Or, under a press (the others less the largest
+//               read above dead_margin_sigma of their noise), the mirror of dead below: the
+//               taxel whose leaving out lets one point load explain the others best reads
+//               more than the most such a load predicts for it, over dead_fraction (and
+//               above dead_margin_sigma), by more than the others read together, and
+//               leaving out any other taxel explains them ten times worse (a rod or flat
+//               the point loads explain poorly is not judged); the test is redone without
+//               it, up to 3 a scan.
+//               Suspect in one scan: left out of that scan at once (and out of the dead
+//               test's fit, whose others would read below a fit bent towards it); for
+//               stuck_after_s running: masked;
 //   dead        the taxel reads less than dead_fraction of what its loaded nearest ring
 //               says: the single point load that explains the ring's normal readings best
 //               (least squares over the model's point loads; only when it explains them
 //               within a fifth of their norm, so a flat or two contacts are not judged)
-//               predicts this taxel's reading, above dead_margin_sigma; for dead_after_s
-//               running: masked;
+//               predicts this taxel's reading, above dead_margin_sigma; left out of its
+//               scan at once when it is also the taxel whose leaving out explains the
+//               others best (beside a dead taxel a healthy one may read below a fit bent by
+//               it, in some scans); for dead_after_s running: masked;
 //   drifting    while the sensor is quiet (no taxel but this one beyond 4 sigma, this one
 //               within drift_max_sigma), the taxel's normal reading is averaged with time
 //               constant drift_tau_s; once that baseline is more than drift_retare_sigma off
@@ -50,7 +61,7 @@ const char* ToString(TaxelFault fault);
 struct TaxelHealthCounters {
   int64_t scans = 0;
   int64_t masked_taxel_scans = 0;    ///< taxels left out, summed over scans (masked + suspect)
-  int64_t suspect_taxel_scans = 0;   ///< of those, stuck-high suspects not yet masked
+  int64_t suspect_taxel_scans = 0;   ///< of those, suspects (stuck high or dead) not yet masked
   int64_t masked_frozen = 0;         ///< times a taxel was masked, per fault
   int64_t masked_stuck = 0;
   int64_t masked_dead = 0;
@@ -72,7 +83,7 @@ class TaxelHealth {
   int taxel_count() const { return n_; }
   TaxelFault fault(int taxel) const { return state_[size_t(taxel)].fault; }
   bool masked(int taxel) const { return state_[size_t(taxel)].fault != TaxelFault::kHealthy; }
-  /// Taxels left out of the last scan (masked, or stuck-high suspects).
+  /// Taxels left out of the last scan (masked, or suspects: stuck high or dead).
   int left_out() const { return left_out_; }
   int masked_count() const;
   /// Normal offset taken off a taxel by drift re-tares [N].
@@ -103,11 +114,26 @@ class TaxelHealth {
   bool Usable(int j, const Scan& scan) const {
     return !masked(j) && !suspect_[size_t(j)] && scan.valid[size_t(j)];
   }
+  /// Left out of this scan: masked, or a suspect (stuck high or dead) not yet masked.
+  bool LeftOut(int k) const { return masked(k) || suspect_[size_t(k)] || dead_suspect_[size_t(k)]; }
   /// The point-load least squares of this scan over every usable taxel, per probe.
   void FitPointLoads(const Scan& scan);
   /// Taxel k's normal reading [N] as the point load that best explains the other taxels
   /// predicts it (-1: not judged: its ring is unloaded, or one point does not explain them).
   double RingPrediction_N(int k, const Scan& scan) const;
+  /// The least (most: the greatest) normal reading of taxel k [N] that the point loads
+  /// explaining the other usable taxels about as well as the best one does predict (-1: one
+  /// point does not explain them).
+  double Implied_N(int k, const Scan& scan, bool most) const;
+  /// Stuck high under a press (see above): the taxel whose leaving out explains the others
+  /// best becomes a suspect when it reads more than the most they imply over dead_fraction,
+  /// and the fit is redone without it (then the next); true if any.
+  bool MarkExcess(const Scan& scan);
+  /// The usable taxels but k, less the largest of them, read more than dead_margin_sigma of
+  /// their summed noise: a press that tells what k should read.
+  bool OthersLoaded(int k, const Scan& scan) const;
+  /// The least square residual of the usable taxels but k (k usable) by one point load.
+  double LeaveOutResidual(int k) const;
   void TrackFrozen(const Scan& scan);
   /// This scan's suspects from the corrected normal readings z_.
   void Judge(const Scan& scan);
@@ -134,6 +160,8 @@ class TaxelHealth {
   std::vector<int32_t> last_raw_;
   std::vector<double> z_;                  // this scan's normal readings, re-tare applied [N]
   std::vector<uint8_t> suspect_;           // this scan: stuck-high suspect
+  std::vector<uint8_t> dead_suspect_;      // this scan: judged dead, not yet masked
+  int outlier_ = -1;                       // this scan: the taxel whose leaving out explains the rest best
   int left_out_ = 0;
   bool bounds_dirty_ = false;
   Scan out_;

@@ -144,7 +144,7 @@ class DecodedScans {
   const TaxelHealthEpisodes& taxel_health() const { return episodes_; }
 
  private:
-  // `trusted`: the scan as taxel health passes it on (masked taxels and stuck-high suspects
+  // `trusted`: the scan as taxel health passes it on (masked taxels and suspects
   // invalid); the peak is theirs, so that a stuck taxel's phantom is not drawn as the press.
   void KeepForHeatmap(const Scan& s, const Scan& trusted) {
     if (request_.heatmap_scan >= 0) {

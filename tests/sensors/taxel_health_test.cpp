@@ -178,6 +178,24 @@ TEST_F(TaxelHealthTest, TaxelThatFailsMidPressAndRecoversIsMaskedThenBack) {
   EXPECT_EQ(health.masked_count(), 0);
 }
 
+TEST_F(TaxelHealthTest, StuckTaxelMidPressIsLeftOutAtOnceAndNoNeighbourIsJudgedDead) {
+  // The example log's press; taxel 5 reads 2.5 N more from scan 50 on. Its neighbours carry
+  // the press, so it is no isolated load, but it reads far more than the press implies.
+  TaxelHealth health(profile_);
+  Run(
+      health, 150, [&](int i) { return Sphere(kMiddleX, kMiddleY, 5, 0.8 * std::min(i, 30) / 30); },
+      [&](int i, Scan& s) {
+        if (i >= 50) SetNormal(s, 5, s.force_N[5] + 2.5, Area_m2());
+      },
+      [&](int i, const Scan& out) {
+        EXPECT_EQ(bool(out.valid[5]), i < 50) << "scan " << i;
+        for (int k = 0; k < 16; ++k) EXPECT_TRUE(k == 5 || out.valid[size_t(k)]) << "taxel " << k << " scan " << i;
+      });
+  EXPECT_EQ(health.fault(5), TaxelFault::kStuckHigh);
+  EXPECT_EQ(health.masked_count(), 1);
+  EXPECT_EQ(health.counters().masked_dead, 0);
+}
+
 // `sedbridge decode`'s story of the press above: taxel 5 masked dead from about 0.5 s, back
 // about 0.2 s after it works again; a healthy press tells that nothing was masked.
 TEST_F(TaxelHealthTest, EpisodesSayWhichTaxelWasMaskedWhyAndWhen) {
