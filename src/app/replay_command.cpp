@@ -116,7 +116,8 @@ int ReplayHand(const ArgParser& args, const BridgeConfig& config, sensors::Frame
   }
   std::printf("\nhand: %zu fingers on %d threads, %lld frames, %lld scans in %.3f s\n", hand.names.size(),
               hand.finger_threads, static_cast<long long>(hand.frames), static_cast<long long>(scans), hand.wall_s);
-  std::printf("leader models (fe.step contact): %d loaded, %d fingers share one (%d share its compliance precompute)\n",
+  std::printf("leader models (fe.step contact): %d loaded; fingers reusing one already loaded: %d (its compliance "
+              "precompute too: %d)\n",
               hand.leader_models_loaded, hand.leader_models_shared, hand.leader_operators_shared);
   for (const auto& [bus, count] : hand.unclaimed_frames)
     std::printf("frames no finger claims on %s: %lld\n", bus.c_str(), static_cast<long long>(count));
