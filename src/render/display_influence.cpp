@@ -52,7 +52,12 @@ DisplayInfluence::DisplayInfluence(const ElementStrainInfluence& in, double prun
                 : Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(in.command_offset.data(), num_actuators_));
   piecewise_ = !in.knot_command.empty() || (offset_.array() > 0).any();
   Prune(in, prune_relative);
-  if (!piecewise_ && num_actuators_ <= kMaxVertexFormActuators) BuildVertexForms();
+  if (!piecewise_ && num_actuators_ <= kMaxVertexFormActuators) {
+    BuildVertexForms();
+    // The forms answer every call now: the element kernel's slopes would only hold memory.
+    std::vector<std::vector<float>>().swap(chunked_slope_);
+    std::vector<float>().swap(effective_);
+  }
   Sed(Eigen::VectorXd::Zero(num_actuators_), preload_sed_Pa_);
 }
 
