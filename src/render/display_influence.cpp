@@ -58,6 +58,11 @@ DisplayInfluence::DisplayInfluence(const ElementStrainInfluence& in, double prun
     std::vector<std::vector<float>>().swap(chunked_slope_);
     std::vector<float>().swap(effective_);
   }
+  // Every call reads the single-precision copies (chunked slopes, knot intercepts) from here
+  // on: the double matrices they came from would only hold memory (170 MB on a 64-pin
+  // display with five knots on B).
+  std::vector<Eigen::MatrixXd>().swap(slope_);
+  std::vector<Eigen::MatrixXd>().swap(strain_at_knot_);
   Sed(Eigen::VectorXd::Zero(num_actuators_), preload_sed_Pa_);
 }
 
@@ -93,6 +98,11 @@ void DisplayInfluence::Prune(const ElementStrainInfluence& in, double prune_rela
     slope_.push_back((strain_at_knot_[k] - start) / (knot_command_[k] - v0));
   }
   if (knot_command_.empty()) slope_.push_back(gather(in.strain_per_command));
+  // Segment k >= 1's intercept, eps(knot k-1) - knot_{k-1} slope_k, in single precision like
+  // the slopes (a strain change; the preload stays double in intercept_): a segment change
+  // then reads one float column instead of two double ones.
+  for (size_t k = 1; k <= knot_command_.size(); ++k)
+    knot_intercept_.push_back((strain_at_knot_[k - 1] - knot_command_[k - 1] * slope_[std::min(k, slope_.size() - 1)]).cast<float>());
   // Each slope, per actuator, in the kernel's chunk layout: a segment change copies blocks.
   const size_t chunks = SedChunks(active.size());
   for (const Eigen::MatrixXd& slope : slope_) {
@@ -150,7 +160,7 @@ void DisplayInfluence::Segments(const Eigen::VectorXd& u) const {
     const double v = piecewise_ ? u[i] - offset_[i] : u[i];
     const bool moving = !piecewise_ || v > 0;
     const int k = moving && piecewise_ ? SegmentOf(v) : 0;
-    const int slope = moving || v == 0 ? std::min(k, int(slope_.size()) - 1) : -1;
+    const int slope = moving || v == 0 ? std::min(k, int(chunked_slope_.size()) - 1) : -1;
     segment_[size_t(i)] = moving ? k : -1;
     stroke_[i] = moving ? v : 0.0;
     if (slope == slope_index_[size_t(i)]) continue;
@@ -179,22 +189,16 @@ void DisplayInfluence::Segments(const Eigen::VectorXd& u) const {
     intercept_updates_ = 0;
   }
   for (int i = 0; i < n; ++i) {
-    const int k = segment_[size_t(i)];
-    if (fresh) {
-      if (k >= 1) AddKnotIntercept(i, k, 1.0);
-      continue;
-    }
-    const int was = intercept_segment_[size_t(i)];
-    if (k == was) continue;
-    if (was >= 1) AddKnotIntercept(i, was, -1.0);
-    if (k >= 1) AddKnotIntercept(i, k, 1.0);
+    const int k = segment_[size_t(i)], was = fresh ? 0 : intercept_segment_[size_t(i)];
+    if (k == was || (k < 1 && was < 1)) continue;  // segments 0 and below have no intercept
+    if (was >= 1 && k >= 1)
+      intercept_ += (knot_intercept_[size_t(k - 1)].col(i) - knot_intercept_[size_t(was - 1)].col(i)).cast<double>();
+    else if (k >= 1)
+      intercept_ += knot_intercept_[size_t(k - 1)].col(i).cast<double>();
+    else
+      intercept_ -= knot_intercept_[size_t(was - 1)].col(i).cast<double>();
   }
   intercept_segment_ = segment_;
-}
-
-void DisplayInfluence::AddKnotIntercept(int i, int k, double sign) const {
-  const Eigen::MatrixXd& slope = slope_[size_t(std::min(k, int(slope_.size()) - 1))];
-  intercept_ += sign * (strain_at_knot_[size_t(k - 1)].col(i) - knot_command_[size_t(k - 1)] * slope.col(i));
 }
 
 void DisplayInfluence::ElementSeds(const Eigen::VectorXd& u, bool gradient) const {

@@ -93,8 +93,6 @@ class DisplayInfluence {
   /// Each actuator's place on its curve at u: its segment and stroke, the slope its
   /// derivative takes; brings effective_ and intercept_ up to date with them.
   void Segments(const Eigen::VectorXd& u) const;
-  /// Adds sign x actuator i's share of the intercept on segment k >= 1.
-  void AddKnotIntercept(int i, int k, double sign) const;
   /// A linear influence (no offsets, no knots) of at most this many actuators is evaluated
   /// from per-vertex quadratic forms (#actuators^2 floats a vertex: fewer bytes than the
   /// elements' 6 x #actuators each, 469 vertices against 5228 elements on B).
@@ -116,8 +114,12 @@ class DisplayInfluence {
   Eigen::VectorXd preload_strain_, mu_Pa_, lambda_Pa_;
   std::vector<double> knot_command_;
   std::vector<Eigen::MatrixXd> strain_at_knot_;
-  // Segment k's slope (k = 0: from v = 0); past the last knot the last one goes on.
+  // Segment k's slope (k = 0: from v = 0); past the last knot the last one goes on. Only
+  // while the influence is built (then freed with strain_at_knot_).
   std::vector<Eigen::MatrixXd> slope_;
+  // Segment k >= 1's intercept at k - 1: eps(knot k-1) - knot_{k-1} slope_k (6 #active
+  // elements x #actuators each), what an actuator on that segment adds to intercept_.
+  std::vector<Eigen::MatrixXf> knot_intercept_;
   // slope_ in single precision, per actuator in the kernel's chunk layout: actuator i's
   // block of chunk b at (i #chunks + b) 48.
   std::vector<std::vector<float>> chunked_slope_;

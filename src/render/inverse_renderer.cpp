@@ -63,7 +63,11 @@ const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed
     fixed_cost_ += 0.5 * r * r;
   }
   u_ = u_.cwiseMax(0.0).cwiseMin(box_);  // warm start, inside the box
-  double cost = Residuals(u_, r_, sed_, &J_t_);
+  // The last render ended with the field at its answer evaluated; warm-started there, only
+  // the residuals change with the target (the SED and its Jacobian do not): one SED
+  // evaluation a scan saved, half the work of a one-iteration render.
+  const bool reuse = evaluated_ && u_ == evaluated_at_;
+  double cost = reuse ? CostAt(u_, sed_, r_) : Residuals(u_, r_, sed_, &J_t_);
   for (int it = 0; it < options_.max_iterations; ++it) {
     result_.iterations = it + 1;
     NormalEquations(u_);
@@ -113,6 +117,7 @@ const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed
       break;
     }
   }
+  evaluated_at_ = u_, evaluated_ = true;  // sed_ and J_t_ are the field at u_ on every path above
   result_.cost = cost;
   result_.at_upper_bound = int((u_.array() >= box_.array() && box_.array() > 0).count());
   commands_ = (u_.array() > 0).select(u_ + offset_, 0.0);
@@ -134,18 +139,22 @@ void InverseRenderer::PenaltyWeights() {
 
 double InverseRenderer::Residuals(const Eigen::VectorXd& u, Eigen::VectorXd& r, Eigen::VectorXd& sed,
                                   Eigen::MatrixXd* J_t) {
-  const double s0 = options_.sed_floor_Pa;
   ++result_.evaluations;
   shifted_ = u + offset_;
   if (J_t)
     influence_.ActiveSedAndJacobianT(shifted_, sed, dS_t_);
   else
     influence_.ActiveSed(shifted_, sed);
+  const double cost = CostAt(u, sed, r);
+  if (J_t) J_t->noalias() = dS_t_ * (0.5 * root_.cwiseInverse()).asDiagonal();
+  return cost;
+}
+
+double InverseRenderer::CostAt(const Eigen::VectorXd& u, const Eigen::VectorXd& sed, Eigen::VectorXd& r) {
   // S_v(u) >= 0 in exact arithmetic (a sum of non-negative element SEDs); round-off may
   // take a vanishing one below.
-  const Eigen::VectorXd root = (sed.array().max(0.0) + s0).sqrt().matrix();
-  r = root - target_root_;
-  if (J_t) J_t->noalias() = dS_t_ * (0.5 * root.cwiseInverse()).asDiagonal();
+  root_ = (sed.array().max(0.0) + options_.sed_floor_Pa).sqrt().matrix();
+  r = root_ - target_root_;
   return fixed_cost_ + 0.5 * r.squaredNorm() + 0.5 * u.cwiseProduct(u).dot(penalty_weight_);
 }
 

@@ -77,12 +77,14 @@ class InverseRenderer {
   const RenderResult& last() const { return result_; }
   const DisplayInfluence& influence() const { return influence_; }
   /// Forgets the warm start (the next scan starts from all zeros).
-  void Reset() { u_.setZero(), commands_.setZero(); }
+  void Reset() { u_.setZero(), commands_.setZero(), evaluated_ = false; }
 
  private:
   /// r (residuals), the active vertices' SED and, if J_t is given, the residuals'
   /// transposed Jacobian at u; returns the cost.
   double Residuals(const Eigen::VectorXd& u, Eigen::VectorXd& r, Eigen::VectorXd& sed, Eigen::MatrixXd* J_t);
+  /// r and the cost at u from the active vertices' SED there (root_ their square roots).
+  double CostAt(const Eigen::VectorXd& u, const Eigen::VectorXd& sed, Eigen::VectorXd& r);
   /// What the Gauss-Newton model promises a step (zero off the free variables) lowers the
   /// cost by.
   double ModelDecrease(const Eigen::VectorXd& step) const;
@@ -110,6 +112,10 @@ class InverseRenderer {
   Eigen::VectorXd trial_r_, trial_sed_;  // the last trial's, swapped in when it is accepted
   Eigen::MatrixXd trial_J_t_;
   double fixed_cost_ = 0;  // 1/2 sum r_v^2 over the vertices no command changes
+  Eigen::VectorXd root_;
+  // sed_ and J_t_ hold the field at evaluated_at_ (the last render's answer) when evaluated_.
+  Eigen::VectorXd evaluated_at_;
+  bool evaluated_ = false;
   Eigen::VectorXd g_;
   double lambda_ = 1e-6;
   std::vector<int> free_;
