@@ -139,7 +139,10 @@ class ContactReconstructor {
   /// s.best refitted without taxel k; true (s.best replaced, k the lone misfit) when the
   /// refit explains the others within max_rms_sigma and, must_stand_alone, k's misfit under
   /// the refit is at least the others' together.
-  bool RefitWithout(int k, Selection& s, bool must_stand_alone);
+  bool RefitWithout(int k, Selection& s, bool must_stand_alone, bool adequate = false);
+  /// The largest RMS residual^2 (single-scan noise units) that FlagInadequate calls adequate,
+  /// for `dof` weighted channels x the scans averaged.
+  double AdequateRms2(double dof) const;
   /// The lone misfit left out since an earlier scan comes back when the accepted fit
   /// predicts its readings within max_rms_sigma.
   void MaybeTakeBackLoneTaxel(const Fit& fit);
