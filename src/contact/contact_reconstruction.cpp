@@ -47,6 +47,8 @@ ContactReconstructor::ContactReconstructor(const sensors::SensorProfile& profile
         "contact reconstruction: need min_pair_separation_mm >= 0, 0 <= min_pair_force_share <= 0.5, "
         "min_rod_length_mm > 0, explained_candidate_evaluations >= 0, radius_track_log_sigma >= 0, "
         "force_step_max_averaged_scans >= 1");
+  if (!(options_.dead_reading_share >= 0 && options_.dead_reading_share < 1))
+    throw std::invalid_argument("contact reconstruction: need 0 <= dead_reading_share < 1");
   // A hair inside the plausible range, so that a clamped radius is still plausible.
   log_r_lo_ = std::log(options_.min_radius_mm) + 1e-9;
   log_r_hi_ = std::log(options_.max_radius_mm) - 1e-9;

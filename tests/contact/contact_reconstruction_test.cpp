@@ -637,6 +637,9 @@ TEST(ContactReconstruction, RejectsOptionsThatCannotWork) {
   EXPECT_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.cells_per_evaluation = 0; })),
                std::invalid_argument);
   EXPECT_NO_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.jacobian_refresh = 1; })));
+  EXPECT_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.dead_reading_share = 1; })),
+               std::invalid_argument);
+  EXPECT_NO_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.dead_reading_share = 0; })));
   EXPECT_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.min_pair_force_share = 0.6; })),
                std::invalid_argument);
   EXPECT_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.min_rod_length_mm = 0; })),
