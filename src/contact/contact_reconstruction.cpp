@@ -47,6 +47,8 @@ ContactReconstructor::ContactReconstructor(const sensors::SensorProfile& profile
         "contact reconstruction: need min_pair_separation_mm >= 0, 0 <= min_pair_force_share <= 0.5, "
         "min_rod_length_mm > 0, explained_candidate_evaluations >= 0, radius_track_log_sigma >= 0, "
         "force_step_max_averaged_scans >= 1");
+  if (!(options_.dead_reading_share >= 0 && options_.dead_reading_share < 1))
+    throw std::invalid_argument("contact reconstruction: need 0 <= dead_reading_share < 1");
   // A hair inside the plausible range, so that a clamped radius is still plausible.
   log_r_lo_ = std::log(options_.min_radius_mm) + 1e-9;
   log_r_hi_ = std::log(options_.max_radius_mm) - 1e-9;
@@ -143,15 +145,18 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
   return estimate_;
 }
 
-void ContactReconstructor::FlagInadequate(double dof) {
-  // No model explains the contact within noise: nothing plausible, or a residual above the
-  // hold mean's noise (a chi^2 test at adequacy_z) and the model's own error
-  // (reconstruction_options.h). dof = m channels x N scans.
+double ContactReconstructor::AdequateRms2(double dof) const {
+  // A residual within the hold mean's noise (a chi^2 test at adequacy_z) and the model's own
+  // error (reconstruction_options.h). dof = m channels x N scans.
   const double n = std::max(1, estimate_.averaged_scans), m = std::max(1.0, dof / n);
-  const double allowed = (1 + options_.adequacy_z * std::sqrt(2 / m)) / n +
-                         options_.model_error_sigma * options_.model_error_sigma;
+  return (1 + options_.adequacy_z * std::sqrt(2 / m)) / n + options_.model_error_sigma * options_.model_error_sigma;
+}
+
+void ContactReconstructor::FlagInadequate(double dof) {
+  // No model explains the contact within noise: nothing plausible, or a residual above
+  // AdequateRms2.
   estimate_.model_inadequate =
-      estimate_.contact && !(estimate_.ok && estimate_.rms_sigma * estimate_.rms_sigma <= allowed);
+      estimate_.contact && !(estimate_.ok && estimate_.rms_sigma * estimate_.rms_sigma <= AdequateRms2(dof));
   if (estimate_.model_inadequate) ++counters_.model_inadequate;
 }
 
@@ -280,9 +285,9 @@ ContactReconstructor::Selection ContactReconstructor::StartSelection(NormalMomen
 
 void ContactReconstructor::LeaveOutLoneMisfit(Selection& s) {
   const Fit& best = s.best;
-  if (!(options_.lone_taxel_share > 0) || !(best.chi2 > options_.max_rms_sigma * options_.max_rms_sigma * s.dof) ||
-      !best.prediction.valid || !Plausible(best.model))
-    return;
+  if (!(options_.lone_taxel_share > 0) || !best.prediction.valid || !Plausible(best.model)) return;
+  const bool falls_back = best.chi2 > options_.max_rms_sigma * options_.max_rms_sigma * s.dof;
+  if (!falls_back && !(best.chi2 > AdequateRms2(s.dof) * s.dof)) return;
   // The best fit's residuals per taxel (prediction - reading, in noise units).
   const Eigen::VectorXd r = (Predicted(best) - obs_).cwiseProduct(weight_);
   const int n = profile_.taxel_count;
@@ -298,11 +303,25 @@ void ContactReconstructor::LeaveOutLoneMisfit(Selection& s) {
     if (c > worst_chi2) worst_chi2 = c, worst = k;
     if (r[3 * k + 2] > deficit_sigma) deficit_sigma = r[3 * k + 2], deficit = k;
   }
+  if (!falls_back) {
+    // Within max_rms_sigma but inadequate (a dead taxel whose load is small, off the contact,
+    // or carried by a hold's mean: rig press_03, a 5 mm sphere at the centre with corner taxel
+    // 1 dead, at 2.6 sigma over the hold, where a 2.6 mm punch then won by absorbing it):
+    // only the taxel that reads the most below the fit, when the refit without it is adequate
+    // and its misfit stands alone.
+    // And only a taxel that reads like a dead one, less than dead_reading_share of what the
+    // fit predicts for it: a wrong shape's misfit (a sphere on a punch, whose centre is
+    // loaded less than a dome's) leaves the taxel most of its predicted reading.
+    if (deficit >= 0 && options_.dead_reading_share > 0 &&
+        obs_[3 * deficit + 2] <= options_.dead_reading_share * Predicted(best)[3 * deficit + 2])
+      RefitWithout(deficit, s, true, true);
+    return;
+  }
   if (worst >= 0 && worst_chi2 >= options_.lone_taxel_share * best.chi2 && RefitWithout(worst, s, false)) return;
   if (deficit >= 0 && deficit != worst) RefitWithout(deficit, s, true);
 }
 
-bool ContactReconstructor::RefitWithout(int k, Selection& s, bool must_stand_alone) {
+bool ContactReconstructor::RefitWithout(int k, Selection& s, bool must_stand_alone, bool adequate) {
   const Fit& best = s.best;
   // Refit without it, warm from the best fit (its parts do not depend on the weights).
   const Eigen::VectorXd saved = weight_.segment(3 * k, 3);
@@ -321,7 +340,8 @@ bool ContactReconstructor::RefitWithout(int k, Selection& s, bool must_stand_alo
     if (across.chi2 < refit.chi2 || !Plausible(refit.model)) refit = std::move(across);
   }
   const double dof = std::max(1.0, s.dof - 3.0 * estimate_.averaged_scans);
-  bool accept = refit.chi2 <= options_.max_rms_sigma * options_.max_rms_sigma * dof && Plausible(refit.model);
+  const double within = adequate ? AdequateRms2(dof) : options_.max_rms_sigma * options_.max_rms_sigma;
+  bool accept = refit.chi2 <= within * dof && Plausible(refit.model);
   if (accept && must_stand_alone) {
     // Its misfit stands alone: the refit predicts it worse than it explains all the others
     // together (the share rule's counterpart, judged by the fit that left it out).

@@ -28,7 +28,11 @@
 //    Failing that, the taxel that reads the most below the fit is tried the same way, and
 //    answers when its misfit under the refit is at least all the others' (a fit that bent
 //    around a dead taxel puts most of its misfit on the live ones beside it); a finite rod
-//    that the refit stretches across the pad is refitted as the rod across it;
+//    that the refit stretches across the pad is refitted as the rod across it. A fit within
+//    max_rms_sigma that is still inadequate (model_inadequate's test) tries only the taxel
+//    that reads the most below it, and only when that taxel reads less than
+//    dead_reading_share of its prediction (a dead one: a wrong shape's misfit leaves it most
+//    of its reading); it answers when the refit is adequate and its misfit stands alone;
 //  - a fit whose RMS residual exceeds max_rms_sigma, or that leaves the plausible domain
 //    (position off the pad, radius outside [min, max]), is a fallback: the caller uses the
 //    pressure-map boundary condition instead, and it is counted.
@@ -139,7 +143,10 @@ class ContactReconstructor {
   /// s.best refitted without taxel k; true (s.best replaced, k the lone misfit) when the
   /// refit explains the others within max_rms_sigma and, must_stand_alone, k's misfit under
   /// the refit is at least the others' together.
-  bool RefitWithout(int k, Selection& s, bool must_stand_alone);
+  bool RefitWithout(int k, Selection& s, bool must_stand_alone, bool adequate = false);
+  /// The largest RMS residual^2 (single-scan noise units) that FlagInadequate calls adequate,
+  /// for `dof` weighted channels x the scans averaged.
+  double AdequateRms2(double dof) const;
   /// The lone misfit left out since an earlier scan comes back when the accepted fit
   /// predicts its readings within max_rms_sigma.
   void MaybeTakeBackLoneTaxel(const Fit& fit);

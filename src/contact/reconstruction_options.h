@@ -45,6 +45,12 @@ struct ReconstructionOptions {
   /// taxel that reads the most below the fit, and a finite rod's refit across the pad:
   /// contact_reconstruction.h).
   double lone_taxel_share = 0.5;
+  /// A fit within max_rms_sigma that is still inadequate (model_inadequate's test) is redone
+  /// without the taxel that reads the most below it when that taxel reads less than this
+  /// share of what the fit predicts for it (a dead taxel reads nothing where the fit says it
+  /// is loaded; a wrong shape's misfit leaves it most of its reading), the refit is adequate
+  /// and the taxel's misfit under it is at least the others' together. 0 = off.
+  double dead_reading_share = 0.25;
   double min_radius_mm = 0.3;     ///< plausible radii for spheres and rods
   double max_radius_mm = 60;
   double max_offset_mm = 14;      ///< contact centre within this of the pad centre

@@ -637,6 +637,9 @@ TEST(ContactReconstruction, RejectsOptionsThatCannotWork) {
   EXPECT_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.cells_per_evaluation = 0; })),
                std::invalid_argument);
   EXPECT_NO_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.jacobian_refresh = 1; })));
+  EXPECT_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.dead_reading_share = 1; })),
+               std::invalid_argument);
+  EXPECT_NO_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.dead_reading_share = 0; })));
   EXPECT_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.min_pair_force_share = 0.6; })),
                std::invalid_argument);
   EXPECT_THROW(ContactReconstructor(Uskin(), with([](ReconstructionOptions& o) { o.min_rod_length_mm = 0; })),
@@ -933,6 +936,56 @@ TEST(ContactReconstruction, ADeadTaxelTheFitBentAroundIsLeftOut) {
       EXPECT_NEAR(std::abs(std::sin(e.primitive.yaw_deg * 3.14159265358979 / 180)), 1.0, 0.02);
       EXPECT_NEAR(e.primitive.x_mm, press.object.x_mm, 0.5);
     }
+  }
+}
+
+// A dead taxel whose misfit keeps the fit within max_rms_sigma but not adequate: off the
+// contact (press_03, a 5 mm sphere at the centre, corner taxel 1 dead: 2.6 sigma over the
+// hold, and a 2.6 mm punch won by absorbing it), under a punch's edge (press_22, a 6 x 6 mm
+// punch, taxel 5 dead; press_29, a 5 x 2 mm punch, taxel 4) and under one sphere of a pair
+// (press_24, taxel 7 under one sphere, 0 under the other). It reads nothing where the fit
+// says it is loaded: left out, and the contact keeps its shape.
+TEST(ContactReconstruction, ADeadTaxelTheFitStillExplainsWithinMaxRmsIsLeftOut) {
+  struct Case {
+    int press, taxel;
+    ContactShape shape;
+    bool pair;
+    double force_N;
+  };
+  for (const Case& c : {Case{3, 1, ContactShape::kSphere, false, 0.8}, Case{22, 5, ContactShape::kPunch, false, 1.0},
+                        Case{29, 4, ContactShape::kPunch, false, 0.5}, Case{24, 7, ContactShape::kSphere, true, 0.8},
+                        Case{24, 0, ContactShape::kSphere, true, 0.8}}) {
+    SCOPED_TRACE("press_" + std::to_string(c.press) + ", taxel " + std::to_string(c.taxel) + " dead");
+    const sensors::CalibrationPress& press = Rig()[size_t(c.press)];
+    ContactReconstructor r(Uskin());
+    const ContactEstimate e = WithDeadTaxelAtHold(press, c.taxel, &r);
+    ASSERT_TRUE(e.ok) << e.problem;
+    ASSERT_EQ(e.taxel_use.size(), 16u);
+    EXPECT_EQ(e.taxel_use[size_t(c.taxel)], TaxelUse::kLoneMisfit);
+    EXPECT_EQ(e.primitive.shape, c.shape) << ContactShapeName(e.primitive.shape);
+    EXPECT_EQ(e.two_contacts, c.pair);
+    EXPECT_FALSE(e.model_inadequate) << e.rms_sigma;
+    EXPECT_NEAR(e.normal_force_N(), c.force_N, 0.1 * c.force_N);
+  }
+}
+
+// The same test on the healthy presses of a shape the fit first reads wrong (a sphere on a
+// punch, inadequate while the punch is not yet tried: its centre taxel reads less than the
+// dome predicts, by less than a dead one) leaves no taxel out: the presses' lone misfits
+// are those of the test at max_rms_sigma alone (dead_reading_share 0).
+TEST(ContactReconstruction, AWrongShapesMisfitLeavesNoTaxelOut) {
+  for (int p : {21, 22, 23, 29}) {
+    SCOPED_TRACE("press_" + std::to_string(p));
+    const sensors::CalibrationPress& press = Rig()[size_t(p)];
+    int64_t left_out[2] = {0, 0};
+    for (int off = 0; off < 2; ++off) {
+      ReconstructionOptions options;
+      if (off) options.dead_reading_share = 0;
+      ContactReconstructor r(Uskin(), options);
+      for (const Eigen::VectorXd& readings : press.readings_N) r.Reconstruct(readings, std::vector<uint8_t>(16, 1));
+      left_out[off] = r.counters().lone_taxels_left_out;
+    }
+    EXPECT_EQ(left_out[0], left_out[1]);
   }
 }
 
