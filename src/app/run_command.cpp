@@ -3,6 +3,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <thread>
@@ -59,6 +60,12 @@ int RunHand(const ArgParser& args, BridgeConfig config, const LcmUrlChoice& lcm_
   std::vector<HandFinger> fingers;
   for (Finger& f : FingersOf(config)) {
     f.config.lcm.url = lcm_url.url;
+    // lcm.log: a log a finger (PATH_<name>.EXT), as its channels are its own.
+    if (!f.config.lcm.log_path.empty()) {
+      const std::filesystem::path log(f.config.lcm.log_path);
+      f.config.lcm.log_path =
+          (log.parent_path() / (log.stem().string() + "_" + f.name + log.extension().string())).string();
+    }
     std::printf("finger %s: sensor %s (id offset %d) on %s, model %s/%s, display %s\n", f.name.c_str(),
                 f.config.sensor_profile.c_str(), f.config.can_id_offset, f.config.can_interface.c_str(),
                 f.config.model.c_str(), f.config.preset.c_str(), f.config.display_profile.c_str());
