@@ -76,8 +76,9 @@ int RunHand(const ArgParser& args, BridgeConfig config, const LcmUrlChoice& lcm_
   // Every leader model before any bus is opened or display driven: one that fails stops here.
   LeaderModelCache leaders;
   BuildHandFeSteps(fingers, false, &leaders);
-  std::printf("leader models (fe.step contact): %d loaded; fingers reusing one already loaded: %d\n",
-              leaders.models_loaded(), leaders.models_shared());
+  std::printf("leader models (fe.step contact): %d loaded; fingers reusing one already loaded: %d; pressure-map "
+              "precomputes reused: %d\n",
+              leaders.models_loaded(), leaders.models_shared(), leaders.fallbacks_shared());
 
   std::unique_ptr<sensors::FrameSource> source;
   sensors::MultiSocketCanSource* buses = nullptr;

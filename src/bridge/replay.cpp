@@ -473,6 +473,7 @@ void BuildFeSteps(std::vector<HandFinger>& fingers, const ReplayOptions& options
   result->leader_models_loaded = leaders.models_loaded();
   result->leader_models_shared = leaders.models_shared();
   result->leader_operators_shared = leaders.operators_shared();
+  result->fallbacks_shared = leaders.fallbacks_shared();
 }
 
 }  // namespace

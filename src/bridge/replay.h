@@ -155,6 +155,9 @@ struct HandReplayResult {
   /// Inverse display renderings precomputed, and taken by a later finger with the same
   /// leader model and display (InverseRenderingCache).
   int display_renderings_built = 0, display_renderings_shared = 0;
+  /// Fingers that took the pressure-map step's precompute from an earlier one (same leader
+  /// model and sensor profile: the contact step's fallback or fe.step reduced).
+  int fallbacks_shared = 0;
   double wall_s = 0;                     ///< the scan loop, all fingers
   int finger_threads = 1;                ///< threads the fingers ran on
   bool stopped_early = false;
