@@ -91,6 +91,11 @@ class SocketCanSource final : public FrameSource {
   /// True if this kernel can create AF_CAN sockets (for skipping live tests).
   static bool KernelHasCan(std::string* why_not);
 
+  /// The socket's descriptor, for a reader that polls several buses at once
+  /// (MultiSocketCanSource); reading stays with Next().
+  int descriptor() const { return fd_; }
+  const std::string& interface_name() const { return interface_; }
+
  private:
   void ApplyOptions(const SocketCanOptions& options, bool strict);
 

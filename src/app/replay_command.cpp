@@ -119,6 +119,12 @@ int ReplayHand(const ArgParser& args, const BridgeConfig& config, sensors::Frame
   std::printf("leader models (fe.step contact): %d loaded; fingers reusing one already loaded: %d (its compliance "
               "precompute too: %d)\n",
               hand.leader_models_loaded, hand.leader_models_shared, hand.leader_operators_shared);
+  if (hand.fallbacks_shared > 0)
+    std::printf("pressure-map precomputes (scene, K, U) reused by a later finger with the same sensor: %d\n",
+                hand.fallbacks_shared);
+  if (hand.display_renderings_built > 0)
+    std::printf("inverse display renderings: %d precomputed; fingers reusing one already precomputed: %d\n",
+                hand.display_renderings_built, hand.display_renderings_shared);
   for (const auto& [bus, count] : hand.unclaimed_frames)
     std::printf("frames no finger claims on %s: %lld\n", bus.c_str(), static_cast<long long>(count));
   if (signals.signal_number()) {

@@ -64,11 +64,12 @@ std::string DisplayRequests::Describe() const {
 
 DisplayRequests MakeDisplayRequests(const BridgeConfig& config, const display::DisplayProfile& profile,
                                     const Eigen::Matrix3Xd& merkel_rest_pad_mm,
-                                    const std::function<void(const std::string&)>& progress) {
+                                    const std::function<void(const std::string&)>& progress,
+                                    InverseRenderingCache* renderings) {
   DisplayRequests r;
   r.choice = ChooseRendering(config, profile);
   if (r.choice.method == RenderingMethod::kInverse)
-    r.inverse = std::make_shared<InverseDisplayRequests>(config, profile, merkel_rest_pad_mm, progress);
+    r.inverse = std::make_shared<InverseDisplayRequests>(config, profile, merkel_rest_pad_mm, progress, renderings);
   return r;
 }
 

@@ -45,8 +45,11 @@ struct DisplayRequests {
 
 /// ChooseRendering, then the inverse renderer's precompute when it is chosen (see
 /// InverseDisplayRequests; `progress` gets its startup lines).
+/// `renderings`: a hand's shared inverse-rendering precomputes (InverseRenderingCache; null:
+/// built for this display alone).
 DisplayRequests MakeDisplayRequests(const BridgeConfig& config, const display::DisplayProfile& profile,
                                     const Eigen::Matrix3Xd& merkel_rest_pad_mm,
-                                    const std::function<void(const std::string&)>& progress = {});
+                                    const std::function<void(const std::string&)>& progress = {},
+                                    InverseRenderingCache* renderings = nullptr);
 
 }  // namespace sedbridge::bridge

@@ -45,7 +45,7 @@ void RequireOneFinger(const BridgeConfig& config, const std::string& command) {
   if (config.fingers.empty()) return;
   throw std::runtime_error(config.file + ": 'fingers:' lists " + std::to_string(config.fingers.size()) +
                            " fingers; `sedbridge " + command +
-                           "` bridges one finger (a hand replays with `sedbridge replay`)");
+                           "` bridges one finger (a hand runs with `sedbridge replay` or `sedbridge run`)");
 }
 
 std::vector<Finger> FingersOf(const BridgeConfig& config) {

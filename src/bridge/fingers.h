@@ -32,7 +32,7 @@ struct Finger {
 std::vector<Finger> FingersOf(const BridgeConfig& config);
 
 /// Throws std::runtime_error, naming `command` and the file, when `config` has a `fingers:`
-/// list: for the commands that bridge one finger (run, simulate, fidelity).
+/// list: for the commands that bridge one finger (simulate, fidelity).
 void RequireOneFinger(const BridgeConfig& config, const std::string& command);
 
 /// `name` as a channel suffix: "_" + upper case ("index" -> "_INDEX").

@@ -32,21 +32,50 @@ void CheckSameLayer(const model::FingertipModel& m, const Eigen::Matrix3Xd& brid
 
 }  // namespace
 
+std::shared_ptr<InverseRenderingPrecompute> InverseRenderingCache::Get(
+    const std::string& key, const std::function<std::shared_ptr<InverseRenderingPrecompute>()>& build) {
+  auto it = by_key_.find(key);
+  if (it != by_key_.end()) {
+    ++shared_;
+    return it->second;
+  }
+  std::shared_ptr<InverseRenderingPrecompute> made = build();
+  ++built_;
+  by_key_.emplace(key, made);
+  return made;
+}
+
 InverseDisplayRequests::InverseDisplayRequests(const BridgeConfig& config, const display::DisplayProfile& profile,
                                                const Eigen::Matrix3Xd& merkel_rest_pad_mm,
-                                               const std::function<void(const std::string&)>& progress) {
+                                               const std::function<void(const std::string&)>& progress,
+                                               InverseRenderingCache* cache) {
   const auto start = std::chrono::steady_clock::now();
-  model_ = model::LoadFingertipModel(config.model);
-  CheckSameLayer(model_, merkel_rest_pad_mm, config.model);
-  if (progress)
-    progress("display rendering: inverse FE precompute: leader contact model of " + config.model + " (cache " +
-             (config.compliance_cache_dir.empty() ? std::string("none") : config.compliance_cache_dir) + "), then " +
-             std::to_string(profile.size() + 1) + " contact solves (n + 1, n = " + std::to_string(profile.size()) +
-             " actuators of " + profile.name + ") ...");
-  render::DisplayRenderingOptions options;
-  options.cache_dir = config.compliance_cache_dir;
-  options.renderer.max_iterations = config.display_render_iterations;
-  rendering_ = std::make_unique<render::DisplayRendering>(model_, profile, options);
+  auto build = [&] {
+    auto p = std::make_shared<InverseRenderingPrecompute>();
+    p->model = model::LoadFingertipModel(config.model);
+    CheckSameLayer(p->model, merkel_rest_pad_mm, config.model);
+    if (progress)
+      progress("display rendering: inverse FE precompute: leader contact model of " + config.model + " (cache " +
+               (config.compliance_cache_dir.empty() ? std::string("none") : config.compliance_cache_dir) + "), then " +
+               std::to_string(profile.size() + 1) + " contact solves (n + 1, n = " + std::to_string(profile.size()) +
+               " actuators of " + profile.name + ") ...");
+    render::DisplayRenderingOptions options;
+    options.cache_dir = config.compliance_cache_dir;
+    options.renderer.max_iterations = config.display_render_iterations;
+    p->rendering = std::make_unique<render::DisplayRendering>(p->model, profile, options);
+    p->precompute_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return p;
+  };
+  if (cache) {
+    const std::string key = config.model + "|" + profile.name + "|" + config.compliance_cache_dir + "|" +
+                            std::to_string(config.display_render_iterations);
+    precompute_ = cache->Get(key, build);
+    CheckSameLayer(precompute_->model, merkel_rest_pad_mm, config.model);  // this finger's step against it
+  } else {
+    precompute_ = build();
+  }
+  // A copy of the never-run shared renderer: the same start as a renderer of one's own.
+  renderer_ = std::make_unique<render::InverseRenderer>(precompute_->rendering->renderer());
   target_Pa_.resize(merkel_rest_pad_mm.cols());
   precompute_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -58,9 +87,9 @@ void InverseDisplayRequests::Request(const display::SedField& field, std::vector
   // Another layer than the one the influence was built on: fault, never a guess.
   if (field.sed_Pa.size() != size_t(target_Pa_.size())) return;
   for (Eigen::Index v = 0; v < target_Pa_.size(); ++v) target_Pa_[v] = std::max(field.sed_Pa[size_t(v)], 0.0);
-  const Eigen::VectorXd& u = rendering_->Render(target_Pa_);
-  if (rendering_->last().fault) return;
-  not_converged_ += rendering_->last().converged ? 0 : 1;
+  const Eigen::VectorXd& u = renderer_->Render(target_Pa_);
+  if (renderer_->last().fault) return;
+  not_converged_ += renderer_->last().converged ? 0 : 1;
   std::copy(u.data(), u.data() + u.size(), requested->begin());
   render_times_.AddMs(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   render_cpu_times_.AddMs(ThreadCpuTime_ms() - cpu_start_ms);
@@ -76,7 +105,8 @@ display::CommandRequestSource InverseDisplayRequests::Source(std::shared_ptr<Inv
 
 bool InverseDisplayRequests::Deliver(const std::vector<double>& commands, Eigen::VectorXd* delivered_sed_Pa) {
   const Eigen::VectorXd u = Eigen::Map<const Eigen::VectorXd>(commands.data(), Eigen::Index(commands.size()));
-  return rendering_->Deliver(u, *delivered_sed_Pa);
+  std::lock_guard<std::mutex> lock(precompute_->deliver_mutex);
+  return precompute_->rendering->Deliver(u, *delivered_sed_Pa);
 }
 
 }  // namespace sedbridge::bridge

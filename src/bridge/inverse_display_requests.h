@@ -10,7 +10,9 @@
 
 #include <Eigen/Core>
 #include <functional>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <vector>
 
@@ -23,6 +25,33 @@
 
 namespace sedbridge::bridge {
 
+/// What an inverse rendering precomputes, built once for fingers with the same leader model
+/// and display profile and shared by them: the leader model, its contact model and the
+/// display pressed on it with the influence (render::DisplayRendering). Each finger renders
+/// with its own copy of the renderer (warm start, scratch; the influence, a few MB, copied
+/// into it); the shared renderer is never run. Deliver (the full FE, at a replay's peak)
+/// changes the contact model's state, so it holds `deliver_mutex`.
+struct InverseRenderingPrecompute {
+  model::FingertipModel model;
+  std::unique_ptr<render::DisplayRendering> rendering;
+  std::mutex deliver_mutex;
+  double precompute_s = 0;  ///< wall time of the model load and the precompute [s]
+};
+
+/// The precomputes of a hand's inverse renderings, by leader model, display profile, cache
+/// folder and renderer options (bridge/leader_model_cache.h does the same for the FE step).
+class InverseRenderingCache {
+ public:
+  std::shared_ptr<InverseRenderingPrecompute> Get(const std::string& key,
+                                                  const std::function<std::shared_ptr<InverseRenderingPrecompute>()>& build);
+  int built() const { return built_; }
+  int shared() const { return shared_; }
+
+ private:
+  std::map<std::string, std::shared_ptr<InverseRenderingPrecompute>> by_key_;
+  int built_ = 0, shared_ = 0;
+};
+
 class InverseDisplayRequests {
  public:
   /// Loads config.model (the leader's finger is the bridge's model), builds its contact
@@ -31,9 +60,12 @@ class InverseDisplayRequests {
   /// be the model's whole layer in its order (fe.merkel_region: layer). `progress`: a line
   /// before the precompute (null: none). Throws std::invalid_argument for a profile that
   /// cannot be rendered so or a vertex mismatch, std::runtime_error when a solve fails.
+  /// `cache`: the precompute is taken from it when another finger built it for the same
+  /// model and display, else built and left there (null: built for this one alone).
   InverseDisplayRequests(const BridgeConfig& config, const display::DisplayProfile& profile,
                          const Eigen::Matrix3Xd& merkel_rest_pad_mm,
-                         const std::function<void(const std::string&)>& progress = {});
+                         const std::function<void(const std::string&)>& progress = {},
+                         InverseRenderingCache* cache = nullptr);
 
   /// The commands for `field`'s SED as the target (negative SED read as 0, as the curve does).
   void Request(const display::SedField& field, std::vector<double>* requested);
@@ -43,9 +75,9 @@ class InverseDisplayRequests {
   /// The SED [Pa] `commands` add to the preloaded pad by the full contact FE, per Merkel
   /// vertex (the bridge's order). False (message in error()) when the solve fails.
   bool Deliver(const std::vector<double>& commands, Eigen::VectorXd* delivered_sed_Pa);
-  const std::string& error() const { return rendering_->error(); }
+  const std::string& error() const { return precompute_->rendering->error(); }
 
-  int num_actuators() const { return rendering_->num_actuators(); }
+  int num_actuators() const { return precompute_->rendering->num_actuators(); }
   /// Wall time of the precompute, model load included [s].
   double precompute_s() const { return precompute_s_; }
   /// Wall time of each Render [ms] (the renderer's share of the limiter stage).
@@ -57,8 +89,8 @@ class InverseDisplayRequests {
   int64_t not_converged() const { return not_converged_; }
 
  private:
-  model::FingertipModel model_;
-  std::unique_ptr<render::DisplayRendering> rendering_;
+  std::shared_ptr<InverseRenderingPrecompute> precompute_;
+  std::unique_ptr<render::InverseRenderer> renderer_;  // this finger's: its warm start
   Eigen::VectorXd target_Pa_;
   LatencyStats render_times_{100'000}, render_cpu_times_{100'000};
   int64_t not_converged_ = 0;

@@ -1,5 +1,7 @@
 #include "bridge/leader_model_cache.h"
 
+#include "bridge/reduced_linear_fe_step.h"
+
 namespace sedbridge::bridge {
 
 std::shared_ptr<const model::FingertipModel> LeaderModelCache::Model(const std::string& key,
@@ -22,6 +24,18 @@ std::shared_ptr<const fem::ComplianceOperator> LeaderModelCache::Operator(const 
 
 void LeaderModelCache::Remember(const std::string& key, std::shared_ptr<const fem::ComplianceOperator> op) {
   if (op) operators_.emplace(key, std::move(op));
+}
+
+std::shared_ptr<const ReducedLinearPrecompute> LeaderModelCache::Fallback(const std::string& key) const {
+  auto it = fallbacks_.find(key);
+  if (it == fallbacks_.end()) return nullptr;
+  ++fallbacks_shared_;
+  return it->second;
+}
+
+void LeaderModelCache::RememberFallback(const std::string& key,
+                                       std::shared_ptr<const ReducedLinearPrecompute> precompute) {
+  fallbacks_[key] = std::move(precompute);
 }
 
 }  // namespace sedbridge::bridge

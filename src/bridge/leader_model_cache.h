@@ -3,7 +3,8 @@
 // several fingers is loaded once and its compliance precompute (W, G: fem::ComplianceOperator)
 // built once; every later finger gets the same const model and operator through a
 // shared_ptr and uses them read-only (each finger keeps its own contact state and scratch).
-// Memory for each extra finger is then its contact state, not another precompute.
+// Memory for each extra finger is then its contact state, not another precompute. The
+// pressure-map step's precompute (scene, U) is kept here too, by model and sensor profile.
 
 #include <functional>
 #include <map>
@@ -15,6 +16,8 @@
 
 namespace sedbridge::bridge {
 
+struct ReducedLinearPrecompute;  // bridge/reduced_linear_fe_step.h
+
 class LeaderModelCache {
  public:
   /// The model under `key` (the model's name and what selects its Merkel vertices), loaded
@@ -25,6 +28,12 @@ class LeaderModelCache {
   std::shared_ptr<const fem::ComplianceOperator> Operator(const std::string& key) const;
   void Remember(const std::string& key, std::shared_ptr<const fem::ComplianceOperator> op);
 
+  /// The pressure-map step's precompute (the contact step's fallback, or fe.step reduced)
+  /// for `key` (model, preset, sensor profile, Merkel region), null until RememberFallback.
+  std::shared_ptr<const ReducedLinearPrecompute> Fallback(const std::string& key) const;
+  void RememberFallback(const std::string& key, std::shared_ptr<const ReducedLinearPrecompute> precompute);
+  int fallbacks_shared() const { return fallbacks_shared_; }
+
   int models_loaded() const { return models_loaded_; }
   int models_shared() const { return models_shared_; }
   int operators_shared() const { return operators_shared_; }
@@ -34,6 +43,8 @@ class LeaderModelCache {
   std::map<std::string, std::shared_ptr<const fem::ComplianceOperator>> operators_;
   int models_loaded_ = 0, models_shared_ = 0;
   mutable int operators_shared_ = 0;
+  std::map<std::string, std::shared_ptr<const ReducedLinearPrecompute>> fallbacks_;
+  mutable int fallbacks_shared_ = 0;
 };
 
 }  // namespace sedbridge::bridge

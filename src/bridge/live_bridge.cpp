@@ -30,6 +30,30 @@ void LiveBridge::Receive(const std::atomic<bool>& stop) {
   slot_.SetCounters(assembler_.counters(), source_.Stats());
 }
 
+void RunLiveSolver(LatestScanSlot& slot, BridgePipeline& pipeline, const LiveOptions& options,
+                   const std::function<bool()>& stopped, const std::atomic<bool>& receiver_done,
+                   LiveResult* result) {
+  LatestScanSlot::Entry entry;
+  sensors::BadFrameCounters counters;
+  sensors::FrameSourceStats stats;
+  while (!stopped()) {
+    if (slot.Take(&entry, options.tick_period_us)) {
+      slot.GetCounters(&counters, &stats);
+      pipeline.SetSensorCounters(counters, stats);
+      pipeline.SetScansDroppedUpstream(slot.dropped_count());
+      pipeline.ProcessScan(entry.scan, WallClockUtime(), entry.receive_wall_utime);
+      ++result->scans_processed;
+    } else if (receiver_done.load()) {
+      break;  // closed and empty
+    } else {
+      slot.GetCounters(&counters, &stats);  // a silent bus's state (bus-off) on its status
+      pipeline.SetSensorCounters(counters, stats);
+      pipeline.Tick(WallClockUtime());
+      ++result->ticks;
+    }
+  }
+}
+
 LiveResult LiveBridge::Run(const std::atomic<bool>& stop) {
   LiveResult result;
   std::exception_ptr receiver_error, solver_error;
@@ -45,23 +69,7 @@ LiveResult LiveBridge::Run(const std::atomic<bool>& stop) {
   });
 
   try {
-    LatestScanSlot::Entry entry;
-    sensors::BadFrameCounters counters;
-    sensors::FrameSourceStats stats;
-    while (!stop.load()) {
-      if (slot_.Take(&entry, options_.tick_period_us)) {
-        slot_.GetCounters(&counters, &stats);
-        pipeline_.SetSensorCounters(counters, stats);
-        pipeline_.SetScansDroppedUpstream(slot_.dropped_count());
-        pipeline_.ProcessScan(entry.scan, WallClockUtime(), entry.receive_wall_utime);
-        ++result.scans_processed;
-      } else if (receiver_done.load()) {
-        break;  // closed and empty
-      } else {
-        pipeline_.Tick(WallClockUtime());
-        ++result.ticks;
-      }
-    }
+    RunLiveSolver(slot_, pipeline_, options_, [&] { return stop.load(); }, receiver_done, &result);
   } catch (...) {
     solver_error = std::current_exception();
   }

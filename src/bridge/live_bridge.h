@@ -8,6 +8,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <functional>
 
 #include "bridge/bridge_pipeline.h"
 #include "bridge/latest_scan_slot.h"
@@ -32,6 +33,14 @@ struct LiveResult {
   int64_t ticks = 0;
   bool stopped_by_request = false;
 };
+
+/// The solver side of live mode, one finger: until `stopped()` or the slot is closed and
+/// empty after `receiver_done`, takes the newest scan from `slot` and processes it, or ticks
+/// the display when none came within options.tick_period_us. Counts into `result`
+/// (scans_processed, ticks). Used by LiveBridge and, a thread per finger, LiveHandBridge.
+void RunLiveSolver(LatestScanSlot& slot, BridgePipeline& pipeline, const LiveOptions& options,
+                   const std::function<bool()>& stopped, const std::atomic<bool>& receiver_done,
+                   LiveResult* result);
 
 class LiveBridge {
  public:

@@ -71,12 +71,27 @@ std::unique_ptr<FeStep> MakeFeStep(const BridgeConfig& config, const sensors::Se
     map.fe_step = FeStepKind::kReduced;
     scene::FingertipComplianceOptions leader = contact::LeaderComplianceOptions(config.compliance_cache_dir, config.face_contact);
     leader.contact.full_field = full_field;
-    return MakeContactStep(config, profile, MakeFeStep(map, profile, false, display), std::move(leader), region, leaders);
+    return MakeContactStep(config, profile, MakeFeStep(map, profile, false, display, leaders), std::move(leader),
+                           region, leaders);
   }
-  if (config.fe_step == FeStepKind::kReduced)
-    return std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, config.preset), profile,
-                                                 PadRegistration(profile.taxels, config.registration), config.traction,
-                                                 region);
+  if (config.fe_step == FeStepKind::kReduced) {
+    // A hand's fingers share the bridge's registration and traction keys: the model, preset,
+    // sensor profile and Merkel region tell their precomputes apart.
+    std::string key = config.model + "|" + config.preset + "|" + profile.name + "|" + std::to_string(profile.axes) +
+                      "|" + (region ? region.what : std::string("layer"));
+    char at[64];
+    for (const sensors::TaxelPosition& t : profile.taxels) {  // two profiles of one name, other pads
+      std::snprintf(at, sizeof at, "|%.17g,%.17g", t.x_mm, t.y_mm);
+      key += at;
+    }
+    if (leaders)
+      if (auto shared = leaders->Fallback(key)) return std::make_unique<ReducedLinearFeStep>(std::move(shared));
+    auto step = std::make_unique<ReducedLinearFeStep>(BridgeSceneDescription(config.model, config.preset), profile,
+                                                      PadRegistration(profile.taxels, config.registration),
+                                                      config.traction, region);
+    if (leaders) leaders->RememberFallback(key, step->precompute());
+    return step;
+  }
   return std::make_unique<SceneFeStep>(BridgeSceneDescription(config.model, config.preset), profile,
                                        PadRegistration(profile.taxels, config.registration), config.traction, region);
 }

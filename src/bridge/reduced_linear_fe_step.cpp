@@ -15,10 +15,15 @@ ReducedLinearFeStep::ReducedLinearFeStep(const scene::SceneDescription& d, const
       d.contact || d.friction || (d.bone && d.bone->motion) || !d.surface_traction)
     throw std::invalid_argument(
         "the reduced FE step needs a linear quasi-static traction-only scene with the bone fixed (preset 'fast')");
-  scene_step_ = std::make_unique<SceneFeStep>(d, profile, registration, options, merkel_filter);
-  num_taxels_ = profile.taxel_count;
-  shear_ = profile.axes == 3;
-  scene::FingertipScene& sc = scene_step_->scene();
+  auto pre = std::make_shared<ReducedLinearPrecompute>();
+  pre->scene_step = std::make_unique<SceneFeStep>(d, profile, registration, options, merkel_filter);
+  const int num_taxels_ = pre->num_taxels = profile.taxel_count;
+  const bool shear_ = pre->shear = profile.axes == 3;
+  Eigen::MatrixXd& U_ = pre->U;
+  Eigen::VectorXd& rest_m_ = pre->rest_m;
+  Eigen::VectorXd& force_per_Pa_N_ = pre->force_per_Pa_N;
+  SceneFeStep& scene_step = *pre->scene_step;
+  scene::FingertipScene& sc = scene_step.scene();
   const Eigen::Matrix3Xd& rest = sc.model().soft.rest_positions_m;
   rest_m_ = Eigen::Map<const Eigen::VectorXd>(rest.data(), rest.size());
   const int axes = shear_ ? 3 : 1;
@@ -38,12 +43,12 @@ ReducedLinearFeStep::ReducedLinearFeStep(const scene::SceneDescription& d, const
       std::vector<double>& target = a == 0 ? unit.pressure_Pa : (a == 1 ? unit.shear_x_Pa : unit.shear_y_Pa);
       target[size_t(j)] = kUnit_Pa;
       double applied_N = 0;
-      loads[size_t(a * num_taxels_ + j)] = scene_step_->LoadVector(unit, &applied_N);
+      loads[size_t(a * num_taxels_ + j)] = scene_step.LoadVector(unit, &applied_N);
       if (a == 0) force_per_Pa_N_[j] = applied_N / kUnit_Pa;
       target[size_t(j)] = 0.0;
     }
   double unloaded_N = 0;  // back to no traction (unit is all zero again)
-  scene_step_->LoadVector(unit, &unloaded_N);
+  scene_step.LoadVector(unit, &unloaded_N);
   // One back-substitution per column on the scene's K at rest (assembled by its unloaded
   // step: the linear quasi-static matrix is constant).
   const bool ok = fem::SolveForLoads(
@@ -56,20 +61,40 @@ ReducedLinearFeStep::ReducedLinearFeStep(const scene::SceneDescription& d, const
       [&](int i, const Eigen::VectorXd& u) { U_.col(i) = u / kUnit_Pa; }, 0);
   if (!ok) throw std::runtime_error("reduced FE step: a unit load's solve failed");
   sc.simulation().SetPositions(rest_m_);
-  x_m_ = rest_m_;
-  v_.setZero(U_.cols());
-  sed_nodes_ = sc.merkel()->element_nodes();
-  U_sed_.resize(3 * Eigen::Index(sed_nodes_.size()), U_.cols());
-  for (size_t k = 0; k < sed_nodes_.size(); ++k) U_sed_.middleRows<3>(3 * Eigen::Index(k)) = U_.middleRows<3>(3 * sed_nodes_[k]);
+  pre->sed_nodes = sc.merkel()->element_nodes();
+  pre->U_sed.resize(3 * Eigen::Index(pre->sed_nodes.size()), U_.cols());
+  for (size_t k = 0; k < pre->sed_nodes.size(); ++k)
+    pre->U_sed.middleRows<3>(3 * Eigen::Index(k)) = U_.middleRows<3>(3 * pre->sed_nodes[k]);
+  pre_ = std::move(pre);
+  StartState();
 }
 
+ReducedLinearFeStep::ReducedLinearFeStep(std::shared_ptr<const ReducedLinearPrecompute> precompute)
+    : pre_(std::move(precompute)) {
+  if (!pre_ || !pre_->scene_step) throw std::invalid_argument("reduced FE step: no precompute");
+  StartState();
+}
+
+void ReducedLinearFeStep::StartState() {
+  // A copy of the shared scene's layer as it was built (never evaluated since): the same
+  // start as a layer of one's own.
+  merkel_ = std::make_unique<scene::MerkelLayer>(*pre_->scene_step->scene().merkel());
+  x_m_ = pre_->rest_m;
+  v_.setZero(pre_->U.cols());
+}
+
+
+
 Eigen::VectorXd ReducedLinearFeStep::positions_m() const {
-  Eigen::VectorXd x = rest_m_;
-  x.noalias() += U_ * v_;
+  Eigen::VectorXd x = pre_->rest_m;
+  x.noalias() += pre_->U * v_;
   return x;
 }
 
 const MerkelSedResult& ReducedLinearFeStep::Step(const TaxelValues& values) {
+  const ReducedLinearPrecompute& p = *pre_;
+  const int num_taxels_ = p.num_taxels;
+  const bool shear_ = p.shear;
   result_ = MerkelSedResult{};
   StageTimes& times = result_.report.stage_ms;
   StageTimer bc_timer(times, Stage::kBoundaryCondition);
@@ -92,11 +117,11 @@ const MerkelSedResult& ReducedLinearFeStep::Step(const TaxelValues& values) {
   }
   bc_timer.Stop();
   StageTimer solve_timer(times, Stage::kSolve);
-  u_sed_.noalias() = U_sed_ * v_;
-  for (size_t k = 0; k < sed_nodes_.size(); ++k)
-    x_m_.segment<3>(3 * sed_nodes_[k]) = rest_m_.segment<3>(3 * sed_nodes_[k]) + u_sed_.segment<3>(3 * Eigen::Index(k));
+  u_sed_.noalias() = p.U_sed * v_;
+  for (size_t k = 0; k < p.sed_nodes.size(); ++k)
+    x_m_.segment<3>(3 * p.sed_nodes[k]) = p.rest_m.segment<3>(3 * p.sed_nodes[k]) + u_sed_.segment<3>(3 * Eigen::Index(k));
   solve_timer.Stop();
-  result_.applied_force_N = force_per_Pa_N_.dot(v_.head(num_taxels_));
+  result_.applied_force_N = p.force_per_Pa_N.dot(v_.head(num_taxels_));
   result_.report.finite = u_sed_.allFinite();
   result_.report.converged = true;
   if (!result_.report.finite) {
@@ -104,24 +129,24 @@ const MerkelSedResult& ReducedLinearFeStep::Step(const TaxelValues& values) {
     return result_;
   }
   const StageTimer sed_timer(times, Stage::kSed);
-  result_.sed_Pa = &scene_step_->scene().merkel()->Evaluate(x_m_);
+  result_.sed_Pa = &merkel_->Evaluate(x_m_);
   result_.ok = true;
   return result_;
 }
 
 bool ReducedLinearFeStep::Frame(FeFrame* frame) const {
-  const scene::FingertipScene& sc = scene_step_->scene();
+  const scene::FingertipScene& sc = pre_->scene_step->scene();
   frame->mesh = &sc.model().soft;
   frame->positions_m = positions_m();
-  frame->point_fields = {MerkelSedPointField(sc.model().soft.num_nodes(), sc.merkel()->nodes(), sc.merkel()->sed_Pa())};
+  frame->point_fields = {MerkelSedPointField(sc.model().soft.num_nodes(), merkel_->nodes(), merkel_->sed_Pa())};
   return true;
 }
 
 std::string ReducedLinearFeStep::Describe() const {
   char buf[96];
-  std::snprintf(buf, sizeof buf, " -- reduced linear step: %ld x %ld displacement map", static_cast<long>(U_.rows()),
-                static_cast<long>(U_.cols()));
-  return scene_step_->Describe() + buf;
+  std::snprintf(buf, sizeof buf, " -- reduced linear step: %ld x %ld displacement map", static_cast<long>(pre_->U.rows()),
+                static_cast<long>(pre_->U.cols()));
+  return pre_->scene_step->Describe() + buf;
 }
 
 }  // namespace sedbridge::bridge

@@ -291,14 +291,16 @@ class FingerRun {
  public:
   FingerRun(const BridgeConfig& config, const sensors::SensorProfile& profile,
             const display::DisplayProfile& display_profile, std::unique_ptr<FeStep> fe,
-            const sensors::FrameSource& source, const ReplayOptions& options)
+            const sensors::FrameSource& source, const ReplayOptions& options,
+            InverseRenderingCache* renderings = nullptr)
       : config_(config), profile_(profile), options_(options), source_(source) {
     using Clock = std::chrono::steady_clock;
     const auto t_setup = Clock::now();
     if (!fe) fe = MakeFeStep(config, profile, options.vtu_every > 0 && !options.out_dir.empty(), &display_profile);
     result_.fe_description = fe->Describe();
     requests_ = MakeDisplayRequests(config, display_profile, fe->merkel_rest_pad_mm(),
-                                    [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
+                                    [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); },
+                                    renderings);
     result_.display_rendering = requests_.Describe();
     result_.inverse_rendering = bool(requests_.inverse);
     if (requests_.inverse) std::fprintf(stderr, "%s\n", result_.display_rendering.c_str());
@@ -464,26 +466,28 @@ class SilentFingerTicks {
   std::vector<int64_t> last_scan_, last_activity_, tick_period_us_, overdue_us_;
 };
 
-// Every finger's leader model first: one that fails to load stops the start-up before any
-// display session exists, so no display has been driven. The same leader model named twice
-// is loaded and precomputed once, shared read-only.
+// Every finger's leader model first (BuildHandFeSteps), with the cache's counts in the result.
 void BuildFeSteps(std::vector<HandFinger>& fingers, const ReplayOptions& options, HandReplayResult* result) {
   LeaderModelCache leaders;
+  BuildHandFeSteps(fingers, options.vtu_every > 0 && !options.out_dir.empty(), &leaders);
+  result->leader_models_loaded = leaders.models_loaded();
+  result->leader_models_shared = leaders.models_shared();
+  result->leader_operators_shared = leaders.operators_shared();
+  result->fallbacks_shared = leaders.fallbacks_shared();
+}
+
+}  // namespace
+
+void BuildHandFeSteps(std::vector<HandFinger>& fingers, bool full_field, LeaderModelCache* leaders) {
   for (HandFinger& f : fingers) {
     if (f.fe) continue;
     try {
-      f.fe = MakeFeStep(f.config, f.profile, options.vtu_every > 0 && !options.out_dir.empty(), &f.display_profile,
-                        &leaders);
+      f.fe = MakeFeStep(f.config, f.profile, full_field, &f.display_profile, leaders);
     } catch (const std::exception& e) {
       throw std::runtime_error("finger '" + f.name + "': leader model '" + f.config.model + "': " + e.what());
     }
   }
-  result->leader_models_loaded = leaders.models_loaded();
-  result->leader_models_shared = leaders.models_shared();
-  result->leader_operators_shared = leaders.operators_shared();
 }
-
-}  // namespace
 
 HandReplayResult RunHandReplay(std::vector<HandFinger> fingers, sensors::FrameSource& source,
                                const ReplayOptions& options) {
@@ -495,6 +499,7 @@ HandReplayResult RunHandReplay(std::vector<HandFinger> fingers, sensors::FrameSo
   BuildFeSteps(fingers, options, &result);
   std::vector<std::unique_ptr<FingerRun>> runs;
   std::vector<sensors::ScanAssembler*> assemblers;
+  InverseRenderingCache renderings;  // one precompute a (leader model, display), shared
   auto zero_all = [&] {
     for (auto& run : runs) run->ShutdownQuietly();
   };
@@ -505,7 +510,8 @@ HandReplayResult RunHandReplay(std::vector<HandFinger> fingers, sensors::FrameSo
       ReplayOptions own = options;
       own.can_interface = f.config.can_interface;
       if (!options.out_dir.empty()) own.out_dir = (std::filesystem::path(options.out_dir) / f.name).string();
-      runs.push_back(std::make_unique<FingerRun>(f.config, f.profile, f.display_profile, std::move(f.fe), source, own));
+      runs.push_back(std::make_unique<FingerRun>(f.config, f.profile, f.display_profile, std::move(f.fe), source, own,
+                                                 &renderings));
       assemblers.push_back(&runs.back()->assembler());
       result.names.push_back(f.name);
     }
@@ -550,6 +556,8 @@ HandReplayResult RunHandReplay(std::vector<HandFinger> fingers, sensors::FrameSo
   result.stopped_early = pumped.stopped;
   result.unclaimed_frames = router.unclaimed();
   result.finger_threads = workers.threads();
+  result.display_renderings_built = renderings.built();
+  result.display_renderings_shared = renderings.shared();
   try {
     for (auto& run : runs) result.fingers.push_back(run->Finish(result.wall_s, pumped.stopped));
   } catch (...) {

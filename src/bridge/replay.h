@@ -33,6 +33,7 @@
 #include "bridge/display_fidelity.h"
 #include "bridge/fe_step.h"
 #include "bridge/latency_stats.h"
+#include "bridge/leader_model_cache.h"
 #include "display/display_profile.h"
 #include "sensors/frame_source.h"
 #include "sensors/sensor_profile.h"
@@ -151,6 +152,12 @@ struct HandReplayResult {
   /// Leader models (fe.step contact) loaded, and taken by a later finger from an earlier one
   /// (the model; its compliance precompute), bridge/leader_model_cache.h.
   int leader_models_loaded = 0, leader_models_shared = 0, leader_operators_shared = 0;
+  /// Inverse display renderings precomputed, and taken by a later finger with the same
+  /// leader model and display (InverseRenderingCache).
+  int display_renderings_built = 0, display_renderings_shared = 0;
+  /// Fingers that took the pressure-map step's precompute from an earlier one (same leader
+  /// model and sensor profile: the contact step's fallback or fe.step reduced).
+  int fallbacks_shared = 0;
   double wall_s = 0;                     ///< the scan loop, all fingers
   int finger_threads = 1;                ///< threads the fingers ran on
   bool stopped_early = false;
@@ -166,6 +173,13 @@ struct HandReplayResult {
 /// std::invalid_argument when two fingers claim one CAN id on one interface.
 HandReplayResult RunHandReplay(std::vector<HandFinger> fingers, sensors::FrameSource& source,
                                const ReplayOptions& options);
+
+/// Builds every finger's FE step that is still null, leader models first, in config order: a
+/// finger whose leader model fails to load throws (naming the finger and the model) before
+/// any display session exists. The same leader model named twice is loaded and precomputed
+/// once through `leaders` and shared read-only. `full_field`: MakeFeStep's. For the hand's
+/// replay and live `run` alike.
+void BuildHandFeSteps(std::vector<HandFinger>& fingers, bool full_field, LeaderModelCache* leaders);
 
 /// Writes summary.csv for `rows`.
 void WriteSummaryCsv(const std::string& path, const std::vector<ReplayRow>& rows);

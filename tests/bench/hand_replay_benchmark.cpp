@@ -8,6 +8,10 @@
 //   worst finger's per-scan time p50 / p99 [ms] (the sum of the scan's stage times: what the scan
 //   cost its thread; unpaced, the receive-to-publish latency would count the queue), VmHWM [MiB]
 //   build/tests/bench/hand_replay_benchmark [--fingers 1,3,5] [--rates 100,500] [--threads 1,2]
+// Without options it runs the targets and says whether each is met:
+//   5 fingers at 100 Hz on one thread: each finger's per-scan p99 <= 1 ms;
+//   4 fingers at 500 Hz on two threads: keeps real time (realtime_x >= 1);
+//   memory for each extra finger: (VmHWM of 5 fingers - VmHWM of 1) / 4 at 100 Hz, one thread.
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -18,6 +22,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "bridge/bridge_config.h"
@@ -55,7 +60,15 @@ double VmHwm_MiB() {
   return 0;
 }
 
-void RunOne(int fingers, double rate_Hz, int threads) {
+// What a child reports to the parent (one line on a pipe): the row's numbers the targets need.
+struct RowResult {
+  int fingers = 0, threads = 0;
+  double rate_Hz = 0, realtime_x = 0, vmhwm_MiB = 0;
+  std::vector<double> finger_p99_ms;
+  bool ok = false;
+};
+
+void RunOne(int fingers, double rate_Hz, int threads, int report_fd) {
   SetFeThreads(1);
   BridgeConfig config = LoadBridgeConfig(DefaultBridgeConfigPath());
   for (int f = 0; f < fingers; ++f) {
@@ -76,6 +89,7 @@ void RunOne(int fingers, double rate_Hz, int threads) {
   std::remove(log.c_str());
   int64_t scans = 0;
   double p50 = 0, p99 = 0, log_s = 0;
+  std::string finger_p99;
   for (const ReplayResult& f : r.fingers) {
     scans += int64_t(f.rows.size());
     std::vector<double> ms;
@@ -87,7 +101,9 @@ void RunOne(int fingers, double rate_Hz, int threads) {
     std::sort(ms.begin(), ms.end());
     if (!ms.empty()) {
       p50 = std::max(p50, ms[ms.size() / 2]);
-      p99 = std::max(p99, ms[std::min(ms.size() - 1, size_t(0.99 * double(ms.size())))]);
+      const double own = ms[std::min(ms.size() - 1, size_t(0.99 * double(ms.size())))];
+      p99 = std::max(p99, own);
+      finger_p99 += " " + std::to_string(own);
     }
     if (!f.rows.empty()) log_s = std::max(log_s, (f.rows.back().utime - f.rows.front().utime) * 1e-6);
   }
@@ -95,6 +111,86 @@ void RunOne(int fingers, double rate_Hz, int threads) {
               static_cast<long long>(scans), r.wall_s, r.wall_s > 0 ? scans / r.wall_s : 0.0,
               r.wall_s > 0 ? log_s / r.wall_s : 0.0, p50, p99, VmHwm_MiB());
   std::fflush(stdout);
+  const std::string report = std::to_string(r.wall_s > 0 ? log_s / r.wall_s : 0.0) + " " + std::to_string(VmHwm_MiB()) +
+                             finger_p99 + "\n";
+  [[maybe_unused]] ssize_t n = write(report_fd, report.data(), report.size());
+}
+
+// Runs one row in a child process (its own VmHWM); its report, ok false when it failed.
+RowResult RunChild(int fingers, double rate_Hz, int threads) {
+  RowResult row;
+  row.fingers = fingers;
+  row.rate_Hz = rate_Hz;
+  row.threads = threads;
+  int fds[2];
+  if (pipe(fds) != 0) return row;
+  const pid_t child = fork();
+  if (child == 0) {
+    close(fds[0]);
+    try {
+      RunOne(fingers, rate_Hz, threads, fds[1]);
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+      _exit(1);
+    }
+    _exit(0);
+  }
+  close(fds[1]);
+  std::string text;
+  char buffer[512];
+  for (ssize_t n; (n = read(fds[0], buffer, sizeof buffer)) > 0;) text.append(buffer, size_t(n));
+  close(fds[0]);
+  int status = 0;
+  waitpid(child, &status, 0);
+  std::istringstream in(text);
+  if (!(in >> row.realtime_x >> row.vmhwm_MiB)) return row;
+  for (double x; in >> x;) row.finger_p99_ms.push_back(x);
+  row.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
+  return row;
+}
+
+const RowResult* Find(const std::vector<RowResult>& rows, int fingers, double rate_Hz, int threads) {
+  for (const RowResult& r : rows)
+    if (r.ok && r.fingers == fingers && r.rate_Hz == rate_Hz && r.threads == threads) return &r;
+  return nullptr;
+}
+
+// The targets, from the rows run (a target whose row was not run is said so).
+void PrintTargets(const std::vector<RowResult>& rows) {
+  std::printf("\ntargets:\n");
+  if (const RowResult* r = Find(rows, 5, 100, 1)) {
+    double worst = 0;
+    std::string each;
+    for (double p : r->finger_p99_ms) {
+      worst = std::max(worst, p);
+      char one[32];
+      std::snprintf(one, sizeof one, " %.3f", p);
+      each += one;
+    }
+    std::printf("  5 fingers at 100 Hz on one thread: per-scan p99 by finger [ms]:%s -> %s (target <= 1 ms each)\n",
+                each.c_str(), worst <= 1.0 ? "MET" : "NOT MET");
+  } else {
+    std::printf("  5 fingers at 100 Hz on one thread: not run\n");
+  }
+  if (const RowResult* r = Find(rows, 4, 500, 2))
+    std::printf("  4 fingers at 500 Hz on two threads: realtime_x %.2f -> %s (target: keeps real time, >= 1)\n",
+                r->realtime_x, r->realtime_x >= 1.0 ? "MET" : "NOT MET");
+  else
+    std::printf("  4 fingers at 500 Hz on two threads: not run\n");
+  // Memory: the largest hand against one finger, at the same rate and threads.
+  const RowResult* one = nullptr;
+  const RowResult* most = nullptr;
+  for (const RowResult& r : rows) {
+    if (!r.ok || r.rate_Hz != 100 || r.threads != 1) continue;
+    if (r.fingers == 1) one = &r;
+    if (r.fingers > 1 && (!most || r.fingers > most->fingers)) most = &r;
+  }
+  if (one && most)
+    std::printf("  memory per extra finger: %.1f MiB ((VmHWM %d fingers %.1f - 1 finger %.1f) / %d, 100 Hz, one thread)\n",
+                (most->vmhwm_MiB - one->vmhwm_MiB) / (most->fingers - 1), most->fingers, most->vmhwm_MiB,
+                one->vmhwm_MiB, most->fingers - 1);
+  else
+    std::printf("  memory per extra finger: needs 1 and more fingers at 100 Hz on one thread\n");
 }
 
 std::vector<double> ListOf(const char* text) {
@@ -108,34 +204,35 @@ std::vector<double> ListOf(const char* text) {
 }  // namespace sedbridge::bridge
 
 int main(int argc, char** argv) {
+  using sedbridge::bridge::RowResult;
   std::vector<double> fingers = {1, 3, 5}, rates = {100, 500}, threads = {1, 2};
-  for (int i = 1; i + 1 < argc; i += 2) {
+  const bool grid = argc > 1;  // any option: the grid of the lists; none: the targets' rows
+  bool usage = argc % 2 == 0;
+  for (int i = 1; i + 1 < argc && !usage; i += 2) {
     const std::string key = argv[i];
     if (key == "--fingers") fingers = sedbridge::bridge::ListOf(argv[i + 1]);
     else if (key == "--rates") rates = sedbridge::bridge::ListOf(argv[i + 1]);
     else if (key == "--threads") threads = sedbridge::bridge::ListOf(argv[i + 1]);
-    else {
-      std::fprintf(stderr, "usage: %s [--fingers 1,3,5] [--rates 100,500] [--threads 1,2]\n", argv[0]);
-      return 2;
-    }
+    else usage = true;
+  }
+  if (usage) {
+    std::fprintf(stderr, "usage: %s [--fingers 1,3,5] [--rates 100,500] [--threads 1,2]\n"
+                         "(no options: the targets' rows, then whether each target is met)\n", argv[0]);
+    return 2;
+  }
+  // fingers, rate, threads: the targets' rows (1 finger for the memory per extra finger).
+  std::vector<std::tuple<int, double, int>> runs;
+  if (grid) {
+    for (double f : fingers)
+      for (double r : rates)
+        for (double t : threads) runs.emplace_back(int(f), r, int(t));
+  } else {
+    runs = {{1, 100, 1}, {5, 100, 1}, {4, 500, 1}, {4, 500, 2}};
   }
   std::printf("fingers rate_Hz threads  scans  wall_s scans_per_s realtime_x scan_p50ms scan_p99ms VmHWM_MiB\n");
   std::fflush(stdout);
-  for (double f : fingers)
-    for (double r : rates)
-      for (double t : threads) {
-        const pid_t child = fork();
-        if (child == 0) {
-          try {
-            sedbridge::bridge::RunOne(int(f), r, int(t));
-          } catch (const std::exception& e) {
-            std::fprintf(stderr, "error: %s\n", e.what());
-            _exit(1);
-          }
-          _exit(0);
-        }
-        int status = 0;
-        waitpid(child, &status, 0);
-      }
+  std::vector<RowResult> rows;
+  for (const auto& [f, r, t] : runs) rows.push_back(sedbridge::bridge::RunChild(f, r, t));
+  sedbridge::bridge::PrintTargets(rows);
   return 0;
 }

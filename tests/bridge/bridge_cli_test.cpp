@@ -62,6 +62,48 @@ TEST(BridgeCli, RunOnARecordingStopsAfterItsDurationWithTheDisplayAtZero) {
   std::filesystem::remove_all(dir);
 }
 
+// A hand (B_coarse, memq): thumb on can0, middle on can1, the shipped two-bus example log.
+std::string WriteHandConfig(const std::string& dir) {
+  const std::string path = dir + "/hand.yaml";
+  std::ofstream(path) << "fe: {model: B_coarse, preset: fast}\nlcm: {url: \"memq://\"}\nfingers:\n"
+                         "  - {name: thumb, sensor: {profile: uskin_4x4, interface: can0}}\n"
+                         "  - {name: middle, sensor: {profile: uskin_4x4, interface: can1}}\n";
+  return path;
+}
+
+TEST(BridgeCli, RunOfAHandOnARecordingDrivesEachFingerAndZeroesEveryDisplay) {
+  const std::string dir = TempDir("run_hand");
+  int status = -1;
+  const std::string out = RunCommand(std::string(SEDBRIDGE_BINARY) + " run --config " + WriteHandConfig(dir) +
+                                         " --log-input " + SEDBRIDGE_SOURCE_DIR +
+                                         "/config/bridge/example_hand.log --duration-s 0.8",
+                                     &status);
+  ASSERT_EQ(status, 0) << out;
+  EXPECT_NE(out.find("stopped (duration)"), std::string::npos) << out;
+  EXPECT_NE(out.find("== finger thumb (can0) =="), std::string::npos) << out;
+  EXPECT_NE(out.find("== finger middle (can1) =="), std::string::npos) << out;
+  const size_t first = out.find("display driven to zero");
+  ASSERT_NE(first, std::string::npos) << out;
+  EXPECT_NE(out.find("display driven to zero", first + 1), std::string::npos) << out;
+  std::filesystem::remove_all(dir);
+}
+
+TEST(BridgeCli, RunOfAHandRefusesInterfaceAndSaysWhyWithoutSocketCan) {
+  const std::string dir = TempDir("run_hand_can");
+  int status = -1;
+  std::string out = RunCommand(std::string(SEDBRIDGE_BINARY) + " run --config " + WriteHandConfig(dir) +
+                                   " --interface can0 --duration-s 0.2",
+                               &status);
+  EXPECT_NE(status, 0) << out;
+  EXPECT_NE(out.find("fingers:"), std::string::npos) << out;
+  // Live buses: either no AF_CAN here, or no can0/can1: an error naming the cause, no hang.
+  out = RunCommand(std::string(SEDBRIDGE_BINARY) + " run --config " + WriteHandConfig(dir) + " --duration-s 0.2",
+                   &status);
+  EXPECT_NE(status, 0) << out;
+  EXPECT_TRUE(out.find("SocketCAN") != std::string::npos || out.find("can0") != std::string::npos) << out;
+  std::filesystem::remove_all(dir);
+}
+
 // `fidelity` refuses what it cannot run before building anything: a pad model without the
 // kernels, an unknown one (the choices listed), a negative --random or --through-press,
 // --random with --rig-on-pad, --random-ranges without --random or with an unknown name, and

@@ -8,6 +8,7 @@
 #include <signal.h>
 #include <unistd.h>
 
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -141,6 +142,38 @@ INSTANTIATE_TEST_SUITE_P(EverySignalEveryCommand, ExitPaths, ::testing::ValuesIn
                          [](const ::testing::TestParamInfo<Case>& info) {
                            return info.param.command + "_" + std::string(Abbrev(info.param.signal));
                          });
+
+// A hand on `run` (two fingers on can0 and can1, the two-bus example log played at speed):
+// a signal zeroes every finger's display, each in its own log (lcm.log gets the finger's name).
+TEST(ExitPaths, HandRunSignalZeroesEveryFingersDisplayInItsOwnLog) {
+  const std::string dir = TempDir("hand");
+  const std::string config = dir + "/hand.yaml";
+  std::ofstream(config) << "fe: {model: B_coarse, preset: fast}\ndisplay: {profile: suction_4x4, rendering: curve}\n"
+                           "lcm: {url: \"memq://\", log: \""
+                        << dir << "/bridge.lcmlog\"}\nfingers:\n"
+                                  "  - {name: thumb, sensor: {profile: uskin_4x4, interface: can0}}\n"
+                                  "  - {name: middle, sensor: {profile: uskin_4x4, interface: can1}}\n";
+  const pid_t pid = Spawn({SEDBRIDGE_BINARY, "run", "--config", config, "--log-input",
+                           std::string(SEDBRIDGE_SOURCE_DIR) + "/config/bridge/example_hand.log", "--duration-s", "600"},
+                          dir + "/out.txt");
+  ASSERT_GT(pid, 0);
+  const bool running = WaitForBytes(dir + "/bridge_thumb.lcmlog", 8192, 120);
+  ::kill(pid, SIGINT);
+  const int status = WaitExit(pid, 60);
+  const std::string out = Slurp(dir + "/out.txt");
+  ASSERT_TRUE(running) << out;
+  ASSERT_EQ(status, 128 + SIGINT) << out;
+  for (const std::string finger : {"thumb", "middle"}) {
+    std::string channel = "DISPLAY_COMMAND_";
+    for (char ch : finger) channel += char(std::toupper(static_cast<unsigned char>(ch)));
+    const auto log = ReadLog(dir + "/bridge_" + finger + ".lcmlog", channel);
+    EXPECT_TRUE(log.whole()) << finger;
+    ASSERT_FALSE(log.commands.empty()) << finger;
+    EXPECT_TRUE(log.commands.back().shutdown) << finger;
+    EXPECT_TRUE(AllZero(log.commands.back())) << finger;
+  }
+  fs::remove_all(dir);
+}
 
 TEST(ExitPaths, LiveReplayPausedMidPressRampsToZeroOnItsOwnTicks) {
   // The example press with a 3 s hole at t = 1.5 s, where the display is at ~2 kPa (found by

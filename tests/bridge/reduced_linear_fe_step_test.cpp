@@ -54,5 +54,31 @@ TEST(ReducedLinearFeStep, NonFiniteValuesNeverEvaluated) {
   EXPECT_FALSE(reduced.Step(v).ok);
 }
 
+// Two fingers on one precompute (a hand, bridge/leader_model_cache.h): each step's SED is
+// bit for bit what a step of its own gives, whatever the other finger stepped in between
+// (each evaluates its own copy of the Merkel layer).
+TEST(ReducedLinearFeStep, StepsSharingOnePrecomputeGiveWhatStepsOfTheirOwnGive) {
+  const sensors::SensorProfile p = sensors::LoadNamedSensorProfile("uskin_4x4");
+  const scene::SceneDescription d = BridgeSceneDescription("B_coarse", "fast");
+  ReducedLinearFeStep first(d, p, PadRegistration(p.taxels));
+  ReducedLinearFeStep second(first.precompute());
+  ReducedLinearFeStep own_first(d, p, PadRegistration(p.taxels)), own_second(d, p, PadRegistration(p.taxels));
+  EXPECT_EQ(second.precompute().get(), first.precompute().get());
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> pressure(0, 15e3);
+  for (int trial = 0; trial < 4; ++trial) {
+    TaxelValues a, b;
+    for (int i = 0; i < 16; ++i) {
+      a.pressure_Pa.push_back(pressure(rng));
+      b.pressure_Pa.push_back(trial % 2 ? 0.0 : pressure(rng));
+    }
+    const Eigen::VectorXd sed_first = *first.Step(a).sed_Pa;
+    const Eigen::VectorXd sed_second = *second.Step(b).sed_Pa;
+    EXPECT_EQ(sed_first, *own_first.Step(a).sed_Pa) << "trial " << trial;
+    EXPECT_EQ(sed_second, *own_second.Step(b).sed_Pa) << "trial " << trial;
+  }
+  EXPECT_THROW(ReducedLinearFeStep(nullptr), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace sedbridge::bridge
