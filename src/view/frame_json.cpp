@@ -34,7 +34,7 @@ void WriteSeries(JsonWriter& w, const char* key, const Series& s, const FrameSty
   w.Key(key).BeginObject().Key("t_s").Numbers(t, 7).Key("v").Numbers(v).EndObject();
 }
 
-void WriteScan(JsonWriter& w, const ViewState& s, ViewLayouts& layouts) {
+void WriteScan(JsonWriter& w, const FingerState& s, ViewLayouts& layouts) {
   w.Key("scan");
   if (!s.have_scan) {
     w.Null();
@@ -52,7 +52,7 @@ void WriteScan(JsonWriter& w, const ViewState& s, ViewLayouts& layouts) {
   w.EndObject();
 }
 
-void WriteContact(JsonWriter& w, const ViewState& s) {
+void WriteContact(JsonWriter& w, const FingerState& s) {
   w.Key("contact");
   if (!s.have_contact) {
     w.Null();
@@ -73,7 +73,7 @@ void WriteContact(JsonWriter& w, const ViewState& s) {
   w.EndObject();
 }
 
-void WriteSed(JsonWriter& w, const ViewState& s, const SedMesh& mesh, SedVertexMatch& match) {
+void WriteSed(JsonWriter& w, const FingerState& s, const std::vector<SedMesh>& meshes, SedVertexMatch& match) {
   w.Key("sed");
   if (!s.have_sed) {
     w.Null();
@@ -88,15 +88,18 @@ void WriteSed(JsonWriter& w, const ViewState& s, const SedMesh& mesh, SedVertexM
   w.Key("num_vertices").Int(m.num_vertices).Key("max_sed_Pa").Number(m.max_sed_Pa);
   w.Key("min_finite_Pa").Number(lo).Key("max_finite_Pa").Number(hi);
   const bool positions = m.num_positions == m.num_vertices;
-  std::vector<double> on_mesh(mesh.num_merkel_vertices(), std::numeric_limits<double>::quiet_NaN());
+  int mesh_index = -1;
+  const SedMesh* mesh = MeshFor(meshes, m.model_id, &mesh_index);
+  std::vector<double> on_mesh(mesh ? mesh->num_merkel_vertices() : 0, std::numeric_limits<double>::quiet_NaN());
   std::size_t matched = 0;
   if (positions && !on_mesh.empty()) {
-    const std::vector<int>& index = match.Match(mesh, m.x_mm, m.y_mm, m.z_mm);
+    const std::vector<int>& index = match.Match(*mesh, m.x_mm, m.y_mm, m.z_mm);
     for (std::size_t k = 0; k < index.size(); ++k)
       if (index[k] >= 0) on_mesh[std::size_t(index[k])] = m.sed_Pa[k];
     matched = match.matched();
   }
   w.Key("matched_vertices").Int(int64_t(matched));
+  w.Key("mesh").Int(matched > 0 ? mesh_index : -1);
   if (matched > 0) {
     w.Key("on_mesh_Pa").Numbers(on_mesh, 4);
   } else if (positions) {
@@ -107,7 +110,7 @@ void WriteSed(JsonWriter& w, const ViewState& s, const SedMesh& mesh, SedVertexM
   w.EndObject();
 }
 
-void WriteDisplay(JsonWriter& w, const ViewState& s, ViewLayouts& layouts) {
+void WriteDisplay(JsonWriter& w, const FingerState& s, ViewLayouts& layouts) {
   w.Key("display");
   if (!s.have_command) {
     w.Null();
@@ -135,7 +138,7 @@ void WriteDisplay(JsonWriter& w, const ViewState& s, ViewLayouts& layouts) {
   w.EndObject();
 }
 
-void WriteStatus(JsonWriter& w, const ViewState& s) {
+void WriteStatus(JsonWriter& w, const FingerState& s) {
   w.Key("status");
   if (!s.have_status) {
     w.Null();
@@ -156,19 +159,34 @@ void WriteTriangles(JsonWriter& w, const char* key, const std::vector<double>& x
 
 }  // namespace
 
-std::string MeshJson(const SedMesh& mesh, const FrameStyle& style) {
+const SedMesh* MeshFor(const std::vector<SedMesh>& meshes, const std::string& model_id, int* index) {
+  *index = -1;
+  for (std::size_t k = 0; k < meshes.size(); ++k)
+    if (meshes[k].model_id == model_id) *index = int(k);
+  if (*index < 0 && !meshes.empty()) *index = 0;
+  return *index < 0 ? nullptr : &meshes[std::size_t(*index)];
+}
+
+std::string MeshJson(const std::vector<SedMesh>& meshes, const FrameStyle& style) {
   JsonWriter w;
   w.BeginObject();
-  w.Key("model_id").String(mesh.model_id).Key("error").String(mesh.error);
   w.Key("sed_scale_Pa").Number(style.sed_scale_Pa);
-  WriteTriangles(w, "merkel", mesh.merkel_xyz_mm, mesh.merkel_triangles);
-  WriteTriangles(w, "skin", mesh.skin_xyz_mm, mesh.skin_triangles);
+  w.Key("meshes").BeginArray();
+  for (const SedMesh& mesh : meshes) {
+    w.BeginObject();
+    w.Key("model_id").String(mesh.model_id).Key("error").String(mesh.error);
+    WriteTriangles(w, "merkel", mesh.merkel_xyz_mm, mesh.merkel_triangles);
+    WriteTriangles(w, "skin", mesh.skin_xyz_mm, mesh.skin_triangles);
+    w.EndObject();
+  }
+  w.EndArray();
   w.EndObject();
   return w.str();
 }
 
-std::string FrameJson(const ViewState& state, ViewLayouts& layouts, const SedMesh& mesh, SedVertexMatch& match,
-                      const PlaybackInfo& playback, const FrameStyle& style) {
+std::string FrameJson(const ViewState& state, ViewLayouts& layouts, const std::vector<SedMesh>& meshes,
+                      std::map<std::string, SedVertexMatch>& matches, const PlaybackInfo& playback,
+                      const FrameStyle& style) {
   JsonWriter w;
   w.BeginObject();
   w.Key("version").Int(int64_t(state.version));
@@ -179,16 +197,23 @@ std::string FrameJson(const ViewState& state, ViewLayouts& layouts, const SedMes
   w.EndObject();
   w.Key("sed_scale_Pa").Number(style.sed_scale_Pa);
   w.Key("events").Int(state.events).Key("rejected").Int(state.rejected);
-  WriteScan(w, state, layouts);
-  WriteContact(w, state);
-  WriteSed(w, state, mesh, match);
-  WriteDisplay(w, state, layouts);
-  WriteStatus(w, state);
-  w.Key("timeline").BeginObject();
-  WriteSeries(w, "force_N", state.force_N, style);
-  WriteSeries(w, "peak_sed_Pa", state.peak_sed_Pa, style);
-  WriteSeries(w, "latency_ms", state.latency_ms, style);
-  w.EndObject();
+  w.Key("fingers").BeginArray();
+  for (const FingerState& f : state.fingers) {
+    w.BeginObject();
+    w.Key("name").String(f.name);
+    WriteScan(w, f, layouts);
+    WriteContact(w, f);
+    WriteSed(w, f, meshes, matches[f.name]);
+    WriteDisplay(w, f, layouts);
+    WriteStatus(w, f);
+    w.Key("timeline").BeginObject();
+    WriteSeries(w, "force_N", f.force_N, style);
+    WriteSeries(w, "peak_sed_Pa", f.peak_sed_Pa, style);
+    WriteSeries(w, "latency_ms", f.latency_ms, style);
+    w.EndObject();
+    w.EndObject();
+  }
+  w.EndArray();
   w.EndObject();
   return w.str();
 }
