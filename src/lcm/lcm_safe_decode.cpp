@@ -2,6 +2,7 @@
 
 #include <cstring>
 #include <limits>
+#include <vector>
 
 #include "sedbridge/lcmt_bridge_status.hpp"
 #include "sedbridge/lcmt_contact_estimate.hpp"
@@ -102,7 +103,8 @@ bool Walk(const lcmt_merkel_sed*, WireCursor& c) {
   return c.at_end();
 }
 
-bool Walk(const lcmt_tactile_scan*, WireCursor& c) {
+// The scan's fields up to `valid` (all a message from before the shear fields has).
+void WalkScanNormal(WireCursor& c) {
   c.Skip(kFingerprint);
   c.Skip(2 * kI64);  // utime, sequence
   c.String();        // sensor_id
@@ -110,7 +112,37 @@ bool Walk(const lcmt_tactile_scan*, WireCursor& c) {
   c.Array(n, kI32);   // raw_counts
   c.Array(n, kF32);   // pressure_kPa
   c.Array(n, kByte);  // valid
+}
+
+bool Walk(const lcmt_tactile_scan*, WireCursor& c) {
+  WalkScanNormal(c);
+  const int32_t shear = c.Int32();  // num_shear
+  c.Array(shear, kF32);  // shear_x_kPa
+  c.Array(shear, kF32);  // shear_y_kPa
   return c.at_end();
+}
+
+// A message of a type's earlier version, rewritten as the current one, for the types whose
+// fields have grown at the end: false when `data` is not such a message.
+template <typename Msg>
+bool Upgrade(const Msg*, const uint8_t*, std::size_t, std::vector<uint8_t>*) {
+  return false;
+}
+
+// lcmt_tactile_scan before num_shear, shear_x_kPa, shear_y_kPa: its fingerprint, then the
+// same fields up to `valid`. Rewritten with today's fingerprint and num_shear = 0.
+constexpr uint8_t kScanWithoutShear[kFingerprint] = {0x3a, 0xfe, 0x5a, 0x31, 0xff, 0x1b, 0xfe, 0x44};
+
+bool Upgrade(const lcmt_tactile_scan*, const uint8_t* data, std::size_t size, std::vector<uint8_t>* upgraded) {
+  if (size < kFingerprint || std::memcmp(data, kScanWithoutShear, kFingerprint) != 0) return false;
+  WireCursor c(data, size);
+  WalkScanNormal(c);
+  if (!c.at_end()) return false;
+  const int64_t hash = lcmt_tactile_scan::getHash();
+  upgraded->assign(data, data + size);
+  for (std::size_t k = 0; k < kFingerprint; ++k) (*upgraded)[k] = uint8_t(uint64_t(hash) >> (56 - 8 * k));
+  upgraded->insert(upgraded->end(), 4, uint8_t(0));  // num_shear = 0
+  return true;
 }
 
 bool Walk(const lcmt_bridge_status*, WireCursor& c) {
@@ -173,7 +205,12 @@ bool WireSizesFit(const void* data, std::size_t size) {
 
 template <typename Msg>
 bool SafeDecode(const void* data, std::size_t size, Msg* out) {
-  if (size > std::size_t(std::numeric_limits<int>::max())) return false;  // decode() takes int
+  if (size > std::size_t(std::numeric_limits<int>::max()) - 64) return false;  // decode() takes int
+  std::vector<uint8_t> upgraded;
+  if (data != nullptr && Upgrade(static_cast<const Msg*>(nullptr), static_cast<const uint8_t*>(data), size, &upgraded)) {
+    data = upgraded.data();
+    size = upgraded.size();
+  }
   if (!WireSizesFit<Msg>(data, size)) return false;
   try {
     return out->decode(data, 0, static_cast<int>(size)) == static_cast<int>(size);

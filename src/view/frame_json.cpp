@@ -46,6 +46,14 @@ void WriteScan(JsonWriter& w, const FingerState& s, ViewLayouts& layouts) {
   w.Key("pressure_kPa").Numbers(m.pressure_kPa);
   std::vector<int> valid(m.valid.begin(), m.valid.end());
   w.Key("valid").Ints(valid);
+  // A three-axis sensor's shear per taxel; null for a normal-only one (or a log from before).
+  const bool shear = m.num_shear > 0 && m.shear_x_kPa.size() == m.pressure_kPa.size();
+  w.Key("shear_x_kPa");
+  if (shear) w.Numbers(m.shear_x_kPa);
+  else w.Null();
+  w.Key("shear_y_kPa");
+  if (shear) w.Numbers(m.shear_y_kPa);
+  else w.Null();
   const PadLayout& l = layouts.Sensor(m.sensor_id);
   if (l.x_mm.size() == m.pressure_kPa.size()) WriteLayout(w, l);
   else w.Key("layout").Null();

@@ -91,6 +91,14 @@ def assert_finger_shows(test, shown, scan, sed, command):
     for k, (a, b) in enumerate(zip(taxels, scan.pressure_kPa)):
         # The frame writes 6 significant digits: within 5e-6 of the value, relative.
         test.assertAlmostEqual(a, b, delta=1e-5 * max(1.0, abs(b)), msg="taxel %d" % k)
+    # A three-axis sensor's shear per taxel (the arrows), none for a normal-only one.
+    for axis, values in (("shear-x", scan.shear_x_kPa), ("shear-y", scan.shear_y_kPa)):
+        test.assertEqual(len(values), scan.num_shear)
+        if scan.num_shear == 0:
+            test.assertEqual(shown[axis], "")
+            continue
+        for k, (a, b) in enumerate(zip([float(v) for v in shown[axis].split(",")], values)):
+            test.assertAlmostEqual(a, b, delta=1e-5 * max(1.0, abs(b)), msg="%s %d" % (axis, k))
     finite = [v for v in sed.sed_Pa if math.isfinite(v)]
     test.assertEqual(int(shown["sed-utime"]), sed.utime)
     test.assertAlmostEqual(float(shown["sed-min"]), min(finite), delta=1e-6 * max(1.0, min(finite)))
@@ -222,6 +230,7 @@ class ViewPage(unittest.TestCase):
             assert_finger_shows(self, shown, self.expected["TACTILE_SCAN"], self.expected["FINGERTIP_SED"],
                                 self.expected["DISPLAY_COMMAND"])
         self.assertGreater(max(float(v) for v in state["taxels"].split(",")), 1.0, "the scan at 1 s should press (kPa)")
+        self.assertEqual(self.expected["TACTILE_SCAN"].num_shear, 16, "uskin_4x4: shear per taxel")
         self.assertAlmostEqual(float(state["position-s"]), START_S)
 
     def test_2_screenshot(self):
@@ -336,6 +345,9 @@ class ViewPageOfAHand(unittest.TestCase):
         self.assertEqual(shown["INDEX"]["sensor-id"], "cyskin_16")
         self.assertEqual(shown["INDEX"]["display-id"], "pin_6x4")
         self.assertEqual(shown["THUMB"]["sensor-id"], "uskin_4x4")
+        # uskin_4x4 has three axes (shear arrows), cyskin_16 one.
+        self.assertEqual(self.expected["TACTILE_SCAN_THUMB"].num_shear, 16)
+        self.assertEqual(self.expected["TACTILE_SCAN_INDEX"].num_shear, 0)
 
     def test_9_screenshot_of_the_hand(self):
         shot = os.path.join(ARGS.work, "view_hand.png")

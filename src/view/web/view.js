@@ -61,6 +61,15 @@ function padTransform(canvas, xs, ys, margin_mm) {
 }
 function rowLayout(n) { return { x_mm: [...Array(n).keys()].map((i) => i * 3), y_mm: Array(n).fill(0), cell_w_mm: 2.5, cell_h_mm: 2.5 }; }
 
+function arrow(g, x0, y0, x1, y1, colour, width, head) {
+  if (Math.hypot(x1 - x0, y1 - y0) < 1) return;
+  g.strokeStyle = colour; g.fillStyle = colour; g.lineWidth = width;
+  g.beginPath(); g.moveTo(x0, y0); g.lineTo(x1, y1); g.stroke();
+  const a = Math.atan2(y1 - y0, x1 - x0);
+  g.beginPath(); g.moveTo(x1, y1); g.lineTo(x1 - head * Math.cos(a - 0.4), y1 - head * Math.sin(a - 0.4));
+  g.lineTo(x1 - head * Math.cos(a + 0.4), y1 - head * Math.sin(a + 0.4)); g.closePath(); g.fill();
+}
+
 function drawTaxels(P, f) {
   const c = P.taxels, g = c.getContext('2d');
   g.fillStyle = '#1b1b1b'; g.fillRect(0, 0, c.width, c.height);
@@ -78,8 +87,20 @@ function drawTaxels(P, f) {
     g.fillRect(x - pw / 2, y - ph / 2, pw, ph);
     if (used && (used[i] === 0 || used[i] === 3)) { g.strokeStyle = '#f96'; g.lineWidth = 2; g.strokeRect(x - pw / 2, y - ph / 2, pw, ph); }
     g.fillStyle = v / taxelTop > 0.6 ? '#000' : '#fff';
-    g.fillText(scan.valid[i] ? fmt(v, 3) : 'invalid', x, y);
+    g.fillText(scan.valid[i] ? fmt(v, 3) : 'invalid', x, y + (scan.shear_x_kPa ? T.s * h * 0.3 : 0));
   });
+  // A three-axis sensor's shear, an arrow a taxel from its centre: the largest shear seen on
+  // this finger spans 0.45 of a taxel (so arrows stay on their taxel).
+  const sx = scan.shear_x_kPa, sy = scan.shear_y_kPa;
+  if (sx && sy) {
+    P.shearTop = Math.max(P.shearTop, ...sx.map((v, i) => Math.hypot(v, sy[i])).filter(Number.isFinite));
+    const per_kPa = 0.45 * Math.min(w, h) / P.shearTop;
+    p.forEach((v, i) => {
+      if (!scan.valid[i] || !Number.isFinite(sx[i]) || !Number.isFinite(sy[i])) return;
+      arrow(g, T.X(L.x_mm[i]), T.Y(L.y_mm[i]), T.X(L.x_mm[i] + per_kPa * sx[i]), T.Y(L.y_mm[i] + per_kPa * sy[i]),
+        v / taxelTop > 0.6 ? '#000' : '#fff', 1.5, 5);
+    });
+  }
   const k = f.contact;
   if (k && k.shape > 0) {
     g.strokeStyle = '#fff'; g.lineWidth = 2; g.setLineDash([6, 4]);
@@ -102,21 +123,15 @@ function drawTaxels(P, f) {
       }
     }
     g.setLineDash([]);
-    // Shear: the contact's whole tangential force, drawn from the contact point (the scan
-    // message carries no per-taxel shear). 1 N = 20 mm on the pad.
-    const sx = k.shear_x_N, sy = k.shear_y_N;
-    if (Math.hypot(sx, sy) > 1e-4) {
-      const x0 = T.X(k.x_mm), y0 = T.Y(k.y_mm), x1 = T.X(k.x_mm + 20 * sx), y1 = T.Y(k.y_mm + 20 * sy);
-      g.strokeStyle = '#0ff'; g.lineWidth = 3; g.beginPath(); g.moveTo(x0, y0); g.lineTo(x1, y1); g.stroke();
-      const a = Math.atan2(y1 - y0, x1 - x0);
-      g.beginPath(); g.moveTo(x1, y1); g.lineTo(x1 - 10 * Math.cos(a - 0.4), y1 - 10 * Math.sin(a - 0.4));
-      g.lineTo(x1 - 10 * Math.cos(a + 0.4), y1 - 10 * Math.sin(a + 0.4)); g.closePath(); g.fillStyle = '#0ff'; g.fill();
-    }
+    // The contact's whole tangential force, from the contact point. 1 N = 20 mm on the pad.
+    const fx = k.shear_x_N, fy = k.shear_y_N;
+    if (Math.hypot(fx, fy) > 1e-4) arrow(g, T.X(k.x_mm), T.Y(k.y_mm), T.X(k.x_mm + 20 * fx), T.Y(k.y_mm + 20 * fy), '#0ff', 3, 10);
   }
   const shapes = ['no contact', 'sphere', 'rod', 'flat', 'two spheres'];
   P.contactCaption.innerHTML = `scan ${scan.sequence} (${scan.sensor_id}), colour 0–${fmt(taxelTop)} kPa` +
+    (sx ? `, shear per taxel: arrows, the longest (0.45 taxel) ${fmt(P.shearTop)} kPa` : ', no per-taxel shear (normal-only sensor)') +
     (k ? `<br>contact: ${shapes[k.shape] || k.shape}, force ${fmt(k.normal_force_N)} N, shear (${fmt(k.shear_x_N, 2)}, ${fmt(k.shear_y_N, 2)}) N, ` +
-      `residual ${fmt(k.residual_rms_sigma)} σ, indentation ${fmt(k.indentation_mm)} mm, shear arrow 1 N = 20 mm, ${k.num_taxels_used ?? k.taxel_used.filter((u) => u === 1 || u === 2).length} taxels used` +
+      `residual ${fmt(k.residual_rms_sigma)} σ, indentation ${fmt(k.indentation_mm)} mm, total shear: cyan arrow, 1 N = 20 mm, ${k.num_taxels_used ?? k.taxel_used.filter((u) => u === 1 || u === 2).length} taxels used` +
       (k.fallback ? ' <span class="flag">FALLBACK: estimate not trusted, pressure map used</span>' : '')
        : '<br>no contact estimate on the bus');
 }
@@ -285,7 +300,7 @@ function panelOf(name) {
   $('fingers').appendChild(root);
   const q = (sel) => root.querySelector(sel);
   P = { root, taxels: q('.taxels'), display: q('.display'), timelines: q('.timelines'), contactCaption: q('.contact-caption'),
-    displayCaption: q('.display-caption'), statusCaption: q('.status-caption'), state: q('.finger-state'), plots: {}, taxelTop: 1 };
+    displayCaption: q('.display-caption'), statusCaption: q('.status-caption'), state: q('.finger-state'), plots: {}, taxelTop: 1, shearTop: 0.1 };
   panels.set(name, P);
   const menu = $('tip-finger'), option = document.createElement('option');
   option.value = name; option.textContent = fingerLabel(name);
@@ -301,6 +316,8 @@ function writeFingerState(el, f) {
   d.scanUtime = f.scan ? String(f.scan.utime) : '';
   d.sensorId = f.scan ? f.scan.sensor_id : '';
   d.taxels = f.scan ? f.scan.pressure_kPa.map(String).join(',') : '';
+  d.shearX = f.scan && f.scan.shear_x_kPa ? f.scan.shear_x_kPa.map(String).join(',') : '';
+  d.shearY = f.scan && f.scan.shear_y_kPa ? f.scan.shear_y_kPa.map(String).join(',') : '';
   d.sedUtime = f.sed ? String(f.sed.utime) : '';
   d.sedMin = f.sed ? String(f.sed.min_finite_Pa) : '';
   d.sedMax = f.sed ? String(f.sed.max_finite_Pa) : '';
