@@ -185,6 +185,7 @@ std::string MeshJson(const std::vector<SedMesh>& meshes, const FrameStyle& style
     w.Key("model_id").String(mesh.model_id).Key("error").String(mesh.error);
     WriteTriangles(w, "merkel", mesh.merkel_xyz_mm, mesh.merkel_triangles);
     WriteTriangles(w, "skin", mesh.skin_xyz_mm, mesh.skin_triangles);
+    w.Key("skin_merkel").Ints(mesh.skin_merkel);
     w.EndObject();
   }
   w.EndArray();

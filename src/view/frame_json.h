@@ -29,7 +29,7 @@ struct FrameStyle {
   int timeline_points = 400;   ///< at most this many points per series in a frame
 };
 
-/// {"sed_scale_Pa", "meshes": [{"model_id", "error", "merkel", "skin"}, ...]}
+/// {"sed_scale_Pa", "meshes": [{"model_id", "error", "merkel", "skin", "skin_merkel"}, ...]}
 std::string MeshJson(const std::vector<SedMesh>& meshes, const FrameStyle& style);
 
 /// The mesh a finger's SED field is drawn on: the one of its model_id, else the first (a

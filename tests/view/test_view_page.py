@@ -232,6 +232,15 @@ class ViewPage(unittest.TestCase):
         self.assertGreater(max(float(v) for v in state["taxels"].split(",")), 1.0, "the scan at 1 s should press (kPa)")
         self.assertEqual(self.expected["TACTILE_SCAN"].num_shear, 16, "uskin_4x4: shear per taxel")
         self.assertAlmostEqual(float(state["position-s"]), START_S)
+        # The 3-D panel: model B's skin, each vertex over the Merkel layer coloured by the
+        # SED of the Merkel vertex beneath it (the field covers the whole layer here).
+        if state.get("webgl") == "yes":
+            import json
+            mesh = json.loads(http(self.port, "/api/mesh")[1])["meshes"][0]
+            self.assertEqual(len(mesh["skin_merkel"]), len(mesh["skin"]["xyz_mm"]) // 3)
+            self.assertEqual(state["tip-surface"], "skin")
+            self.assertEqual(int(state["skin-coloured"]), sum(1 for k in mesh["skin_merkel"] if k >= 0))
+            self.assertGreater(int(state["skin-coloured"]), 0)
 
     def test_2_screenshot(self):
         shot = os.path.join(ARGS.work, "view.png")

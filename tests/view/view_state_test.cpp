@@ -148,6 +148,35 @@ TEST(SedVertexMatch, FindsTheFieldsVerticesOnTheMeshByPosition) {
   EXPECT_EQ(match.matched(), 2u);
 }
 
+TEST(SedMesh, EachSkinVertexTakesTheMerkelVertexBeneathItAlongItsNormal) {
+  SedMesh mesh;
+  // A flat skin square at z = 0 facing +z (two triangles, counter-clockwise seen from +z).
+  mesh.skin_xyz_mm = {0, 0, 0, 4, 0, 0, 4, 4, 0, 0, 4, 0};
+  mesh.skin_triangles = {0, 1, 2, 0, 2, 3};
+  // Merkel vertices: 1 mm under corner 0, 0.2 mm off under corner 2 (the nearer of two),
+  // one above corner 1 (outside the skin), one 5 mm under corner 3 (too deep).
+  mesh.merkel_xyz_mm = {0, 0, -1, 4.2, 4, -1, 4, 4.6, -1, 4, 0, 1, 0, 4, -5};
+  EXPECT_EQ(MapSkinToMerkel(mesh), (std::vector<int>{0, -1, 1, -1}));
+}
+
+TEST(SedMesh, ModelBsSkinOverThePadTakesItsMerkelLayer) {
+  const SedMesh mesh = LoadSedMesh("B");
+  ASSERT_TRUE(mesh.error.empty()) << mesh.error;
+  ASSERT_EQ(mesh.skin_merkel.size(), mesh.skin_xyz_mm.size() / 3);
+  std::size_t mapped = 0, pad = 0, pad_mapped = 0;
+  for (std::size_t v = 0; v < mesh.skin_merkel.size(); ++v) {
+    mapped += mesh.skin_merkel[v] >= 0;
+    // The pad: the skin within 3 mm of the pad frame's origin (where the object presses).
+    const double x = mesh.skin_xyz_mm[3 * v], y = mesh.skin_xyz_mm[3 * v + 1], z = mesh.skin_xyz_mm[3 * v + 2];
+    if (std::hypot(x, y) < 3 && std::abs(z) < 0.5) ++pad, pad_mapped += mesh.skin_merkel[v] >= 0;
+  }
+  EXPECT_GT(pad, 0u);
+  EXPECT_EQ(pad_mapped, pad);
+  EXPECT_GT(mapped, 0u);
+  std::printf("model B: %zu of %zu skin vertices over the Merkel layer's %zu\n", mapped, mesh.skin_merkel.size(),
+              mesh.num_merkel_vertices());
+}
+
 TEST(FrameJson, CarriesTheLatestMessagesAndNullForWhatIsNotOnTheBus) {
   ViewState s{lcm_io::LcmChannels{}};
   Feed(s, "TACTILE_SCAN", Scan(1000000, 1.5f), 1000000);

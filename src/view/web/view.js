@@ -211,13 +211,26 @@ function setupTip(meshes) {
       }
     }
     if (mesh.skin.triangles.length) {
-      m.skin = new THREE.Mesh(geometry(mesh.skin), new THREE.MeshLambertMaterial({ color: 0xd8b4a0, transparent: true, opacity: 0.07, depthWrite: false }));
-      scene.add(m.skin);
+      // Two looks at one skin: opaque, coloured by the SED of the Merkel vertex beneath each
+      // skin vertex (skin_merkel); or translucent over the coloured Merkel layer.
+      const g = geometry(mesh.skin), n = mesh.skin.xyz_mm.length / 3;
+      g.setAttribute('color', new THREE.Float32BufferAttribute(new Float32Array(3 * n).fill(0.35), 3));
+      m.skin = new THREE.Mesh(g, new THREE.MeshLambertMaterial({ vertexColors: true }));
+      m.veil = new THREE.Mesh(g, new THREE.MeshLambertMaterial({ color: 0xd8b4a0, transparent: true, opacity: 0.07, depthWrite: false }));
+      m.skinMerkel = mesh.skin_merkel || [];
+      scene.add(m.skin, m.veil);
     }
     t.models.push(m);
   });
-  const show = (k) => t.models.forEach((m, j) => { for (const o of [m.merkel, m.skin]) if (o) o.visible = j === k; });
-  t.show = (k) => { if (k !== t.shown) { show(k); t.shown = k; } };
+  // Model k's surfaces as $('tip-surface') asks; -1: none (a field drawn as points).
+  t.show = (k) => {
+    const skin = $('tip-surface').value === 'skin';
+    t.models.forEach((m, j) => {
+      if (m.merkel) m.merkel.visible = j === k && !(skin && m.skin);
+      if (m.skin) { m.skin.visible = j === k && skin; m.veil.visible = j === k && !skin; }
+    });
+    t.shown = k;
+  };
   t.show(0);
   controls.update();
   const loop = () => { controls.update(); renderer.render(scene, camera); requestAnimationFrame(loop); };
@@ -234,22 +247,35 @@ function tipFinger(frame) {
 function drawSed(frame) {
   const f = tipFinger(frame), s = f ? f.sed : null;
   state.dataset.tipFinger = f ? f.name : '';
+  state.dataset.tipSurface = $('tip-surface').value;
   $('sed-caption').innerHTML = s
-    ? `${frame.fingers.length > 1 ? fingerLabel(f.name) + ': ' : ''}model ${s.model_id}, ${s.num_vertices} vertices (${s.matched_vertices} on the mesh, the rest grey), SED ${fmt(s.min_finite_Pa)}–${fmt(s.max_finite_Pa)} Pa, step at ${((s.utime - (f.scan ? f.scan.utime : s.utime)) / 1e3).toFixed(1)} ms from the scan shown`
+    ? `${frame.fingers.length > 1 ? fingerLabel(f.name) + ': ' : ''}model ${s.model_id}, ${s.num_vertices} Merkel vertices (${s.matched_vertices} on the mesh, the rest grey)` +
+      ($('tip-surface').value === 'skin' ? ', drawn on the skin above them (skin with no Merkel vertex beneath: plain),' : ',') +
+      ` SED ${fmt(s.min_finite_Pa)}–${fmt(s.max_finite_Pa)} Pa, step at ${((s.utime - (f.scan ? f.scan.utime : s.utime)) / 1e3).toFixed(1)} ms from the scan shown`
     : 'no SED field yet';
   if (!tip || !s) return;
   if (s.on_mesh_Pa && s.mesh >= 0 && tip.models[s.mesh] && tip.models[s.mesh].merkel) {
     if (tip.points) { tip.scene.remove(tip.points); tip.points = null; }
     tip.show(s.mesh);
     const m = tip.models[s.mesh], tmp = new THREE.Color();
+    // The scale's colours are sRGB; three.js lights in linear space.
+    const paint = (col, v, rgb) => { tmp.setRGB(rgb[0] / 255, rgb[1] / 255, rgb[2] / 255, THREE.SRGBColorSpace); col.setXYZ(v, tmp.r, tmp.g, tmp.b); };
+    const sedAt = (v) => colour(s.on_mesh_Pa[v] === null ? NaN : s.on_mesh_Pa[v] / sedScale);
     const col = m.merkel.geometry.getAttribute('color');
-    for (let v = 0; v < m.n; ++v) {
-      const rgb = colour(s.on_mesh_Pa[v] === null ? NaN : s.on_mesh_Pa[v] / sedScale);
-      // The scale's colours are sRGB; three.js lights in linear space.
-      tmp.setRGB(rgb[0] / 255, rgb[1] / 255, rgb[2] / 255, THREE.SRGBColorSpace);
-      col.setXYZ(v, tmp.r, tmp.g, tmp.b);
-    }
+    for (let v = 0; v < m.n; ++v) paint(col, v, sedAt(v));
     col.needsUpdate = true;
+    let coloured = 0;
+    if (m.skin) {
+      // Skin with no Merkel vertex beneath (the nail side) in a plain skin tone.
+      const skinCol = m.skin.geometry.getAttribute('color');
+      m.skinMerkel.forEach((k, v) => {
+        const finite = k >= 0 && s.on_mesh_Pa[k] !== null;
+        coloured += finite;
+        paint(skinCol, v, k >= 0 ? sedAt(k) : [140, 122, 112]);
+      });
+      skinCol.needsUpdate = true;
+    }
+    state.dataset.skinColoured = String(coloured);
   } else if (s.points) {
     tip.show(-1);
     if (tip.points) tip.scene.remove(tip.points);
@@ -369,9 +395,10 @@ function take(f) {
 }
 
 function draw() {
-  if (latest && drawn !== latest.version + ':' + latest.playback.position_s + ':' + $('tip-finger').value) {
+  const view = latest ? [latest.version, latest.playback.position_s, $('tip-finger').value, $('tip-surface').value].join(':') : '';
+  if (latest && drawn !== view) {
     const f = latest;
-    drawn = f.version + ':' + f.playback.position_s + ':' + $('tip-finger').value;
+    drawn = view;
     showPlayback(f.playback);
     for (const finger of f.fingers) {
       const P = panelOf(finger.name);
