@@ -87,6 +87,8 @@ int RunLiveCommand(int argc, char** argv) {
                                                        });
   BridgePipeline pipeline(config, profile, std::move(display_profile), std::move(fe), config.lcm, {},
                           requests.source());
+  if (auto inverse = requests.inverse)
+    pipeline.SetPredictedSed([inverse](const std::vector<double>& u, Eigen::VectorXd* sed) { inverse->PredictedSed(u, sed); });
   std::printf("%s\n%s\n", pipeline.fe().Describe().c_str(), requests.Describe().c_str());
   sensors::AssemblerOptions assembler_options;
   assembler_options.tare_scans = config.tare_scans;

@@ -106,6 +106,7 @@ void DeclareOptions(ArgParser* args) {
       .Option("command-channel", "NAME", "LCM channel", "DISPLAY_COMMAND")
       .Option("sa1-channel", "NAME", "LCM channel", "SA1_RATE_ESTIMATE")
       .Option("status-channel", "NAME", "LCM channel", "BRIDGE_STATUS")
+      .Option("rendering-channel", "NAME", "LCM channel (target and delivered SED, inverse rendering)", "DISPLAY_RENDERING")
       .Epilog(
           "examples:\n"
           "  sedbridge view --log out/replay/bridge.lcmlog      # then open http://127.0.0.1:8053/\n"
@@ -201,6 +202,7 @@ int RunView(int argc, char** argv) {
   ch.command = args.Get("command-channel");
   ch.sa1_rate = args.Get("sa1-channel");
   ch.status = args.Get("status-channel");
+  ch.rendering = args.Get("rendering-channel");
   try {
     ch.Validate();
   } catch (const std::invalid_argument& e) {

@@ -74,6 +74,15 @@ display::CommandRequestSource InverseDisplayRequests::Source(std::shared_ptr<Inv
   };
 }
 
+void InverseDisplayRequests::PredictedSed(const std::vector<double>& commands, Eigen::VectorXd* added_sed_Pa) {
+  const render::DisplayInfluence& influence = rendering_->influence();
+  if (at_rest_Pa_.size() != influence.num_vertices())
+    influence.Sed(Eigen::VectorXd::Zero(influence.num_actuators()), at_rest_Pa_);
+  const Eigen::VectorXd u = Eigen::Map<const Eigen::VectorXd>(commands.data(), Eigen::Index(commands.size()));
+  influence.Sed(u, *added_sed_Pa);
+  *added_sed_Pa -= at_rest_Pa_;
+}
+
 bool InverseDisplayRequests::Deliver(const std::vector<double>& commands, Eigen::VectorXd* delivered_sed_Pa) {
   const Eigen::VectorXd u = Eigen::Map<const Eigen::VectorXd>(commands.data(), Eigen::Index(commands.size()));
   return rendering_->Deliver(u, *delivered_sed_Pa);

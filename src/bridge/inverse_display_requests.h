@@ -43,6 +43,10 @@ class InverseDisplayRequests {
   /// The SED [Pa] `commands` add to the preloaded pad by the full contact FE, per Merkel
   /// vertex (the bridge's order). False (message in error()) when the solve fails.
   bool Deliver(const std::vector<double>& commands, Eigen::VectorXd* delivered_sed_Pa);
+  /// The SED [Pa] `commands` add to the preloaded pad by the renderer's linear influence model
+  /// (what the renderer predicts: one SED evaluation, tens of microseconds), per Merkel vertex
+  /// (the bridge's order).
+  void PredictedSed(const std::vector<double>& commands, Eigen::VectorXd* added_sed_Pa);
   const std::string& error() const { return rendering_->error(); }
 
   int num_actuators() const { return rendering_->num_actuators(); }
@@ -60,6 +64,7 @@ class InverseDisplayRequests {
   model::FingertipModel model_;
   std::unique_ptr<render::DisplayRendering> rendering_;
   Eigen::VectorXd target_Pa_;
+  Eigen::VectorXd at_rest_Pa_;  // the influence's SED with every command 0 (PredictedSed)
   LatencyStats render_times_{100'000}, render_cpu_times_{100'000};
   int64_t not_converged_ = 0;
   double precompute_s_ = 0;

@@ -7,6 +7,7 @@
 #include "sedbridge/lcmt_bridge_status.hpp"
 #include "sedbridge/lcmt_contact_estimate.hpp"
 #include "sedbridge/lcmt_display_command.hpp"
+#include "sedbridge/lcmt_display_rendering.hpp"
 #include "sedbridge/lcmt_merkel_sed.hpp"
 #include "sedbridge/lcmt_sa1_rate_estimate.hpp"
 #include "sedbridge/lcmt_tactile_scan.hpp"
@@ -194,6 +195,18 @@ bool Walk(const lcmt_contact_estimate*, WireCursor& c) {
   return c.at_end();
 }
 
+bool Walk(const lcmt_display_rendering*, WireCursor& c) {
+  c.Skip(kFingerprint);
+  c.Skip(3 * kI64);  // utime, command_sequence, source_scan_utime
+  c.String();        // display_id
+  c.String();        // model_id
+  const int32_t n = c.Int32();
+  c.Array(n, kF32);  // target_sed_Pa
+  c.Array(n, kF32);  // delivered_sed_Pa
+  c.Skip(2 * kF32);  // max_target_sed_Pa, max_delivered_sed_Pa
+  return c.at_end();
+}
+
 }  // namespace
 
 template <typename Msg>
@@ -228,6 +241,7 @@ SEDBRIDGE_SAFE_DECODE(lcmt_tactile_scan)
 SEDBRIDGE_SAFE_DECODE(lcmt_bridge_status)
 SEDBRIDGE_SAFE_DECODE(lcmt_sa1_rate_estimate)
 SEDBRIDGE_SAFE_DECODE(lcmt_contact_estimate)
+SEDBRIDGE_SAFE_DECODE(lcmt_display_rendering)
 #undef SEDBRIDGE_SAFE_DECODE
 
 }  // namespace sedbridge::lcm_io

@@ -118,6 +118,34 @@ void WriteSed(JsonWriter& w, const FingerState& s, const std::vector<SedMesh>& m
   w.EndObject();
 }
 
+// The target and delivered SED (DISPLAY_RENDERING) on the pad's side of the Merkel layer: its
+// vertices within 1.5 mm of the layer's top (the layer wraps the tip; the display touches the
+// pad), placed by the SED field's positions (the same vertices, in the same order).
+void WriteDelivered(JsonWriter& w, const FingerState& s) {
+  w.Key("delivered");
+  const lcmt_display_rendering& r = s.rendering;
+  const lcmt_merkel_sed& m = s.sed;
+  const std::size_t n = r.target_sed_Pa.size();
+  if (!s.have_rendering || !s.have_sed || m.num_positions != m.num_vertices || m.x_mm.size() != n) {
+    w.Null();
+    return;
+  }
+  float top = -std::numeric_limits<float>::infinity();
+  for (float z : m.z_mm) top = std::max(top, z);
+  std::vector<double> x, y, target, delivered;
+  for (std::size_t v = 0; v < n; ++v) {
+    if (!(m.z_mm[v] >= top - 1.5f)) continue;
+    x.push_back(m.x_mm[v]), y.push_back(m.y_mm[v]);
+    target.push_back(r.target_sed_Pa[v]), delivered.push_back(r.delivered_sed_Pa[v]);
+  }
+  w.BeginObject();
+  w.Key("utime").Int(r.utime).Key("command_sequence").Int(r.command_sequence);
+  w.Key("max_target_sed_Pa").Number(r.max_target_sed_Pa).Key("max_delivered_sed_Pa").Number(r.max_delivered_sed_Pa);
+  w.Key("x_mm").Numbers(x, 5).Key("y_mm").Numbers(y, 5);
+  w.Key("target_sed_Pa").Numbers(target, 4).Key("delivered_sed_Pa").Numbers(delivered, 4);
+  w.EndObject();
+}
+
 void WriteDisplay(JsonWriter& w, const FingerState& s, ViewLayouts& layouts) {
   w.Key("display");
   if (!s.have_command) {
@@ -133,8 +161,8 @@ void WriteDisplay(JsonWriter& w, const FingerState& s, ViewLayouts& layouts) {
   const PadLayout& l = layouts.Display(c.display_id);
   if (l.x_mm.size() == c.value.size()) WriteLayout(w, l);
   else w.Key("layout").Null();
-  // The target: the SED the mapping read at each site (SA1_RATE_ESTIMATE carries it); the
-  // delivered pressure/height is not on the bus (replay's peak_display_sed.csv has it offline).
+  // The target at the sites: the SED the mapping read at each (SA1_RATE_ESTIMATE carries it);
+  // the whole fields, target and delivered, under "delivered" (DISPLAY_RENDERING).
   const bool target = s.have_sa1 && s.sa1.display_id == c.display_id && s.sa1.sed_Pa.size() == c.value.size();
   w.Key("target_sed_Pa");
   if (target) w.Numbers(s.sa1.sed_Pa);
@@ -142,7 +170,7 @@ void WriteDisplay(JsonWriter& w, const FingerState& s, ViewLayouts& layouts) {
   w.Key("sa1_rate_Hz");
   if (target) w.Numbers(s.sa1.rate_Hz);
   else w.Null();
-  w.Key("delivered").Null();
+  WriteDelivered(w, s);
   w.EndObject();
 }
 

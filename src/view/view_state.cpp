@@ -13,7 +13,8 @@ constexpr std::size_t kMaxSeriesPoints = 20000;
 
 std::vector<std::pair<ChannelKind, const std::string*>> Bases(const lcm_io::LcmChannels& c) {
   return {{ChannelKind::kScan, &c.tactile_scan}, {ChannelKind::kContact, &c.contact}, {ChannelKind::kSed, &c.sed},
-          {ChannelKind::kCommand, &c.command},   {ChannelKind::kSa1, &c.sa1_rate},    {ChannelKind::kStatus, &c.status}};
+          {ChannelKind::kCommand, &c.command},   {ChannelKind::kSa1, &c.sa1_rate},    {ChannelKind::kStatus, &c.status},
+          {ChannelKind::kRendering, &c.rendering}};
 }
 
 }  // namespace
@@ -57,7 +58,7 @@ const FingerState* ViewState::Finger(const std::string& name) const {
 void ViewState::Reset() {
   // The messages stay as they are, hidden behind have_*: nothing reads them until replaced.
   for (FingerState& f : fingers) {
-    f.have_scan = f.have_contact = f.have_sed = f.have_command = f.have_sa1 = f.have_status = false;
+    f.have_scan = f.have_contact = f.have_sed = f.have_command = f.have_sa1 = f.have_status = f.have_rendering = false;
     f.force_N = f.peak_sed_Pa = f.latency_ms = Series{};
   }
   events = rejected = ignored_fingers = first_utime = last_utime = 0;
@@ -127,6 +128,9 @@ bool ViewState::Take(FingerState& f, ChannelKind kind, const void* data, std::si
     case ChannelKind::kStatus:
       if (!SafeDecode(data, size, &f.status)) return false;
       return f.have_status = true;
+    case ChannelKind::kRendering:
+      if (!SafeDecode(data, size, &f.rendering)) return false;
+      return f.have_rendering = true;
   }
   return false;
 }

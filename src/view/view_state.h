@@ -15,6 +15,7 @@
 #include "sedbridge/lcmt_bridge_status.hpp"
 #include "sedbridge/lcmt_contact_estimate.hpp"
 #include "sedbridge/lcmt_display_command.hpp"
+#include "sedbridge/lcmt_display_rendering.hpp"
 #include "sedbridge/lcmt_merkel_sed.hpp"
 #include "sedbridge/lcmt_sa1_rate_estimate.hpp"
 #include "sedbridge/lcmt_tactile_scan.hpp"
@@ -28,20 +29,21 @@ struct Series {
 };
 
 /// The bridge's channels, one finger's worth.
-enum class ChannelKind { kScan, kContact, kSed, kCommand, kSa1, kStatus };
+enum class ChannelKind { kScan, kContact, kSed, kCommand, kSa1, kStatus, kRendering };
 
 /// One finger's latest messages and timelines.
 struct FingerState {
   std::string name;  ///< the channel suffix without its '_' ("THUMB"); "" for the plain names
 
   bool have_scan = false, have_contact = false, have_sed = false, have_command = false,
-       have_sa1 = false, have_status = false;
+       have_sa1 = false, have_status = false, have_rendering = false;
   lcmt_tactile_scan scan;
   lcmt_contact_estimate contact;
   lcmt_merkel_sed sed;
   lcmt_display_command command;
   lcmt_sa1_rate_estimate sa1;
   lcmt_bridge_status status;
+  lcmt_display_rendering rendering;  ///< target and delivered SED (inverse rendering only)
 
   Series force_N;      ///< contact estimate's normal force (+ the second contact's)
   Series peak_sed_Pa;  ///< max_sed_Pa of each SED field

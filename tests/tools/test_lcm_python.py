@@ -41,7 +41,8 @@ class ReplayLogRoundTrip(unittest.TestCase):
         self.assertEqual(channels, {"TACTILE_SCAN": "lcmt_tactile_scan", "FINGERTIP_SED": "lcmt_merkel_sed",
                                     "DISPLAY_COMMAND": "lcmt_display_command",
                                     "BRIDGE_STATUS": "lcmt_bridge_status",
-                                    "CONTACT_ESTIMATE": "lcmt_contact_estimate"})
+                                    "CONTACT_ESTIMATE": "lcmt_contact_estimate",
+                                    "DISPLAY_RENDERING": "lcmt_display_rendering"})
 
     def test_tactile_scan_valid_flags_are_a_sequence(self):
         import sedbridge_lcm

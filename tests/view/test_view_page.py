@@ -82,8 +82,9 @@ def messages_at_in_logs(log_paths, t_s):
     return last
 
 
-def assert_finger_shows(test, shown, scan, sed, command):
-    """`shown` (a panel's data-attributes) has these messages' taxels, SED range and command."""
+def assert_finger_shows(test, shown, scan, sed, command, rendering=None):
+    """`shown` (a panel's data-attributes) has these messages' taxels, SED range, command and
+    target | delivered SED (rendering: None when the log has none)."""
     test.assertEqual(int(shown["scan-utime"]), scan.utime)
     test.assertEqual(shown["sensor-id"], scan.sensor_id)
     taxels = [float(v) for v in shown["taxels"].split(",")]
@@ -106,6 +107,12 @@ def assert_finger_shows(test, shown, scan, sed, command):
     test.assertEqual(int(shown["sed-matched"]), sed.num_vertices, "SED vertices not on model B's mesh")
     test.assertEqual(int(shown["command-sequence"]), command.sequence)
     test.assertEqual(shown["display-id"], command.display_id)
+    if rendering is None:
+        test.assertEqual(shown["rendering-sequence"], "")
+        return
+    test.assertEqual(int(shown["rendering-sequence"]), rendering.command_sequence)
+    for key, value in (("target-max", rendering.max_target_sed_Pa), ("delivered-max", rendering.max_delivered_sed_Pa)):
+        test.assertAlmostEqual(float(shown[key]), value, delta=1e-5 * max(1.0, abs(value)), msg=key)
 
 
 def start_view(log, work, name, *extra):
@@ -226,9 +233,14 @@ class ViewPage(unittest.TestCase):
         self.assertEqual(state["fingers"], "")
         self.assertEqual(state["panels"], "1")
         self.assertEqual(len(parser.fingers), 1)
+        # The example's suction display is rendered by inverse FE: DISPLAY_RENDERING is on the
+        # bus, its delivered SED shown beside the target.
+        rendering = self.expected["DISPLAY_RENDERING"]
+        self.assertGreater(rendering.max_target_sed_Pa, 0)
+        self.assertGreater(rendering.max_delivered_sed_Pa, 0)
         for shown in (state, parser.fingers[0]):
             assert_finger_shows(self, shown, self.expected["TACTILE_SCAN"], self.expected["FINGERTIP_SED"],
-                                self.expected["DISPLAY_COMMAND"])
+                                self.expected["DISPLAY_COMMAND"], rendering)
         self.assertGreater(max(float(v) for v in state["taxels"].split(",")), 1.0, "the scan at 1 s should press (kPa)")
         self.assertEqual(self.expected["TACTILE_SCAN"].num_shear, 16, "uskin_4x4: shear per taxel")
         self.assertAlmostEqual(float(state["position-s"]), START_S)
@@ -348,7 +360,8 @@ class ViewPageOfAHand(unittest.TestCase):
         for name in fingers:
             with self.subTest(finger=name):
                 assert_finger_shows(self, shown[name], self.expected["TACTILE_SCAN_" + name],
-                                    self.expected["FINGERTIP_SED_" + name], self.expected["DISPLAY_COMMAND_" + name])
+                                    self.expected["FINGERTIP_SED_" + name], self.expected["DISPLAY_COMMAND_" + name],
+                                    self.expected.get("DISPLAY_RENDERING_" + name))
         # The fingers differ (not one finger's messages shown thrice): the index has its own
         # sensor (cyskin_16) and display (pin_6x4).
         self.assertEqual(shown["INDEX"]["sensor-id"], "cyskin_16")

@@ -127,6 +127,25 @@ TEST(ViewState, FindsTheFingersOfAHandFromTheChannelNames) {
   EXPECT_FALSE(s.Finger("THUMB")->have_sed);
   EXPECT_EQ(s.Finger("THUMB")->latency_ms.value.size(), 1u);
 
+  // The index's target | delivered (DISPLAY_RENDERING), on its SED field's vertices.
+  lcmt_display_rendering r{};
+  r.command_sequence = 7;
+  r.num_vertices = 2;
+  r.target_sed_Pa = {150, 300};
+  r.delivered_sed_Pa = {100, 200};
+  r.max_target_sed_Pa = 300;
+  r.max_delivered_sed_Pa = 200;
+  EXPECT_TRUE(Feed(s, "DISPLAY_RENDERING_INDEX", r, 1004000));
+  EXPECT_TRUE(s.Finger("INDEX")->have_rendering);
+  Feed(s, "DISPLAY_COMMAND_INDEX", Command(1005000, 1000000), 1005000);
+  std::map<std::string, SedVertexMatch> matches;
+  ViewLayouts layouts("uskin_4x4", "suction_4x4");
+  const std::string f = FrameJson(s, layouts, {}, matches, PlaybackInfo{}, FrameStyle{});
+  EXPECT_NE(f.find(R"("delivered":{"utime":0,"command_sequence":7,"max_target_sed_Pa":300,"max_delivered_sed_Pa":200,)"
+                   R"("x_mm":[0,1],"y_mm":[0,0],"target_sed_Pa":[150,300],"delivered_sed_Pa":[100,200]})"),
+            std::string::npos)
+      << f;
+
   // A finger is one whose message decodes: bad bytes on a new name make none.
   std::vector<uint8_t> bad = Encode(Scan(1, 1));
   bad.resize(bad.size() - 3);

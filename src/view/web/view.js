@@ -161,8 +161,33 @@ function drawDisplay(P, f) {
   const flags = ['clamped', 'stale', 'fault', 'shutdown'].filter((k) => d[k]);
   P.displayCaption.innerHTML = `${d.display_id}: commanded ${d.unit} (colour 0–${fmt(max)} ${d.unit}), command ${d.sequence}` +
     (flags.length ? ` <span class="flag">${flags.join(', ')}</span>` : '') +
-    `<br>target (ring): ${tgt ? 'SED at each site, largest ' + fmt(tmax) + ' Pa (SA1_RATE_ESTIMATE)' : 'not on the bus'}; ` +
-    'delivered: not on the bus (replay --out writes peak_display_sed.csv)';
+    `<br>target (ring): ${tgt ? 'SED at each site, largest ' + fmt(tmax) + ' Pa (SA1_RATE_ESTIMATE)' : 'not on the bus'}`;
+  drawDelivered(P, d.delivered);
+}
+
+// Target | delivered: the SED the renderer was asked for and the SED the published commands
+// add by its influence model (DISPLAY_RENDERING), on the pad's side of the Merkel layer, seen
+// onto the pad, on one scale (the larger of the two maxima).
+function drawDelivered(P, r) {
+  const canvases = [P.sedTarget, P.sedDelivered];
+  for (const c of canvases) { const g = c.getContext('2d'); g.fillStyle = '#1b1b1b'; g.fillRect(0, 0, c.width, c.height); }
+  if (!r) {
+    P.deliveredCaption.textContent = 'not on the bus (DISPLAY_RENDERING: the bridge publishes it with inverse rendering)';
+    return;
+  }
+  const top = Math.max(1e-9, r.max_target_sed_Pa, r.max_delivered_sed_Pa);
+  [r.target_sed_Pa, r.delivered_sed_Pa].forEach((values, k) => {
+    const c = canvases[k], g = c.getContext('2d'), T = padTransform(c, r.x_mm, r.y_mm, 1);
+    const size = Math.max(2, T.s * 0.9);
+    values.forEach((v, i) => {
+      g.fillStyle = css(colour(v === null ? NaN : v / top));
+      g.fillRect(T.X(r.x_mm[i]) - size / 2, T.Y(r.y_mm[i]) - size / 2, size, size);
+    });
+    g.fillStyle = '#ddd'; g.font = '11px system-ui'; g.textAlign = 'left'; g.textBaseline = 'top';
+    g.fillText(k === 0 ? 'target' : 'delivered', 4, 4);
+  });
+  P.deliveredCaption.textContent = `colour 0–${fmt(top)} Pa; largest: target ${fmt(r.max_target_sed_Pa)} Pa, ` +
+    `delivered ${fmt(r.max_delivered_sed_Pa)} Pa (command ${r.command_sequence}, the renderer's influence model)`;
 }
 
 // ---------- 3-D fingertip: one mesh a model (usually one, B), showing the picked finger ----------
@@ -326,7 +351,8 @@ function panelOf(name) {
   $('fingers').appendChild(root);
   const q = (sel) => root.querySelector(sel);
   P = { root, taxels: q('.taxels'), display: q('.display'), timelines: q('.timelines'), contactCaption: q('.contact-caption'),
-    displayCaption: q('.display-caption'), statusCaption: q('.status-caption'), state: q('.finger-state'), plots: {}, taxelTop: 1, shearTop: 0.1 };
+    displayCaption: q('.display-caption'), sedTarget: q('.sed-target'), sedDelivered: q('.sed-delivered'),
+    deliveredCaption: q('.delivered-caption'), statusCaption: q('.status-caption'), state: q('.finger-state'), plots: {}, taxelTop: 1, shearTop: 0.1 };
   panels.set(name, P);
   const menu = $('tip-finger'), option = document.createElement('option');
   option.value = name; option.textContent = fingerLabel(name);
@@ -351,6 +377,10 @@ function writeFingerState(el, f) {
   d.commandSequence = f.display ? String(f.display.sequence) : '';
   d.displayId = f.display ? f.display.display_id : '';
   d.commanded = f.display ? f.display.commanded.map(String).join(',') : '';
+  const r = f.display && f.display.delivered;
+  d.renderingSequence = r ? String(r.command_sequence) : '';
+  d.targetMax = r ? String(r.max_target_sed_Pa) : '';
+  d.deliveredMax = r ? String(r.max_delivered_sed_Pa) : '';
   d.contactFlag = f.contact ? (f.contact.fallback ? 'fallback' : 'trusted') : '';
   d.contactResidual = f.contact ? String(f.contact.residual_rms_sigma) : '';
 }
