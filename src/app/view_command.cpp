@@ -186,10 +186,12 @@ int64_t RunFrames(Session& s, ViewLayouts& layouts, const std::vector<SedMesh>& 
 int RunView(int argc, char** argv) {
   ArgParser args("sedbridge view",
                  "A web page that shows the bridge at work: the taxel grid (normal pressure as\n"
-                 "colour) with the contact the bridge reconstructed (its shear as an arrow, its\n"
-                 "residual and flag), the leader's fingertip in 3-D with the Merkel-layer SED on a\n"
-                 "fixed scale, the display's actuators and timelines of force, peak SED and\n"
-                 "per-scan latency; one panel per finger for a hand (channels NAME_<FINGER>).\n"
+                 "colour, a three-axis sensor's shear as an arrow a taxel) with the contact the\n"
+                 "bridge reconstructed (its total shear, residual and flag), the leader's skin in\n"
+                 "3-D coloured by the Merkel-layer SED beneath it on a fixed scale, the display's\n"
+                 "actuators with the target | delivered SED (DISPLAY_RENDERING, inverse\n"
+                 "rendering) and timelines of force, peak SED and per-scan latency; one panel per\n"
+                 "finger for a hand (channels NAME_<FINGER>).\n"
                  "From an LCM log (play, pause, seek, speed on the page) or live\n"
                  "from LCM. Read-only: the view subscribes, it never publishes.");
   DeclareOptions(&args);
