@@ -75,11 +75,15 @@ display::CommandRequestSource InverseDisplayRequests::Source(std::shared_ptr<Inv
 }
 
 void InverseDisplayRequests::PredictedSed(const std::vector<double>& commands, Eigen::VectorXd* added_sed_Pa) {
-  const render::DisplayInfluence& influence = rendering_->influence();
-  if (at_rest_Pa_.size() != influence.num_vertices())
-    influence.Sed(Eigen::VectorXd::Zero(influence.num_actuators()), at_rest_Pa_);
+  // A copy of the renderer's influence: an evaluation moves the influence's cached segments
+  // (and when it refreshes them), so evaluating the renderer's own would change its next
+  // answers in the last bits.
+  if (!predictor_) {
+    predictor_ = std::make_unique<render::DisplayInfluence>(rendering_->influence());
+    predictor_->Sed(Eigen::VectorXd::Zero(predictor_->num_actuators()), at_rest_Pa_);
+  }
   const Eigen::VectorXd u = Eigen::Map<const Eigen::VectorXd>(commands.data(), Eigen::Index(commands.size()));
-  influence.Sed(u, *added_sed_Pa);
+  predictor_->Sed(u, *added_sed_Pa);
   *added_sed_Pa -= at_rest_Pa_;
 }
 
