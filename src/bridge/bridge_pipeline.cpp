@@ -169,13 +169,14 @@ void BridgePipeline::PublishContact(int64_t now_utime, ScanOutcome* outcome) {
 }
 
 void BridgePipeline::PublishRendering(int64_t now_utime) {
-  // A viewer's message: after the command (outside its latency), decimated, in no stage time.
+  // A viewer's message: after the command (outside its latency), decimated, in no stage time;
+  // the renderer's own evaluation at its answer, so it costs a copy, not an SED evaluation.
   if (!predicted_sed_ || !(config_.rendering_Hz > 0)) return;
   const bool due = !rendering_published_ || now_utime < last_rendering_utime_ ||
                    now_utime - last_rendering_utime_ >= 1e6 / config_.rendering_Hz;
   if (!due) return;
   const display::DisplayCommand& c = display_->last_command();
-  predicted_sed_(c.value, &delivered_Pa_);
+  predicted_sed_(&delivered_Pa_, &rendered_);
   if (std::size_t(delivered_Pa_.size()) != field_.sed_Pa.size()) return;
   rendering_published_ = true;
   last_rendering_utime_ = now_utime;
@@ -198,6 +199,7 @@ void BridgePipeline::PublishRendering(int64_t now_utime) {
     if (std::isfinite(m.delivered_sed_Pa[v]))
       m.max_delivered_sed_Pa = std::max(m.max_delivered_sed_Pa, m.delivered_sed_Pa[v]);
   }
+  m.limited = rendered_.size() != c.value.size() || !std::equal(rendered_.begin(), rendered_.end(), c.value.begin());
   display_->publisher().Publish(display_->publisher().channels().rendering, m);
 }
 

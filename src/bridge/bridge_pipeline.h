@@ -112,12 +112,13 @@ class BridgePipeline {
   const LatencyStats& stage_stats(Stage stage) const { return stage_stats_[static_cast<size_t>(stage)]; }
   /// Median per stage over the run's stepped scans that ran it [ms] (0: never ran).
   StageTimes RunStageMedians_ms() const;
-  /// The SED [Pa] commands add to the leader's preloaded pad, per Merkel vertex (the inverse
-  /// renderer's influence model: InverseDisplayRequests::PredictedSed).
-  using PredictedSed = std::function<void(const std::vector<double>& commands, Eigen::VectorXd* added_sed_Pa)>;
+  /// The SED [Pa] the display's last requested commands add to the leader's preloaded pad, per
+  /// Merkel vertex, and those commands (the inverse renderer's own evaluation at its answer:
+  /// InverseDisplayRequests::PredictedSed).
+  using PredictedSed = std::function<void(Eigen::VectorXd* added_sed_Pa, std::vector<double>* commands)>;
   /// With one set (inverse rendering), each stepped scan's command is followed, at most
   /// config.rendering_Hz times a second on the pipeline clock, by DISPLAY_RENDERING: the
-  /// target and what the published command delivers by the model.
+  /// target and what the commands deliver by the model.
   void SetPredictedSed(PredictedSed predicted) { predicted_sed_ = std::move(predicted); }
   lcm_io::DisplaySession& display() { return *display_; }
   FeStep& fe() { return *fe_; }
@@ -160,6 +161,7 @@ class BridgePipeline {
   int64_t last_rendering_utime_ = 0;
   bool rendering_published_ = false;
   Eigen::VectorXd delivered_Pa_;  // PublishRendering's, kept between calls
+  std::vector<double> rendered_;
 
   TaxelValues values_;
   display::SedField field_, fault_field_;

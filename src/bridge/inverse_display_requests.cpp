@@ -74,17 +74,11 @@ display::CommandRequestSource InverseDisplayRequests::Source(std::shared_ptr<Inv
   };
 }
 
-void InverseDisplayRequests::PredictedSed(const std::vector<double>& commands, Eigen::VectorXd* added_sed_Pa) {
-  // A copy of the renderer's influence: an evaluation moves the influence's cached segments
-  // (and when it refreshes them), so evaluating the renderer's own would change its next
-  // answers in the last bits.
-  if (!predictor_) {
-    predictor_ = std::make_unique<render::DisplayInfluence>(rendering_->influence());
-    predictor_->Sed(Eigen::VectorXd::Zero(predictor_->num_actuators()), at_rest_Pa_);
-  }
-  const Eigen::VectorXd u = Eigen::Map<const Eigen::VectorXd>(commands.data(), Eigen::Index(commands.size()));
-  predictor_->Sed(u, *added_sed_Pa);
-  *added_sed_Pa -= at_rest_Pa_;
+void InverseDisplayRequests::PredictedSed(Eigen::VectorXd* added_sed_Pa, std::vector<double>* commands) const {
+  const render::InverseRenderer& renderer = rendering_->renderer();
+  renderer.AddedSed(*added_sed_Pa);
+  const Eigen::VectorXd& u = renderer.commands();
+  commands->assign(u.data(), u.data() + u.size());
 }
 
 bool InverseDisplayRequests::Deliver(const std::vector<double>& commands, Eigen::VectorXd* delivered_sed_Pa) {

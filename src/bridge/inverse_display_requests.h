@@ -43,11 +43,11 @@ class InverseDisplayRequests {
   /// The SED [Pa] `commands` add to the preloaded pad by the full contact FE, per Merkel
   /// vertex (the bridge's order). False (message in error()) when the solve fails.
   bool Deliver(const std::vector<double>& commands, Eigen::VectorXd* delivered_sed_Pa);
-  /// The SED [Pa] `commands` add to the preloaded pad by the renderer's linear influence model
-  /// (what the renderer predicts: one SED evaluation, tens of microseconds), per Merkel vertex
-  /// (the bridge's order). On a copy of the influence, made at the first call: the renderer's
-  /// answers stay exactly what they were.
-  void PredictedSed(const std::vector<double>& commands, Eigen::VectorXd* added_sed_Pa);
+  /// The SED [Pa] the last requested commands add to the preloaded pad by the renderer's
+  /// influence model, per Merkel vertex (the bridge's order), and those commands: what the
+  /// renderer's fit evaluated at its answer, so nothing is evaluated again and the renderer's
+  /// state is left alone (render::InverseRenderer::AddedSed).
+  void PredictedSed(Eigen::VectorXd* added_sed_Pa, std::vector<double>* commands) const;
   const std::string& error() const { return rendering_->error(); }
 
   int num_actuators() const { return rendering_->num_actuators(); }
@@ -65,8 +65,6 @@ class InverseDisplayRequests {
   model::FingertipModel model_;
   std::unique_ptr<render::DisplayRendering> rendering_;
   Eigen::VectorXd target_Pa_;
-  std::unique_ptr<render::DisplayInfluence> predictor_;  // PredictedSed's copy of the influence
-  Eigen::VectorXd at_rest_Pa_;  // its SED with every command 0
   LatencyStats render_times_{100'000}, render_cpu_times_{100'000};
   int64_t not_converged_ = 0;
   double precompute_s_ = 0;

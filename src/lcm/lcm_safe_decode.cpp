@@ -204,6 +204,7 @@ bool Walk(const lcmt_display_rendering*, WireCursor& c) {
   c.Array(n, kF32);  // target_sed_Pa
   c.Array(n, kF32);  // delivered_sed_Pa
   c.Skip(2 * kF32);  // max_target_sed_Pa, max_delivered_sed_Pa
+  c.Skip(kByte);     // limited
   return c.at_end();
 }
 

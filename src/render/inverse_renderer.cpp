@@ -29,6 +29,7 @@ InverseRenderer::InverseRenderer(DisplayInfluence influence, Eigen::VectorXd max
 
 const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed_Pa) {
   result_ = RenderResult{};
+  sed_at_answer_ = false;
   if (target_sed_Pa.size() != influence_.num_vertices() || !target_sed_Pa.allFinite()) {
     // Never render from a field we cannot trust; the limiter sees zeros with the flag.
     result_.fault = true;
@@ -114,9 +115,18 @@ const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed
     }
   }
   result_.cost = cost;
+  sed_at_answer_ = true;  // sed_ is always the SED at u_ (swapped with each accepted trial)
   result_.at_upper_bound = int((u_.array() >= box_.array() && box_.array() > 0).count());
   commands_ = (u_.array() > 0).select(u_ + offset_, 0.0);
   return commands_;
+}
+
+void InverseRenderer::AddedSed(Eigen::VectorXd& added_sed_Pa) const {
+  added_sed_Pa.setZero(influence_.num_vertices());
+  if (!sed_at_answer_) return;
+  const std::vector<int>& active = influence_.active_vertices();
+  for (std::size_t a = 0; a < active.size(); ++a)
+    added_sed_Pa[active[a]] = sed_[Eigen::Index(a)] - influence_.preload_sed_Pa()[active[a]];
 }
 
 void InverseRenderer::PenaltyWeights() {

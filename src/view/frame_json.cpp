@@ -143,6 +143,7 @@ void WriteDelivered(JsonWriter& w, const FingerState& s) {
   w.Key("max_target_sed_Pa").Number(r.max_target_sed_Pa).Key("max_delivered_sed_Pa").Number(r.max_delivered_sed_Pa);
   w.Key("x_mm").Numbers(x, 5).Key("y_mm").Numbers(y, 5);
   w.Key("target_sed_Pa").Numbers(target, 4).Key("delivered_sed_Pa").Numbers(delivered, 4);
+  w.Key("limited").Bool(r.limited != 0);
   w.EndObject();
 }
 

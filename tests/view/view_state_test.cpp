@@ -142,7 +142,7 @@ TEST(ViewState, FindsTheFingersOfAHandFromTheChannelNames) {
   ViewLayouts layouts("uskin_4x4", "suction_4x4");
   const std::string f = FrameJson(s, layouts, {}, matches, PlaybackInfo{}, FrameStyle{});
   EXPECT_NE(f.find(R"("delivered":{"utime":0,"command_sequence":7,"max_target_sed_Pa":300,"max_delivered_sed_Pa":200,)"
-                   R"("x_mm":[0,1],"y_mm":[0,0],"target_sed_Pa":[150,300],"delivered_sed_Pa":[100,200]})"),
+                   R"("x_mm":[0,1],"y_mm":[0,0],"target_sed_Pa":[150,300],"delivered_sed_Pa":[100,200],"limited":false})"),
             std::string::npos)
       << f;
 

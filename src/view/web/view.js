@@ -187,7 +187,8 @@ function drawDelivered(P, r) {
     g.fillText(k === 0 ? 'target' : 'delivered', 4, 4);
   });
   P.deliveredCaption.textContent = `colour 0–${fmt(top)} Pa; largest: target ${fmt(r.max_target_sed_Pa)} Pa, ` +
-    `delivered ${fmt(r.max_delivered_sed_Pa)} Pa (command ${r.command_sequence}, the renderer's influence model)`;
+    `delivered ${fmt(r.max_delivered_sed_Pa)} Pa (command ${r.command_sequence}, the renderer's influence model` +
+    (r.limited ? '; the safety limiter changed this command: the renderer\'s intent)' : ')');
 }
 
 // ---------- 3-D fingertip: one mesh a model (usually one, B), showing the picked finger ----------
