@@ -300,8 +300,24 @@ def message_types():
     return _TYPES
 
 
+# Messages of a type's earlier version whose fields have since grown at the end: old
+# fingerprint -> (type name, the bytes the new fields take when empty). lcmt_tactile_scan before
+# num_shear, shear_x_kPa, shear_y_kPa decodes with num_shear 0 (as src/lcm/lcm_safe_decode.cpp).
+_EARLIER_VERSIONS = {
+    bytes.fromhex("3afe5a31ff1bfe44"): ("lcmt_tactile_scan", b"\0\0\0\0"),
+}
+
+
 def decode(data):
-    """The decoded message of a sedbridge type; raises ValueError for an unknown type."""
+    """The decoded message of a sedbridge type; raises ValueError for an unknown type.
+
+    A message of an earlier version of a type (see _EARLIER_VERSIONS) decodes as today's type,
+    its newer fields empty."""
+    earlier = _EARLIER_VERSIONS.get(bytes(data[:8]))
+    if earlier is not None:
+        import sedbridge
+        cls = getattr(sedbridge, earlier[0])
+        data = cls._get_packed_fingerprint() + bytes(data[8:]) + earlier[1]
     cls = message_types().get(bytes(data[:8]))
     if cls is None:
         raise ValueError("not a sedbridge LCM type (fingerprint %s)" % bytes(data[:8]).hex())

@@ -249,6 +249,8 @@ int RunLiveCommand(int argc, char** argv) {
                                                        });
   BridgePipeline pipeline(config, profile, std::move(display_profile), std::move(fe), config.lcm, {},
                           requests.source());
+  if (auto inverse = requests.inverse)
+    pipeline.SetPredictedSed([inverse](Eigen::VectorXd* sed, std::vector<double>* u) { inverse->PredictedSed(sed, u); });
   std::printf("%s\n%s\n", pipeline.fe().Describe().c_str(), requests.Describe().c_str());
   sensors::AssemblerOptions assembler_options;
   assembler_options.tare_scans = config.tare_scans;

@@ -2,16 +2,18 @@
 // the contact the bridge read, the fingertip's Merkel SED in 3-D, the display's actuators and
 // the timelines, from an LCM log (play, pause, seek, speed) or live from any LCM URL.
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <mutex>
-#include <set>
 #include <sstream>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "app/arg_parser.h"
 #include "app/command.h"
@@ -19,8 +21,6 @@
 #include "app/stop_signals.h"
 #include "common/resource_path.h"
 #include "lcm/lcm_channels.h"
-#include "lcm/lcm_log_reader.h"
-#include "sedbridge/lcmt_merkel_sed.hpp"
 #include "view/frame_json.h"
 #include "view/live_source.h"
 #include "view/log_player.h"
@@ -45,18 +45,21 @@ std::string WebDir(const ArgParser& args) {
 #endif
 }
 
-bool IsLoopback(const std::string& host) {
-  return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
+// The logs --log names: the file, or every *.lcmlog under a folder (a hand's replay writes
+// one a finger: out/hand/<finger>/bridge.lcmlog), in name order.
+std::vector<std::string> LogFiles(const std::string& path) {
+  namespace fs = std::filesystem;
+  if (!fs::is_directory(path)) return {path};
+  std::vector<std::string> files;
+  for (const auto& entry : fs::recursive_directory_iterator(path))
+    if (entry.is_regular_file() && entry.path().extension() == ".lcmlog") files.push_back(entry.path().string());
+  std::sort(files.begin(), files.end());
+  if (files.empty()) throw UsageError("--log " + path + ": a folder without any *.lcmlog");
+  return files;
 }
 
-// The model of the log's first SED field ("" when it has none).
-std::string FirstSedModel(const std::string& path, const std::string& sed_channel) {
-  lcm_io::LcmLogReader reader(path);
-  while (const lcm::LogEvent* e = reader.Next()) {
-    lcmt_merkel_sed m;
-    if (e->channel == sed_channel && lcm_io::LcmLogReader::Decode(*e, &m)) return m.model_id;
-  }
-  return "";
+bool IsLoopback(const std::string& host) {
+  return host == "localhost" || host == "::1" || host.rfind("127.", 0) == 0;
 }
 
 // "play", "pause", "seek S", "speed X" -> the player; "" when done, else why not.
@@ -81,14 +84,14 @@ std::string Control(LogPlayer* player, ViewState* state, const std::string& body
 }
 
 void DeclareOptions(ArgParser* args) {
-  args->Option("log", "FILE", "play this LCM event log instead of listening live")
+  args->Option("log", "PATH", "play this LCM event log instead of listening live; a folder: every *.lcmlog in it, as one (a hand's replay --out)")
       .Option("lcm-url", "URL", std::string("live: LCM URL to listen on; default: $LCM_DEFAULT_URL if set, else ") +
                                     lcm_io::kDefaultLcmUrl)
       .Option("bind", "ADDR", "address to serve on; anything but loopback shows the page to the network", "127.0.0.1")
       .Option("port", "N", "TCP port; 0 = any free port", "8053")
       .Option("port-file", "FILE", "write the port served on to FILE (for scripts with --port 0)")
       .Option("web-dir", "DIR", "the page's files (default: the install's share/sedbridge/view_web, else the build's)")
-      .Option("model", "NAME", "fingertip model for the 3-D panel (default: the log's SED model_id, live: B)")
+      .Option("model", "NAME", "fingertip model for the 3-D panel (default: the models of the log's SED fields, live: B)")
       .Option("sensor", "NAME", "sensor profile for the taxel layout (default: the scans' sensor_id)")
       .Option("display", "NAME", "display profile for the actuator layout (default: the commands' display_id)")
       .Option("sed-scale-Pa", "PA", "top of the fixed SED colour scale [Pa] (default: log: its largest SED; live: 1000)")
@@ -97,15 +100,17 @@ void DeclareOptions(ArgParser* args) {
       .Option("start-s", "S", "log: start at S seconds into the log", "0")
       .Flag("paused", "log: start paused (the page's play button starts it)")
       .Option("duration-s", "S", "stop after S seconds; 0 = until Ctrl-C", "0")
-      .Option("tactile-channel", "NAME", "LCM channel", "TACTILE_SCAN")
+      .Option("tactile-channel", "NAME", "LCM channel (a hand's fingers: NAME_<FINGER>, found on the bus)", "TACTILE_SCAN")
       .Option("contact-channel", "NAME", "LCM channel", "CONTACT_ESTIMATE")
       .Option("sed-channel", "NAME", "LCM channel", "FINGERTIP_SED")
       .Option("command-channel", "NAME", "LCM channel", "DISPLAY_COMMAND")
       .Option("sa1-channel", "NAME", "LCM channel", "SA1_RATE_ESTIMATE")
       .Option("status-channel", "NAME", "LCM channel", "BRIDGE_STATUS")
+      .Option("rendering-channel", "NAME", "LCM channel (target and delivered SED, inverse rendering)", "DISPLAY_RENDERING")
       .Epilog(
           "examples:\n"
           "  sedbridge view --log out/replay/bridge.lcmlog      # then open http://127.0.0.1:8053/\n"
+          "  sedbridge view --log out/hand                      # a hand's replay: one log a finger\n"
           "  sedbridge view --lcm-url 'udpm://239.255.76.67:7667?ttl=0'\n"
           "The page's 3-D and plots come from three.js and uPlot, installed by tools/setup.sh\n"
           "(npm ci in tools/view-web) and copied into the build; nothing is fetched at run time.\n"
@@ -127,15 +132,15 @@ struct Session {
 // The frame loop: moves the log (or takes the bus's messages), and at most `fps` times a
 // second makes a frame when something changed, until a signal or `duration_s`. Returns the
 // number of frames made.
-int64_t RunFrames(Session& s, ViewLayouts& layouts, const SedMesh& mesh, FrameHub& hub, double fps, double duration_s,
-                  const StopSignals& signals) {
+int64_t RunFrames(Session& s, ViewLayouts& layouts, const std::vector<SedMesh>& meshes, FrameHub& hub, double fps,
+                  double duration_s, const StopSignals& signals) {
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   const auto period = std::chrono::duration<double>(1.0 / fps);
   auto last = start;
   uint64_t sent_version = ~uint64_t(0);
   int64_t frames = 0;
-  SedVertexMatch match;
+  std::map<std::string, SedVertexMatch> matches;  // per finger
   while (!signals.flag().load()) {
     if (duration_s > 0 && std::chrono::duration<double>(Clock::now() - start).count() >= duration_s) break;
     const auto next = last + std::chrono::duration_cast<Clock::duration>(period);
@@ -164,7 +169,7 @@ int64_t RunFrames(Session& s, ViewLayouts& layouts, const SedMesh& mesh, FrameHu
         p.duration_s = p.position_s;
       }
       if (s.dirty || s.state.version != sent_version) {
-        frame = FrameJson(s.state, layouts, mesh, match, p, s.style);
+        frame = FrameJson(s.state, layouts, meshes, matches, p, s.style);
         sent_version = s.state.version;
         s.dirty = false;
       }
@@ -181,10 +186,13 @@ int64_t RunFrames(Session& s, ViewLayouts& layouts, const SedMesh& mesh, FrameHu
 int RunView(int argc, char** argv) {
   ArgParser args("sedbridge view",
                  "A web page that shows the bridge at work: the taxel grid (normal pressure as\n"
-                 "colour) with the contact the bridge reconstructed (its shear as an arrow, its\n"
-                 "residual and flag), the leader's fingertip in 3-D with the Merkel-layer SED on a\n"
-                 "fixed scale, the display's actuators and timelines of force, peak SED and\n"
-                 "per-scan latency. From an LCM log (play, pause, seek, speed on the page) or live\n"
+                 "colour, a three-axis sensor's shear as an arrow a taxel) with the contact the\n"
+                 "bridge reconstructed (its total shear, residual and flag), the leader's skin in\n"
+                 "3-D coloured by the Merkel-layer SED beneath it on a fixed scale, the display's\n"
+                 "actuators with the target | delivered SED (DISPLAY_RENDERING, inverse\n"
+                 "rendering) and timelines of force, peak SED and per-scan latency; one panel per\n"
+                 "finger for a hand (channels NAME_<FINGER>).\n"
+                 "From an LCM log (play, pause, seek, speed on the page) or live\n"
                  "from LCM. Read-only: the view subscribes, it never publishes.");
   DeclareOptions(&args);
   if (!args.Parse(argc, argv)) return 0;
@@ -196,12 +204,12 @@ int RunView(int argc, char** argv) {
   ch.command = args.Get("command-channel");
   ch.sa1_rate = args.Get("sa1-channel");
   ch.status = args.Get("status-channel");
+  ch.rendering = args.Get("rendering-channel");
   try {
     ch.Validate();
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());
   }
-  const std::set<std::string> channels = {ch.tactile_scan, ch.contact, ch.sed, ch.command, ch.sa1_rate, ch.status};
   const double fps = args.GetDouble("fps");
   if (!(fps > 0 && fps <= 120)) throw UsageError("--fps must be in (0, 120]");
   const long port = args.GetInt("port");
@@ -214,32 +222,51 @@ int RunView(int argc, char** argv) {
                  bind.c_str());
 
   Session session(ch);
+  const ViewState& classifier = session.state;
+  const auto is_ours = [&classifier](const std::string& channel) {
+    ChannelKind kind;
+    std::string finger;
+    return classifier.Classify(channel, &kind, &finger);
+  };
+  const auto is_sed = [&classifier](const std::string& channel) {
+    ChannelKind kind;
+    std::string finger;
+    return classifier.Classify(channel, &kind, &finger) && kind == ChannelKind::kSed;
+  };
   const auto log = args.GetOptional("log");
-  std::string model = args.GetOptional("model").value_or("");
+  std::vector<std::string> models;
+  if (auto model = args.GetOptional("model")) models = {*model};
   FrameStyle& style = session.style;
   if (log) {
-    session.player = std::make_unique<LogPlayer>(*log, channels);
+    session.player = std::make_unique<LogPlayer>(LogFiles(*log), is_ours);
     LogPlayer& player = *session.player;
     player.SetSpeed(args.GetDouble("speed"));
     player.Seek(args.GetDouble("start-s"), &session.state);
     player.SetPlaying(!args.GetFlag("paused"));
-    style.sed_scale_Pa = player.LargestSed_Pa(ch.sed);
-    if (model.empty()) model = FirstSedModel(*log, ch.sed);
+    style.sed_scale_Pa = player.LargestSed_Pa(is_sed);
+    if (models.empty()) models = player.SedModels(is_sed);
     session.playback.source = *log;
   } else {
     const std::string url = ChooseLcmUrl(args.GetOptional("lcm-url"), lcm_io::kDefaultLcmUrl, "default").url;
-    session.live = std::make_unique<LiveSource>(url, channels, &session.state, &session.mu);
+    session.live =
+        std::make_unique<LiveSource>(url, session.state.SubscriptionPatterns(), &session.state, &session.mu);
     session.playback.live = true;
     session.playback.source = url;
     style.sed_scale_Pa = 1000;
   }
   if (args.Has("sed-scale-Pa")) style.sed_scale_Pa = args.GetDouble("sed-scale-Pa");
   if (!(style.sed_scale_Pa > 0)) style.sed_scale_Pa = 1000;
-  if (model.empty()) model = "B";
-  const SedMesh mesh = LoadSedMesh(model);
-  if (!mesh.error.empty())
-    std::fprintf(stderr, "view: no mesh for model '%s' (%s); SED drawn as points\n", model.c_str(), mesh.error.c_str());
-  const std::string mesh_json = MeshJson(mesh, style);
+  if (models.empty()) models = {"B"};
+  std::vector<SedMesh> meshes;
+  std::string model_names;
+  for (const std::string& model : models) {
+    meshes.push_back(LoadSedMesh(model));
+    model_names += (model_names.empty() ? "" : ", ") + meshes.back().model_id;
+    if (!meshes.back().error.empty())
+      std::fprintf(stderr, "view: no mesh for model '%s' (%s); SED drawn as points\n", model.c_str(),
+                   meshes.back().error.c_str());
+  }
+  const std::string mesh_json = MeshJson(meshes, style);
 
   FrameHub hub;
   ViewLayouts layouts(args.GetOptional("sensor").value_or(""), args.GetOptional("display").value_or(""));
@@ -261,10 +288,10 @@ int RunView(int argc, char** argv) {
   if (auto file = args.GetOptional("port-file")) std::ofstream(*file) << server.port() << "\n";
   std::fprintf(stderr, "view: serving http://%s:%d/ (%s %s, model %s, SED scale %.4g Pa); Ctrl-C to stop\n",
                bind.find(':') != std::string::npos ? ("[" + bind + "]").c_str() : bind.c_str(), server.port(),
-               log ? "log" : "live", session.playback.source.c_str(), mesh.model_id.c_str(), style.sed_scale_Pa);
+               log ? "log" : "live", session.playback.source.c_str(), model_names.c_str(), style.sed_scale_Pa);
 
   StopSignals signals;
-  const int64_t frames = RunFrames(session, layouts, mesh, hub, fps, args.GetDouble("duration-s"), signals);
+  const int64_t frames = RunFrames(session, layouts, meshes, hub, fps, args.GetDouble("duration-s"), signals);
   server.Stop();
   std::fprintf(stderr, "view: %lld frames made, %lld sent to %lld page streams; %lld events, %lld malformed rejected\n",
                static_cast<long long>(frames), static_cast<long long>(hub.frames_sent.load()),

@@ -141,6 +141,9 @@ struct BridgeConfig {
   // outputs:
   bool publish_sed = true;    ///< FINGERTIP_SED every step
   bool publish_scans = true;  ///< TACTILE_SCAN every scan
+  /// DISPLAY_RENDERING (inverse rendering only) at most this often on the pipeline clock; 0:
+  /// never. A viewer's message: after the command, so outside the scan-to-command latency.
+  double rendering_Hz = 30;
 
   // lcm:
   lcm_io::LcmSettings lcm;
@@ -194,6 +197,7 @@ struct BridgeConfig {
     a->Section("outputs", [&](auto* o) {
       o->Visit(Field("publish_sed", &publish_sed));
       o->Visit(Field("publish_scans", &publish_scans));
+      o->Visit(Field("rendering_Hz", &rendering_Hz).Unit("Hz").InRange(0, 1000));
     });
     a->Visit(Field("lcm", &lcm));
     a->Visit(Field("fingers", &fingers));

@@ -5,8 +5,10 @@
 #include <limits>
 
 #include "lcm/contact_estimate_message.h"
+#include "lcm/lcm_float.h"
 #include "lcm/taxel_health_message.h"
 #include "lcm/tactile_scan_message.h"
+#include "sedbridge/lcmt_display_rendering.hpp"
 
 namespace sedbridge::bridge {
 
@@ -77,6 +79,7 @@ ScanOutcome BridgePipeline::ProcessScan(const sensors::Scan& scan, int64_t now_u
   if (ConditionScan(judged, now_utime, &outcome) && StepFe(judged, now_utime, &outcome)) {
     SendToDisplay(now_utime, receive_wall_utime, &outcome);
     PublishContact(now_utime, &outcome);
+    PublishRendering(now_utime);
     RecordStageTimes(outcome.stage_ms);
     if (fault_state_ == FaultState::kFault) fault_state_ = FaultState::kOk, fault_message_.clear();
   }
@@ -163,6 +166,41 @@ void BridgePipeline::PublishContact(int64_t now_utime, ScanOutcome* outcome) {
   lcmt_contact_estimate msg = lcm_io::ToLcm(*report);
   msg.utime = now_utime;
   display_->publisher().Publish(display_->publisher().channels().contact, msg);
+}
+
+void BridgePipeline::PublishRendering(int64_t now_utime) {
+  // A viewer's message: after the command (outside its latency), decimated, in no stage time;
+  // the renderer's own evaluation at its answer, so it costs a copy, not an SED evaluation.
+  if (!predicted_sed_ || !(config_.rendering_Hz > 0)) return;
+  const bool due = !rendering_published_ || now_utime < last_rendering_utime_ ||
+                   now_utime - last_rendering_utime_ >= 1e6 / config_.rendering_Hz;
+  if (!due) return;
+  const display::DisplayCommand& c = display_->last_command();
+  predicted_sed_(&delivered_Pa_, &rendered_);
+  if (std::size_t(delivered_Pa_.size()) != field_.sed_Pa.size()) return;
+  rendering_published_ = true;
+  last_rendering_utime_ = now_utime;
+  lcmt_display_rendering m;
+  m.utime = c.utime;
+  m.command_sequence = c.sequence;
+  m.source_scan_utime = field_.source_scan_utime;
+  m.display_id = c.display_id;
+  m.model_id = field_.model_id;
+  m.num_vertices = int32_t(field_.sed_Pa.size());
+  m.target_sed_Pa.resize(field_.sed_Pa.size());
+  m.delivered_sed_Pa.resize(field_.sed_Pa.size());
+  m.max_target_sed_Pa = m.max_delivered_sed_Pa = 0;
+  for (std::size_t v = 0; v < field_.sed_Pa.size(); ++v) {
+    // The renderer's target: negative SED read as 0 (InverseDisplayRequests::Request).
+    const double target = std::isfinite(field_.sed_Pa[v]) ? std::max(field_.sed_Pa[v], 0.0) : field_.sed_Pa[v];
+    m.target_sed_Pa[v] = lcm_io::ToLcmFloat(target);
+    m.delivered_sed_Pa[v] = lcm_io::ToLcmFloat(delivered_Pa_[Eigen::Index(v)]);
+    if (std::isfinite(m.target_sed_Pa[v])) m.max_target_sed_Pa = std::max(m.max_target_sed_Pa, m.target_sed_Pa[v]);
+    if (std::isfinite(m.delivered_sed_Pa[v]))
+      m.max_delivered_sed_Pa = std::max(m.max_delivered_sed_Pa, m.delivered_sed_Pa[v]);
+  }
+  m.limited = rendered_.size() != c.value.size() || !std::equal(rendered_.begin(), rendered_.end(), c.value.begin());
+  display_->publisher().Publish(display_->publisher().channels().rendering, m);
 }
 
 void BridgePipeline::RecordStageTimes(const StageTimes& stage_ms) {

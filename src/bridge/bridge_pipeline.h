@@ -112,6 +112,14 @@ class BridgePipeline {
   const LatencyStats& stage_stats(Stage stage) const { return stage_stats_[static_cast<size_t>(stage)]; }
   /// Median per stage over the run's stepped scans that ran it [ms] (0: never ran).
   StageTimes RunStageMedians_ms() const;
+  /// The SED [Pa] the display's last requested commands add to the leader's preloaded pad, per
+  /// Merkel vertex, and those commands (the inverse renderer's own evaluation at its answer:
+  /// InverseDisplayRequests::PredictedSed).
+  using PredictedSed = std::function<void(Eigen::VectorXd* added_sed_Pa, std::vector<double>* commands)>;
+  /// With one set (inverse rendering), each stepped scan's command is followed, at most
+  /// config.rendering_Hz times a second on the pipeline clock, by DISPLAY_RENDERING: the
+  /// target and what the commands deliver by the model.
+  void SetPredictedSed(PredictedSed predicted) { predicted_sed_ = std::move(predicted); }
   lcm_io::DisplaySession& display() { return *display_; }
   FeStep& fe() { return *fe_; }
   const ScanConditioner& conditioner() const { return conditioner_; }
@@ -136,6 +144,7 @@ class BridgePipeline {
   bool StepFe(const sensors::Scan& scan, int64_t now_utime, ScanOutcome* outcome);
   void SendToDisplay(int64_t now_utime, int64_t receive_wall_utime, ScanOutcome* outcome);
   void PublishContact(int64_t now_utime, ScanOutcome* outcome);
+  void PublishRendering(int64_t now_utime);
   void RecordStageTimes(const StageTimes& stage_ms);
 
   void Reject(RejectReason reason, const std::string& why, int64_t now_utime, ScanOutcome* outcome);
@@ -148,6 +157,11 @@ class BridgePipeline {
   sensors::TaxelHealth health_;
   std::unique_ptr<lcm_io::DisplaySession> display_;
   WallClock wall_clock_;
+  PredictedSed predicted_sed_;
+  int64_t last_rendering_utime_ = 0;
+  bool rendering_published_ = false;
+  Eigen::VectorXd delivered_Pa_;  // PublishRendering's, kept between calls
+  std::vector<double> rendered_;
 
   TaxelValues values_;
   display::SedField field_, fault_field_;

@@ -28,7 +28,7 @@ std::string Hex(uint32_t id) {
 }
 
 lcm_io::LcmChannels Suffixed(lcm_io::LcmChannels c, const std::string& suffix) {
-  for (std::string* channel : {&c.tactile_scan, &c.sed, &c.command, &c.status, &c.sa1_rate, &c.contact})
+  for (std::string* channel : {&c.tactile_scan, &c.sed, &c.command, &c.status, &c.sa1_rate, &c.contact, &c.rendering})
     *channel += suffix;
   return c;
 }

@@ -103,6 +103,13 @@ display::CommandRequestSource InverseDisplayRequests::Source(std::shared_ptr<Inv
   };
 }
 
+void InverseDisplayRequests::PredictedSed(Eigen::VectorXd* added_sed_Pa, std::vector<double>* commands) const {
+  const render::InverseRenderer& renderer = *renderer_;
+  renderer.AddedSed(*added_sed_Pa);
+  const Eigen::VectorXd& u = renderer.commands();
+  commands->assign(u.data(), u.data() + u.size());
+}
+
 bool InverseDisplayRequests::Deliver(const std::vector<double>& commands, Eigen::VectorXd* delivered_sed_Pa) {
   const Eigen::VectorXd u = Eigen::Map<const Eigen::VectorXd>(commands.data(), Eigen::Index(commands.size()));
   std::lock_guard<std::mutex> lock(precompute_->deliver_mutex);

@@ -75,6 +75,11 @@ class InverseDisplayRequests {
   /// The SED [Pa] `commands` add to the preloaded pad by the full contact FE, per Merkel
   /// vertex (the bridge's order). False (message in error()) when the solve fails.
   bool Deliver(const std::vector<double>& commands, Eigen::VectorXd* delivered_sed_Pa);
+  /// The SED [Pa] the last requested commands add to the preloaded pad by the renderer's
+  /// influence model, per Merkel vertex (the bridge's order), and those commands: what the
+  /// renderer's fit evaluated at its answer, so nothing is evaluated again and the renderer's
+  /// state is left alone (render::InverseRenderer::AddedSed).
+  void PredictedSed(Eigen::VectorXd* added_sed_Pa, std::vector<double>* commands) const;
   const std::string& error() const { return precompute_->rendering->error(); }
 
   int num_actuators() const { return precompute_->rendering->num_actuators(); }

@@ -307,6 +307,8 @@ class FingerRun {
     pipeline_ = std::make_unique<BridgePipeline>(config, profile, display_profile, std::move(fe),
                                                  ReplayLcmSettings(config, options), BridgePipeline::WallClock{},
                                                  requests_.source());
+    if (auto inverse = requests_.inverse)
+      pipeline_->SetPredictedSed([inverse](Eigen::VectorXd* sed, std::vector<double>* u) { inverse->PredictedSed(sed, u); });
     result_.display_unit = pipeline_->display().controller().profile().unit;
     assembler_ = std::make_unique<sensors::ScanAssembler>(profile, ReplayAssemblerOptions(config, options));
     result_.setup_s = std::chrono::duration<double>(Clock::now() - t_setup).count();

@@ -17,7 +17,7 @@ bool IsUpperSnake(const std::string& name) {
 }
 
 void LcmChannels::Validate() const {
-  for (const std::string* c : {&tactile_scan, &sed, &command, &status, &sa1_rate, &contact})
+  for (const std::string* c : {&tactile_scan, &sed, &command, &status, &sa1_rate, &contact, &rendering})
     if (!IsUpperSnake(*c))
       throw std::invalid_argument("LCM channel '" + *c + "' is not UPPER_SNAKE");
 }

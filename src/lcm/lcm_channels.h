@@ -22,6 +22,7 @@ struct LcmChannels {
   std::string status = "BRIDGE_STATUS";           ///< lcmt_bridge_status
   std::string sa1_rate = "SA1_RATE_ESTIMATE";     ///< lcmt_sa1_rate_estimate
   std::string contact = "CONTACT_ESTIMATE";       ///< lcmt_contact_estimate (bridge fe.step: contact)
+  std::string rendering = "DISPLAY_RENDERING";    ///< lcmt_display_rendering (display.rendering: inverse)
 
   /// Throws std::invalid_argument naming the first channel that is not UPPER_SNAKE.
   void Validate() const;
@@ -36,6 +37,7 @@ struct LcmChannels {
     a->Visit(Field("status", &status));
     a->Visit(Field("sa1_rate", &sa1_rate));
     a->Visit(Field("contact", &contact));
+    a->Visit(Field("rendering", &rendering));
   }
 };
 

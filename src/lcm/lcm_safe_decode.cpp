@@ -2,10 +2,12 @@
 
 #include <cstring>
 #include <limits>
+#include <vector>
 
 #include "sedbridge/lcmt_bridge_status.hpp"
 #include "sedbridge/lcmt_contact_estimate.hpp"
 #include "sedbridge/lcmt_display_command.hpp"
+#include "sedbridge/lcmt_display_rendering.hpp"
 #include "sedbridge/lcmt_merkel_sed.hpp"
 #include "sedbridge/lcmt_sa1_rate_estimate.hpp"
 #include "sedbridge/lcmt_tactile_scan.hpp"
@@ -102,7 +104,8 @@ bool Walk(const lcmt_merkel_sed*, WireCursor& c) {
   return c.at_end();
 }
 
-bool Walk(const lcmt_tactile_scan*, WireCursor& c) {
+// The scan's fields up to `valid` (all a message from before the shear fields has).
+void WalkScanNormal(WireCursor& c) {
   c.Skip(kFingerprint);
   c.Skip(2 * kI64);  // utime, sequence
   c.String();        // sensor_id
@@ -110,7 +113,37 @@ bool Walk(const lcmt_tactile_scan*, WireCursor& c) {
   c.Array(n, kI32);   // raw_counts
   c.Array(n, kF32);   // pressure_kPa
   c.Array(n, kByte);  // valid
+}
+
+bool Walk(const lcmt_tactile_scan*, WireCursor& c) {
+  WalkScanNormal(c);
+  const int32_t shear = c.Int32();  // num_shear
+  c.Array(shear, kF32);  // shear_x_kPa
+  c.Array(shear, kF32);  // shear_y_kPa
   return c.at_end();
+}
+
+// A message of a type's earlier version, rewritten as the current one, for the types whose
+// fields have grown at the end: false when `data` is not such a message.
+template <typename Msg>
+bool Upgrade(const Msg*, const uint8_t*, std::size_t, std::vector<uint8_t>*) {
+  return false;
+}
+
+// lcmt_tactile_scan before num_shear, shear_x_kPa, shear_y_kPa: its fingerprint, then the
+// same fields up to `valid`. Rewritten with today's fingerprint and num_shear = 0.
+constexpr uint8_t kScanWithoutShear[kFingerprint] = {0x3a, 0xfe, 0x5a, 0x31, 0xff, 0x1b, 0xfe, 0x44};
+
+bool Upgrade(const lcmt_tactile_scan*, const uint8_t* data, std::size_t size, std::vector<uint8_t>* upgraded) {
+  if (size < kFingerprint || std::memcmp(data, kScanWithoutShear, kFingerprint) != 0) return false;
+  WireCursor c(data, size);
+  WalkScanNormal(c);
+  if (!c.at_end()) return false;
+  const int64_t hash = lcmt_tactile_scan::getHash();
+  upgraded->assign(data, data + size);
+  for (std::size_t k = 0; k < kFingerprint; ++k) (*upgraded)[k] = uint8_t(uint64_t(hash) >> (56 - 8 * k));
+  upgraded->insert(upgraded->end(), 4, uint8_t(0));  // num_shear = 0
+  return true;
 }
 
 bool Walk(const lcmt_bridge_status*, WireCursor& c) {
@@ -162,6 +195,19 @@ bool Walk(const lcmt_contact_estimate*, WireCursor& c) {
   return c.at_end();
 }
 
+bool Walk(const lcmt_display_rendering*, WireCursor& c) {
+  c.Skip(kFingerprint);
+  c.Skip(3 * kI64);  // utime, command_sequence, source_scan_utime
+  c.String();        // display_id
+  c.String();        // model_id
+  const int32_t n = c.Int32();
+  c.Array(n, kF32);  // target_sed_Pa
+  c.Array(n, kF32);  // delivered_sed_Pa
+  c.Skip(2 * kF32);  // max_target_sed_Pa, max_delivered_sed_Pa
+  c.Skip(kByte);     // limited
+  return c.at_end();
+}
+
 }  // namespace
 
 template <typename Msg>
@@ -173,7 +219,12 @@ bool WireSizesFit(const void* data, std::size_t size) {
 
 template <typename Msg>
 bool SafeDecode(const void* data, std::size_t size, Msg* out) {
-  if (size > std::size_t(std::numeric_limits<int>::max())) return false;  // decode() takes int
+  if (size > std::size_t(std::numeric_limits<int>::max()) - 64) return false;  // decode() takes int
+  std::vector<uint8_t> upgraded;
+  if (data != nullptr && Upgrade(static_cast<const Msg*>(nullptr), static_cast<const uint8_t*>(data), size, &upgraded)) {
+    data = upgraded.data();
+    size = upgraded.size();
+  }
   if (!WireSizesFit<Msg>(data, size)) return false;
   try {
     return out->decode(data, 0, static_cast<int>(size)) == static_cast<int>(size);
@@ -191,6 +242,7 @@ SEDBRIDGE_SAFE_DECODE(lcmt_tactile_scan)
 SEDBRIDGE_SAFE_DECODE(lcmt_bridge_status)
 SEDBRIDGE_SAFE_DECODE(lcmt_sa1_rate_estimate)
 SEDBRIDGE_SAFE_DECODE(lcmt_contact_estimate)
+SEDBRIDGE_SAFE_DECODE(lcmt_display_rendering)
 #undef SEDBRIDGE_SAFE_DECODE
 
 }  // namespace sedbridge::lcm_io

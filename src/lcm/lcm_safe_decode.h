@@ -19,7 +19,10 @@ namespace sedbridge::lcm_io {
 /// string NUL-terminated with no NUL inside, no trailing bytes. Returns false otherwise (then `out` is unspecified but holds at most
 /// `size` elements in all). Never throws, never allocates more than O(size).
 /// Defined for lcmt_display_command, lcmt_merkel_sed, lcmt_tactile_scan,
-/// lcmt_bridge_status and lcmt_sa1_rate_estimate.
+/// lcmt_bridge_status, lcmt_sa1_rate_estimate, lcmt_contact_estimate and
+/// lcmt_display_rendering. A tactile scan from
+/// before its shear fields (the old fingerprint, the fields up to `valid`) decodes too, with
+/// num_shear 0: old logs stay readable.
 template <typename Msg>
 bool SafeDecode(const void* data, std::size_t size, Msg* out);
 

@@ -24,6 +24,16 @@ lcmt_tactile_scan ToLcm(const sensors::Scan& s, const std::string& sensor_id) {
     if (i < s.pressure_Pa.size()) m.pressure_kPa[i] = ToLcmFloat(s.pressure_Pa[i] * 1e-3);
     if (i < s.valid.size()) m.valid[i] = s.valid[i] != 0;
   }
+  m.num_shear = 0;
+  if (s.shear_x_Pa.size() == n && s.shear_y_Pa.size() == n && n > 0) {
+    m.num_shear = s.num_taxels;
+    m.shear_x_kPa.resize(n);
+    m.shear_y_kPa.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+      m.shear_x_kPa[i] = ToLcmFloat(s.shear_x_Pa[i] * 1e-3);
+      m.shear_y_kPa[i] = ToLcmFloat(s.shear_y_Pa[i] * 1e-3);
+    }
+  }
   return m;
 }
 

@@ -124,6 +124,14 @@ const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed
   return commands_;
 }
 
+void InverseRenderer::AddedSed(Eigen::VectorXd& added_sed_Pa) const {
+  added_sed_Pa.setZero(influence_.num_vertices());
+  if (!evaluated_) return;  // the last Render returned zeros without a fit
+  const std::vector<int>& active = influence_.active_vertices();
+  for (std::size_t a = 0; a < active.size(); ++a)
+    added_sed_Pa[active[a]] = sed_[Eigen::Index(a)] - influence_.preload_sed_Pa()[active[a]];
+}
+
 void InverseRenderer::PenaltyWeights() {
   Eigen::VectorXd sed;
   Eigen::MatrixXd dS_t;

@@ -75,6 +75,10 @@ class InverseRenderer {
   const Eigen::VectorXd& Render(const Eigen::VectorXd& target_sed_Pa);
   const Eigen::VectorXd& commands() const { return commands_; }
   const RenderResult& last() const { return result_; }
+  /// The SED [Pa] commands() add to the preloaded pad, per vertex, as the last Render's fit
+  /// evaluated it at its answer (no evaluation of its own): 0 off the active vertices, and
+  /// everywhere after a Render that returned all zeros without a fit.
+  void AddedSed(Eigen::VectorXd& added_sed_Pa) const;
   const DisplayInfluence& influence() const { return influence_; }
   /// Forgets the warm start (the next scan starts from all zeros).
   void Reset() { u_.setZero(), commands_.setZero(), evaluated_ = false; }

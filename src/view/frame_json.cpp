@@ -34,7 +34,7 @@ void WriteSeries(JsonWriter& w, const char* key, const Series& s, const FrameSty
   w.Key(key).BeginObject().Key("t_s").Numbers(t, 7).Key("v").Numbers(v).EndObject();
 }
 
-void WriteScan(JsonWriter& w, const ViewState& s, ViewLayouts& layouts) {
+void WriteScan(JsonWriter& w, const FingerState& s, ViewLayouts& layouts) {
   w.Key("scan");
   if (!s.have_scan) {
     w.Null();
@@ -46,13 +46,21 @@ void WriteScan(JsonWriter& w, const ViewState& s, ViewLayouts& layouts) {
   w.Key("pressure_kPa").Numbers(m.pressure_kPa);
   std::vector<int> valid(m.valid.begin(), m.valid.end());
   w.Key("valid").Ints(valid);
+  // A three-axis sensor's shear per taxel; null for a normal-only one (or a log from before).
+  const bool shear = m.num_shear > 0 && m.shear_x_kPa.size() == m.pressure_kPa.size();
+  w.Key("shear_x_kPa");
+  if (shear) w.Numbers(m.shear_x_kPa);
+  else w.Null();
+  w.Key("shear_y_kPa");
+  if (shear) w.Numbers(m.shear_y_kPa);
+  else w.Null();
   const PadLayout& l = layouts.Sensor(m.sensor_id);
   if (l.x_mm.size() == m.pressure_kPa.size()) WriteLayout(w, l);
   else w.Key("layout").Null();
   w.EndObject();
 }
 
-void WriteContact(JsonWriter& w, const ViewState& s) {
+void WriteContact(JsonWriter& w, const FingerState& s) {
   w.Key("contact");
   if (!s.have_contact) {
     w.Null();
@@ -73,7 +81,7 @@ void WriteContact(JsonWriter& w, const ViewState& s) {
   w.EndObject();
 }
 
-void WriteSed(JsonWriter& w, const ViewState& s, const SedMesh& mesh, SedVertexMatch& match) {
+void WriteSed(JsonWriter& w, const FingerState& s, const std::vector<SedMesh>& meshes, SedVertexMatch& match) {
   w.Key("sed");
   if (!s.have_sed) {
     w.Null();
@@ -88,15 +96,18 @@ void WriteSed(JsonWriter& w, const ViewState& s, const SedMesh& mesh, SedVertexM
   w.Key("num_vertices").Int(m.num_vertices).Key("max_sed_Pa").Number(m.max_sed_Pa);
   w.Key("min_finite_Pa").Number(lo).Key("max_finite_Pa").Number(hi);
   const bool positions = m.num_positions == m.num_vertices;
-  std::vector<double> on_mesh(mesh.num_merkel_vertices(), std::numeric_limits<double>::quiet_NaN());
+  int mesh_index = -1;
+  const SedMesh* mesh = MeshFor(meshes, m.model_id, &mesh_index);
+  std::vector<double> on_mesh(mesh ? mesh->num_merkel_vertices() : 0, std::numeric_limits<double>::quiet_NaN());
   std::size_t matched = 0;
   if (positions && !on_mesh.empty()) {
-    const std::vector<int>& index = match.Match(mesh, m.x_mm, m.y_mm, m.z_mm);
+    const std::vector<int>& index = match.Match(*mesh, m.x_mm, m.y_mm, m.z_mm);
     for (std::size_t k = 0; k < index.size(); ++k)
       if (index[k] >= 0) on_mesh[std::size_t(index[k])] = m.sed_Pa[k];
     matched = match.matched();
   }
   w.Key("matched_vertices").Int(int64_t(matched));
+  w.Key("mesh").Int(matched > 0 ? mesh_index : -1);
   if (matched > 0) {
     w.Key("on_mesh_Pa").Numbers(on_mesh, 4);
   } else if (positions) {
@@ -107,7 +118,36 @@ void WriteSed(JsonWriter& w, const ViewState& s, const SedMesh& mesh, SedVertexM
   w.EndObject();
 }
 
-void WriteDisplay(JsonWriter& w, const ViewState& s, ViewLayouts& layouts) {
+// The target and delivered SED (DISPLAY_RENDERING) on the pad's side of the Merkel layer: its
+// vertices within 1.5 mm of the layer's top (the layer wraps the tip; the display touches the
+// pad), placed by the SED field's positions (the same vertices, in the same order).
+void WriteDelivered(JsonWriter& w, const FingerState& s) {
+  w.Key("delivered");
+  const lcmt_display_rendering& r = s.rendering;
+  const lcmt_merkel_sed& m = s.sed;
+  const std::size_t n = r.target_sed_Pa.size();
+  if (!s.have_rendering || !s.have_sed || m.num_positions != m.num_vertices || m.x_mm.size() != n) {
+    w.Null();
+    return;
+  }
+  float top = -std::numeric_limits<float>::infinity();
+  for (float z : m.z_mm) top = std::max(top, z);
+  std::vector<double> x, y, target, delivered;
+  for (std::size_t v = 0; v < n; ++v) {
+    if (!(m.z_mm[v] >= top - 1.5f)) continue;
+    x.push_back(m.x_mm[v]), y.push_back(m.y_mm[v]);
+    target.push_back(r.target_sed_Pa[v]), delivered.push_back(r.delivered_sed_Pa[v]);
+  }
+  w.BeginObject();
+  w.Key("utime").Int(r.utime).Key("command_sequence").Int(r.command_sequence);
+  w.Key("max_target_sed_Pa").Number(r.max_target_sed_Pa).Key("max_delivered_sed_Pa").Number(r.max_delivered_sed_Pa);
+  w.Key("x_mm").Numbers(x, 5).Key("y_mm").Numbers(y, 5);
+  w.Key("target_sed_Pa").Numbers(target, 4).Key("delivered_sed_Pa").Numbers(delivered, 4);
+  w.Key("limited").Bool(r.limited != 0);
+  w.EndObject();
+}
+
+void WriteDisplay(JsonWriter& w, const FingerState& s, ViewLayouts& layouts) {
   w.Key("display");
   if (!s.have_command) {
     w.Null();
@@ -122,8 +162,8 @@ void WriteDisplay(JsonWriter& w, const ViewState& s, ViewLayouts& layouts) {
   const PadLayout& l = layouts.Display(c.display_id);
   if (l.x_mm.size() == c.value.size()) WriteLayout(w, l);
   else w.Key("layout").Null();
-  // The target: the SED the mapping read at each site (SA1_RATE_ESTIMATE carries it); the
-  // delivered pressure/height is not on the bus (replay's peak_display_sed.csv has it offline).
+  // The target at the sites: the SED the mapping read at each (SA1_RATE_ESTIMATE carries it);
+  // the whole fields, target and delivered, under "delivered" (DISPLAY_RENDERING).
   const bool target = s.have_sa1 && s.sa1.display_id == c.display_id && s.sa1.sed_Pa.size() == c.value.size();
   w.Key("target_sed_Pa");
   if (target) w.Numbers(s.sa1.sed_Pa);
@@ -131,11 +171,11 @@ void WriteDisplay(JsonWriter& w, const ViewState& s, ViewLayouts& layouts) {
   w.Key("sa1_rate_Hz");
   if (target) w.Numbers(s.sa1.rate_Hz);
   else w.Null();
-  w.Key("delivered").Null();
+  WriteDelivered(w, s);
   w.EndObject();
 }
 
-void WriteStatus(JsonWriter& w, const ViewState& s) {
+void WriteStatus(JsonWriter& w, const FingerState& s) {
   w.Key("status");
   if (!s.have_status) {
     w.Null();
@@ -156,19 +196,35 @@ void WriteTriangles(JsonWriter& w, const char* key, const std::vector<double>& x
 
 }  // namespace
 
-std::string MeshJson(const SedMesh& mesh, const FrameStyle& style) {
+const SedMesh* MeshFor(const std::vector<SedMesh>& meshes, const std::string& model_id, int* index) {
+  *index = -1;
+  for (std::size_t k = 0; k < meshes.size(); ++k)
+    if (meshes[k].model_id == model_id) *index = int(k);
+  if (*index < 0 && !meshes.empty()) *index = 0;
+  return *index < 0 ? nullptr : &meshes[std::size_t(*index)];
+}
+
+std::string MeshJson(const std::vector<SedMesh>& meshes, const FrameStyle& style) {
   JsonWriter w;
   w.BeginObject();
-  w.Key("model_id").String(mesh.model_id).Key("error").String(mesh.error);
   w.Key("sed_scale_Pa").Number(style.sed_scale_Pa);
-  WriteTriangles(w, "merkel", mesh.merkel_xyz_mm, mesh.merkel_triangles);
-  WriteTriangles(w, "skin", mesh.skin_xyz_mm, mesh.skin_triangles);
+  w.Key("meshes").BeginArray();
+  for (const SedMesh& mesh : meshes) {
+    w.BeginObject();
+    w.Key("model_id").String(mesh.model_id).Key("error").String(mesh.error);
+    WriteTriangles(w, "merkel", mesh.merkel_xyz_mm, mesh.merkel_triangles);
+    WriteTriangles(w, "skin", mesh.skin_xyz_mm, mesh.skin_triangles);
+    w.Key("skin_merkel").Ints(mesh.skin_merkel);
+    w.EndObject();
+  }
+  w.EndArray();
   w.EndObject();
   return w.str();
 }
 
-std::string FrameJson(const ViewState& state, ViewLayouts& layouts, const SedMesh& mesh, SedVertexMatch& match,
-                      const PlaybackInfo& playback, const FrameStyle& style) {
+std::string FrameJson(const ViewState& state, ViewLayouts& layouts, const std::vector<SedMesh>& meshes,
+                      std::map<std::string, SedVertexMatch>& matches, const PlaybackInfo& playback,
+                      const FrameStyle& style) {
   JsonWriter w;
   w.BeginObject();
   w.Key("version").Int(int64_t(state.version));
@@ -179,16 +235,23 @@ std::string FrameJson(const ViewState& state, ViewLayouts& layouts, const SedMes
   w.EndObject();
   w.Key("sed_scale_Pa").Number(style.sed_scale_Pa);
   w.Key("events").Int(state.events).Key("rejected").Int(state.rejected);
-  WriteScan(w, state, layouts);
-  WriteContact(w, state);
-  WriteSed(w, state, mesh, match);
-  WriteDisplay(w, state, layouts);
-  WriteStatus(w, state);
-  w.Key("timeline").BeginObject();
-  WriteSeries(w, "force_N", state.force_N, style);
-  WriteSeries(w, "peak_sed_Pa", state.peak_sed_Pa, style);
-  WriteSeries(w, "latency_ms", state.latency_ms, style);
-  w.EndObject();
+  w.Key("fingers").BeginArray();
+  for (const FingerState& f : state.fingers) {
+    w.BeginObject();
+    w.Key("name").String(f.name);
+    WriteScan(w, f, layouts);
+    WriteContact(w, f);
+    WriteSed(w, f, meshes, matches[f.name]);
+    WriteDisplay(w, f, layouts);
+    WriteStatus(w, f);
+    w.Key("timeline").BeginObject();
+    WriteSeries(w, "force_N", f.force_N, style);
+    WriteSeries(w, "peak_sed_Pa", f.peak_sed_Pa, style);
+    WriteSeries(w, "latency_ms", f.latency_ms, style);
+    w.EndObject();
+    w.EndObject();
+  }
+  w.EndArray();
   w.EndObject();
   return w.str();
 }

@@ -6,11 +6,11 @@
 
 namespace sedbridge::view {
 
-LiveSource::LiveSource(const std::string& url, const std::set<std::string>& channels, ViewState* state,
+LiveSource::LiveSource(const std::string& url, const std::vector<std::string>& patterns, ViewState* state,
                        std::mutex* state_mutex)
     : lcm_(std::make_unique<lcm::LCM>(url)), state_(state), mu_(state_mutex) {
   if (!lcm_->good()) throw std::runtime_error("cannot open LCM at '" + url + "'");
-  for (const std::string& channel : channels)
+  for (const std::string& channel : patterns)
     lcm_->subscribeFunction(
         channel,
         +[](const lcm::ReceiveBuffer* rbuf, const std::string& ch, LiveSource* self) {

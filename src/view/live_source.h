@@ -1,12 +1,13 @@
 #pragma once
 // Feeds a ViewState from a live LCM bus (any LCM URL): raw subscriptions to the bridge's
-// channels, decoded by ViewState's size-safe path. Subscribes only; it publishes nothing.
+// channels, every finger's (ViewState::SubscriptionPatterns), decoded by ViewState's size-safe
+// path. Subscribes only; it publishes nothing.
 
 #include <cstdint>
 #include <memory>
 #include <mutex>
-#include <set>
 #include <string>
+#include <vector>
 
 #include "view/view_state.h"
 
@@ -19,7 +20,7 @@ namespace sedbridge::view {
 class LiveSource {
  public:
   /// Throws std::runtime_error when LCM cannot be opened at `url`.
-  LiveSource(const std::string& url, const std::set<std::string>& channels, ViewState* state, std::mutex* state_mutex);
+  LiveSource(const std::string& url, const std::vector<std::string>& patterns, ViewState* state, std::mutex* state_mutex);
   ~LiveSource();
   /// Handles the messages that arrive within `timeout_ms`.
   void Handle(int timeout_ms);

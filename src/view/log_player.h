@@ -1,10 +1,12 @@
 #pragma once
-// Plays an LCM event log into a ViewState on the log's own clock: play, pause, seek, speed.
-// The events of the bridge's channels are read into memory once (a session's log is small next
-// to the machine), so a seek backwards replays from the start without reopening the file.
+// Plays LCM event logs into a ViewState on the logs' own clock: play, pause, seek, speed.
+// Several logs play as one, their events merged by time (a hand's replay writes one log a
+// finger, on the one clock of the CAN log it replayed). The events of the bridge's channels
+// are read into memory once (a session's log is small next to the machine), so a seek
+// backwards replays from the start without reopening the files.
 
 #include <cstdint>
-#include <set>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -14,9 +16,11 @@ namespace sedbridge::view {
 
 class LogPlayer {
  public:
-  /// Reads the events of `channels` from `path`. Throws std::runtime_error when the log cannot
-  /// be opened or holds none of them.
-  LogPlayer(const std::string& path, const std::set<std::string>& channels);
+  /// Which channels to read (ViewState::Classify: every finger's).
+  using ChannelFilter = std::function<bool(const std::string& channel)>;
+  /// Reads the events of the channels `keep` takes from `paths`. Throws std::runtime_error when
+  /// a log cannot be opened or none holds any of them.
+  LogPlayer(const std::vector<std::string>& paths, const ChannelFilter& keep);
 
   double duration_s() const { return duration_s_; }
   double position_s() const { return position_s_; }
@@ -32,8 +36,11 @@ class LogPlayer {
   /// Moves forward by `wall_s` * speed while playing, feeding the events passed; stops
   /// (pauses) at the end.
   void Advance(double wall_s, ViewState* state);
-  /// The largest max_sed_Pa of the log's SED events on `sed_channel` [Pa]; 0 when none.
-  double LargestSed_Pa(const std::string& sed_channel) const;
+  /// The largest max_sed_Pa of the log's SED events on the channels `is_sed` takes [Pa]; 0
+  /// when none.
+  double LargestSed_Pa(const ChannelFilter& is_sed) const;
+  /// The model_id of the first SED field on each channel `is_sed` takes, without repeats.
+  std::vector<std::string> SedModels(const ChannelFilter& is_sed) const;
 
  private:
   struct Event {

@@ -5,6 +5,9 @@
 #include <map>
 #include <tuple>
 
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
 #include "model/fingertip_model.h"
 
 namespace sedbridge::view {
@@ -40,12 +43,44 @@ SedMesh LoadSedMesh(const std::string& model) {
     mesh.model_id = m.name;
     AddSurface(m, m.merkel_triangles, &mesh.merkel_xyz_mm, &mesh.merkel_triangles);
     AddSurface(m, m.skin_triangles, &mesh.skin_xyz_mm, &mesh.skin_triangles);
+    mesh.skin_merkel = MapSkinToMerkel(mesh);
   } catch (const std::exception& e) {
     mesh = SedMesh{};
     mesh.model_id = model;
     mesh.error = e.what();
   }
   return mesh;
+}
+
+std::vector<int> MapSkinToMerkel(const SedMesh& mesh, double max_depth_mm, double max_off_axis_mm) {
+  using V = Eigen::Vector3d;
+  const std::size_t ns = mesh.skin_xyz_mm.size() / 3, nm = mesh.num_merkel_vertices();
+  const auto skin = [&](std::size_t v) { return V(mesh.skin_xyz_mm[3 * v], mesh.skin_xyz_mm[3 * v + 1], mesh.skin_xyz_mm[3 * v + 2]); };
+  const auto merkel = [&](std::size_t v) {
+    return V(mesh.merkel_xyz_mm[3 * v], mesh.merkel_xyz_mm[3 * v + 1], mesh.merkel_xyz_mm[3 * v + 2]);
+  };
+  // Vertex normals: the triangles' cross products (area-weighted), summed. The skin's
+  // triangles are oriented outward (model/fingertip_model.h).
+  std::vector<V> normal(ns, V::Zero());
+  for (std::size_t t = 0; t + 2 < mesh.skin_triangles.size(); t += 3) {
+    const int a = mesh.skin_triangles[t], b = mesh.skin_triangles[t + 1], c = mesh.skin_triangles[t + 2];
+    const V n = (skin(std::size_t(b)) - skin(std::size_t(a))).cross(skin(std::size_t(c)) - skin(std::size_t(a)));
+    for (int k : {a, b, c}) normal[std::size_t(k)] += n;
+  }
+  std::vector<int> beneath(ns, -1);
+  for (std::size_t v = 0; v < ns; ++v) {
+    if (normal[v].norm() == 0) continue;
+    const V n = normal[v].normalized(), p = skin(v);
+    double best = max_off_axis_mm;
+    for (std::size_t m = 0; m < nm; ++m) {
+      const V d = merkel(m) - p;
+      const double depth = -d.dot(n);  // below the skin, along the inward normal
+      if (depth <= 0 || depth > max_depth_mm) continue;
+      const double off_axis = (d + depth * n).norm();
+      if (off_axis < best) best = off_axis, beneath[v] = int(m);
+    }
+  }
+  return beneath;
 }
 
 const std::vector<int>& SedVertexMatch::Match(const SedMesh& mesh, const std::vector<float>& x_mm,

@@ -71,6 +71,9 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* raw, size_t size) {
     case 2:
       Try<lcmt_tactile_scan>(data, n, [&](const lcmt_tactile_scan& m) {
         if (m.valid.size() != size_t(m.num_taxels) || m.valid.size() * 9 > n) std::abort();
+        if (m.shear_x_kPa.size() != size_t(m.num_shear) || m.shear_y_kPa.size() != size_t(m.num_shear) ||
+            m.shear_x_kPa.size() * 8 > n)
+          std::abort();
       });
       break;
     case 3:

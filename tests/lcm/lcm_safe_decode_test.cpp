@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <random>
 #include <vector>
@@ -139,7 +140,7 @@ TEST(LcmSafeDecode, EveryTypeRoundTripsAndRejectsInflatedCounts) {
   };
   // Offsets: fingerprint 8, then the fields in .lcm order.
   check(sed, {8 + 16 + 6, 8 + 16 + 6 + 4, 8 + 16 + 6 + 8 + 36});
-  check(scan, {8 + 16 + 14});
+  check(scan, {8 + 16 + 14, 8 + 16 + 14 + 4 + 18});  // num_taxels, num_shear
   check(status, {});
   // A negative reject-reason count (int8 at 8 + 8 + 28 + 4 + 4 + 40) is refused.
   {
@@ -156,6 +157,41 @@ TEST(LcmSafeDecode, EveryTypeRoundTripsAndRejectsInflatedCounts) {
     EXPECT_FALSE(SafeDecode(bad.data(), bad.size(), &out));
   }
   check(sa1, {8 + 8 + 6});
+}
+
+TEST(LcmSafeDecode, ATactileScanFromBeforeTheShearFieldsDecodesWithoutShear) {
+  lcmt_tactile_scan scan{};
+  scan.utime = 17;
+  scan.sensor_id = "uskin_4x4";
+  scan.num_taxels = 2;
+  scan.raw_counts = {1, 2};
+  scan.pressure_kPa = {0.5f, 0.25f};
+  scan.valid = {1, 0};
+  // The earlier version's bytes: its fingerprint, the same fields up to `valid`, no more.
+  std::vector<uint8_t> old = Encode(scan);
+  old.resize(old.size() - 4);  // num_shear
+  const uint8_t fingerprint[8] = {0x3a, 0xfe, 0x5a, 0x31, 0xff, 0x1b, 0xfe, 0x44};
+  std::copy(fingerprint, fingerprint + 8, old.begin());
+  lcmt_tactile_scan out;
+  ASSERT_TRUE(SafeDecode(old.data(), old.size(), &out));
+  EXPECT_EQ(out.utime, 17);
+  EXPECT_EQ(out.pressure_kPa, scan.pressure_kPa);
+  EXPECT_EQ(out.num_shear, 0);
+  EXPECT_TRUE(out.shear_x_kPa.empty());
+  // Still checked as strictly: a trailing byte, a short buffer or an inflated count is refused.
+  std::vector<uint8_t> bad = old;
+  bad.push_back(0);
+  EXPECT_FALSE(SafeDecode(bad.data(), bad.size(), &out));
+  bad = old;
+  bad.pop_back();
+  EXPECT_FALSE(SafeDecode(bad.data(), bad.size(), &out));
+  bad = old;
+  PutInt32(bad, 8 + 16 + 14, 1000000000u);
+  EXPECT_FALSE(SafeDecode(bad.data(), bad.size(), &out));
+  // Today's fingerprint on the old layout is not today's message.
+  std::vector<uint8_t> today = Encode(scan);
+  today.resize(today.size() - 4);
+  EXPECT_FALSE(SafeDecode(today.data(), today.size(), &out));
 }
 
 TEST(LcmSafeDecode, RandomCorruptionNeverDecodesMoreThanTheBytesHold) {

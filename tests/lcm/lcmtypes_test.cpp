@@ -26,6 +26,7 @@ TEST(LcmTypes, TactileScanRoundTrip) {
   m.raw_counts = {10, 20, 4095};
   m.pressure_kPa = {0.5f, 1.5f, 40.0f};
   m.valid = {true, true, false};
+  m.num_shear = 0;
   const auto buf = Encode(m);
   lcmt_tactile_scan d;
   ASSERT_EQ(d.decode(buf.data(), 0, buf.size()), static_cast<int>(buf.size()));

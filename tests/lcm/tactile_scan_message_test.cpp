@@ -26,8 +26,24 @@ TEST(TactileScanMessage, OneNormalRawValuePerTaxelPressureInKpa) {
   EXPECT_FLOAT_EQ(m.pressure_kPa[0], 1.5f);
   EXPECT_TRUE(std::isinf(m.pressure_kPa[1]));
   EXPECT_EQ(m.valid, (std::vector<int8_t>{1, 0}));
+  EXPECT_EQ(m.num_shear, 0);  // no shear in the scan: none in the message
   s.sensor_counter = -1;
   EXPECT_EQ(ToLcm(s, "x").sequence, 3);
+}
+
+TEST(TactileScanMessage, AThreeAxisScansShearPerTaxelInKpa) {
+  sensors::Scan s;
+  s.num_taxels = 2;
+  s.num_axes = 3;
+  s.raw_counts = {1, 2, 30, 4, 5, 60};
+  s.pressure_Pa = {1500.0, 0.0};
+  s.shear_x_Pa = {250.0, -500.0};
+  s.shear_y_Pa = {0.0, 125.0};
+  s.valid = {1, 1};
+  const lcmt_tactile_scan m = ToLcm(s, "uskin_4x4");
+  ASSERT_EQ(m.num_shear, 2);
+  EXPECT_EQ(m.shear_x_kPa, (std::vector<float>{0.25f, -0.5f}));
+  EXPECT_EQ(m.shear_y_kPa, (std::vector<float>{0.0f, 0.125f}));
 }
 
 }  // namespace

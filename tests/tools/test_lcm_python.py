@@ -41,7 +41,8 @@ class ReplayLogRoundTrip(unittest.TestCase):
         self.assertEqual(channels, {"TACTILE_SCAN": "lcmt_tactile_scan", "FINGERTIP_SED": "lcmt_merkel_sed",
                                     "DISPLAY_COMMAND": "lcmt_display_command",
                                     "BRIDGE_STATUS": "lcmt_bridge_status",
-                                    "CONTACT_ESTIMATE": "lcmt_contact_estimate"})
+                                    "CONTACT_ESTIMATE": "lcmt_contact_estimate",
+                                    "DISPLAY_RENDERING": "lcmt_display_rendering"})
 
     def test_tactile_scan_valid_flags_are_a_sequence(self):
         import sedbridge_lcm
@@ -54,6 +55,23 @@ class ReplayLogRoundTrip(unittest.TestCase):
                 scan.valid = list(scan.valid)
                 scan.valid[0] = 0
                 self.assertEqual(lcmt_tactile_scan.decode(scan.encode()).valid[0], 0)
+                return
+        self.fail("no TACTILE_SCAN in the log")
+
+    def test_tactile_scan_carries_the_three_axis_sensors_shear(self):
+        import sedbridge_lcm
+        for event in sedbridge_lcm.EventLog(os.path.join(self.out, "bridge.lcmlog")):
+            if event.channel == "TACTILE_SCAN":
+                scan = sedbridge_lcm.decode(event.data)
+                self.assertEqual(scan.sensor_id, "uskin_4x4")  # three axes: shear per taxel
+                self.assertEqual(scan.num_shear, scan.num_taxels)
+                self.assertEqual((len(scan.shear_x_kPa), len(scan.shear_y_kPa)), (scan.num_taxels, scan.num_taxels))
+                # A scan from before the shear fields (their old fingerprint, no num_shear)
+                # still decodes, with num_shear 0.
+                old = bytes.fromhex("3afe5a31ff1bfe44") + event.data[8:len(event.data) - 4 - 8 * scan.num_shear]
+                earlier = sedbridge_lcm.decode(old)
+                self.assertEqual(earlier.num_shear, 0)
+                self.assertEqual(list(earlier.pressure_kPa), list(scan.pressure_kPa))
                 return
         self.fail("no TACTILE_SCAN in the log")
 

@@ -9,10 +9,13 @@ it shows into #state's data-attributes: the taxel values and the SED range must 
 messages at that time (read here with the generated Python types). A screenshot is saved to
 DIR/view.png. The server must survive clients that drop mid-stream, malformed requests and 20
 streams at once. Without npm's packages the page must still draw its 2-D panels and say what to
-run. Exits 77 (skip) without chromium.
+run. A replay of the hand example (config/bridge/example_hand.yaml: three fingers, channels
+TACTILE_SCAN_THUMB, ...) makes a second log: the page must show one panel per finger, each with
+that finger's messages at that time. Exits 77 (skip) without chromium.
 """
 
 import argparse
+import glob
 import html.parser
 import math
 import os
@@ -41,29 +44,109 @@ def chromium():
 
 
 class StateParser(html.parser.HTMLParser):
-    """The data-attributes of <div id="state">."""
+    """The data-attributes of <div id="state"> and of each finger panel's .finger-state."""
 
     def __init__(self):
         super().__init__()
         self.state = None
+        self.fingers = []
 
     def handle_starttag(self, tag, attrs):
         attrs = dict(attrs)
+        data = {k[5:]: v for k, v in attrs.items() if k.startswith("data-")}
         if attrs.get("id") == "state":
-            self.state = {k[5:]: v for k, v in attrs.items() if k.startswith("data-")}
+            self.state = data
+        # The <template>'s own copy has no data-finger.
+        if "finger-state" in (attrs.get("class") or "").split() and "finger" in data:
+            self.fingers.append(data)
 
 
 def messages_at(log_path, t_s):
     """The last message of each channel at or before t_s after the log's first event."""
+    return messages_at_in_logs([log_path], t_s)
+
+
+def messages_at_in_logs(log_paths, t_s):
+    """messages_at for several logs played as one (their events merged by time)."""
     import sedbridge_lcm
+    events = []
+    for path in log_paths:
+        with sedbridge_lcm.EventLog(path) as log:
+            events += list(log)
+    events.sort(key=lambda e: e.timestamp)
     last = {}
-    first = None
-    for event in sedbridge_lcm.EventLog(log_path):
-        first = event.timestamp if first is None else first
-        if (event.timestamp - first) * 1e-6 > t_s + 1e-9:
+    for event in events:
+        if (event.timestamp - events[0].timestamp) * 1e-6 > t_s + 1e-9:
             break
         last[event.channel] = sedbridge_lcm.decode(event.data)
     return last
+
+
+def assert_finger_shows(test, shown, scan, sed, command, rendering=None):
+    """`shown` (a panel's data-attributes) has these messages' taxels, SED range, command and
+    target | delivered SED (rendering: None when the log has none)."""
+    test.assertEqual(int(shown["scan-utime"]), scan.utime)
+    test.assertEqual(shown["sensor-id"], scan.sensor_id)
+    taxels = [float(v) for v in shown["taxels"].split(",")]
+    test.assertEqual(len(taxels), scan.num_taxels)
+    for k, (a, b) in enumerate(zip(taxels, scan.pressure_kPa)):
+        # The frame writes 6 significant digits: within 5e-6 of the value, relative.
+        test.assertAlmostEqual(a, b, delta=1e-5 * max(1.0, abs(b)), msg="taxel %d" % k)
+    # A three-axis sensor's shear per taxel (the arrows), none for a normal-only one.
+    for axis, values in (("shear-x", scan.shear_x_kPa), ("shear-y", scan.shear_y_kPa)):
+        test.assertEqual(len(values), scan.num_shear)
+        if scan.num_shear == 0:
+            test.assertEqual(shown[axis], "")
+            continue
+        for k, (a, b) in enumerate(zip([float(v) for v in shown[axis].split(",")], values)):
+            test.assertAlmostEqual(a, b, delta=1e-5 * max(1.0, abs(b)), msg="%s %d" % (axis, k))
+    finite = [v for v in sed.sed_Pa if math.isfinite(v)]
+    test.assertEqual(int(shown["sed-utime"]), sed.utime)
+    test.assertAlmostEqual(float(shown["sed-min"]), min(finite), delta=1e-6 * max(1.0, min(finite)))
+    test.assertAlmostEqual(float(shown["sed-max"]), max(finite), delta=1e-6 * max(finite))
+    test.assertEqual(int(shown["sed-matched"]), sed.num_vertices, "SED vertices not on model B's mesh")
+    test.assertEqual(int(shown["command-sequence"]), command.sequence)
+    test.assertEqual(shown["display-id"], command.display_id)
+    if rendering is None:
+        test.assertEqual(shown["rendering-sequence"], "")
+        return
+    test.assertEqual(int(shown["rendering-sequence"]), rendering.command_sequence)
+    for key, value in (("target-max", rendering.max_target_sed_Pa), ("delivered-max", rendering.max_delivered_sed_Pa)):
+        test.assertAlmostEqual(float(shown[key]), value, delta=1e-5 * max(1.0, abs(value)), msg=key)
+
+
+def start_view(log, work, name, *extra):
+    """Starts `sedbridge view` on `log`, paused at START_S; returns (process, port, log file)."""
+    port_file = os.path.join(work, "port_" + name)
+    if os.path.exists(port_file):
+        os.remove(port_file)
+    server_log = open(os.path.join(work, "view_%s.log" % name), "w")
+    view = subprocess.Popen([ARGS.sedbridge, "view", "--log", log, "--port", "0", "--port-file", port_file,
+                             "--paused", "--start-s", str(START_S), "--duration-s", "240", *extra],
+                            stdout=server_log, stderr=subprocess.STDOUT)
+    deadline = time.time() + 30
+    while not (os.path.exists(port_file) and read_text(port_file).strip()):
+        if time.time() > deadline or view.poll() is not None:
+            view.kill()
+            raise RuntimeError("the view did not start (see %s)" % server_log.name)
+        time.sleep(0.1)
+    return view, int(read_text(port_file)), server_log
+
+
+def stop_view(view, server_log):
+    view.send_signal(signal.SIGTERM)
+    try:
+        view.wait(timeout=15)
+    except subprocess.TimeoutExpired:
+        view.kill()
+    server_log.close()
+
+
+def headless(port, *args):
+    return subprocess.run([chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--use-gl=swiftshader",
+                           "--enable-unsafe-swiftshader", "--virtual-time-budget=8000", "--window-size=1200,1300",
+                           *args, "http://127.0.0.1:%d/?close-after=1" % port],
+                          capture_output=True, timeout=120)
 
 
 def read_text(path):
@@ -120,35 +203,15 @@ class ViewPage(unittest.TestCase):
         subprocess.run([ARGS.sedbridge, "replay", os.path.join(ARGS.root, "config/bridge/example_press.log"),
                         "--out", os.path.join(ARGS.work, "replay"), "--no-plots", "--quiet"], check=True,
                        stdout=subprocess.DEVNULL, env=dict(os.environ, LCM_DEFAULT_URL="memq://"))
-        port_file = os.path.join(ARGS.work, "port")
-        if os.path.exists(port_file):
-            os.remove(port_file)
-        cls.server_log = open(os.path.join(ARGS.work, "view.log"), "w")
-        cls.view = subprocess.Popen([ARGS.sedbridge, "view", "--log", cls.log, "--port", "0", "--port-file", port_file,
-                                     "--paused", "--start-s", str(START_S), "--duration-s", "240"],
-                                    stdout=cls.server_log, stderr=subprocess.STDOUT)
-        deadline = time.time() + 30
-        while not (os.path.exists(port_file) and read_text(port_file).strip()):
-            if time.time() > deadline or cls.view.poll() is not None:
-                raise RuntimeError("the view did not start (see %s)" % cls.server_log.name)
-            time.sleep(0.1)
-        cls.port = int(read_text(port_file))
+        cls.view, cls.port, cls.server_log = start_view(cls.log, ARGS.work, "finger")
         cls.expected = messages_at(cls.log, START_S)
 
     @classmethod
     def tearDownClass(cls):
-        cls.view.send_signal(signal.SIGTERM)
-        try:
-            cls.view.wait(timeout=15)
-        except subprocess.TimeoutExpired:
-            cls.view.kill()
-        cls.server_log.close()
+        stop_view(cls.view, cls.server_log)
 
     def chromium(self, *args):
-        return subprocess.run([chromium(), "--headless", "--no-sandbox", "--disable-gpu", "--use-gl=swiftshader",
-                               "--enable-unsafe-swiftshader", "--virtual-time-budget=8000", "--window-size=1200,1300",
-                               *args, "http://127.0.0.1:%d/?close-after=1" % self.port],
-                              capture_output=True, timeout=120)
+        return headless(self.port, *args)
 
     def assertAlive(self):
         self.assertIsNone(self.view.poll(), "the view exited")
@@ -166,22 +229,30 @@ class ViewPage(unittest.TestCase):
         # Without npm's packages the build still works and the page says so (test_7).
         vendored = os.path.exists(os.path.join(ARGS.web_dir, "vendor", "three.module.min.js"))
         self.assertEqual(state.get("libs"), "ok" if vendored else "missing")
-        scan = self.expected["TACTILE_SCAN"]
-        self.assertEqual(int(state["scan-utime"]), scan.utime)
-        shown = [float(v) for v in state["taxels"].split(",")]
-        self.assertEqual(len(shown), scan.num_taxels)
-        for k, (a, b) in enumerate(zip(shown, scan.pressure_kPa)):
-            self.assertAlmostEqual(a, b, delta=1e-6 * max(1.0, abs(b)), msg="taxel %d" % k)
-        self.assertGreater(max(shown), 1.0, "the scan at 1 s should press (kPa)")
-        sed = self.expected["FINGERTIP_SED"]
-        finite = [v for v in sed.sed_Pa if math.isfinite(v)]
-        self.assertEqual(int(state["sed-utime"]), sed.utime)
-        self.assertAlmostEqual(float(state["sed-min"]), min(finite), delta=1e-6 * max(1.0, min(finite)))
-        self.assertAlmostEqual(float(state["sed-max"]), max(finite), delta=1e-6 * max(finite))
-        self.assertEqual(int(state["sed-matched"]), sed.num_vertices, "SED vertices not on model B's mesh")
-        command = self.expected["DISPLAY_COMMAND"]
-        self.assertEqual(int(state["command-sequence"]), command.sequence)
+        # One finger (the plain channel names): one panel, named "".
+        self.assertEqual(state["fingers"], "")
+        self.assertEqual(state["panels"], "1")
+        self.assertEqual(len(parser.fingers), 1)
+        # The example's suction display is rendered by inverse FE: DISPLAY_RENDERING is on the
+        # bus, its delivered SED shown beside the target.
+        rendering = self.expected["DISPLAY_RENDERING"]
+        self.assertGreater(rendering.max_target_sed_Pa, 0)
+        self.assertGreater(rendering.max_delivered_sed_Pa, 0)
+        for shown in (state, parser.fingers[0]):
+            assert_finger_shows(self, shown, self.expected["TACTILE_SCAN"], self.expected["FINGERTIP_SED"],
+                                self.expected["DISPLAY_COMMAND"], rendering)
+        self.assertGreater(max(float(v) for v in state["taxels"].split(",")), 1.0, "the scan at 1 s should press (kPa)")
+        self.assertEqual(self.expected["TACTILE_SCAN"].num_shear, 16, "uskin_4x4: shear per taxel")
         self.assertAlmostEqual(float(state["position-s"]), START_S)
+        # The 3-D panel: model B's skin, each vertex over the Merkel layer coloured by the
+        # SED of the Merkel vertex beneath it (the field covers the whole layer here).
+        if state.get("webgl") == "yes":
+            import json
+            mesh = json.loads(http(self.port, "/api/mesh")[1])["meshes"][0]
+            self.assertEqual(len(mesh["skin_merkel"]), len(mesh["skin"]["xyz_mm"]) // 3)
+            self.assertEqual(state["tip-surface"], "skin")
+            self.assertEqual(int(state["skin-coloured"]), sum(1 for k in mesh["skin_merkel"] if k >= 0))
+            self.assertGreater(int(state["skin-coloured"]), 0)
 
     def test_2_screenshot(self):
         shot = os.path.join(ARGS.work, "view.png")
@@ -253,6 +324,60 @@ class ViewPage(unittest.TestCase):
         self.assertAlmostEqual(frame["playback"]["position_s"], 2.5)
         self.assertFalse(frame["playback"]["playing"])
         self.assertEqual(http(self.port, "/api/control", b"seek %g" % START_S)[0], 200)
+
+
+class ViewPageOfAHand(unittest.TestCase):
+    """The hand example: three fingers, a panel each, each with its own channels' messages."""
+
+    @classmethod
+    def setUpClass(cls):
+        # The replay writes one log a finger (hand/<finger>/bridge.lcmlog); the view plays the
+        # folder's logs as one.
+        out = os.path.join(ARGS.work, "hand")
+        shutil.rmtree(out, ignore_errors=True)
+        subprocess.run([ARGS.sedbridge, "replay", os.path.join(ARGS.root, "config/bridge/example_hand.log"),
+                        "--config", os.path.join(ARGS.root, "config/bridge/example_hand.yaml"),
+                        "--out", out, "--no-plots", "--quiet"], check=True, cwd=ARGS.work,
+                       stdout=subprocess.DEVNULL, env=dict(os.environ, LCM_DEFAULT_URL="memq://"))
+        cls.view, cls.port, cls.server_log = start_view(out, ARGS.work, "hand")
+        cls.expected = messages_at_in_logs(sorted(glob.glob(os.path.join(out, "*", "bridge.lcmlog"))), START_S)
+
+    @classmethod
+    def tearDownClass(cls):
+        stop_view(cls.view, cls.server_log)
+
+    def test_8_one_panel_per_finger_with_its_messages(self):
+        fingers = [c[len("TACTILE_SCAN_"):] for c in self.expected if c.startswith("TACTILE_SCAN_")]
+        self.assertEqual(sorted(fingers), ["INDEX", "MIDDLE", "THUMB"])
+        run = headless(self.port, "--dump-dom")
+        self.assertEqual(run.returncode, 0, run.stderr[-2000:])
+        parser = StateParser()
+        parser.feed(run.stdout.decode("utf-8", "replace"))
+        self.assertEqual(sorted(parser.state["fingers"].split(",")), sorted(fingers))
+        self.assertEqual(int(parser.state["panels"]), 3)
+        shown = {f["finger"]: f for f in parser.fingers}
+        self.assertEqual(sorted(shown), sorted(fingers))
+        for name in fingers:
+            with self.subTest(finger=name):
+                assert_finger_shows(self, shown[name], self.expected["TACTILE_SCAN_" + name],
+                                    self.expected["FINGERTIP_SED_" + name], self.expected["DISPLAY_COMMAND_" + name],
+                                    self.expected.get("DISPLAY_RENDERING_" + name))
+        # The fingers differ (not one finger's messages shown thrice): the index has its own
+        # sensor (cyskin_16) and display (pin_6x4).
+        self.assertEqual(shown["INDEX"]["sensor-id"], "cyskin_16")
+        self.assertEqual(shown["INDEX"]["display-id"], "pin_6x4")
+        self.assertEqual(shown["THUMB"]["sensor-id"], "uskin_4x4")
+        # uskin_4x4 has three axes (shear arrows), cyskin_16 one.
+        self.assertEqual(self.expected["TACTILE_SCAN_THUMB"].num_shear, 16)
+        self.assertEqual(self.expected["TACTILE_SCAN_INDEX"].num_shear, 0)
+
+    def test_9_screenshot_of_the_hand(self):
+        shot = os.path.join(ARGS.work, "view_hand.png")
+        if os.path.exists(shot):
+            os.remove(shot)
+        run = headless(self.port, "--screenshot=" + shot)
+        self.assertEqual(run.returncode, 0, run.stderr[-2000:])
+        self.assertGreater(os.path.getsize(shot), 20000, "a blank page?")
 
 
 class ViewPageWithoutLibraries(unittest.TestCase):
