@@ -54,6 +54,20 @@ void WarnUnsigned(const lcm_io::LcmSettings& lcm) {
 // A hand (`fingers:`): one receiver over every bus the fingers name (a CAN_RAW socket a bus,
 // polled together: sensors/multi_socketcan_source.h) or a `candump -l any` log, frames routed
 // to each finger; a solver thread and a display per finger (bridge/live_hand_bridge.h).
+// --log-input LOG: the recording played at its own pace, stamped as if it arrived now.
+std::unique_ptr<sensors::FrameSource> RecordingAsLive(const std::string& log) {
+  sensors::PlaybackOptions playback;
+  playback.speed = 1.0;
+  playback.restamp = true;
+  return std::make_unique<sensors::CandumpLogSource>(config::ResolveResource(log), playback);
+}
+
+void RequireSocketCan() {
+  std::string why;
+  if (!sensors::SocketCanSource::KernelHasCan(&why))
+    throw std::runtime_error("no SocketCAN here: " + why + " (try --log-input LOG to run on a recording)");
+}
+
 int RunHand(const ArgParser& args, BridgeConfig config, const LcmUrlChoice& lcm_url, StopSignals& signals) {
   if (args.Has("interface"))
     throw UsageError("--interface is one finger's: a config with 'fingers:' names each finger's bus");
@@ -84,14 +98,9 @@ int RunHand(const ArgParser& args, BridgeConfig config, const LcmUrlChoice& lcm_
   sensors::MultiSocketCanSource* buses = nullptr;
   LiveOptions live;
   if (auto log = args.GetOptional("log-input")) {
-    sensors::PlaybackOptions playback;
-    playback.speed = 1.0;
-    playback.restamp = true;
-    source = std::make_unique<sensors::CandumpLogSource>(config::ResolveResource(*log), playback);
+    source = RecordingAsLive(*log);
   } else {
-    std::string why;
-    if (!sensors::SocketCanSource::KernelHasCan(&why))
-      throw std::runtime_error("no SocketCAN here: " + why + " (try --log-input LOG to run on a recording)");
+    RequireSocketCan();
     // One socket a bus, its kernel filters the union of its fingers' ids.
     std::map<std::string, sensors::SocketCanOptions> by_bus;
     for (const HandFinger& f : fingers) {
@@ -223,14 +232,9 @@ int RunLiveCommand(int argc, char** argv) {
   LiveOptions live;
   live.tick_period_us = static_cast<int64_t>(1e6 / config.tick_Hz);
   if (auto log = args.GetOptional("log-input")) {
-    sensors::PlaybackOptions playback;
-    playback.speed = 1.0;
-    playback.restamp = true;
-    source = std::make_unique<sensors::CandumpLogSource>(config::ResolveResource(*log), playback);
+    source = RecordingAsLive(*log);
   } else {
-    std::string why;
-    if (!sensors::SocketCanSource::KernelHasCan(&why))
-      throw std::runtime_error("no SocketCAN here: " + why + " (try --log-input LOG to run on a recording)");
+    RequireSocketCan();
     auto can = std::make_unique<sensors::SocketCanSource>(sensors::OptionsForProfile(profile, interface));
     for (const sensors::Frame& f : profile.start_frames) can->Send(f);
     source = std::move(can);
