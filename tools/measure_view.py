@@ -3,7 +3,12 @@
 headless Chromium, 20 event streams), the page's frame and draw rates, and the bridge's
 per-scan latency with and without a view and a page on the bus.
 
-  tools/measure_view.py --sedbridge build/sedbridge [--work /tmp/measure_view]
+  tools/measure_view.py --sedbridge build/sedbridge [--work /tmp/measure_view] [--bridge-cpu 0] [--rounds 2]
+
+--bridge-cpu N runs the bridge on CPU N and the view and the browser on the others (as a lab
+would run a bridge beside a viewer): on a machine of few cores the headless browser's software
+WebGL otherwise takes the bridge's core, and the latency measured is that contention's, not
+the view's.
 
 The page's rates are read from its #state data-attributes through Chromium's DevTools
 protocol (a minimal WebSocket client below: the standard library has none). Everything runs
@@ -38,12 +43,17 @@ def cpu_percent(pid, seconds):
     return 100 * (cpu_s(pid) - c0) / (time.time() - t0)
 
 
+def pinned(cpus):
+    """preexec_fn that keeps a child (and what it starts) on `cpus` (None: anywhere)."""
+    return (lambda: os.sched_setaffinity(0, cpus)) if cpus else None
+
+
 def start_view(args, extra):
     port_file = os.path.join(args.work, "port")
     if os.path.exists(port_file):
         os.remove(port_file)
     view = subprocess.Popen([args.sedbridge, "view", "--port", "0", "--port-file", port_file, "--duration-s", "300"] + extra,
-                            stderr=open(os.path.join(args.work, "view.log"), "a"))
+                            stderr=open(os.path.join(args.work, "view.log"), "a"), preexec_fn=pinned(args.view_cpus))
     deadline = time.time() + 30
     while not (os.path.exists(port_file) and open(port_file).read().strip()):
         if time.time() > deadline or view.poll() is not None:
@@ -100,12 +110,12 @@ class DevTools:
                     return reply["result"]["result"].get("value")
 
 
-def open_page(port, work):
+def open_page(port, work, cpus=None):
     profile = tempfile.mkdtemp(dir=work)
     chrome = subprocess.Popen([shutil.which("chromium"), "--headless", "--no-sandbox", "--use-gl=swiftshader",
                                "--enable-unsafe-swiftshader", "--window-size=1200,1300", "--user-data-dir=" + profile,
                                "--remote-debugging-port=0", "http://127.0.0.1:%d/" % port],
-                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                              stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, preexec_fn=pinned(cpus))
     active = os.path.join(profile, "DevToolsActivePort")
     deadline = time.time() + 30
     while not (os.path.exists(active) and len(open(active).read().split()) >= 1):
@@ -124,7 +134,8 @@ def open_page(port, work):
 
 def replay_latency(args, url):
     out = subprocess.run([args.sedbridge, "replay", os.path.join(ROOT, "config/bridge/example_press.log"), "--no-plots",
-                          "--quiet", "--lcm-url", url], capture_output=True, text=True, check=True).stdout
+                          "--quiet", "--lcm-url", url], capture_output=True, text=True, check=True,
+                         preexec_fn=pinned(args.bridge_cpus)).stdout
     m = re.search(r"latency median ([\d.]+) ms, p99 ([\d.]+) ms", out)
     return float(m.group(1)), float(m.group(2))
 
@@ -134,7 +145,15 @@ def main():
     p.add_argument("--sedbridge", default=os.path.join(ROOT, "build", "sedbridge"))
     p.add_argument("--work", default=os.path.join(tempfile.gettempdir(), "measure_view"))
     p.add_argument("--seconds", type=float, default=8)
+    p.add_argument("--bridge-cpu", type=int, help="run the bridge on this CPU, the view and the browser on the others")
+    p.add_argument("--rounds", type=int, default=2, help="latency rounds, each without and with a view (alternating)")
     args = p.parse_args()
+    args.bridge_cpus = args.view_cpus = None
+    if args.bridge_cpu is not None:
+        everything = os.sched_getaffinity(0)
+        if args.bridge_cpu not in everything or len(everything) < 2:
+            p.error("--bridge-cpu needs a CPU of this process's %s and at least one other" % sorted(everything))
+        args.bridge_cpus, args.view_cpus = {args.bridge_cpu}, everything - {args.bridge_cpu}
     os.makedirs(args.work, exist_ok=True)
     subprocess.run([args.sedbridge, "replay", os.path.join(ROOT, "config/bridge/example_press.log"), "--out",
                     os.path.join(args.work, "replay"), "--no-plots", "--quiet"], check=True, stdout=subprocess.DEVNULL,
@@ -146,7 +165,7 @@ def main():
     print("view, log playing (a frame every 1/30 s):")
     print("  no page:            CPU %.1f %% of one core" % cpu_percent(view.pid, args.seconds))
     if shutil.which("chromium"):
-        chrome, tools = open_page(port, args.work)
+        chrome, tools = open_page(port, args.work, args.view_cpus)
         time.sleep(3)
         cpu = cpu_percent(view.pid, args.seconds)
         state = json.loads(tools.evaluate("JSON.stringify(document.getElementById('state').dataset)"))
@@ -185,19 +204,21 @@ def main():
     # without and with a live view + page on the same bus, alternating.
     url = "udpm://239.255.76.67:7653?ttl=0"
     rows = []
-    for with_view in (False, True, False, True):
+    for with_view in (False, True) * args.rounds:
         chrome = view = None
         if with_view:
             view, port = start_view(args, ["--lcm-url", url])
             if shutil.which("chromium"):
-                chrome, _ = open_page(port, args.work)
+                chrome, _ = open_page(port, args.work, args.view_cpus)
                 time.sleep(2)
         rows.append((with_view, replay_latency(args, url)))
         for proc in (chrome, view):
             if proc:
                 proc.terminate()
                 proc.wait()
-    print("bridge per-scan latency (replay of the example, median / p99 ms):")
+    where = (" the bridge on CPU %d, the view and the browser on %s" % (args.bridge_cpu, sorted(args.view_cpus))
+             if args.bridge_cpu is not None else "")
+    print("bridge per-scan latency (replay of the example, median / p99 ms)%s:" % (";" + where if where else ""))
     for with_view, (p50, p99) in rows:
         print("  %-22s %.3f / %.3f" % ("view + page open:" if with_view else "no view:", p50, p99))
 

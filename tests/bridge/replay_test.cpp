@@ -19,6 +19,7 @@
 #include "lcm/merkel_sed_message.h"
 #include "sedbridge/lcmt_bridge_status.hpp"
 #include "sedbridge/lcmt_display_command.hpp"
+#include "sedbridge/lcmt_display_rendering.hpp"
 #include "sensors/candump_log.h"
 #include "tests/common/lcm_log_check.h"
 
@@ -125,6 +126,104 @@ TEST(Replay, ExampleLogOverMemqPublishesOrderedLimitedCommands) {
   EXPECT_GT(r.stage_p50_ms[Stage::kSed], 0.0);
   EXPECT_GT(got.status[got.status.size() / 2].sed_p50_ms, 0.0f);
   EXPECT_GT(got.status[got.status.size() / 2].limiter_p50_ms, 0.0f);
+}
+
+// DISPLAY_RENDERING: a viewer's message, at most outputs.rendering_Hz on the log's clock,
+// naming the command it belongs to; zero where nothing is asked; 'limited' where the
+// limiter's slew held the command back from the renderer's answer; none at rendering_Hz 0.
+// slew_rate_per_s > 0 replaces the display profile's.
+std::vector<lcmt_display_rendering> RenderingMessages(BridgeConfig config, std::vector<lcmt_display_command>* commands,
+                                                      double slew_rate_per_s = 0) {
+  sensors::CandumpLogSource source(testing::ExampleLogPath());
+  display::DisplayProfile display = testing::ConfigDisplay(config);
+  if (slew_rate_per_s > 0) display.safety.slew_rate_per_s = slew_rate_per_s;
+  struct Got {
+    std::vector<lcmt_display_rendering> rendering;
+    std::vector<lcmt_display_command>* commands;
+    void OnRendering(const lcm::ReceiveBuffer*, const std::string&, const lcmt_display_rendering* m) {
+      rendering.push_back(*m);
+    }
+    void OnCommand(const lcm::ReceiveBuffer*, const std::string&, const lcmt_display_command* m) {
+      commands->push_back(*m);
+    }
+  } got{{}, commands};
+  lcm::LCM* lcm = nullptr;
+  ReplayOptions options;
+  options.on_start = [&](BridgePipeline& p) {
+    lcm = &p.display().publisher().lcm();
+    lcm->subscribe(config.lcm.channels.rendering, &Got::OnRendering, &got);
+    lcm->subscribe(config.lcm.channels.command, &Got::OnCommand, &got);
+  };
+  auto drain = [&] {
+    while (lcm && lcm->handleTimeout(0) > 0) {
+    }
+  };
+  options.on_scan = [&](const ScanOutcome&, BridgePipeline&) { drain(); };
+  options.on_finish = [&](BridgePipeline&) {
+    drain();
+    lcm = nullptr;
+  };
+  RunReplay(config, sensors::LoadNamedSensorProfile(config.sensor_profile), display, nullptr, source, options);
+  return got.rendering;
+}
+
+TEST(Replay, DisplayRenderingIsDecimatedNamesItsCommandAndSaysWhenTheLimiterHeldItBack) {
+  // B_coarse with pins (its suction holes are not resolved by that mesh: it renders zeros).
+  BridgeConfig config = testing::TestConfig();
+  config.display_profile = "pin_6x4";
+  config.display_rendering = RenderingMethod::kInverse;
+  ASSERT_EQ(config.rendering_Hz, 30.0);
+  std::vector<lcmt_display_command> commands;
+  const std::vector<lcmt_display_rendering> rendering = RenderingMessages(config, &commands);
+  // 3 s of scans at 100 Hz: at most one message per 1/30 s, and about that many.
+  ASSERT_GE(rendering.size(), 60u);
+  EXPECT_LE(rendering.size(), 91u);
+  int limited = 0, asked = 0;
+  for (size_t k = 0; k < rendering.size(); ++k) {
+    const lcmt_display_rendering& m = rendering[k];
+    if (k > 0) {
+      EXPECT_GE(m.utime - rendering[k - 1].utime, int64_t(1e6 / 30.0) - 1) << k;
+    }
+    ASSERT_GE(m.command_sequence, 0);
+    ASSERT_LT(size_t(m.command_sequence), commands.size());
+    const lcmt_display_command& c = commands[size_t(m.command_sequence)];
+    EXPECT_EQ(c.utime, m.utime);
+    ASSERT_GT(m.num_vertices, 0);
+    ASSERT_EQ(m.target_sed_Pa.size(), size_t(m.num_vertices));
+    ASSERT_EQ(m.delivered_sed_Pa.size(), size_t(m.num_vertices));
+    float target = 0, delivered = 0;
+    for (int v = 0; v < m.num_vertices; ++v) {
+      ASSERT_TRUE(std::isfinite(m.delivered_sed_Pa[size_t(v)])) << k;
+      target = std::max(target, m.target_sed_Pa[size_t(v)]);
+      delivered = std::max(delivered, m.delivered_sed_Pa[size_t(v)]);
+    }
+    EXPECT_EQ(target, m.max_target_sed_Pa);
+    EXPECT_EQ(delivered, m.max_delivered_sed_Pa);
+    if (target == 0) {  // nothing asked: no fit, nothing delivered, nothing held back
+      EXPECT_EQ(delivered, 0.0f) << k;
+      EXPECT_FALSE(m.limited) << k;
+    }
+    asked += target > 0;
+    limited += m.limited;
+  }
+  EXPECT_GT(asked, 20);
+  EXPECT_LE(limited, asked);
+
+  // A slow slew (10 kPa/s against the profile's) holds the command back from the renderer's
+  // answer on the way up and down: said, not on every message.
+  commands.clear();
+  limited = asked = 0;
+  for (const lcmt_display_rendering& m : RenderingMessages(config, &commands, 10.0)) {
+    asked += m.max_target_sed_Pa > 0;
+    limited += m.limited;
+  }
+  EXPECT_GT(limited, 0);
+  EXPECT_LT(limited, asked);
+
+  config.rendering_Hz = 0;
+  commands.clear();
+  EXPECT_TRUE(RenderingMessages(config, &commands).empty());
+  EXPECT_EQ(commands.size(), 300u + lcm_io::DisplaySession::kShutdownRepeats);
 }
 
 std::string SummaryWithoutLatency(const std::string& path) {
