@@ -18,6 +18,8 @@ InverseRenderer::InverseRenderer(DisplayInfluence influence, Eigen::VectorXd max
   if (!(options_.sed_floor_Pa > 0) || options_.max_iterations < 1 || !(options_.command_tolerance > 0))
     throw std::invalid_argument("inverse renderer: sed_floor_Pa > 0, max_iterations >= 1, command_tolerance > 0");
   if (!(options_.command_penalty >= 0)) throw std::invalid_argument("inverse renderer: command_penalty >= 0");
+  if (!(options_.retract_below >= 0 && options_.retract_below < 1))
+    throw std::invalid_argument("inverse renderer: retract_below in [0, 1)");
   // The solve's variables are each actuator's stroke past its offset (a pin's gap to the
   // skin): below it the actuator does nothing, and a solve started there would never move.
   offset_ = influence_.command_offsets();
@@ -120,7 +122,12 @@ const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed
   evaluated_at_ = u_, evaluated_ = true;  // sed_ and J_t_ are the field at u_ on every path above
   result_.cost = cost;
   result_.at_upper_bound = int((u_.array() >= box_.array() && box_.array() > 0).count());
-  commands_ = (u_.array() > 0).select(u_ + offset_, 0.0);
+  // An actuator with an offset (a pin's gap to the skin) whose stroke is below what a device
+  // resolves is retracted, not parked at its offset: a stroke of ~0 would command the whole
+  // gap, a pin rising to the skin with nothing asked of it (seen after a press had ended: a
+  // stroke of 1e-4 mm held by a converged fit, the command 0.95 mm).
+  const Eigen::ArrayXd resolved = (offset_.array() > 0).select(options_.retract_below * max_.array(), 0.0);
+  commands_ = (u_.array() > resolved).select(u_ + offset_, 0.0);
   return commands_;
 }
 

@@ -50,6 +50,9 @@ struct InverseRendererOptions {
   /// over the layer) and a pin (thousands); it biases a visible actuator by about rho of its
   /// command.
   double command_penalty = 1e-4;
+  /// An actuator with a command offset (a pin's gap) whose stroke past it is below this
+  /// fraction of its maximum is commanded 0 (retracted) rather than to its offset.
+  double retract_below = 1e-3;
 };
 
 struct RenderResult {

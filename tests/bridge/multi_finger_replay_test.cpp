@@ -222,6 +222,32 @@ TEST(MultiFingerReplay, FingersWithDifferentSensorsAndDisplaysGiveTheSameFilesOn
   EXPECT_EQ(summaries[0], summaries[1]);
 }
 
+// Once its finger's press has ended, a pin display's commands are 0: a pin is retracted,
+// not left at its gap with the ~0 stroke a converged fit holds (it commanded 0.95 mm there).
+TEST(MultiFingerReplay, PinsRetractOnceTheirFingersPressHasEnded) {
+  // The shipped hand (model B, inverse rendering); its index finger wears pin_6x4.
+  const BridgeConfig config = LoadBridgeConfig(std::string(SEDBRIDGE_SOURCE_DIR) + "/config/bridge/example_hand.yaml");
+  sensors::CandumpLogSource source(std::string(SEDBRIDGE_SOURCE_DIR) + "/config/bridge/example_hand.log");
+  const HandReplayResult r = RunHandReplay(HandOf(config), source, ReplayOptions{});
+  ASSERT_EQ(r.fingers.size(), 3u);
+  const ReplayResult& index = r.fingers[1];
+  ASSERT_EQ(index.display_actuators, 24);
+  const std::vector<ReplayRow>& rows = index.rows;
+  ASSERT_GE(index.peak_index, 0);
+  EXPECT_GT(rows[size_t(index.peak_index)].max_command, 0.0);
+  int64_t last_touch = -1;
+  for (const ReplayRow& row : rows)
+    if (row.total_force_N > 0.005) last_touch = row.utime;
+  ASSERT_GT(last_touch, 0);
+  int after = 0;
+  for (const ReplayRow& row : rows) {
+    if (row.utime < last_touch + 200'000) continue;  // the limiter's ramp down
+    ++after;
+    EXPECT_EQ(row.max_command, 0.0) << "at " << (row.utime - rows.front().utime) * 1e-6 << " s";
+  }
+  EXPECT_GT(after, 50);
+}
+
 std::string SummaryWithoutLatency(const std::vector<ReplayRow>& rows) {
   std::string out;
   char buf[256];
