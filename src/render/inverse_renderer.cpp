@@ -68,8 +68,8 @@ const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed
   // The last render ended with the field at its answer evaluated; warm-started there, only
   // the residuals change with the target (the SED and its Jacobian do not): one SED
   // evaluation a scan saved, half the work of a one-iteration render.
-  const bool reuse = evaluated_ && u_ == evaluated_at_;
-  double cost = reuse ? CostAt(u_, sed_, r_) : Residuals(u_, r_, sed_, &J_t_);
+  // (u_ is that answer: only Reset moves it between renders, and Reset clears evaluated_.)
+  double cost = evaluated_ ? CostAt(u_, sed_, r_) : Residuals(u_, r_, sed_, &J_t_);
   for (int it = 0; it < options_.max_iterations; ++it) {
     result_.iterations = it + 1;
     NormalEquations(u_);
@@ -119,7 +119,7 @@ const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed
       break;
     }
   }
-  evaluated_at_ = u_, evaluated_ = true;  // sed_ and J_t_ are the field at u_ on every path above
+  evaluated_ = true;  // sed_ and J_t_ are the field at u_ on every path above
   result_.cost = cost;
   result_.at_upper_bound = int((u_.array() >= box_.array() && box_.array() > 0).count());
   // An actuator with an offset (a pin's gap to the skin) whose stroke is below what a device

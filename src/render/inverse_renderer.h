@@ -120,8 +120,7 @@ class InverseRenderer {
   Eigen::MatrixXd trial_J_t_;
   double fixed_cost_ = 0;  // 1/2 sum r_v^2 over the vertices no command changes
   Eigen::VectorXd root_;
-  // sed_ and J_t_ hold the field at evaluated_at_ (the last render's answer) when evaluated_.
-  Eigen::VectorXd evaluated_at_;
+  // sed_ and J_t_ hold the field at u_ (the last render's answer) when evaluated_.
   bool evaluated_ = false;
   Eigen::VectorXd g_;
   double lambda_ = 1e-6;
