@@ -154,6 +154,10 @@ void AddFidelityOptions(ArgParser& args) {
               "--display-fidelity: curve (the profile's mapping curve, as shipped), inverse (the inverse renderer) or "
               "both, comma-separated",
               "curve,inverse")
+      .Option("fit-reduction", "SHARE",
+              "--display-fidelity: the inverse renderer's fit on the influence reduced per Merkel vertex, leaving out "
+              "at most SHARE of the commands' strain energy at any vertex (pins; 0: element by element)",
+              "0.01")
       .Flag("faulty-taxels",
             "instead of the table: every press with each single taxel dead and with each single taxel stuck high "
             "(from the first scan), through taxel health, scored at the peak: faulty_taxels.csv and a summary "
@@ -287,6 +291,7 @@ std::unique_ptr<DisplayFidelityReport> MakeDisplayReport(const ArgParser& args, 
   const auto displays = args.GetOptional("display-fidelity");
   if (!displays) {
     if (args.Has("rendering")) throw UsageError("--rendering needs --display-fidelity DISPLAYS");
+    if (args.Has("fit-reduction")) throw UsageError("--fit-reduction needs --display-fidelity DISPLAYS");
     return nullptr;
   }
   DisplayFidelityOptions options;
@@ -295,6 +300,9 @@ std::unique_ptr<DisplayFidelityReport> MakeDisplayReport(const ArgParser& args, 
   try {
     options.displays = SplitNameList(*displays, "--display-fidelity");
     options.renderings = ParseRenderings(args.Get("rendering"));
+    options.fit_reduction = args.GetDouble("fit-reduction");
+    if (!(options.fit_reduction >= 0 && options.fit_reduction < 1))
+      throw UsageError("--fit-reduction: a share in [0, 1), got " + args.Get("fit-reduction"));
     return std::make_unique<DisplayFidelityReport>(model, std::move(options), out);
   } catch (const std::invalid_argument& e) {
     throw UsageError(e.what());

@@ -133,6 +133,10 @@ struct BridgeConfig {
   /// latency p99 under 1 ms on the 2-core VM with the display fidelity at the peak unchanged
   /// (config/bridge/README.md).
   int display_render_iterations = 3;
+  /// display.fit_reduction: the inverse renderer's fit on the influence reduced per Merkel
+  /// vertex, leaving out at most this share of the commands' strain energy at any vertex
+  /// (render::DisplayRenderingOptions::fit_reduction: pins; 0: element by element).
+  double display_fit_reduction = 1e-2;
 
   // rates:
   double status_Hz = 10;  ///< BRIDGE_STATUS rate (pipeline clock)
@@ -189,6 +193,7 @@ struct BridgeConfig {
       d->Visit(Field("profile", &display_profile).Required());
       d->Visit(Field("rendering", &display_rendering));
       d->Visit(Field("render_iterations", &display_render_iterations).InRange(1, 200));
+      d->Visit(Field("fit_reduction", &display_fit_reduction).InRange(0, 0.5));
     });
     a->Section("rates", [&](auto* q) {
       q->Visit(Field("status_Hz", &status_Hz).Unit("Hz").InRange(kMinStatus_Hz, kMaxStatus_Hz));

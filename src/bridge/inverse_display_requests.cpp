@@ -62,13 +62,15 @@ InverseDisplayRequests::InverseDisplayRequests(const BridgeConfig& config, const
     render::DisplayRenderingOptions options;
     options.cache_dir = config.compliance_cache_dir;
     options.renderer.max_iterations = config.display_render_iterations;
+    options.fit_reduction = config.display_fit_reduction;
     p->rendering = std::make_unique<render::DisplayRendering>(p->model, profile, options);
     p->precompute_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return p;
   };
   if (cache) {
     const std::string key = config.model + "|" + profile.name + "|" + config.compliance_cache_dir + "|" +
-                            std::to_string(config.display_render_iterations);
+                            std::to_string(config.display_render_iterations) + "|" +
+                            std::to_string(config.display_fit_reduction);
     precompute_ = cache->Get(key, build);
     CheckSameLayer(precompute_->model, merkel_rest_pad_mm, config.model);  // this finger's step against it
   } else {

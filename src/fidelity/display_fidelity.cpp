@@ -140,6 +140,7 @@ DisplayFidelity::DisplayFidelity(const std::string& model_name, DisplayFidelityO
                    info.name.c_str(), info.actuators, display::ToString(d->profile.kind).c_str(), info.actuators + 1);
     render::DisplayRenderingOptions rendering_options;
     rendering_options.cache_dir = options_.cache_dir;
+    rendering_options.fit_reduction = options_.fit_reduction;
     try {
       if (d->profile.kind == display::DisplayKind::kElectrotactile)  // not "yet": it has none
         throw NoMechanicalLoad(d->profile.name + " is electrotactile: no mechanical load on the finger, no SED to "

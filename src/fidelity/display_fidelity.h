@@ -25,6 +25,7 @@
 
 #include "display/display_profile.h"
 #include "fidelity/fidelity_benchmark.h"
+#include "render/display_rendering.h"
 
 namespace sedbridge::model {
 struct FingertipModel;
@@ -72,6 +73,8 @@ struct DisplayFidelityOptions {
   std::vector<DisplayRenderingMethod> renderings = {DisplayRenderingMethod::kCurve, DisplayRenderingMethod::kInverse};
   std::string cache_dir;                            ///< leader compliance cache ("" = none)
   int timing_repeats = 3;                           ///< renders a case is timed over (>= 1)
+  /// The inverse renderer's fit reduction (render::DisplayRenderingOptions::fit_reduction).
+  double fit_reduction = render::DisplayRenderingOptions{}.fit_reduction;
   std::FILE* progress = nullptr;                    ///< precompute progress lines (nullptr: quiet)
 };
 

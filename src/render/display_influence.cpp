@@ -43,6 +43,11 @@ void CheckSizes(const ElementStrainInfluence& in) {
 
 }  // namespace
 
+bool DisplayInfluence::EvaluatedByVertexForms(const ElementStrainInfluence& in) {
+  const bool offsets = std::any_of(in.command_offset.begin(), in.command_offset.end(), [](double g) { return g > 0; });
+  return in.knot_command.empty() && !offsets && in.strain_per_command.cols() <= kMaxVertexFormActuators;
+}
+
 DisplayInfluence::DisplayInfluence(const ElementStrainInfluence& in, double prune_relative) {
   CheckSizes(in);
   num_actuators_ = int(in.strain_per_command.cols());
@@ -52,7 +57,7 @@ DisplayInfluence::DisplayInfluence(const ElementStrainInfluence& in, double prun
                 : Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(in.command_offset.data(), num_actuators_));
   piecewise_ = !in.knot_command.empty() || (offset_.array() > 0).any();
   Prune(in, prune_relative);
-  if (!piecewise_ && num_actuators_ <= kMaxVertexFormActuators) {
+  if (EvaluatedByVertexForms(in)) {
     BuildVertexForms();
     // The forms answer every call now: the element kernel's slopes would only hold memory.
     std::vector<std::vector<float>>().swap(chunked_slope_);

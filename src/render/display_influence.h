@@ -61,6 +61,9 @@ class DisplayInfluence {
   ///        the largest are held at the preload's strain (0: evaluate every element)
   /// Throws std::invalid_argument for inconsistent sizes or non-finite entries.
   explicit DisplayInfluence(const ElementStrainInfluence& elements, double prune_relative = 1e-4);
+  /// Whether an influence of `elements` is evaluated from per-vertex quadratic forms (exact,
+  /// few actuators, linear) rather than element by element.
+  static bool EvaluatedByVertexForms(const ElementStrainInfluence& elements);
 
   int num_actuators() const { return num_actuators_; }
   int num_vertices() const { return int(fixed_sed_Pa_.size()); }

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
+#include <utility>
 
 #include "render/leader_pad.h"
+#include "render/reduced_vertex_strain.h"
 
 namespace sedbridge::render {
 
@@ -28,7 +30,14 @@ DisplayRendering::DisplayRendering(const model::FingertipModel& leader_model, co
   CheckDisplayFitsLeaderPad(profile, *leader_);
   display_ = MakeDisplayOnLeader(*leader_, profile.device);
   const double reference = options.reference_command > 0 ? options.reference_command : display_->default_reference_command();
-  DisplayInfluence influence(display_->Influence(reference), options.prune_relative);
+  ElementStrainInfluence elements = display_->Influence(reference);
+  if (options.fit_reduction > 0 && !DisplayInfluence::EvaluatedByVertexForms(elements)) {
+    // Kept only where it is smaller: a vertex averaging few elements shared with its
+    // neighbours can need more rows than the elements had.
+    ElementStrainInfluence reduced = ReduceStrainPerVertex(elements, options.fit_reduction);
+    if (reduced.mu_Pa.size() < elements.mu_Pa.size()) elements = std::move(reduced);
+  }
+  DisplayInfluence influence(elements, options.prune_relative);
   preload_sed_Pa_ = influence.preload_sed_Pa();
   renderer_ = std::make_unique<InverseRenderer>(std::move(influence), MaxCommands(profile), options.renderer);
   precompute_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
