@@ -216,7 +216,7 @@ void DisplayInfluence::ElementSeds(const Eigen::VectorXd& u, bool gradient) cons
 void DisplayInfluence::FormSeds(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa, Eigen::MatrixXd* jacobian_t) const {
   const size_t active = active_vertex_.size();
   stroke_f_ = u.cast<float>();
-  scratch_.resize(size_t(num_actuators_));
+  scratch_.resize(size_t(num_actuators_) * kSedLanes);
   sed_Pa.resize(Eigen::Index(active));
   if (jacobian_t) jacobian_t->resize(num_actuators_, Eigen::Index(active));
   VertexFormSeds(active, num_actuators_, vertex_forms_.data(), vertex_constant_.data(), stroke_f_.data(), sed_Pa.data(),
@@ -239,9 +239,9 @@ void DisplayInfluence::BuildVertexForms() {
   // components (the shear ones count twice in eps:eps), so W(eps0 + E u) = W(eps0) +
   // (E^T D eps0) . u + u^T (1/2 E^T D E) u, summed over the vertex's elements.
   const int n = num_actuators_;
-  const size_t active = active_vertex_.size(), stride = size_t(n) + size_t(n) * size_t(n);
+  const size_t active = active_vertex_.size(), full = VertexFormEntries(n);
   const Eigen::MatrixXd& slope = slope_.front();
-  vertex_forms_.assign(active * stride, 0.0f);
+  vertex_forms_.assign(SedChunks(active) * full * kSedLanes, 0.0f);  // VertexFormSeds' chunks (padding 0)
   vertex_constant_.setZero(Eigen::Index(active));
   Eigen::VectorXd g(n);
   Eigen::MatrixXd Q(n, n);
@@ -261,10 +261,9 @@ void DisplayInfluence::BuildVertexForms() {
       Q += w * 0.5 * (E.transpose() * D * E);
     }
     vertex_constant_[Eigen::Index(a)] = constant;
-    float* form = vertex_forms_.data() + a * stride;
-    for (int i = 0; i < n; ++i) form[i] = float(g[i]);
+    for (int i = 0; i < n; ++i) vertex_forms_[VertexFormIndex(a, size_t(i), n)] = float(g[i]);
     for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) form[n + i * n + j] = float(Q(j, i));
+      for (int j = 0; j < n; ++j) vertex_forms_[VertexFormIndex(a, size_t(n + i * n + j), n)] = float(Q(j, i));
   }
 }
 

@@ -137,7 +137,8 @@ class DisplayInfluence {
   mutable std::vector<float> scratch_;
   // Linear influences of few actuators: per active vertex g (#actuators) and Q (#actuators^2,
   // column by column) of S = constant + g . u + u^T Q u (element_sed_kernel.h), single
-  // precision, and the constant (the preload's SED, pruned elements included) in double.
+  // precision, eight vertices a chunk (VertexFormIndex), and the constant (the preload's
+  // SED, pruned elements included) in double.
   std::vector<float> vertex_forms_;
   Eigen::VectorXd vertex_constant_;
   mutable std::vector<int> slope_index_, segment_, intercept_segment_;
