@@ -14,6 +14,7 @@
 #include "bridge/sa1_rate_at_peak.h"
 #include "lcm/contact_estimate_message.h"
 #include "lcm/taxel_health_message.h"
+#include "common/thread_cpu_time.h"
 #include "common/wall_clock.h"
 #include "scene/vtu_writer.h"
 #include "sensors/frame_pump.h"
@@ -325,10 +326,13 @@ class FingerRun {
   void Process(const sensors::Scan& scan, int64_t receive_wall, const sensors::BadFrameCounters& counters,
                const sensors::FrameSourceStats& source_stats) {
     pipeline_->SetSensorCounters(counters, source_stats);
+    const double cpu_start_ms = ThreadCpuTime_ms();
     const ScanOutcome o = pipeline_->ProcessScan(scan, scan.utime, receive_wall);
+    const double cpu_ms = ThreadCpuTime_ms() - cpu_start_ms;
     last_utime_ = end_utime_ = scan.utime;
     last_scan_wall_ = receive_wall;
     result_.rows.push_back(RowOf(scan, o));
+    result_.rows.back().cpu_ms = cpu_ms;
     const size_t index = result_.rows.size() - 1;
     if (o.stepped && o.max_sed_Pa > peak_.sed_Pa) {
       peak_.Take(*pipeline_, o.max_sed_Pa);

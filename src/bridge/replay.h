@@ -79,6 +79,9 @@ struct ReplayRow {
   bool stepped = false;
   int invalid_taxels = 0;
   StageTimes stage_ms;  ///< wall time per stage (ScanOutcome::stage_ms)
+  /// CPU time the scan took its thread [ms] (ProcessScan; the FE's own OpenMP threads, when
+  /// more than one, not counted): its cost without the time it waited preempted.
+  double cpu_ms = 0;
 };
 
 struct ReplayResult {

@@ -56,13 +56,15 @@ DisplayInfluence::DisplayInfluence(const ElementStrainInfluence& in, double prun
                 ? Eigen::VectorXd::Zero(num_actuators_)
                 : Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(in.command_offset.data(), num_actuators_));
   piecewise_ = !in.knot_command.empty() || (offset_.array() > 0).any();
-  Prune(in, prune_relative);
+  auto tables = std::make_shared<Tables>();
+  Prune(in, prune_relative, *tables);
   if (EvaluatedByVertexForms(in)) {
-    BuildVertexForms();
+    BuildVertexForms(*tables);
     // The forms answer every call now: the element kernel's slopes would only hold memory.
-    std::vector<std::vector<float>>().swap(chunked_slope_);
+    std::vector<std::vector<float>>().swap(tables->chunked_slope);
     std::vector<float>().swap(effective_);
   }
+  tables_ = std::move(tables);
   // Every call reads the single-precision copies (chunked slopes, knot intercepts) from here
   // on: the double matrices they came from would only hold memory (170 MB on a 64-pin
   // display with five knots on B).
@@ -71,7 +73,7 @@ DisplayInfluence::DisplayInfluence(const ElementStrainInfluence& in, double prun
   Sed(Eigen::VectorXd::Zero(num_actuators_), preload_sed_Pa_);
 }
 
-void DisplayInfluence::Prune(const ElementStrainInfluence& in, double prune_relative) {
+void DisplayInfluence::Prune(const ElementStrainInfluence& in, double prune_relative, Tables& tables) {
   // Each element's largest strain change over actuators and knots (or per command unit on
   // a linear influence).
   const std::vector<Eigen::MatrixXd> linear{in.strain_per_command};
@@ -107,7 +109,7 @@ void DisplayInfluence::Prune(const ElementStrainInfluence& in, double prune_rela
   // the slopes (a strain change; the preload stays double in intercept_): a segment change
   // then reads one float column instead of two double ones.
   for (size_t k = 1; k <= knot_command_.size(); ++k)
-    knot_intercept_.push_back((strain_at_knot_[k - 1] - knot_command_[k - 1] * slope_[std::min(k, slope_.size() - 1)]).cast<float>());
+    tables.knot_intercept.push_back((strain_at_knot_[k - 1] - knot_command_[k - 1] * slope_[std::min(k, slope_.size() - 1)]).cast<float>());
   // Each slope, per actuator, in the kernel's chunk layout: a segment change copies blocks.
   const size_t chunks = SedChunks(active.size());
   for (const Eigen::MatrixXd& slope : slope_) {
@@ -117,7 +119,7 @@ void DisplayInfluence::Prune(const ElementStrainInfluence& in, double prune_rela
         for (int c = 0; c < kStrainComponents; ++c)
           blocks[((size_t(i) * chunks + e / kSedLanes) * kStrainComponents + size_t(c)) * kSedLanes + e % kSedLanes] =
               float(slope(Eigen::Index(kStrainComponents * e + size_t(c)), i));
-    chunked_slope_.push_back(std::move(blocks));
+    tables.chunked_slope.push_back(std::move(blocks));
   }
   effective_.assign(SedChunks(active.size()) * size_t(num_actuators_) * kStrainComponents * kSedLanes, 0.0f);
   slope_index_.assign(size_t(num_actuators_), -1);
@@ -165,7 +167,7 @@ void DisplayInfluence::Segments(const Eigen::VectorXd& u) const {
     const double v = piecewise_ ? u[i] - offset_[i] : u[i];
     const bool moving = !piecewise_ || v > 0;
     const int k = moving && piecewise_ ? SegmentOf(v) : 0;
-    const int slope = moving || v == 0 ? std::min(k, int(chunked_slope_.size()) - 1) : -1;
+    const int slope = moving || v == 0 ? std::min(k, int(tables_->chunked_slope.size()) - 1) : -1;
     segment_[size_t(i)] = moving ? k : -1;
     stroke_[i] = moving ? v : 0.0;
     if (slope == slope_index_[size_t(i)]) continue;
@@ -178,7 +180,7 @@ void DisplayInfluence::Segments(const Eigen::VectorXd& u) const {
         std::fill(to, to + block, 0.0f);
         continue;
       }
-      const float* from = chunked_slope_[size_t(slope)].data() + (size_t(i) * chunks + b) * block;
+      const float* from = tables_->chunked_slope[size_t(slope)].data() + (size_t(i) * chunks + b) * block;
       std::copy(from, from + block, to);
     }
   }
@@ -197,11 +199,11 @@ void DisplayInfluence::Segments(const Eigen::VectorXd& u) const {
     const int k = segment_[size_t(i)], was = fresh ? 0 : intercept_segment_[size_t(i)];
     if (k == was || (k < 1 && was < 1)) continue;  // segments 0 and below have no intercept
     if (was >= 1 && k >= 1)
-      intercept_ += (knot_intercept_[size_t(k - 1)].col(i) - knot_intercept_[size_t(was - 1)].col(i)).cast<double>();
+      intercept_ += (tables_->knot_intercept[size_t(k - 1)].col(i) - tables_->knot_intercept[size_t(was - 1)].col(i)).cast<double>();
     else if (k >= 1)
-      intercept_ += knot_intercept_[size_t(k - 1)].col(i).cast<double>();
+      intercept_ += tables_->knot_intercept[size_t(k - 1)].col(i).cast<double>();
     else
-      intercept_ -= knot_intercept_[size_t(was - 1)].col(i).cast<double>();
+      intercept_ -= tables_->knot_intercept[size_t(was - 1)].col(i).cast<double>();
   }
   intercept_segment_ = segment_;
 }
@@ -221,10 +223,10 @@ void DisplayInfluence::ElementSeds(const Eigen::VectorXd& u, bool gradient) cons
 void DisplayInfluence::FormSeds(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa, Eigen::MatrixXd* jacobian_t) const {
   const size_t active = active_vertex_.size();
   stroke_f_ = u.cast<float>();
-  scratch_.resize(size_t(num_actuators_));
+  scratch_.resize(size_t(num_actuators_) * kSedLanes);
   sed_Pa.resize(Eigen::Index(active));
   if (jacobian_t) jacobian_t->resize(num_actuators_, Eigen::Index(active));
-  VertexFormSeds(active, num_actuators_, vertex_forms_.data(), vertex_constant_.data(), stroke_f_.data(), sed_Pa.data(),
+  VertexFormSeds(active, num_actuators_, tables_->vertex_forms.data(), vertex_constant_.data(), stroke_f_.data(), sed_Pa.data(),
                  jacobian_t ? jacobian_t->data() : nullptr, scratch_.data());
 }
 
@@ -239,14 +241,14 @@ void DisplayInfluence::AverageToActiveVertices(Eigen::VectorXd& vertex) const {
   }
 }
 
-void DisplayInfluence::BuildVertexForms() {
+void DisplayInfluence::BuildVertexForms(Tables& tables) {
   // W(eps) = 1/2 eps^T D eps with D = 2 mu diag(1, 1, 1, 2, 2, 2) + lambda 1 1^T on the normal
   // components (the shear ones count twice in eps:eps), so W(eps0 + E u) = W(eps0) +
   // (E^T D eps0) . u + u^T (1/2 E^T D E) u, summed over the vertex's elements.
   const int n = num_actuators_;
-  const size_t active = active_vertex_.size(), stride = size_t(n) + size_t(n) * size_t(n);
+  const size_t active = active_vertex_.size(), full = VertexFormEntries(n);
   const Eigen::MatrixXd& slope = slope_.front();
-  vertex_forms_.assign(active * stride, 0.0f);
+  tables.vertex_forms.assign(SedChunks(active) * full * kSedLanes, 0.0f);  // VertexFormSeds' chunks (padding 0)
   vertex_constant_.setZero(Eigen::Index(active));
   Eigen::VectorXd g(n);
   Eigen::MatrixXd Q(n, n);
@@ -266,15 +268,14 @@ void DisplayInfluence::BuildVertexForms() {
       Q += w * 0.5 * (E.transpose() * D * E);
     }
     vertex_constant_[Eigen::Index(a)] = constant;
-    float* form = vertex_forms_.data() + a * stride;
-    for (int i = 0; i < n; ++i) form[i] = float(g[i]);
+    for (int i = 0; i < n; ++i) tables.vertex_forms[VertexFormIndex(a, size_t(i), n)] = float(g[i]);
     for (int i = 0; i < n; ++i)
-      for (int j = 0; j < n; ++j) form[n + i * n + j] = float(Q(j, i));
+      for (int j = 0; j < n; ++j) tables.vertex_forms[VertexFormIndex(a, size_t(n + i * n + j), n)] = float(Q(j, i));
   }
 }
 
 void DisplayInfluence::ActiveSed(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa) const {
-  if (!vertex_forms_.empty()) {
+  if (tables_ && !tables_->vertex_forms.empty()) {
     FormSeds(u, sed_Pa, nullptr);
     return;
   }
@@ -284,7 +285,7 @@ void DisplayInfluence::ActiveSed(const Eigen::VectorXd& u, Eigen::VectorXd& sed_
 
 void DisplayInfluence::ActiveSedAndJacobianT(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa,
                                              Eigen::MatrixXd& jacobian_t) const {
-  if (!vertex_forms_.empty()) {
+  if (tables_ && !tables_->vertex_forms.empty()) {
     FormSeds(u, sed_Pa, &jacobian_t);
     return;
   }

@@ -10,6 +10,7 @@
 // #actuators^2 instead: 16 times more at 64 actuators, measured slower already at 16.)
 
 #include <Eigen/Core>
+#include <memory>
 #include <vector>
 
 namespace sedbridge::render {
@@ -92,7 +93,8 @@ class DisplayInfluence {
 
  private:
   /// Keeps the elements some actuator strains; the rest go into fixed_sed_.
-  void Prune(const ElementStrainInfluence& in, double prune_relative);
+  struct Tables;
+  void Prune(const ElementStrainInfluence& in, double prune_relative, Tables& tables);
   /// Each actuator's place on its curve at u: its segment and stroke, the slope its
   /// derivative takes; brings effective_ and intercept_ up to date with them.
   void Segments(const Eigen::VectorXd& u) const;
@@ -100,8 +102,8 @@ class DisplayInfluence {
   /// from per-vertex quadratic forms (#actuators^2 floats a vertex: fewer bytes than the
   /// elements' 6 x #actuators each, 469 vertices against 5228 elements on B).
   static constexpr int kMaxVertexFormActuators = 32;
-  /// vertex_forms_ and vertex_constant_ from the active elements (linear influence).
-  void BuildVertexForms();
+  /// tables.vertex_forms and vertex_constant_ from the active elements (linear influence).
+  void BuildVertexForms(Tables& tables);
   /// Active vertices' SED (and transposed Jacobian) from the vertex forms.
   void FormSeds(const Eigen::VectorXd& u, Eigen::VectorXd& sed_Pa, Eigen::MatrixXd* jacobian_t) const;
   /// Element SEDs element_sed_ at u and, with `gradient`, dW_e/du into element_gradient_t_
@@ -120,12 +122,23 @@ class DisplayInfluence {
   // Segment k's slope (k = 0: from v = 0); past the last knot the last one goes on. Only
   // while the influence is built (then freed with strain_at_knot_).
   std::vector<Eigen::MatrixXd> slope_;
-  // Segment k >= 1's intercept at k - 1: eps(knot k-1) - knot_{k-1} slope_k (6 #active
-  // elements x #actuators each), what an actuator on that segment adds to intercept_.
-  std::vector<Eigen::MatrixXf> knot_intercept_;
-  // slope_ in single precision, per actuator in the kernel's chunk layout: actuator i's
-  // block of chunk b at (i #chunks + b) 48.
-  std::vector<std::vector<float>> chunked_slope_;
+  // The large tables every call reads, never written once built: shared by the copies of
+  // an influence (a hand's fingers each render with a copy of the renderer: one copy of the
+  // tables in memory and in the cache instead of one a finger).
+  struct Tables {
+    // Segment k >= 1's intercept at k - 1: eps(knot k-1) - knot_{k-1} slope_k (6 #active
+    // elements x #actuators each), what an actuator on that segment adds to intercept_.
+    std::vector<Eigen::MatrixXf> knot_intercept;
+    // slope_ in single precision, per actuator in the kernel's chunk layout: actuator i's
+    // block of chunk b at (i #chunks + b) 48.
+    std::vector<std::vector<float>> chunked_slope;
+    // Linear influences of few actuators: per active vertex g (#actuators) and Q
+    // (#actuators^2, column by column) of S = constant + g . u + u^T Q u
+    // (element_sed_kernel.h), single precision, eight vertices a chunk (VertexFormIndex);
+    // the constant in vertex_constant_.
+    std::vector<float> vertex_forms;
+  };
+  std::shared_ptr<const Tables> tables_;
   // The curve each actuator is on at the last u: the slope of element e's strain component
   // c per unit stroke of actuator i at ChunkedSlopeIndex(e, c, i, n) (render/
   // element_sed_kernel.h: eight elements a chunk, one vector lane each), so that eps_e =
@@ -138,10 +151,7 @@ class DisplayInfluence {
   mutable Eigen::VectorXd intercept_, stroke_;
   mutable Eigen::VectorXf stroke_f_;
   mutable std::vector<float> scratch_;
-  // Linear influences of few actuators: per active vertex g (#actuators) and Q (#actuators^2,
-  // column by column) of S = constant + g . u + u^T Q u (element_sed_kernel.h), single
-  // precision, and the constant (the preload's SED, pruned elements included) in double.
-  std::vector<float> vertex_forms_;
+  // The vertex forms' constants (the preload's SED, pruned elements included), in double.
   Eigen::VectorXd vertex_constant_;
   mutable std::vector<int> slope_index_, segment_, intercept_segment_;
   mutable int intercept_updates_ = 0;

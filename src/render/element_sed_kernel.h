@@ -36,12 +36,21 @@ inline size_t ChunkedSlopeIndex(size_t e, int c, int i, int n) {
 void ChunkedElementSeds(size_t elements, int n, const float* slopes, const float* stroke, const double* intercept,
                         const double* mu_Pa, const double* lambda_Pa, double* sed_Pa, float* gradient_t, float* scratch);
 
+/// Floats of one vertex's form: g (n), then Q (n * n, column by column).
+inline size_t VertexFormEntries(int n) { return size_t(n) + size_t(n) * size_t(n); }
+/// Where entry k of vertex v's form lies in VertexFormSeds' chunked array.
+inline size_t VertexFormIndex(size_t v, size_t k, int n) {
+  return ((v / kSedLanes) * VertexFormEntries(n) + k) * kSedLanes + v % kSedLanes;
+}
 /// Vertex SEDs of a linear influence from per-vertex quadratic forms: S_v = constant_v +
 /// g_v . u + u^T Q_v u [Pa], and, when jacobian_t is not null, dS_v/du = g_v + 2 Q_v u into
 /// jacobian_t[v n + i] [Pa / command unit].
-/// @param forms   per vertex n + n * n floats: g_v, then Q_v (symmetric, column by column)
+/// @param forms   SedChunks(vertices) chunks of eight vertices, one lane each: per vertex
+///                VertexFormEntries(n) floats, g_v then Q_v (symmetric, column by column),
+///                entry k of lane l at (chunk VertexFormEntries(n) + k) 8 + l
+///                (VertexFormIndex; padding 0)
 /// @param u       n floats [command unit]
-/// @param scratch n floats
+/// @param scratch n * 8 floats
 void VertexFormSeds(size_t vertices, int n, const float* forms, const double* constant, const float* u,
                     double* sed_Pa, double* jacobian_t, float* scratch);
 

@@ -100,6 +100,36 @@ TEST(DisplayInfluence, PiecewiseSedDoesNotDependOnThePathTaken) {
   EXPECT_LE((fresh_sed - DirectSed(linear, Eigen::VectorXd::Zero(7))).norm(), 1e-6 * fresh_sed.norm());
 }
 
+// Copies share the built tables (a hand's fingers each render with a copy): each copy keeps
+// its own place on the curves, so copies walked alternately answer as a fresh influence does,
+// piecewise (pins: the element kernel) and linear (the vertex forms).
+TEST(DisplayInfluence, CopiesWalkedAlternatelyAnswerAsAFreshInfluence) {
+  ElementStrainInfluence pins = testing::SyntheticInfluence(7, 45, 1e-3);
+  pins.command_offset = {0.0, 0.5, 1.0, 0.2, 0.0, 2.0, 0.7};
+  pins.knot_command = {2.0, 5.0};
+  pins.strain_at_knot = {2.0 * pins.strain_per_command, 3.5 * pins.strain_per_command};
+  for (const ElementStrainInfluence& in : {pins, testing::SyntheticInfluence(7, 45, 1e-3)}) {
+    const DisplayInfluence original(in);
+    const DisplayInfluence copy = original;
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> command(0.0, 9.0);
+    Eigen::VectorXd u(7), w(7), sed_u, sed_w, fresh_u, fresh_w;
+    Eigen::MatrixXd J_u, J_w, fresh_J;
+    for (int step = 0; step < 50; ++step) {
+      for (int i = 0; i < 7; ++i) u[i] = command(rng), w[i] = command(rng);
+      original.SedAndJacobian(u, sed_u, J_u);
+      copy.SedAndJacobian(w, sed_w, J_w);
+    }
+    const DisplayInfluence fresh(in);
+    fresh.SedAndJacobian(u, fresh_u, fresh_J);
+    EXPECT_LE((sed_u - fresh_u).norm(), 1e-12 * fresh_u.norm());
+    EXPECT_LE((J_u - fresh_J).norm(), 1e-12 * fresh_J.norm());
+    fresh.SedAndJacobian(w, fresh_w, fresh_J);
+    EXPECT_LE((sed_w - fresh_w).norm(), 1e-12 * fresh_w.norm());
+    EXPECT_LE((J_w - fresh_J).norm(), 1e-12 * fresh_J.norm());
+  }
+}
+
 TEST(DisplayInfluence, InconsistentSizesAreRefused) {
   ElementStrainInfluence in = testing::SyntheticInfluence(4, 10, 0.0);
   in.preload_strain.conservativeResize(7);
