@@ -85,8 +85,9 @@ struct ReconstructionOptions {
   /// sizes, turned by its yaw, loaded most at its edges) among the starts.
   bool fit_punches = true;
   /// Also a round flat-faced punch (the same file: a face of one radius, p ~ 1 / sqrt(1 -
-  /// (r/a)^2), its rim capped alike), after the rectangular one: two unknowns fewer, so it wins
-  /// a round face where the rectangle only matches it (AIC).
+  /// (r/a)^2), its rim capped alike): kFull tries it after the starts; kAmortized checks it on
+  /// a hold's mean whose answer is inadequate (ContactReconstructor::CheckRoundPunch,
+  /// model_selection.cpp), outside the rotation.
   bool fit_round_punches = true;
   bool fit_shear = true;          ///< estimate the tangential force (three-axis sensors)
   int max_evaluations = 400;      ///< full: LM function evaluations per warm fit
