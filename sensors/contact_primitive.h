@@ -1,6 +1,6 @@
 #pragma once
 // The contact primitive: one object pressed onto a pad (sphere, rod, flat, flat-faced
-// punch), with its pose,
+// punch, rectangular or round), with its pose,
 // size and load. The central concept of the contact path: the sensor's forward model
 // predicts readings from it, contact reconstruction (src/contact/) recovers it from a scan,
 // and the leader press and the simulated pad press its rigid object.
@@ -17,20 +17,24 @@
 namespace sedbridge::sensors {
 
 /// The contact shapes the model and the reconstruction know.
-enum class ContactShape { kSphere, kCylinder, kFlat, kPunch };
+/// kPunch: a rectangular flat face; kRoundPunch: a round one (sensors/flat_punch_pressure.h).
+enum class ContactShape { kSphere, kCylinder, kFlat, kPunch, kRoundPunch };
 
-/// "sphere", "cylinder", "flat", "punch": the one name table (common/enum_names.h).
+/// Either flat-faced punch: a rigid face whose pressure keeps its shape as the force grows.
+constexpr bool IsPunch(ContactShape s) { return s == ContactShape::kPunch || s == ContactShape::kRoundPunch; }
+
+/// "sphere", "cylinder", "flat", "punch", "round_punch": the one name table (common/enum_names.h).
 const config::EnumNames<ContactShape>& NamesOf(ContactShape);
-/// "sphere" | "cylinder" | "flat" | "punch"; throws std::invalid_argument for anything else.
+/// "sphere" | "cylinder" | "flat" | "punch" | "round_punch"; throws std::invalid_argument for anything else.
 ContactShape ContactShapeFromName(const std::string& name);
 const char* ContactShapeName(ContactShape shape);
 
 /// One object pressed onto the sensor pad, in the pad frame.
 struct ContactPrimitive {
   ContactShape shape = ContactShape::kSphere;
-  double x_mm = 0;        ///< sphere: lowest point; cylinder: a point on the axis (a finite rod: its centre); punch: its face's centre; flat: unused
+  double x_mm = 0;        ///< sphere: lowest point; cylinder: a point on the axis (a finite rod: its centre); punch (either): its face's centre; flat: unused
   double y_mm = 0;
-  double radius_mm = 5;   ///< sphere/cylinder radius
+  double radius_mm = 5;   ///< sphere/cylinder radius; a round punch's face radius
   double yaw_deg = 0;     ///< cylinder axis direction (cos yaw, sin yaw, 0); a punch's first side
   double length_mm = 0;   ///< cylinder: its length, centred on (x, y) [mm]; 0 = crosses the whole pad
   double normal_force_N = 0;  ///< pressing force (>= 0)

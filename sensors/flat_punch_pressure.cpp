@@ -82,8 +82,9 @@ FlatPunch FlatPunchOf(const ContactPrimitive& c) {
   FlatPunch punch;
   punch.x_mm = c.x_mm;
   punch.y_mm = c.y_mm;
-  punch.half_size_mm[0] = c.half_size_mm[0];
-  punch.half_size_mm[1] = c.half_size_mm[1];
+  punch.round = c.shape == ContactShape::kRoundPunch;
+  punch.half_size_mm[0] = punch.round ? c.radius_mm : c.half_size_mm[0];
+  punch.half_size_mm[1] = punch.round ? c.radius_mm : c.half_size_mm[1];
   punch.yaw_deg = c.yaw_deg;
   punch.normal_force_N = c.normal_force_N;
   return punch;

@@ -1,7 +1,7 @@
 #pragma once
 // The pressure of a rigid flat-faced punch on the sensor's pad, on the forward model's load
-// grid: the forward model's punch (ContactShape::kPunch, SplatFlatPunch) and the rig check
-// (FlatPunchLoads).
+// grid: the forward model's punches (ContactShape::kPunch and kRoundPunch, SplatFlatPunch) and
+// the rig check (FlatPunchLoads).
 //
 // A rigid flat punch on an elastic half-space loads its edges most:
 //   round (radius a):        p(r) = F / (2 pi a sqrt(a^2 - r^2))          (Boussinesq)
@@ -38,8 +38,9 @@ struct FlatPunch {
 /// rounding_mm at or above the half size gives a uniform face.
 std::vector<SurfaceLoad> FlatPunchLoads(const TactileForwardModel& model, const FlatPunch& punch);
 
-/// A punch primitive (ContactShape::kPunch) as the forward model presses it: its pose, half
-/// sizes and force, rectangular, with the rig's rounding (FlatPunch's default).
+/// A punch primitive as the forward model presses it: its pose, half sizes and force, with the
+/// rig's rounding (FlatPunch's default); rectangular (ContactShape::kPunch) or round
+/// (kRoundPunch: radius_mm, the same rounding caps its rim's 1 / sqrt(1 - (r/a)^2)).
 FlatPunch FlatPunchOf(const ContactPrimitive& punch);
 
 /// Strips a side of the rectangle (SplatFlatPunch): a fixed count, so that the loads do not

@@ -457,6 +457,7 @@ void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLo
       break;
     }
     case ContactShape::kPunch:
+    case ContactShape::kRoundPunch:
       SplatFlatPunch(FlatPunchOf(c), {grid_x0_mm_, grid_y0_mm_}, h, grid_n_, loads);
       break;
     case ContactShape::kFlat:
@@ -508,6 +509,8 @@ double TactileForwardModel::PatchCellsEstimate(const ContactPrimitive& c) const 
     }
     case ContactShape::kPunch:  // the face's cells and a ring of the splat's around it
       return std::min(4.0 * (c.half_size_mm[0] + 0.5 * h) * (c.half_size_mm[1] + 0.5 * h), grid_area) / (h * h);
+    case ContactShape::kRoundPunch:  // the same for a disc
+      return std::min(kPi * (c.radius_mm + 0.5 * h) * (c.radius_mm + 0.5 * h), grid_area) / (h * h);
     default: return 0;
   }
 }

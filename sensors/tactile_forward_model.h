@@ -14,6 +14,8 @@
 //                cover spreads a thin line over a width of its own)
 //       punch    a rigid rectangular flat face, loaded most at its edges
 //                (sensors/flat_punch_pressure.h: SplatFlatPunch)
+//       round punch  a rigid round flat face, radius a: p ~ 1 / sqrt(1 - r^2/a^2) (the
+//                same file, the same capped edge)
 //       flat     uniform over the pad square (side pad_size_mm)
 //     each scaled so the cells sum to the normal force F; a tangential force T (stroking)
 //     is spread over the same cells in proportion to p.

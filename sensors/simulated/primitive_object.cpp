@@ -31,6 +31,16 @@ geometry::RigidObject RigidObjectOf(const ContactPrimitive& p, double rod_half_l
       pose.translation() = Eigen::Vector3d(p.x_mm * 1e-3, p.y_mm * 1e-3, half_m.z());
       break;
     }
+    case ContactShape::kRoundPunch: {
+      // A capped cylinder standing on its face (its axis, the object's x, turned to z), as a
+      // scene presses one.
+      o.name = "round_punch";
+      const double half_height_m = 0.5e-3 * kPunchHeight_mm;
+      o.shape = std::make_shared<geometry::CylinderSdf>(std::max(p.radius_mm, 0.0) * 1e-3, half_height_m);
+      pose.linear() = geometry::RotationFromRpyDeg(Eigen::Vector3d(0, 90, 0));
+      pose.translation() = Eigen::Vector3d(p.x_mm * 1e-3, p.y_mm * 1e-3, half_height_m);
+      break;
+    }
     case ContactShape::kFlat:
       o.name = "flat";
       o.shape = std::make_shared<geometry::PlaneSdf>();

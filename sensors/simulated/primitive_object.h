@@ -19,7 +19,9 @@ constexpr double kPunchHeight_mm = 10;
 /// resting on the pad plane, 2 rod_half_length_m long or, a finite rod, length_mm centred
 /// on (x, y); flat: the half-space above z = 0; punch: a box kPunchHeight_mm tall with its
 /// face (half sizes half_size_mm) on the pad, turned by its yaw, edges rounded
-/// kPunchRounding_mm. Radii below min_radius_mm are taken as it.
+/// kPunchRounding_mm; round punch: a capped cylinder of radius_mm, kPunchHeight_mm tall,
+/// standing on its face at (x, y) (its rim sharp, as a scene's cylinder). Sphere and rod radii
+/// below min_radius_mm are taken as it.
 geometry::RigidObject RigidObjectOf(const ContactPrimitive& primitive, double rod_half_length_m,
                                     double min_radius_mm = 0);
 

@@ -135,6 +135,11 @@ void AddFidelityOptions(ArgParser& args) {
               "--random's draws: rig (sizes, places and depths like the rig's presses) or wide (past them: spheres "
               "1.5-20 mm within 7 mm of the centre, rods 0.4-4 mm, forces from under 0.1 N to several N)",
               "rig")
+      .Option("random-faces", "K",
+              "--synthetic: also K flat faces drawn at random after --random's presses (rectangular punches 1.5-6 mm "
+              "a side, round ones of 1-3.5 mm radius and bars 5-10 mm long, in turn; their own stream, so --random's "
+              "rows stay as they are)",
+              "0")
       .Flag("rig-on-pad",
             "the presses of --cases re-made on the simulated sensor with --pad (each object at its place, pressed "
             "to its hold force): how far the simulated pad, and so --random's sets, stands in for the recorded sensor")
@@ -180,15 +185,18 @@ std::vector<FidelityCase> SelectPresses(const ArgParser& args, const sensors::Se
     if (random < 0 || random > 1000) throw UsageError("--random must be in 0..1000");
     const auto seed = static_cast<uint64_t>(args.GetInt("seed"));
     if (args.GetFlag("rig-on-pad")) {
-      if (random > 0) throw UsageError("--rig-on-pad and --random choose different presses: give one");
+      if (random > 0 || args.GetInt("random-faces") > 0)
+        throw UsageError("--rig-on-pad and --random choose different presses: give one");
       if (args.Has("random-ranges"))
         throw UsageError("--random-ranges draws --random's presses: give --random N, not --rig-on-pad");
       presses = CalibrationPressesOnSimulatedPad(
           sensors::LoadCalibrationPresses(config::ResolveResource(args.Get("cases")), profile), profile, seed, pad);
     } else {
       if (random == 0 && args.Has("random-ranges")) throw UsageError("--random-ranges needs --random N");
+      const long faces = args.GetInt("random-faces");
+      if (faces < 0 || faces > 1000) throw UsageError("--random-faces must be in 0..1000");
       const auto ranges = config::ParseEnum<RandomRanges>(args.Get("random-ranges"), "--random-ranges");
-      presses = SyntheticFidelityCases(profile, seed, pad, static_cast<int>(random), ranges);
+      presses = SyntheticFidelityCases(profile, seed, pad, static_cast<int>(random), ranges, static_cast<int>(faces));
     }
   } else {
     for (const auto& p : sensors::LoadCalibrationPresses(config::ResolveResource(args.Get("cases")), profile))

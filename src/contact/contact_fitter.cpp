@@ -18,9 +18,9 @@ using sensors::ContactShape;
 // (PredictLinearInShear). The force column is free
 // too: the patch depends on F and R only through its Hertz half-width (a^3 ~ F R for a
 // sphere, b^2 ~ F R / L for a rod), and the normal part is F times a function of that
-// width, so d pred / d log F = normal part + d pred / d log R (the flat and the punch, rigid
+// width, so d pred / d log F = normal part + d pred / d log R (the flat and the punches, rigid
 // faces whose pressure keeps its shape as the force grows: = normal part; a punch's half
-// sizes are differenced like the pose, 5 evaluations a Jacobian).
+// sizes are differenced like the pose, 5 evaluations a Jacobian, a round punch's radius 3).
 // The pose and radius columns are forward differences with NumericalDiff's step
 // (1e-3 |u_j|, or 1e-3 at 0), from the parts already computed at u. A Jacobian costs one
 // model evaluation per pose/radius unknown (3 for spheres and rods, 5 for a finite rod,
@@ -196,7 +196,7 @@ struct Functor : common::DynamicSizeFunctor {
     // A punch's secant covers every geometric column (its force column is the normal part
     // exactly, nothing to difference): a Jacobian for no evaluation, where differences cost
     // five of its largest patches (a 6 x 6 mm face: 700 cells each).
-    const bool punch = shape == ContactShape::kPunch;
+    const bool punch = sensors::IsPunch(shape);
     if (!pair && refresh > 1 && log_force_column > kLogRadius && last.since_differences >= 0 &&
         last.since_differences + 1 < refresh && last.jacobian.rows() == n_pred && last.jacobian.cols() == n &&
         last.at.size() == n) {
@@ -250,7 +250,7 @@ struct Functor : common::DynamicSizeFunctor {
       Eigen::VectorXd d_pred_log_r = Eigen::VectorXd::Zero(normal0.size());  // the flat: none
       for (int j = 0; j < log_force; ++j) {
         Jp.col(j) = difference_column(j);
-        if (j == kLogRadius && shape != ContactShape::kPunch) d_pred_log_r = Jp.col(j);
+        if (j == kLogRadius && !sensors::IsPunch(shape)) d_pred_log_r = Jp.col(j);
       }
       Jp.col(log_force) = normal0 + d_pred_log_r;
       set_column(log_force, Jp.col(log_force));
@@ -271,7 +271,7 @@ void SetRadiusPrior(Functor& f, const ReconstructionOptions& options, double tra
                     double tracked_log_sigma) {
   const bool tracked = !f.pair && std::isfinite(tracked_log_radius) && tracked_log_sigma > 0;
   const double prior_sigma = tracked ? tracked_log_sigma : options.radius_prior_log_sigma;
-  if (f.shape != ContactShape::kFlat && f.shape != ContactShape::kPunch && prior_sigma > 0) {
+  if (f.shape != ContactShape::kFlat && !sensors::IsPunch(f.shape) && prior_sigma > 0) {
     f.prior_weight = 1.0 / prior_sigma;
     f.prior_mean = tracked ? tracked_log_radius : std::log(options.radius_prior_mm);
   }
@@ -391,7 +391,7 @@ Fit Answer(const FitProblem& problem, Functor& f, Eigen::LevenbergMarquardtSpace
   // A radius the scans barely determine (thin rods: a patch narrower than the load grid) can
   // drift out of the plausible range; the answer is then the nearest plausible radius (the
   // next scan's warm fit starts there), not a fallback.
-  if (f.shape != ContactShape::kFlat && f.shape != ContactShape::kPunch) {
+  if (f.shape != ContactShape::kFlat && !sensors::IsPunch(f.shape)) {
     auto clamp_radius = [&](ContactPrimitive& p) {
       const double r = std::clamp(p.radius_mm, std::exp(problem.log_r_lo), std::exp(problem.log_r_hi));
       if (r != p.radius_mm) fit.at_radius_bound = true, p.radius_mm = r;
@@ -413,7 +413,7 @@ Fit Answer(const FitProblem& problem, Functor& f, Eigen::LevenbergMarquardtSpace
     fit.chi2 = data.allFinite() ? data.squaredNorm() : std::numeric_limits<double>::infinity();
     fit.prediction = PredictionAt(f, u);
   }
-  if (!f.pair && f.shape != ContactShape::kFlat && f.shape != ContactShape::kPunch)
+  if (!f.pair && f.shape != ContactShape::kFlat && !sensors::IsPunch(f.shape))
     fit.radius_prior_weight = f.prior_weight;
   fit.evaluations = *f.evaluations;
   fit.budget_used = *f.budget_used;

@@ -33,7 +33,7 @@ LeaderPress PressReconstructed(scene::FingertipCompliance& leader, const Contact
   const auto slipped = [&] {
     const scene::PressStatus s = out.result.status;
     return estimate.primitive.shape != sensors::ContactShape::kFlat &&
-           estimate.primitive.shape != sensors::ContactShape::kPunch &&
+           !sensors::IsPunch(estimate.primitive.shape) &&
            (s == scene::PressStatus::kNoContact || s == scene::PressStatus::kPatchEdge);
   };
   if (!slipped()) return out;  // the bridge's every scan: no copy of the estimate

@@ -33,6 +33,11 @@ void AppendShapeUnknowns(const ContactPrimitive& p, Eigen::VectorXd* u, int* i) 
       }
       break;
     }
+    case ContactShape::kRoundPunch:
+      (*u)[(*i)++] = p.x_mm;
+      (*u)[(*i)++] = p.y_mm;
+      (*u)[(*i)++] = std::log(p.radius_mm);
+      break;
     case ContactShape::kPunch:
       (*u)[(*i)++] = p.x_mm;
       (*u)[(*i)++] = p.y_mm;
@@ -53,6 +58,7 @@ int UnknownCount(ContactShape s, bool pair, bool finite, bool shear) {
   const int base = pair                       ? 2 * kSphereUnknowns
                    : s == ContactShape::kFlat  ? 1
                    : s == ContactShape::kPunch ? kPunchUnknowns
+                   : s == ContactShape::kRoundPunch ? kRoundPunchUnknowns
                    : finite                    ? 6
                                                : 4;
   return base + (shear ? 2 : 0);
@@ -97,6 +103,11 @@ ContactPrimitive ShapeFromUnknowns(ContactShape shape, bool finite, const double
       p.radius_mm = 0;
       break;
     }
+    case ContactShape::kRoundPunch:
+      p.x_mm = u[i++];
+      p.y_mm = u[i++];
+      p.radius_mm = std::exp(std::clamp(u[i++], std::log(kMinPunchHalfSize_mm), std::log(kMaxPunchHalfSize_mm)));
+      break;
     case ContactShape::kFlat: p.radius_mm = 0; break;
   }
   p.normal_force_N = std::exp(std::clamp(u[i++], -20.0, 5.0));

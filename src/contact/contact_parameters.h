@@ -8,6 +8,7 @@
 //   finite rod:  offset, yaw, log R, centre along the axis, log half-length, log F
 //   flat:        log F
 //   punch:       x, y (the face's centre), log a, log b (half sizes), yaw, log F
+//   round punch: x, y (the face's centre), log a (its radius), log F
 //   pair:        two spheres' (8), the second's after the first's
 // then, with shear, T_x, T_y [N] (the whole tangential force).
 
@@ -31,10 +32,11 @@ constexpr int kSphereUnknowns = 4;
 
 /// A finite rod's half-length stays within these [mm] (longer crosses the pad anyway).
 constexpr double kMinHalfLength_mm = 0.25, kMaxHalfLength_mm = 15;
-/// A punch's half sizes stay within these [mm]: narrower is a rod's edge to the sensor (its
-/// taxels 4.7 mm apart), wider covers the pad.
+/// A punch's half sizes (a round one's radius) stay within these [mm]: narrower is a rod's
+/// edge to the sensor (its taxels 4.7 mm apart), wider covers the pad.
 constexpr double kMinPunchHalfSize_mm = 0.25, kMaxPunchHalfSize_mm = 8;
 constexpr int kPunchUnknowns = 6;
+constexpr int kRoundPunchUnknowns = 4;
 
 /// A cylinder of finite length (an edge), not one across the pad.
 bool IsFiniteRod(const sensors::ContactPrimitive& p);

@@ -71,6 +71,8 @@ bool ContactReconstructor::Plausible(const ContactPrimitive& p) const {
   if (p.shape == ContactShape::kPunch) {
     for (const double half : p.half_size_mm)
       if (!(half >= kMinPunchHalfSize_mm && half <= kMaxPunchHalfSize_mm)) return false;
+  } else if (p.shape == ContactShape::kRoundPunch) {
+    if (!(p.radius_mm >= kMinPunchHalfSize_mm && p.radius_mm <= kMaxPunchHalfSize_mm)) return false;
   } else if (p.shape != ContactShape::kFlat &&
              (p.radius_mm < options_.min_radius_mm || p.radius_mm > options_.max_radius_mm)) {
     return false;
@@ -127,6 +129,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
     SelectFull(s);
   else if (options_.selection == ModelSelection::kAmortized && !settled)
     SelectAmortized(s);
+  CheckRoundPunch(s);
   counters_.evaluations += estimate_.evaluations;
   if (!std::isfinite(s.best.chi2)) {
     estimate_.problem = "no shape fitted";
@@ -243,6 +246,7 @@ const ContactEstimate& ContactReconstructor::NoContact() {
   explored_ = 0;
   pair_checked_ = false;
   punch_round_ = false;
+  round_punch_started_ = round_punch_done_ = false;
   return estimate_;
 }
 

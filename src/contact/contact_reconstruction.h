@@ -97,6 +97,7 @@ class ContactReconstructor {
     explored_ = 0;
     pair_checked_ = false;
     punch_round_ = false;
+    round_punch_started_ = round_punch_done_ = false;
     hold_.Reset();
   }
 
@@ -136,6 +137,8 @@ class ContactReconstructor {
   /// flat when nothing explains the scan.
   void SelectAmortized(Selection& s);
   void CheckPair(Selection& s);
+  /// kAmortized: the round punch's check on a hold's mean, once an episode (model_selection.cpp).
+  void CheckRoundPunch(Selection& s);
   void AdvanceCandidates(Selection& s, int budget, bool explained);
   void FlatWhenNothing(Selection& s);
   /// A fit that one taxel's misfit would send to the fallback, redone without that taxel.
@@ -191,6 +194,11 @@ class ContactReconstructor {
   int explored_ = 0;     // starts tried in this contact episode
   bool pair_checked_ = false;  // the pair's quick check ran in this contact episode
   bool punch_round_ = false;   // a punch replaced another shape in this contact episode (AdvanceCandidates)
+  // The round punch's check (CheckRoundPunch): its iterate over the scans of this episode.
+  bool round_punch_started_ = false, round_punch_done_ = false;
+  Hypothesis round_punch_;
+  Prediction round_punch_prediction_;
+  int round_punch_spent_ = 0;
   // Amortized selection: the candidate being fitted over several scans (its iterate) and
   // the evaluations it has spent.
   bool have_candidate_ = false;

@@ -25,12 +25,23 @@ struct SelectionStart {
   double radius_mm, yaw_deg;
   bool pair = false, finite = false;
 };
-/// A punch start's half size across its principal direction [mm].
+/// A punch start's half size across its principal direction [mm] (a round punch's radius).
 constexpr double kPunchStartHalfSize_mm = 1.5;
+/// The round punch's check waits for a hold's mean of this many scans (CheckRoundPunch).
+constexpr int kRoundPunchHoldScans = 8;
+/// ... and replaces the answer when Better by strong evidence: its data chi^2 lower by at
+/// least this (a likelihood ratio of e^4.5, about 90: between Kass and Raftery's "strong" 6 and
+/// "very strong" 10 in 2 ln B). The sphere it competes with has as many unknowns, so Better's
+/// AIC alone lets noise decide between a small dome and a small face.
+constexpr double kRoundPunchMarginChi2 = 9;
+/// The round punch's start: kPunchStartHalfSize_mm in radius at the centroid.
+constexpr SelectionStart kRoundPunchStart{sensors::ContactShape::kRoundPunch, kPunchStartHalfSize_mm, 0};
 
 /// A scan's starts: spheres of 3 and 10 mm, rods of 1, 1.5 (across) and 3 mm along the
 /// principal direction, the flat; then the finite rod (fit_finite_rods), the pair
-/// (fit_pairs) and the punch (fit_punches) last.
+/// (fit_pairs) and the punch (fit_punches) last. The round punch is no start of the
+/// amortized rotation: it gets a check of its own on the hold's mean (CheckRoundPunch in
+/// contact_reconstruction.h); kFull tries it after these (fit_round_punches).
 struct SelectionStarts {
   SelectionStart start[9];
   int count = 0;
@@ -43,7 +54,8 @@ SelectionStarts MakeStarts(const ReconstructionOptions& options, const NormalMom
 /// spheres, each with half the force, on the principal axis either side of the centroid, as
 /// far apart as the readings spread. A punch: centred on the centroid, turned to the
 /// principal direction, kPunchStartHalfSize_mm across it and longer along it as the readings
-/// spread more that way.
+/// spread more that way. A round punch: centred on the centroid, kPunchStartHalfSize_mm in
+/// radius.
 Hypothesis StartHypothesis(const ReconstructionOptions& options, const sensors::ContactPrimitive& guess,
                            const NormalMoments& moments, const SelectionStart& start);
 

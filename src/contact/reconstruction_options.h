@@ -84,6 +84,11 @@ struct ReconstructionOptions {
   /// Also a rectangular flat-faced punch (sensors/flat_punch_pressure.h: a face of two half
   /// sizes, turned by its yaw, loaded most at its edges) among the starts.
   bool fit_punches = true;
+  /// Also a round flat-faced punch (the same file: a face of one radius, p ~ 1 / sqrt(1 -
+  /// (r/a)^2), its rim capped alike): kFull tries it after the starts; kAmortized checks it on
+  /// a hold's mean whose answer is inadequate (ContactReconstructor::CheckRoundPunch,
+  /// model_selection.cpp), outside the rotation.
+  bool fit_round_punches = true;
   bool fit_shear = true;          ///< estimate the tangential force (three-axis sensors)
   int max_evaluations = 400;      ///< full: LM function evaluations per warm fit
   int explore_evaluations = 150;  ///< full: LM function evaluations per cold start

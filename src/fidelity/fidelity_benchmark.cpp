@@ -87,6 +87,7 @@ std::string ObjectKind(const FidelityRow& row) {
     case sensors::ContactShape::kCylinder:
       return "rod";
     case sensors::ContactShape::kPunch:
+    case sensors::ContactShape::kRoundPunch:
       return "punch";
     case sensors::ContactShape::kSphere:
       return std::hypot(t.shear_x_N, t.shear_y_N) > 0.05 * t.normal_force_N ? "stroke" : "sphere";

@@ -10,6 +10,7 @@
 #include "common/yaml_reader.h"
 #include "sensors/scan_assembler.h"
 #include "sensors/simulated/pad_rig_check.h"
+#include "sensors/simulated/primitive_object.h"
 #include "sensors/simulated/simulated_sensor.h"
 
 namespace sedbridge::fidelity {
@@ -18,6 +19,8 @@ namespace {
 // Synthetic press timing [s]: approach, ramp down, hold, release.
 constexpr double kRampStart_s = 0.2, kRampEnd_s = 0.7, kHoldEnd_s = 0.95, kEnd_s = 1.25;
 constexpr double kLift_mm = 0.3;  // objects start this far above the pad
+// Flat faces' depths into the layer pad [mm]: about the rig punches' 0.5-1 N.
+constexpr double kFacePunchDepth_mm = 0.55, kFaceRoundDepth_mm = 0.4, kFaceBarDepth_mm = 0.4;
 
 struct SyntheticSpec {
   std::string name, label;
@@ -110,6 +113,34 @@ SyntheticSpec RodSpec(const std::string& name, double r, double yaw, double x, d
   return spec;
 }
 
+// A flat-faced punch kPunchHeight_mm tall standing on its face centred on (x, y), as a scene
+// presses one: rectangular (half sizes a x b, turned by yaw; a box with the leader's punch
+// rounding, sensors::kPunchRounding_mm) or round (a = its radius; a capped cylinder, its rim
+// sharp). The truth is the punch primitive (kPunch with its half sizes, kRoundPunch with
+// radius_mm), pressed on the leader as these objects.
+SyntheticSpec PunchSpec(const std::string& name, bool round, double a, double b, double yaw, double x, double y,
+                        double d) {
+  constexpr double h = sensors::kPunchHeight_mm;
+  char label[96], yaml[320];
+  sensors::ContactPrimitive truth = Primitive(round ? sensors::ContactShape::kRoundPunch : sensors::ContactShape::kPunch,
+                                              x, y, round ? a : 0, round ? 0 : yaw);
+  if (round) {
+    std::snprintf(label, sizeof label, "round punch R%g (%g, %g)", a, x, y);
+    std::snprintf(yaml, sizeof yaml,
+                  "{shape: cylinder, radius_mm: %g, length_mm: %g, position_mm: [%g, %g, %g], rpy_deg: [0, 90, 0]", a, h,
+                  x, y, 0.5 * h + kLift_mm);
+  } else {
+    std::snprintf(label, sizeof label, "%s %gx%g yaw %g (%g, %g)", std::max(a, b) >= 3 * std::min(a, b) ? "bar" : "punch",
+                  2 * a, 2 * b, yaw, x, y);
+    std::snprintf(yaml, sizeof yaml,
+                  "{shape: box, size_mm: [%g, %g, %g], rounding_mm: %g, position_mm: [%g, %g, %g], rpy_deg: [0, 0, %g]",
+                  2 * a, 2 * b, h, std::min(sensors::kPunchRounding_mm, std::min(a, b)), x, y, 0.5 * h + kLift_mm, yaw);
+    truth.half_size_mm[0] = a;
+    truth.half_size_mm[1] = b;
+  }
+  return {name, label, yaml, d, 0, 0, true, truth, {}};
+}
+
 SyntheticSpec FlatSpec(const std::string& name, double d) {
   return {name, "flat", "{shape: plane, rpy_deg: [180, 0, 0], position_mm: [0, 0, 0.3]", d, 0, 0, true,
           Primitive(sensors::ContactShape::kFlat, 0, 0, 0), {}};
@@ -150,6 +181,11 @@ std::vector<SyntheticSpec> Specs() {
   s.push_back({"sliding_sphere", "sphere R5 sliding +x 4 mm (mu 0.4)",
                "{shape: sphere, radius_mm: 5, position_mm: [-2, 0, 5.3]", 0.5, 4.0, 0.4, true,
                Primitive(ContactShape::kSphere, 0, 0, 5), {}});
+  // Flat faces (after the rest, whose rows they leave as they were): a rectangular punch, a
+  // round one and a bar, each about 1 N on the layer pad as the rig's punches.
+  s.push_back(PunchSpec("punch_4x2_yaw30", false, 2.0, 1.0, 30, 1, -1, kFacePunchDepth_mm));
+  s.push_back(PunchSpec("round_punch_r2", true, 2.0, 2.0, 0, -1, 1.5, kFaceRoundDepth_mm));
+  s.push_back(PunchSpec("bar_8x1.5_yaw-20", false, 4.0, 0.75, -20, 0.5, 0.5, kFaceBarDepth_mm));
   return s;
 }
 
@@ -218,6 +254,34 @@ std::vector<SyntheticSpec> RandomSpecs(int count, uint64_t seed, RandomRanges ra
       SyntheticSpec spec = SphereSpec(name, r, round2(mid_x - half_mm * c), round2(y - half_mm * sn), d);
       MakeStroke(spec, yaw_deg, 0.3, mid_x, y);
       s.push_back(spec);
+    }
+  }
+  return s;
+}
+
+// Flat faces drawn at random (SyntheticFidelityCases' random_faces): rectangular punches,
+// round ones and bars in turn, at any yaw within 4 mm of the pad centre, from a stream of
+// their own (seed's drawn presses stay as they are); named from `first` on.
+std::vector<SyntheticSpec> RandomFaceSpecs(int count, uint64_t seed, int first) {
+  std::mt19937_64 rng(CaseNoiseSeed(seed ^ 0x4641434553ull, 0));  // "FACES"
+  auto uniform = [&](double a, double b) { return std::uniform_real_distribution<double>(a, b)(rng); };
+  auto round2 = [](double v) { return std::round(v * 100) / 100; };
+  std::vector<SyntheticSpec> s;
+  for (int i = 0; i < count; ++i) {
+    char name[64];
+    const int kind = i % 3;
+    const double x = round2(uniform(-4, 4)), y = round2(uniform(-4, 4)), yaw = std::round(uniform(-90, 90));
+    const double depth = round2(uniform(0.8, 1.25) * (kind == 1 ? kFaceRoundDepth_mm : kind == 2 ? kFaceBarDepth_mm : kFacePunchDepth_mm) * 100) / 100;
+    if (kind == 0) {  // a punch 1.5-6 mm a side, up to 2:1
+      const double a = round2(uniform(0.75, 3.0)), b = round2(a * uniform(0.5, 1.0));
+      std::snprintf(name, sizeof name, "random_%02d_punch", first + i);
+      s.push_back(PunchSpec(name, false, a, b, yaw, x, y, depth));
+    } else if (kind == 1) {  // a round punch 1-3.5 mm in radius
+      std::snprintf(name, sizeof name, "random_%02d_round_punch", first + i);
+      s.push_back(PunchSpec(name, true, round2(uniform(1.0, 3.5)), 0, 0, x, y, depth));
+    } else {  // a bar 5-10 mm long, 1-2 mm wide
+      std::snprintf(name, sizeof name, "random_%02d_bar", first + i);
+      s.push_back(PunchSpec(name, false, round2(uniform(2.5, 5.0)), round2(uniform(0.5, 1.0)), yaw, x, y, depth));
     }
   }
   return s;
@@ -396,12 +460,16 @@ const config::EnumNames<RandomRanges>& NamesOf(RandomRanges) {
 }
 
 std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& profile, uint64_t seed,
-                                                 sensors::PadMechanics pad, int random_count, RandomRanges ranges) {
+                                                 sensors::PadMechanics pad, int random_count, RandomRanges ranges,
+                                                 int random_faces) {
   // A drawn press gets its own noise stream: with one stream, every case saw the same noise
   // at the same scan, and N drawn presses were not N independent draws. The fixed set keeps
   // one stream, so its table compares with earlier runs.
-  return random_count > 0 ? Simulate(RandomSpecs(random_count, seed, ranges), profile, seed, pad, true)
-                          : Simulate(Specs(), profile, seed, pad, false);
+  if (random_count <= 0 && random_faces <= 0) return Simulate(Specs(), profile, seed, pad, false);
+  std::vector<SyntheticSpec> specs = RandomSpecs(random_count, seed, ranges);
+  for (SyntheticSpec& face : RandomFaceSpecs(random_faces, seed, std::max(random_count, 0)))
+    specs.push_back(std::move(face));
+  return Simulate(specs, profile, seed, pad, true);
 }
 
 std::vector<FidelityCase> CalibrationPressesOnSimulatedPad(const std::vector<sensors::CalibrationPress>& all_presses,

@@ -7,7 +7,8 @@
 //    and force from cases.json, the load over time from the rig's protocol;
 //  - a synthetic set: the simulated sensor pressed by shapes the rig did not use — spheres
 //    2-15 mm, rods 0.5-3 mm at several yaws, a flat, a box edge and a box corner, two
-//    spheres at once, and a sphere sliding with friction — with 2-count noise. Its pad is by
+//    spheres at once, a sphere sliding with friction, and flat faces (a rectangular punch,
+//    a round one and a bar) — with 2-count noise. Its pad is by
 //    default the rig-fitted elastomer layer (sensors::RigFittedLayerPad: the simulated pad
 //    that reproduces the rig's presses best), whose pressure goes through the calibrated
 //    kernels; the reconstruction's Hertz patches and uniform flats are only approximations
@@ -71,10 +72,13 @@ FidelityCase FromCalibrationPress(const sensors::CalibrationPress& press);
 /// presses share the stream `seed`. The simulated sensor sees every object as it is; a rod or
 /// sphere thinner than the leader holds (kLeaderMinRodRadius_mm, kLeaderMinSphereRadius_mm)
 /// is pressed on the leader for the truth at that minimum, as the rig presses' truths are.
+/// random_faces > 0: that many flat faces drawn after them (rectangular punches, round ones
+/// and bars in turn, from a stream of their own: the random_count presses stay as they were,
+/// and so do their rows), named on from random_count; the same for either ranges.
 std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& profile, uint64_t seed = 1,
                                                  sensors::PadMechanics pad = sensors::PadMechanics::kLayer,
                                                  int random_count = 0,
-                                                 RandomRanges ranges = RandomRanges::kRig);
+                                                 RandomRanges ranges = RandomRanges::kRig, int random_faces = 0);
 
 /// The calibration rig's presses re-made on the simulated sensor: each press's object, at
 /// its place, pressed into the simulated pad `pad` to the depth at which the pad carries the

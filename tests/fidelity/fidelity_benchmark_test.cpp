@@ -273,6 +273,42 @@ TEST(FidelityCase, RandomSetIsSeededAndRigLike) {
   EXPECT_EQ(same_noise, 0);
 }
 
+// `--random-faces K`: K flat faces drawn after --random's presses (rectangular punches, round
+// ones and bars in turn), from a stream of their own: the drawn presses before them are the
+// same scans as without them; the faces are their punch primitives, pressed to the rig's
+// forces. The fixed set ends with its three faces, after the presses it had.
+TEST(FidelityCase, RandomFacesAreAddedAfterTheDrawnPressesWithoutChangingThem) {
+  const sensors::SensorProfile profile = sensors::LoadNamedSensorProfile("uskin_4x4");
+  const auto plain = SyntheticFidelityCases(profile, 5, sensors::PadMechanics::kLayer, 4);
+  const auto faces = SyntheticFidelityCases(profile, 5, sensors::PadMechanics::kLayer, 4, RandomRanges::kRig, 3);
+  ASSERT_EQ(plain.size(), 4u);
+  ASSERT_EQ(faces.size(), 7u);
+  for (size_t i = 0; i < plain.size(); ++i) {
+    EXPECT_EQ(plain[i].name, faces[i].name);
+    ASSERT_EQ(plain[i].scans.size(), faces[i].scans.size());
+    EXPECT_EQ(plain[i].scans.back().raw_counts, faces[i].scans.back().raw_counts) << plain[i].name;
+  }
+  const sensors::ContactShape kinds[3] = {sensors::ContactShape::kPunch, sensors::ContactShape::kRoundPunch,
+                                          sensors::ContactShape::kPunch};
+  const char* names[3] = {"random_04_punch", "random_05_round_punch", "random_06_bar"};
+  for (int k = 0; k < 3; ++k) {
+    const FidelityCase& c = faces[4 + size_t(k)];
+    EXPECT_EQ(c.name, names[k]);
+    ASSERT_TRUE(c.has_primitive);
+    EXPECT_EQ(c.primitive.shape, kinds[k]) << c.name;
+    double peak_N = 0;
+    for (const Eigen::Vector3d& load : c.load_N) peak_N = std::max(peak_N, load.z());
+    EXPECT_GT(peak_N, 0.3) << c.label;
+    EXPECT_LT(peak_N, 3.0) << c.label;
+  }
+  const auto fixed = SyntheticFidelityCases(profile);
+  ASSERT_GE(fixed.size(), 3u);
+  EXPECT_EQ(fixed[fixed.size() - 3].name, "punch_4x2_yaw30");
+  EXPECT_EQ(fixed[fixed.size() - 2].primitive.shape, sensors::ContactShape::kRoundPunch);
+  EXPECT_EQ(fixed[fixed.size() - 2].primitive.radius_mm, 2.0);
+  EXPECT_EQ(fixed.back().name, "bar_8x1.5_yaw-20");
+}
+
 // `--random-ranges wide` draws the same kinds in the same order as the rig ranges from a
 // seed, at sizes and depths past the rig's: over 40 presses, spheres larger than 15 mm or
 // smaller than 2 mm and rods thicker than 3 mm appear, and the pad carries both lighter and
