@@ -4,6 +4,7 @@
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "sensors/calibration_press.h"
@@ -16,7 +17,9 @@ namespace {
 // (its cells are about half ours: every fine cell under ours gets a share).
 constexpr int kSub = 3;
 // Armijo constant and the smallest step of the line search [-].
-constexpr double kArmijo = 0.25, kMinStep = 1e-8;
+constexpr int kLineSearchTries = 30;
+// A tangential force this many of its own standard deviations or more gets the second pass [-].
+constexpr double kShearPassSigma = 3.0;
 
 }  // namespace
 
@@ -132,39 +135,80 @@ int SurfacePressureInversion::SolvePass(const Eigen::VectorXd& w, const Eigen::V
   };
   // Warm start: the last scan's dual, unless it is worse than no load at all (y = r~).
   Eigen::VectorXd y = y_.size() == m ? y_ : Eigen::VectorXd::Zero(m);
-  field(y, g_);
   Eigen::VectorXd g0;
   field(rt, g0);
-  if (psi(rt, g0) < psi(y, g_)) y = rt, g_ = g0;
-  Eigen::VectorXd grad(m), step(m), y_try(m), g_try(n);
+  const double psi0 = psi(rt, g0);
+  field(y, g_);  // corr_ is y's from here on
+  if (psi0 < psi(y, g_)) {
+    y = rt;
+    g_ = g0;
+    corr_.noalias() = A_.transpose() * w.cwiseProduct(y);
+  }
+  Eigen::VectorXd grad(m), step(m), c1(n), As_g(m);
   int it = 0;
   for (; it < options_.max_iterations; ++it) {
-    grad = y + w.cwiseProduct(A_ * g_) - rt;
-    if (grad.squaredNorm() <= options_.tolerance * m) break;
-    // Hessian I + A~_S A~_S^T / lambda over the loaded cells S.
+    // The loaded cells S, the gradient y + A~_S g_S - r~ and the Hessian I + A~_S A~_S^T / lambda.
     active_.clear();
     for (int c = 0; c < n; ++c)
       if (g_[c] > 0) active_.push_back(c);
+    As_.resize(m, Eigen::Index(active_.size()));
+    As_g.setZero();
+    for (size_t k = 0; k < active_.size(); ++k) {
+      As_.col(Eigen::Index(k)) = w.cwiseProduct(A_.col(active_[k]));
+      As_g += As_.col(Eigen::Index(k)) * g_[active_[k]];
+    }
+    grad = y + As_g - rt;
+    if (grad.squaredNorm() <= options_.tolerance * m) break;
     J_.setIdentity(m, m);
-    if (!active_.empty()) {
-      Eigen::MatrixXd As(m, Eigen::Index(active_.size()));
-      for (size_t k = 0; k < active_.size(); ++k) As.col(Eigen::Index(k)) = w.cwiseProduct(A_.col(active_[k]));
-      J_.selfadjointView<Eigen::Lower>().rankUpdate(As, 1.0 / lambda_);
-    }
+    if (!active_.empty()) J_.selfadjointView<Eigen::Lower>().rankUpdate(As_, 1.0 / lambda_);
     step = -J_.selfadjointView<Eigen::Lower>().llt().solve(grad);
-    const double slope = grad.dot(step), at = psi(y, g_);
-    double t = 1;
-    for (; t >= kMinStep; t *= 0.5) {
-      y_try = y + t * step;
-      field(y_try, g_try);
-      if (psi(y_try, g_try) <= at + kArmijo * t * slope) break;
+    // Exact line search: psi along y + t step is piecewise quadratic, its derivative
+    //   d(t) = a + b t + sum_j max(0, c0_j + t c1_j - mu) c1_j / lambda
+    // increasing in t; its root by safeguarded Newton (O(#cells) per try, no product).
+    c1.noalias() = A_.transpose() * w.cwiseProduct(step);
+    ++evaluations_;
+    const double a0 = y.dot(step) - rt.dot(step), b0 = step.squaredNorm();
+    auto derivative = [&](double t, double* slope) {
+      double d = a0 + b0 * t, s2 = b0;
+      for (int j = 0; j < n; ++j) {
+        const double v = corr_[j] + t * c1[j] - mu;
+        if (v > 0) d += v * c1[j] / lambda_, s2 += c1[j] * c1[j] / lambda_;
+      }
+      *slope = s2;
+      return d;
+    };
+    double lo = 0, hi = -1, t = 1, slope = 0;
+    for (int k = 0; k < kLineSearchTries; ++k) {
+      const double d = derivative(t, &slope);
+      if (std::abs(d) <= 1e-12 * (std::abs(a0) + 1e-300)) break;
+      if (d < 0) lo = t; else hi = t;
+      double next = t - d / slope;
+      if (hi < 0) {
+        next = std::max(next, 2 * t);  // no upper bracket yet: at least double
+      } else if (!(next > lo && next < hi)) {
+        next = 0.5 * (lo + hi);
+      }
+      t = next;
     }
-    if (t < kMinStep) break;
-    y.swap(y_try);
-    g_.swap(g_try);
+    if (!(t > 0) || !std::isfinite(t)) break;
+    y += t * step;
+    corr_ += t * c1;
+    g_ = ((corr_.array() - mu).max(0.0) / lambda_).matrix();
   }
   y_ = y;
   return it;
+}
+
+double SurfacePressureInversion::ShearSigma_N(const Eigen::VectorXd& w, double total) const {
+  // The least-squares tangential force's standard deviation [N]: 1 / sqrt of the smaller
+  // eigenvalue of its normal matrix (noise units).
+  Eigen::MatrixXd S(w.size(), 2);
+  S.col(0) = w.cwiseProduct(At_x_ * g_) / total;
+  S.col(1) = w.cwiseProduct(At_y_ * g_) / total;
+  const Eigen::Matrix2d N = S.transpose() * S;
+  const double tr = N.trace(), det = N.determinant();
+  const double smallest = 0.5 * tr - std::sqrt(std::max(0.0, 0.25 * tr * tr - det));
+  return smallest > 0 ? 1.0 / std::sqrt(smallest) : std::numeric_limits<double>::infinity();
 }
 
 const SurfacePressure& SurfacePressureInversion::Solve(const Scan& scan) {
@@ -204,9 +248,6 @@ const SurfacePressure& SurfacePressureInversion::Solve(const Eigen::VectorXd& re
       return out;
     }
   }
-  // Pass 1: the normal channels alone.
-  Eigen::VectorXd wz = w;
-  for (int k = 0; k < taxels; ++k) wz[3 * k] = wz[3 * k + 1] = 0;
   auto debias = [&](const Eigen::VectorXd& weights, const Eigen::VectorXd& target) {
     const Eigen::VectorXd p = weights.cwiseProduct(A_ * g_), t = weights.cwiseProduct(target);
     const double pp = p.squaredNorm();
@@ -225,17 +266,24 @@ const SurfacePressure& SurfacePressureInversion::Solve(const Eigen::VectorXd& re
     if (!(N.determinant() > 0)) return s;
     return Eigen::Vector2d(N.ldlt().solve(S.transpose() * res));
   };
-  out.iterations = SolvePass(wz, r);
-  debias(wz, r);
+  evaluations_ = 0;
+  // Pass 1: every channel, no tangential force (a press; a stroke's shear channels then
+  // mislead it a little). The tangential force by least squares on the field.
+  out.iterations = SolvePass(w, r);
+  debias(w, r);
   Eigen::Vector2d T = shear();
-  // Pass 2: every channel, less the tangential part.
+  // Pass 2, only when the tangential force reads above noise: the field again on every
+  // channel less the tangential part (a stroke).
   const double total1 = g_.dot(inv_scale_);
-  Eigen::VectorXd target = r;
-  if (total1 > 0) target -= (At_x_ * g_) * (T.x() / total1) + (At_y_ * g_) * (T.y() / total1);
-  out.iterations += SolvePass(w, target);
-  debias(w, target);
-  T = shear();
+  if (total1 > 0 && T.norm() > kShearPassSigma * ShearSigma_N(w, total1)) {
+    const Eigen::VectorXd target = r - (At_x_ * g_) * (T.x() / total1) - (At_y_ * g_) * (T.y() / total1);
+    out.iterations += SolvePass(w, target);
+    debias(w, target);
+    T = shear();
+    out.second_pass = true;
+  }
   out.ok = true;
+  out.evaluations = evaluations_;
   out.cell_force_N = g_.cwiseProduct(inv_scale_);
   out.normal_force_N = out.cell_force_N.sum();
   out.shear_N = out.normal_force_N > 0 ? T : Eigen::Vector2d::Zero();

@@ -25,13 +25,14 @@
 //    forward model it fitted worse at every ridge tried (0.5-2 sigma: force 13-27 % off,
 //    centre 0.5-1.4 mm, against 13-17 % and 0.5-0.7 mm without).
 // Its dual lives in the readings' space (48 unknowns): u = max(0, A'^T W y - mu) / lambda,
-// and a semi-smooth Newton method with a backtracking line search solves it on a 48 x 48
+// and a semi-smooth Newton method with an exact line search solves it on a 48 x 48
 // Cholesky per iteration (warm-started from the last scan). A' per profile: computed once
 // (construction). The ridge shrinks the total force a little; one least-squares scale on the
 // whole field (its debiasing) restores it. The tangential force is one vector spread over
 // the cells in proportion to their normal force, as the forward model spreads it: the first
-// pass fits the normal channels alone, then the tangential force by least squares, then the
-// field again on all channels less the tangential part.
+// pass fits every channel without it, then the tangential force comes by least squares on
+// that field; where it reads above noise (3 sigma: a stroke) a second pass fits the field
+// again on every channel less the tangential part.
 // What the readings cannot tell: a compact load from a spread one of the same centre. The
 // force of a 1 x 1 mm patch between taxels comes back 8 % high, its centre 0.5 mm towards
 // the nearest taxel (clean readings); a 3 x 3 mm patch within 2.5 % and 0.1 mm, with the
@@ -72,6 +73,8 @@ struct SurfacePressure {
   Eigen::Vector2d centroid_mm = Eigen::Vector2d::Zero();  ///< force-weighted centre [mm]
   double rms_sigma = 0;               ///< RMS residual over the weighted readings [noise]
   int iterations = 0;                 ///< Newton iterations, both passes
+  int evaluations = 0;                ///< products A^T (a line search's direction), both passes
+  bool second_pass = false;           ///< the tangential force read above noise: refitted without it
   int active_cells = 0;               ///< cells with load
 };
 
@@ -96,10 +99,14 @@ class SurfacePressureInversion {
   /// Readings [N] of a cell field and a tangential force (the model the solve inverts).
   Eigen::VectorXd Predict(const Eigen::VectorXd& cell_force_N, const Eigen::Vector2d& shear_N) const;
   const SurfacePressureOptions& options() const { return options_; }
+  /// Forgets the last scan's dual (the next Solve starts cold).
+  void ResetWarmStart() { y_.setZero(); }
 
  private:
   /// One pass: the field for weighted readings (target - shear part), warm-started from y_.
   int SolvePass(const Eigen::VectorXd& w, const Eigen::VectorXd& target_N);
+  /// Standard deviation of the tangential force's estimate on the current field [N].
+  double ShearSigma_N(const Eigen::VectorXd& w, double total) const;
   /// Predict on the scaled unknowns u = force / inv_scale_.
   Eigen::VectorXd PredictScaled(const Eigen::VectorXd& u, const Eigen::Vector2d& shear_N) const;
 
@@ -115,8 +122,9 @@ class SurfacePressureInversion {
   // Scratch.
   SurfacePressure result_;
   Eigen::VectorXd y_, g_, corr_;
-  Eigen::MatrixXd J_;
+  Eigen::MatrixXd J_, As_;
   std::vector<int> active_;
+  int evaluations_ = 0;
 };
 
 }  // namespace sedbridge::sensors

@@ -55,9 +55,9 @@ TEST(SurfacePressureInversion, AUniformPatchComesBackWithItsForceAndCentre) {
     const Eigen::VectorXd clean = UniformPatch(1.7, -2.3, 1.5, 0.6);
     const SurfacePressure& p = inversion.Solve(noise ? Noisy(clean, 7) : clean);
     ASSERT_TRUE(p.ok) << p.fault;
-    std::printf("%s: force %.4f N, centre (%.3f, %.3f) mm, tangential %.4f N, rms %.2f sigma, %d cells, %d iterations\n",
+    std::printf("%s: force %.4f N, centre (%.3f, %.3f) mm, tangential %.4f N, rms %.2f sigma, %d cells, %d iterations, %d evaluations\n",
                 noise ? "noisy" : "clean", p.normal_force_N, p.centroid_mm.x(), p.centroid_mm.y(), p.shear_N.norm(),
-                p.rms_sigma, p.active_cells, p.iterations);
+                p.rms_sigma, p.active_cells, p.iterations, p.evaluations);
     // Tolerances: clean 3 % of the force and 0.2 mm; with the sensor's noise 10 % and 0.5 mm
     // (a tenth of the 4.7 mm pitch): the field cannot pull, so positive noise far from the
     // patch reads as a little load, never negative noise as less.
