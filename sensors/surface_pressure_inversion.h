@@ -40,6 +40,7 @@
 // Faults: a non-finite reading of a valid taxel, a scan of the wrong size: ok = false, the
 // field all zero, never NaN. Zero readings give a zero field.
 
+#include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <cstdint>
 #include <string>
@@ -123,6 +124,7 @@ class SurfacePressureInversion {
   SurfacePressure result_;
   Eigen::VectorXd y_, g_, corr_;
   Eigen::MatrixXd J_, As_;
+  Eigen::LLT<Eigen::MatrixXd, Eigen::Lower> ridge_dual_;  // I + W A A^T W / lambda, every taxel valid
   std::vector<int> active_;
   int evaluations_ = 0;
 };

@@ -134,7 +134,7 @@ struct BridgeConfig {
   double contact_tolerance = 1e-5;
   MerkelRegion merkel_region = MerkelRegion::kLayer;  ///< fe.merkel_region: layer | display
   FallbackAnswer fallback = FallbackAnswer::kPressureMap;  ///< fe.fallback
-  sensors::SurfacePressureOptions surface_pressure;        ///< fe.surface_pressure: cell_mm, ridge
+  sensors::SurfacePressureOptions surface_pressure;        ///< fe.surface_pressure: cell_mm, ridge, max_iterations
 
   // registration:
   PadRegistrationParams registration;
@@ -194,6 +194,7 @@ struct BridgeConfig {
       f->Section("surface_pressure", [&](auto* p) {
         p->Visit(Field("cell_mm", &surface_pressure.cell_mm).InRange(0.1, 5.0));
         p->Visit(Field("ridge", &surface_pressure.ridge).Positive());
+        p->Visit(Field("max_iterations", &surface_pressure.max_iterations).InRange(1, 1000));
       });
     });
     a->Section("registration", [&](auto* g) {
