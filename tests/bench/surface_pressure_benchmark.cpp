@@ -1,9 +1,9 @@
 // The surface pressure (sensors/surface_pressure_inversion.h): what one scan costs.
 // Run (Release build):
 //   build/tests/bench/surface_pressure_benchmark
-// SurfacePressureCold/<press>/<cell_um>: the peak scan of a calibration-rig press solved
+// SurfacePressureCold/<press>/<cell_um>/<max_iterations>: the peak scan of a calibration-rig press solved
 //   from no warm start (the first scan a fallback answers), grid cell <cell_um> um.
-// SurfacePressureStream/<press>/<cell_um>: every scan of the press in order, each warm-started
+// SurfacePressureStream/<press>/<cell_um>/<max_iterations>: every scan of the press in order, each warm-started
 //   from the last (a run of fallback scans); time per scan = the reported time / scans.
 // Counters: Newton iterations and loaded cells per solve (deterministic: the cost without
 // the machine's noise).
@@ -44,6 +44,7 @@ size_t PeakScan(const sensors::CalibrationPress& press) {
 sensors::SurfacePressureOptions Options(const benchmark::State& state) {
   sensors::SurfacePressureOptions o;
   o.cell_mm = 1e-3 * double(state.range(1));
+  o.max_iterations = int(state.range(2));
   return o;
 }
 
@@ -80,9 +81,9 @@ void SurfacePressureStream(benchmark::State& state) {
   state.counters["scans"] = double(press.scans.size());
 }
 
-// Presses: 0 (a sphere), 12 (a rod), 21 (a punch); cells 0.5 and 1 mm.
-BENCHMARK(SurfacePressureCold)->ArgsProduct({{0, 12, 21}, {500, 1000}})->Unit(benchmark::kMicrosecond);
-BENCHMARK(SurfacePressureStream)->ArgsProduct({{0, 12, 21}, {500, 1000}})->Unit(benchmark::kMillisecond);
+// Presses: 0 (a sphere), 12 (a rod), 21 (a punch); cells 0.5 and 1 mm; 10 and 40 iterations.
+BENCHMARK(SurfacePressureCold)->ArgsProduct({{0, 12, 21}, {500, 1000}, {10, 40}})->Unit(benchmark::kMicrosecond);
+BENCHMARK(SurfacePressureStream)->ArgsProduct({{0, 12, 21}, {500, 1000}, {10, 40}})->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace sedbridge
