@@ -168,6 +168,9 @@ void AddFidelityOptions(ArgParser& args) {
             "(from the first scan), through taxel health, scored at the peak: faulty_taxels.csv and a summary "
             "(src/fidelity/faulty_taxel_fidelity.h)")
       .Flag("node-contact", "press on the leader's skin nodes only (bridge fe.face_contact: false), not its faces too")
+      .Flag("beyond-primitives",
+            "--synthetic: the presses no contact primitive holds instead (a grating, a cross, three spheres, a tilted "
+            "block), for the fallbacks")
       .Flag("no-plots", "skip the PNG plots");
 }
 
@@ -196,7 +199,13 @@ std::vector<FidelityCase> SelectPresses(const ArgParser& args, const sensors::Se
       const long faces = args.GetInt("random-faces");
       if (faces < 0 || faces > 1000) throw UsageError("--random-faces must be in 0..1000");
       const auto ranges = config::ParseEnum<RandomRanges>(args.Get("random-ranges"), "--random-ranges");
-      presses = SyntheticFidelityCases(profile, seed, pad, static_cast<int>(random), ranges, static_cast<int>(faces));
+      if (args.GetFlag("beyond-primitives")) {
+        if (random > 0 || faces > 0)
+          throw UsageError("--beyond-primitives and --random / --random-faces choose different presses: give one");
+        presses = BeyondPrimitiveFidelityCases(profile, seed, pad);
+      } else {
+        presses = SyntheticFidelityCases(profile, seed, pad, static_cast<int>(random), ranges, static_cast<int>(faces));
+      }
     }
   } else {
     for (const auto& p : sensors::LoadCalibrationPresses(config::ResolveResource(args.Get("cases")), profile))
@@ -292,6 +301,59 @@ void ReportCase(const FidelityRow& r, const FidelityMaps& maps, std::ofstream& c
       << maps.truth[i] << ',' << maps.map[i] << ',' << maps.recon[i] << '\n';
 }
 
+// The surface pressure beside the map and the reconstruction, one row per case
+// (fidelity_surface.csv), and its tally: what the fallback that assumes no shape delivers.
+class SurfaceReport {
+ public:
+  explicit SurfaceReport(const std::string& out) : csv_(out + "/fidelity_surface.csv") {
+    csv_ << "case,kind,truth_valid,recon_ok,recon_inadequate,surface_ok,surface_force_N,force_N,surface_rms_sigma,"
+            "surface_cells,surface_us,surface_peak_ratio,surface_rel_l2,surface_peak_offset_mm,"
+            "surface_peak_region_offset_mm,surface_command_rel_l2,surface_within_targets,map_peak_ratio,map_rel_l2,"
+            "map_within_targets,recon_peak_ratio,recon_rel_l2,recon_within_targets,recon_answered_by_surface\n";
+  }
+  void Add(const FidelityRow& r) {
+    const bool surface_within = r.truth_valid && r.surface_ok && WithinTargets(r.surface_error);
+    const bool map_within = r.truth_valid && WithinTargets(r.map_error);
+    const bool recon_within = r.truth_valid && WithinTargets(r.recon_error);
+    char line[1024];
+    std::snprintf(line, sizeof line, "%s,%s,%d,%d,%d,%d,%g,%g,%g,%d,%g,%g,%g,%g,%g,%g,%d,%g,%g,%d,%g,%g,%d,%d\n",
+                  r.name.c_str(), ObjectKind(r).c_str(), r.truth_valid, r.recon_ok, r.recon_inadequate, r.surface_ok,
+                  r.surface_force_N, r.truth_object.normal_force_N, r.surface_rms_sigma, r.surface_cells, r.surface_us,
+                  r.surface_error.peak_ratio, r.surface_error.rel_l2, r.surface_error.peak_offset_mm,
+                  r.surface_error.peak_region_offset_mm, r.surface_error.command_rel_l2, surface_within,
+                  r.map_error.peak_ratio, r.map_error.rel_l2, map_within, r.recon_error.peak_ratio,
+                  r.recon_error.rel_l2, recon_within, r.recon_fallback_surface);
+    csv_ << line;
+    if (!r.truth_valid) return;
+    ++scored_;
+    surface_hits_ += surface_within;
+    map_hits_ += map_within;
+    ratios_.push_back(r.surface_ok ? r.surface_error.peak_ratio : 0.0);
+    map_ratios_.push_back(r.map_error.peak_ratio);
+    l2_.push_back(r.surface_ok ? r.surface_error.rel_l2 : 1.0);
+    map_l2_.push_back(r.map_error.rel_l2);
+  }
+  void Print(const std::string& out) {
+    if (scored_ == 0) return;
+    auto median = [](std::vector<double> v) {
+      std::sort(v.begin(), v.end());
+      return v[v.size() / 2];
+    };
+    auto range = [](const std::vector<double>& v) { return std::make_pair(*std::min_element(v.begin(), v.end()), *std::max_element(v.begin(), v.end())); };
+    const auto sr = range(ratios_), mr = range(map_ratios_);
+    std::printf("surface pressure (the fallback that assumes no shape), of %d scored cases: within all three targets %d "
+                "(pressure map %d); peak SED ratio median %.2f, range %.2f-%.2f (map %.2f, %.2f-%.2f); rel. L2 median "
+                "%.2f (map %.2f)\nwrote %s/fidelity_surface.csv\n",
+                scored_, surface_hits_, map_hits_, median(ratios_), sr.first, sr.second, median(map_ratios_), mr.first,
+                mr.second, median(l2_), median(map_l2_), out.c_str());
+  }
+
+ private:
+  std::ofstream csv_;
+  int scored_ = 0, surface_hits_ = 0, map_hits_ = 0;
+  std::vector<double> ratios_, map_ratios_, l2_, map_l2_;
+};
+
 // `--display-fidelity`: the displays' renderings built up front (a wrong name or rendering is
 // refused before the benchmark's work); nullptr when not asked for.
 std::unique_ptr<DisplayFidelityReport> MakeDisplayReport(const ArgParser& args, const std::string& model,
@@ -354,15 +416,18 @@ int RunFidelity(int argc, char** argv) {
   std::printf("%-16s %-8s %6s | %-8s %6s %5s %6s | map: %5s %5s %5s | recon: %5s %5s %5s\n", "case", "object", "F_N",
               "recon", "R_mm", "dxy", "F_N", "peak", "L2", "off", "peak", "L2", "off");
   TargetTally tally;
+  SurfaceReport surface(out);
   for (const auto& press : presses) {
     FidelityMaps maps;
     const FidelityRow r = bench.Run(press, &maps);
     tally.Add(r);
+    surface.Add(r);
     ReportCase(r, maps, csv, out);
     if (display_report) display_report->Add(r, maps);
   }
   csv.close();
   tally.Print();
+  surface.Print(out);
   if (display_report) display_report->Print();
   std::printf("wrote %s/fidelity.csv and %s/maps/\n", out.c_str(), out.c_str());
   if (const long stride = args.GetInt("through-press"); stride > 0) ScoreThroughPresses(bench, presses, int(stride), out);

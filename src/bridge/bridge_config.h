@@ -15,6 +15,7 @@
 #include "common/name_value.h"
 #include "lcm/lcm_channels.h"
 #include "scene/scene_description.h"
+#include "sensors/surface_pressure_inversion.h"
 
 namespace sedbridge::bridge {
 
@@ -56,6 +57,23 @@ enum class RadiusTracking {
 };
 const config::EnumNames<RadiusTracking>& NamesOf(RadiusTracking);
 const char* ToString(RadiusTracking tracking);
+
+/// What answers a scan of fe.step contact that no contact primitive explains (bridge config
+/// `fe.fallback`): a fit that falls back (and a leader press that cannot reach its force),
+/// and with kSurfacePressureAndFlagged also a fit flagged model_inadequate.
+enum class FallbackAnswer {
+  kPressureMap,                ///< "pressure_map" (default): the taxel map (fe.step reduced)
+  kSurfacePressure,            ///< "surface_pressure": sensors/surface_pressure_inversion.h on the leader
+  kSurfacePressureAndFlagged,  ///< "surface_pressure_and_flagged": that, also for flagged fits
+};
+/// Inline: the YAML fuzzer links the config readers without the stages.
+inline const config::EnumNames<FallbackAnswer>& NamesOf(FallbackAnswer) {
+  static const config::EnumNames<FallbackAnswer> names{{FallbackAnswer::kPressureMap, "pressure_map"},
+                                                       {FallbackAnswer::kSurfacePressure, "surface_pressure"},
+                                                       {FallbackAnswer::kSurfacePressureAndFlagged,
+                                                        "surface_pressure_and_flagged"}};
+  return names;
+}
 
 /// How the display's commands are computed from the Merkel SED (bridge config
 /// `display.rendering`; bridge/display_requests.h chooses when the key is absent).
@@ -115,6 +133,8 @@ struct BridgeConfig {
   /// fraction of its largest contact force (scene::PressToForceOptions::contact_relative_tolerance)
   double contact_tolerance = 1e-5;
   MerkelRegion merkel_region = MerkelRegion::kLayer;  ///< fe.merkel_region: layer | display
+  FallbackAnswer fallback = FallbackAnswer::kPressureMap;  ///< fe.fallback
+  sensors::SurfacePressureOptions surface_pressure;        ///< fe.surface_pressure: cell_mm, ridge, max_iterations
 
   // registration:
   PadRegistrationParams registration;
@@ -174,6 +194,12 @@ struct BridgeConfig {
       f->Visit(Field("radius_tracking", &radius_tracking));
       f->Visit(Field("contact_tolerance", &contact_tolerance).InRange(1e-12, 0.1));
       f->Visit(Field("merkel_region", &merkel_region));
+      f->Visit(Field("fallback", &fallback));
+      f->Section("surface_pressure", [&](auto* p) {
+        p->Visit(Field("cell_mm", &surface_pressure.cell_mm).InRange(0.1, 5.0));
+        p->Visit(Field("ridge", &surface_pressure.ridge).Positive());
+        p->Visit(Field("max_iterations", &surface_pressure.max_iterations).InRange(1, 1000));
+      });
     });
     a->Section("registration", [&](auto* g) {
       g->Visit(Field("offset_mm", &registration.offset_mm));

@@ -103,6 +103,9 @@ std::string ContactFeStep::CountersLine() const {
                 static_cast<long long>(r.warm_fits), static_cast<long long>(r.fits),
                 static_cast<long long>(r.evaluations), rt.p50_ms, rt.p99_ms, pt.p50_ms,
                 pt.p99_ms, ct.p50_ms, ct.p99_ms);
+  if (surface_)
+    return std::string(line) + "; " + std::to_string(surface_answers_) +
+           " answered by the surface pressure (fe.fallback)";
   return line;
 }
 
@@ -145,6 +148,7 @@ const MerkelSedResult& ContactFeStep::Answer(const contact::ContactStepOutcome& 
       result_.report.stage_ms = times;
       return result_;
     case contact::ContactAnswer::kPressed:
+      if (surface_for_flagged_ && stage_->report().estimate.model_inadequate) return SurfacePressure(values, times);
       last_ = LastStep::kPressed;
       result_ = MerkelSedResult{};
       result_.ok = true;
@@ -156,8 +160,39 @@ const MerkelSedResult& ContactFeStep::Answer(const contact::ContactStepOutcome& 
       return result_;
     case contact::ContactAnswer::kFallback: break;
   }
+  if (surface_ && values.scan) return SurfacePressure(values, times);
   last_ = LastStep::kFallback;
   return Fallback(values, times);
+}
+
+void ContactFeStep::UseSurfacePressure(const sensors::SensorProfile& profile, const PadRegistration& registration,
+                                       const sensors::SurfacePressureOptions& options, bool flagged_too) {
+  surface_ = std::make_unique<sensors::SurfacePressureInversion>(profile, options);
+  Eigen::Matrix2Xd cells(2, surface_->cell_count());
+  for (int c = 0; c < surface_->cell_count(); ++c) cells.col(c) = registration.ToPad(surface_->CellCentre_mm(c));
+  surface_on_leader_ = std::make_unique<contact::SurfacePressureOnLeader>(
+      stage_->LeaderForOtherLoad(), cells, surface_->cell_mm() * registration.params().scale);
+  surface_rotation_.col(0) = registration.RotateToPad(Eigen::Vector2d::UnitX());
+  surface_rotation_.col(1) = registration.RotateToPad(Eigen::Vector2d::UnitY());
+  surface_for_flagged_ = flagged_too;
+}
+
+const MerkelSedResult& ContactFeStep::SurfacePressure(const TaxelValues& values, const StageTimes& times) {
+  const sensors::SurfacePressure& p = surface_->Solve(*values.scan);
+  if (!p.ok || !surface_on_leader_->Press(p.cell_force_N, surface_rotation_ * p.shear_N)) {
+    last_ = LastStep::kFallback;
+    return Fallback(values, times);
+  }
+  stage_->LeaderForOtherLoad();  // the press it held is gone: not reused by the next scan
+  ++surface_answers_;
+  last_ = LastStep::kPressed;
+  result_ = MerkelSedResult{};
+  result_.ok = true;
+  result_.sed_Pa = &stage_->sed_Pa();
+  result_.applied_force_N = surface_on_leader_->applied_force_N();
+  result_.report.converged = true;
+  result_.report.stage_ms = times;
+  return result_;
 }
 
 const MerkelSedResult& ContactFeStep::Fallback(const TaxelValues& values, const StageTimes& times) {

@@ -18,8 +18,10 @@
 #include "contact/contact_object.h"
 #include "contact/contact_reconstruction.h"
 #include "contact/contact_stage.h"
+#include "contact/surface_pressure_on_leader.h"
 #include "fem/compliance_operator.h"
 #include "model/fingertip_model.h"
+#include "sensors/surface_pressure_inversion.h"
 
 namespace sedbridge::bridge {
 
@@ -66,6 +68,15 @@ class ContactFeStep final : public FeStep {
   /// (a fallback scan shows the fallback's own frame, or rest). False without full_field.
   bool Frame(FeFrame* frame) const override;
 
+  /// Scans no primitive explains (the fit's fallbacks, presses that cannot reach their force,
+  /// and with `flagged_too` fits flagged model_inadequate) answered by the surface pressure
+  /// (sensors/surface_pressure_inversion.h) pressed on the leader as a traction field
+  /// (contact/surface_pressure_on_leader.h) instead of the pressure map (bridge fe.fallback).
+  void UseSurfacePressure(const sensors::SensorProfile& profile, const PadRegistration& registration,
+                          const sensors::SurfacePressureOptions& options, bool flagged_too);
+  /// Scans the surface pressure answered.
+  int64_t surface_answers() const { return surface_answers_; }
+
   /// See contact::ContactStage::set_reuse_press (on by default).
   void set_reuse_press(bool reuse) { stage_->set_reuse_press(reuse); }
   /// See contact::ContactStage::set_skip_known_unreachable (on by default).
@@ -93,12 +104,19 @@ class ContactFeStep final : public FeStep {
                                 const StageTimes& times);
   /// The fallback's result with this step's stage times added.
   const MerkelSedResult& Fallback(const TaxelValues& values, const StageTimes& times);
+  /// The surface pressure's answer (UseSurfacePressure); the map's when it cannot answer.
+  const MerkelSedResult& SurfacePressure(const TaxelValues& values, const StageTimes& times);
   /// The stage times of a scan into their run statistics.
   void RecordStageTimes(const contact::ContactStepOutcome& outcome, const StageTimes& times);
 
   std::shared_ptr<const model::FingertipModel> model_;
   std::unique_ptr<contact::ContactStage> stage_;
   std::unique_ptr<FeStep> fallback_;
+  std::unique_ptr<sensors::SurfacePressureInversion> surface_;
+  std::unique_ptr<contact::SurfacePressureOnLeader> surface_on_leader_;
+  Eigen::Matrix2d surface_rotation_ = Eigen::Matrix2d::Identity();  // sensor pad -> leader pad (shear)
+  bool surface_for_flagged_ = false;
+  int64_t surface_answers_ = 0;
   enum class LastStep { kNone, kPressed, kFallback } last_ = LastStep::kNone;
   Eigen::VectorXd zero_sed_;
   MerkelSedResult result_;

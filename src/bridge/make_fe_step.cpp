@@ -30,9 +30,16 @@ std::unique_ptr<FeStep> MakeContactStep(const BridgeConfig& config, const sensor
                                         std::unique_ptr<FeStep> fallback, scene::FingertipComplianceOptions leader,
                                         const model::MerkelVertexFilter& region, LeaderModelCache* leaders) {
   const PadRegistration registration(profile.taxels, config.registration);
+  auto surface = [&](std::unique_ptr<ContactFeStep> step) -> std::unique_ptr<FeStep> {
+    if (config.fallback != FallbackAnswer::kPressureMap)
+      step->UseSurfacePressure(profile, registration, config.surface_pressure,
+                               config.fallback == FallbackAnswer::kSurfacePressureAndFlagged);
+    return step;
+  };
   if (!leaders)
-    return std::make_unique<ContactFeStep>(config.model, profile, registration, std::move(fallback), std::move(leader),
-                                           ReconstructionOptionsOf(config), ReconstructedPressOptions(config), region);
+    return surface(std::make_unique<ContactFeStep>(config.model, profile, registration, std::move(fallback),
+                                                   std::move(leader), ReconstructionOptionsOf(config),
+                                                   ReconstructedPressOptions(config), region));
   const std::string model_key = config.model + "|" + (region ? region.what : std::string("layer"));
   const std::string op_key = model_key + "|" + config.compliance_cache_dir + "|" + (config.face_contact ? "faces" : "nodes") +
                              "|" + (leader.contact.full_field ? "full" : "contact");
@@ -43,7 +50,7 @@ std::unique_ptr<FeStep> MakeContactStep(const BridgeConfig& config, const sensor
                                               std::move(leader), ReconstructionOptionsOf(config),
                                               ReconstructedPressOptions(config), region, std::move(model));
   if (first) leaders->Remember(op_key, step->leader_operator());
-  return step;
+  return surface(std::move(step));
 }
 
 }  // namespace

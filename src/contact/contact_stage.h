@@ -87,6 +87,12 @@ class ContactStage {
   /// The leader's Merkel SED [Pa] of the last kPressed answer (valid until the next press).
   const Eigen::VectorXd& sed_Pa() const { return leader_->sed_Pa(); }
   const scene::FingertipCompliance& leader() const { return *leader_; }
+  /// The leader for another load than a press (a surface pressure's traction field): its
+  /// step replaces the last press's SED, so the next scan is not answered by reusing it.
+  scene::FingertipCompliance& LeaderForOtherLoad() {
+    last_pressed_valid_ = false;
+    return *leader_;
+  }
   const ContactReconstructor& reconstructor() const { return *reconstructor_; }
   const ContactStepCounters& counters() const { return counters_; }
   const scene::PressToForceOptions& press_options() const { return press_options_; }

@@ -126,6 +126,18 @@ FidelityBenchmark::FidelityBenchmark(const std::string& model_name, const sensor
                                                             registration, config.traction);
   conditioner_ = std::make_unique<bridge::ScanConditioner>(profile, registration, config.conditioning);
   mapping_ = std::make_unique<display::SedToCommandMapping>(display);
+  // The surface pressure in the sensor's pad frame, pressed where the truth and the
+  // reconstruction press (no registration: the benchmark's leader frame is the sensor's).
+  surface_ = std::make_unique<sensors::SurfacePressureInversion>(profile, config.surface_pressure);
+  Eigen::Matrix2Xd cells(2, surface_->cell_count());
+  for (int c = 0; c < surface_->cell_count(); ++c) cells.col(c) = surface_->CellCentre_mm(c);
+  // A leader of its own on the same operator: its steps leave the truth's and the
+  // reconstruction's leader as it was (the SED's kept columns change the last digits).
+  scene::FingertipComplianceOptions own = contact::LeaderComplianceOptions(config.compliance_cache_dir, config.face_contact);
+  own.contact.shared_operator = leader_->contact().shared_operator();
+  surface_leader_ = std::make_unique<scene::FingertipCompliance>(*model_, own);
+  surface_on_leader_ = std::make_unique<contact::SurfacePressureOnLeader>(*surface_leader_, cells, surface_->cell_mm());
+  fallback_ = config.fallback;
 }
 
 FidelityBenchmark::~FidelityBenchmark() = default;
@@ -195,8 +207,23 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
     const bridge::MerkelSedResult& r = map_step_->Step(values);
     maps->map = rep.usable && r.ok ? *r.sed_Pa : Eigen::VectorXd::Zero(maps->truth.size());
   }
-  // Reconstructed contact.
-  if (row.recon_ok) {
+  // The surface pressure (every case: beside the map and the reconstruction).
+  {
+    const auto t0 = std::chrono::steady_clock::now();
+    const sensors::SurfacePressure& p = surface_->Solve(press.scans[peak]);
+    row.surface_us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count();
+    row.surface_ok = p.ok && surface_on_leader_->Press(p.cell_force_N, p.shear_N);
+    row.surface_force_N = p.normal_force_N;
+    row.surface_rms_sigma = p.rms_sigma;
+    row.surface_cells = p.active_cells;
+    maps->surface = row.surface_ok ? surface_leader_->sed_Pa() : Eigen::VectorXd::Zero(maps->truth.size());
+  }
+  // Reconstructed contact (a flagged fit answered by the surface pressure where the config asks).
+  if (row.recon_ok && fallback_ == bridge::FallbackAnswer::kSurfacePressureAndFlagged && at_peak.model_inadequate) {
+    row.recon_press = "flagged: surface pressure";
+    row.recon_fallback_surface = true;
+    maps->recon = maps->surface;
+  } else if (row.recon_ok) {
     leader_->ResetWarmStart();
     const contact::LeaderPress pressed =
         contact::PressReconstructed(*leader_, at_peak, press_, contact::LeaderTangentialLoad_N(at_peak));
@@ -208,6 +235,10 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
       row.recon_press += why;
     }
     maps->recon = leader_->sed_Pa();
+  } else if (fallback_ != bridge::FallbackAnswer::kPressureMap) {
+    row.recon_press = "fallback (surface pressure): " + at_peak.problem;
+    row.recon_fallback_surface = true;
+    maps->recon = maps->surface;
   } else {
     row.recon_press = "fallback: " + at_peak.problem;
     maps->recon = maps->map;
@@ -218,6 +249,8 @@ FidelityRow FidelityBenchmark::Run(const FidelityCase& press, FidelityMaps* maps
   row.recon_max_sed_Pa = maps->recon.maxCoeff();
   row.map_error = Compare(maps->merkel_pad_mm, maps->map, maps->truth, *mapping_);
   row.recon_error = Compare(maps->merkel_pad_mm, maps->recon, maps->truth, *mapping_);
+  row.surface_max_sed_Pa = maps->surface.maxCoeff();
+  row.surface_error = Compare(maps->merkel_pad_mm, maps->surface, maps->truth, *mapping_);
   return row;
 }
 

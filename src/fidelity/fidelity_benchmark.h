@@ -22,9 +22,11 @@
 
 #include "bridge/bridge_config.h"
 #include "bridge/contact_fe_step.h"
+#include "contact/surface_pressure_on_leader.h"
 #include "display/display_profile.h"
 #include "fidelity/fidelity_case.h"
 #include "scene/fingertip_compliance.h"
+#include "sensors/surface_pressure_inversion.h"
 
 namespace sedbridge::scene {
 class FingertipCompliance;
@@ -92,6 +94,14 @@ struct FidelityRow {
   MethodError map_error, recon_error;
   double recon_median_us = 0, recon_max_us = 0;  ///< reconstruction time per scan
   int scans = 0, fallbacks = 0;
+  /// The surface pressure at the peak scan (sensors/surface_pressure_inversion.h) pressed on
+  /// the leader as a traction field (contact/surface_pressure_on_leader.h): the fallback that
+  /// assumes no shape. recon_fallback_surface: the reconstruction's answer at the peak scan
+  /// was this one (a fallback, or a flagged fit, where the config asks for it).
+  bool surface_ok = false, recon_fallback_surface = false;
+  double surface_force_N = 0, surface_rms_sigma = 0, surface_max_sed_Pa = 0, surface_us = 0;
+  int surface_cells = 0;
+  MethodError surface_error;
 };
 
 /// The kind of object a row presses, for per-kind counts: "sphere", "rod", "flat", "stroke"
@@ -103,6 +113,7 @@ std::string ObjectKind(const FidelityRow& row);
 struct FidelityMaps {
   Eigen::Matrix3Xd merkel_pad_mm;
   Eigen::VectorXd truth, map, recon;
+  Eigen::VectorXd surface;  ///< the surface pressure's SED (FidelityRow::surface_ok; else zero)
 };
 
 class FidelityBenchmark {
@@ -150,6 +161,10 @@ class FidelityBenchmark {
   std::unique_ptr<bridge::FeStep> map_step_;
   std::unique_ptr<bridge::ScanConditioner> conditioner_;
   std::unique_ptr<display::SedToCommandMapping> mapping_;
+  std::unique_ptr<sensors::SurfacePressureInversion> surface_;
+  std::unique_ptr<scene::FingertipCompliance> surface_leader_;
+  std::unique_ptr<contact::SurfacePressureOnLeader> surface_on_leader_;
+  bridge::FallbackAnswer fallback_ = bridge::FallbackAnswer::kPressureMap;
 };
 
 /// How steadily the delivered SED follows the truth from one scored scan of a press to the

@@ -472,6 +472,27 @@ std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& p
   return Simulate(specs, profile, seed, pad, true);
 }
 
+std::vector<FidelityCase> BeyondPrimitiveFidelityCases(const sensors::SensorProfile& profile, uint64_t seed,
+                                                       sensors::PadMechanics pad) {
+  std::vector<SyntheticSpec> s;
+  // A grating: four bars 3 mm apart, each a rod R0.75 14 mm long (capped), across x.
+  std::string grating;
+  for (const double x : {-4.5, -1.5, 1.5, 4.5}) grating += (grating.empty() ? "" : "|") + RodYaml(0.75, 90, x, 0, 14);
+  s.push_back({"grating", "grating: 4 bars R0.75 L14 3 mm apart", grating, 0.2, 0, 0, false, {}, {}});
+  // A cross: two rods R1 10 mm long crossing at (0.5, -0.5) (the adequacy test's, moved).
+  s.push_back({"cross", "cross: rods R1 L10 at 0 and 90 deg (0.5, -0.5)",
+               RodYaml(1, 0, 0.5, -0.5, 10) + "|" + RodYaml(1, 90, 0.5, -0.5, 10), 0.25, 0, 0, false, {}, {}});
+  // Three spheres R3 at once (the adequacy test's places).
+  s.push_back({"three_spheres", "three spheres R3 (-5, -4), (5, -4), (0, 5)",
+               SphereYaml(3, -5, -4) + "|" + SphereYaml(3, 5, -4) + "|" + SphereYaml(3, 0, 5), 0.4, 0, 0, false, {}, {}});
+  // A ring of a punch's size: a torus is not a shape here; a box with a rounded 4 x 4 mm face
+  // pressed slightly tilted (one edge first): neither a punch nor a rod.
+  s.push_back({"tilted_block", "block 4 x 4 mm face, tilted 4 deg about y (0, 1)",
+               "{shape: box, size_mm: [4, 4, 4], rounding_mm: 0.3, rpy_deg: [0, 4, 0], position_mm: [0, 1, 2.44]", 0.25,
+               0, 0, false, {}, {}});
+  return Simulate(s, profile, seed, pad, true);
+}
+
 std::vector<FidelityCase> CalibrationPressesOnSimulatedPad(const std::vector<sensors::CalibrationPress>& all_presses,
                                                            const sensors::SensorProfile& profile, uint64_t seed,
                                                            sensors::PadMechanics pad) {

@@ -80,6 +80,12 @@ std::vector<FidelityCase> SyntheticFidelityCases(const sensors::SensorProfile& p
                                                  int random_count = 0,
                                                  RandomRanges ranges = RandomRanges::kRig, int random_faces = 0);
 
+/// Presses no contact primitive holds, on the simulated sensor (`fidelity --synthetic
+/// --beyond-primitives`): a grating of four bars, a cross of two rods, three spheres at once
+/// (the model-adequacy tests' shapes) and a tilted block; each its own noise stream from
+/// `seed`. What the bridge's fallback (the pressure map or the surface pressure) is for.
+std::vector<FidelityCase> BeyondPrimitiveFidelityCases(const sensors::SensorProfile& profile, uint64_t seed = 1,
+                                                       sensors::PadMechanics pad = sensors::PadMechanics::kLayer);
 /// The calibration rig's presses re-made on the simulated sensor: each press's object, at
 /// its place, pressed into the simulated pad `pad` to the depth at which the pad carries the
 /// press's hold force (sensors::EvaluatePadOnPresses), with the synthetic set's timing and
