@@ -6,6 +6,8 @@
 #include <limits>
 #include <stdexcept>
 
+#include "common/geometry/planar_barycentric.h"
+
 namespace sedbridge::contact {
 namespace {
 
@@ -13,17 +15,6 @@ namespace {
 constexpr int kSub = 3;
 // Barycentric coordinates below this are outside the face [-] (round-off on shared edges).
 constexpr double kInsideFace = -1e-9;
-
-bool Barycentric(const Eigen::Vector2d& q, const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
-                 Eigen::Vector3d& w) {
-  const Eigen::Vector2d e1 = b - a, e2 = c - a, d = q - a;
-  const double det = e1.x() * e2.y() - e1.y() * e2.x();
-  if (!(std::abs(det) > 1e-30)) return false;
-  w[1] = (d.x() * e2.y() - d.y() * e2.x()) / det;
-  w[2] = (e1.x() * d.y() - e1.y() * d.x()) / det;
-  w[0] = 1.0 - w[1] - w[2];
-  return true;
-}
 
 }  // namespace
 
@@ -72,7 +63,7 @@ SurfacePressureOnLeader::SurfacePressureOnLeader(scene::FingertipCompliance& lea
         const Face* best = nullptr;
         Eigen::Vector3d best_w = Eigen::Vector3d::Zero(), w;
         for (const Face* f : near) {
-          if (!Barycentric(q, x.col(f->v[0]).head<2>(), x.col(f->v[1]).head<2>(), x.col(f->v[2]).head<2>(), w)) continue;
+          if (!geometry::PlanarBarycentric(q, x.col(f->v[0]).head<2>(), x.col(f->v[1]).head<2>(), x.col(f->v[2]).head<2>(), w)) continue;
           if (w.minCoeff() < kInsideFace) continue;
           const double z = w[0] * x(2, f->v[0]) + w[1] * x(2, f->v[1]) + w[2] * x(2, f->v[2]);
           if (z > best_z) best_z = z, best = f, best_w = w;

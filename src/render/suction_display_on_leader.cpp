@@ -9,6 +9,7 @@
 #include <stdexcept>
 
 #include "common/geometry/signed_distance_field.h"
+#include "common/geometry/planar_barycentric.h"
 
 namespace sedbridge::render {
 
@@ -34,19 +35,6 @@ geometry::RigidObject HoledPlate(const display::DisplayDevice& device, double de
   return {"suction plate",
           std::make_shared<geometry::PlateWithHolesSdf>(std::move(centres_m), device.hole_radius_mm * kMm),
           geometry::Trajectory(pose)};
-}
-
-// Barycentric coordinates of q in the triangle (a, b, c) projected on the x-y plane; false
-// for a degenerate projection.
-bool Barycentric(const Eigen::Vector2d& q, const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
-                 Eigen::Vector3d& w) {
-  const Eigen::Vector2d e1 = b - a, e2 = c - a, d = q - a;
-  const double det = e1.x() * e2.y() - e1.y() * e2.x();
-  if (!(std::abs(det) > 1e-30)) return false;
-  w[1] = (d.x() * e2.y() - d.y() * e2.x()) / det;
-  w[2] = (e1.x() * d.y() - e1.y() * d.x()) / det;
-  w[0] = 1.0 - w[1] - w[2];
-  return true;
 }
 
 }  // namespace
@@ -112,7 +100,7 @@ void SuctionDisplayOnLeader::FindHoleShares() {
         Eigen::Vector3d best_w = Eigen::Vector3d::Zero(), w;
         for (size_t k : near) {
           const std::array<int, 3>& f = faces[k];
-          if (!Barycentric(q, x.col(f[0]).head<2>(), x.col(f[1]).head<2>(), x.col(f[2]).head<2>(), w)) continue;
+          if (!geometry::PlanarBarycentric(q, x.col(f[0]).head<2>(), x.col(f[1]).head<2>(), x.col(f[2]).head<2>(), w)) continue;
           if (w.minCoeff() < -1e-12) continue;
           const double z = w[0] * x(2, f[0]) + w[1] * x(2, f[1]) + w[2] * x(2, f[2]);
           if (z > best_z) best_z = z, best = &f, best_w = w;
