@@ -9,9 +9,7 @@
 
 namespace sedbridge::render {
 
-namespace {
-
-void CheckSizes(const ElementStrainInfluence& in) {
+void CheckElementStrainInfluence(const ElementStrainInfluence& in) {
   const Eigen::Index elements = in.mu_Pa.size();
   const bool sizes = in.lambda_Pa.size() == elements && in.preload_strain.size() == kStrainComponents * elements &&
                      in.strain_per_command.rows() == kStrainComponents * elements && !in.vertex_start.empty() &&
@@ -41,7 +39,6 @@ void CheckSizes(const ElementStrainInfluence& in) {
   }
 }
 
-}  // namespace
 
 bool DisplayInfluence::EvaluatedByVertexForms(const ElementStrainInfluence& in) {
   const bool offsets = std::any_of(in.command_offset.begin(), in.command_offset.end(), [](double g) { return g > 0; });
@@ -49,7 +46,7 @@ bool DisplayInfluence::EvaluatedByVertexForms(const ElementStrainInfluence& in) 
 }
 
 DisplayInfluence::DisplayInfluence(const ElementStrainInfluence& in, double prune_relative) {
-  CheckSizes(in);
+  CheckElementStrainInfluence(in);
   num_actuators_ = int(in.strain_per_command.cols());
   num_elements_ = int(in.mu_Pa.size());
   offset_ = in.command_offset.empty()

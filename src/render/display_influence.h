@@ -48,6 +48,10 @@ struct ElementStrainInfluence {
   std::vector<double> vertex_weight;
 };
 
+/// Throws std::invalid_argument for inconsistent sizes, vertex ranges out of order, a vertex
+/// naming no element, non-finite entries, or knots not finite, positive and increasing.
+void CheckElementStrainInfluence(const ElementStrainInfluence& in);
+
 /// The vertex SED as a function of the commands.
 ///
 /// Only the elements some actuator strains are evaluated: an element whose strain change

@@ -65,6 +65,8 @@ class DisplayRendering {
   bool Deliver(const Eigen::VectorXd& commands, Eigen::VectorXd& delivered_sed_Pa);
   /// The SED of the preloaded pad with every actuator off [Pa] (full contact).
   const Eigen::VectorXd& preload_sed_Pa() const { return preload_sed_Pa_; }
+  /// The influence the renderer fits on (reduced per vertex where options.fit_reduction
+  /// applies: then its SED is that description's, not the elements').
   const DisplayInfluence& influence() const { return renderer_->influence(); }
   InverseRenderer& renderer() { return *renderer_; }
   DisplayOnLeader& display() { return *display_; }

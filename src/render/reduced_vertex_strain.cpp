@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 namespace sedbridge::render {
 
@@ -24,6 +25,8 @@ Eigen::Matrix<double, C, C> RootElasticity(double mu, double lambda) {
 
 ElementStrainInfluence ReduceStrainPerVertex(const ElementStrainInfluence& in, double dropped_share,
                                              ReducedVertexStrainStats* stats) {
+  CheckElementStrainInfluence(in);
+  if (!(dropped_share >= 0 && dropped_share < 1)) throw std::invalid_argument("strain reduction: dropped share in [0, 1)");
   const int vertices = int(in.vertex_start.size()) - 1;
   // Each segment's strain change per actuator (the first segment's, or the linear one, at one
   // unit of command when there are no knots).

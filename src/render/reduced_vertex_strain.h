@@ -24,7 +24,8 @@ struct ReducedVertexStrainStats {
 /// `in` described per vertex in the leading directions of its commands' strain changes.
 /// @param dropped_share a vertex keeps directions until the share of its commands' strain
 ///        energy (squared singular values) left out is at most this (0: keep every direction)
-/// Offsets and knots are kept.
+/// Offsets and knots are kept. Throws std::invalid_argument for an inconsistent `in`
+/// (CheckElementStrainInfluence) or a share outside [0, 1).
 ElementStrainInfluence ReduceStrainPerVertex(const ElementStrainInfluence& in, double dropped_share,
                                              ReducedVertexStrainStats* stats = nullptr);
 

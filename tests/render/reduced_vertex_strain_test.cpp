@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include "render_test_util.h"
@@ -90,6 +91,17 @@ TEST(ReducedVertexStrain, KeepsThePreloadsSedAndLeavesOutNoMoreThanAsked) {
   }
   EXPECT_GT(errors[1], errors[0]);
   EXPECT_GE(errors[2], errors[1]);
+}
+
+TEST(ReducedVertexStrain, RefusesAnInconsistentInfluenceOrShare) {
+  ElementStrainInfluence in = PinLikeInfluence();
+  EXPECT_THROW(ReduceStrainPerVertex(in, 1.0), std::invalid_argument);
+  EXPECT_THROW(ReduceStrainPerVertex(in, -0.1), std::invalid_argument);
+  in.vertex_element.back() = int(in.mu_Pa.size());  // names no element
+  EXPECT_THROW(ReduceStrainPerVertex(in, 0.01), std::invalid_argument);
+  in = PinLikeInfluence();
+  in.strain_at_knot[0](3, 2) = std::nan("");
+  EXPECT_THROW(ReduceStrainPerVertex(in, 0.01), std::invalid_argument);
 }
 
 }  // namespace
