@@ -21,6 +21,19 @@ Eigen::Matrix<double, C, C> RootElasticity(double mu, double lambda) {
   return eig.eigenvectors() * eig.eigenvalues().cwiseMax(0.0).cwiseSqrt().asDiagonal() * eig.eigenvectors().transpose();
 }
 
+using Root = Eigen::Matrix<double, C, C>;
+
+/// y = L^T eps of vertex v: its elements' rows of m (6 a row block), each multiplied by its
+/// element's root (sqrt of weight times elastic matrix), stacked.
+Eigen::MatrixXd ScaledStrains(const ElementStrainInfluence& in, int v, const std::vector<Root>& root,
+                              const Eigen::MatrixXd& m) {
+  const int first = in.vertex_start[size_t(v)], K = in.vertex_start[size_t(v) + 1] - first;
+  Eigen::MatrixXd y(C * K, m.cols());
+  for (int k = 0; k < K; ++k)
+    y.middleRows<C>(C * k) = root[size_t(k)] * m.middleRows<C>(C * in.vertex_element[size_t(first + k)]);
+  return y;
+}
+
 }  // namespace
 
 ElementStrainInfluence ReduceStrainPerVertex(const ElementStrainInfluence& in, double dropped_share,
@@ -40,7 +53,7 @@ ElementStrainInfluence ReduceStrainPerVertex(const ElementStrainInfluence& in, d
   // Per vertex: its basis (rows of B: 6K stacked, scaled strains -> coordinates), and the
   // coordinates of each matrix, gathered into pseudo-elements afterwards.
   std::vector<Eigen::MatrixXd> basis(static_cast<size_t>(vertices));
-  std::vector<std::vector<Eigen::Matrix<double, C, C>>> roots(static_cast<size_t>(vertices));
+  std::vector<std::vector<Root>> roots(static_cast<size_t>(vertices));
   ReducedVertexStrainStats s;
   int pseudo = 0;
   for (int v = 0; v < vertices; ++v) {
@@ -51,15 +64,9 @@ ElementStrainInfluence ReduceStrainPerVertex(const ElementStrainInfluence& in, d
       const int e = in.vertex_element[size_t(first + k)];
       root.push_back(std::sqrt(std::max(in.vertex_weight[size_t(first + k)], 0.0)) * RootElasticity(in.mu_Pa[e], in.lambda_Pa[e]));
     }
-    auto scaled = [&](const Eigen::MatrixXd& m) {
-      Eigen::MatrixXd y(C * K, m.cols());
-      for (int k = 0; k < K; ++k)
-        y.middleRows<C>(C * k) = root[size_t(k)] * m.middleRows<C>(C * in.vertex_element[size_t(first + k)]);
-      return y;
-    };
     Eigen::MatrixXd gram = Eigen::MatrixXd::Zero(C * K, C * K);
     for (const Eigen::MatrixXd& m : changes) {
-      const Eigen::MatrixXd y = scaled(m);
+      const Eigen::MatrixXd y = ScaledStrains(in, v, root, m);
       gram.selfadjointView<Eigen::Lower>().rankUpdate(y);  // not a general product: no OpenMP team
     }
     Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(gram.selfadjointView<Eigen::Lower>());  // ascending
@@ -75,12 +82,11 @@ ElementStrainInfluence ReduceStrainPerVertex(const ElementStrainInfluence& in, d
     const int rank = std::min(C * K, (keep + 1 + C - 1) / C * C);
     Eigen::MatrixXd b(C * K, rank);
     b.leftCols(rank - 1) = eig.eigenvectors().rightCols(rank - 1);
-    const Eigen::VectorXd whole = scaled(in.preload_strain);
+    const Eigen::VectorXd whole = ScaledStrains(in, v, root, in.preload_strain);
     Eigen::VectorXd preload = whole - b.leftCols(rank - 1) * (b.leftCols(rank - 1).transpose() * whole);
     b.col(rank - 1) = preload.norm() > 1e-9 * std::max(whole.norm(), 1e-300) ? Eigen::VectorXd(preload.normalized())
                                                                            : Eigen::VectorXd(eig.eigenvectors().col(C * K - rank));
     basis[size_t(v)] = b.transpose();
-    s.largest_rank = std::max(s.largest_rank, keep);
     pseudo += rank / C;
   }
   ElementStrainInfluence out;
@@ -102,11 +108,7 @@ ElementStrainInfluence ReduceStrainPerVertex(const ElementStrainInfluence& in, d
     for (int v = 0; v < vertices; ++v) {
       const Eigen::MatrixXd& b = basis[size_t(v)];
       if (b.rows() == 0) continue;
-      const int first = in.vertex_start[size_t(v)], K = in.vertex_start[size_t(v) + 1] - first;
-      Eigen::MatrixXd y(C * K, m.cols());
-      for (int k = 0; k < K; ++k)
-        y.middleRows<C>(C * k) = roots[size_t(v)][size_t(k)] * m.middleRows<C>(C * in.vertex_element[size_t(first + k)]);
-      Eigen::MatrixXd z = b.lazyProduct(y);
+      Eigen::MatrixXd z = b.lazyProduct(ScaledStrains(in, v, roots[size_t(v)], m));
       for (Eigen::Index r = 0; r < z.rows(); ++r)
         if (r % C >= 3) z.row(r) /= std::sqrt(2.0);
       out_m.middleRows(row, z.rows()) = z;
@@ -117,7 +119,6 @@ ElementStrainInfluence ReduceStrainPerVertex(const ElementStrainInfluence& in, d
   out.preload_strain = coordinates(in.preload_strain);
   out.strain_per_command = coordinates(in.strain_per_command);
   for (const Eigen::MatrixXd& m : in.strain_at_knot) out.strain_at_knot.push_back(coordinates(m));
-  s.pseudo_elements = pseudo;
   if (stats) *stats = s;
   return out;
 }

@@ -14,8 +14,6 @@
 namespace sedbridge::render {
 
 struct ReducedVertexStrainStats {
-  int pseudo_elements = 0;  ///< elements of the reduced influence
-  int largest_rank = 0;     ///< most coordinates kept at one vertex
   /// The largest share of a vertex's command-strain energy left out (sum of the dropped
   /// squared singular values over the total).
   double largest_dropped_share = 0;
