@@ -40,10 +40,12 @@ void PrintDisplayRendering(const bridge::ReplayResult& r) {
                 r.sa1_peak_rate_estimate_Hz, r.sa1_peak_electrode, r.sa1_peak_site_sed_Pa);
   if (!r.inverse_rendering) return;
   std::printf("inverse renderer a scan: wall median %.3f ms, p99 %.3f ms, max %.3f ms; CPU median %.3f ms, p99 %.3f "
-              "ms, max %.3f ms (%lld scans, %lld stopped at the iteration limit)\n",
+              "ms, max %.3f ms (%lld scans, %lld stopped at the iteration limit; SED evaluations a scan median %d, "
+              "p99 %d, max %d)\n",
               r.render_ms.p50_ms, r.render_ms.p99_ms, r.render_ms.max_ms, r.render_cpu_ms.p50_ms, r.render_cpu_ms.p99_ms,
               r.render_cpu_ms.max_ms, static_cast<long long>(r.render_ms.count),
-              static_cast<long long>(r.render_not_converged));
+              static_cast<long long>(r.render_not_converged), r.render_evaluations_median, r.render_evaluations_p99,
+              r.render_evaluations_max);
   if (r.have_display_fidelity)
     std::printf("display fidelity at the peak scan (delivered by the full FE vs the bridge's SED): peak ratio %.3f, "
                 "rel L2 %.3f, peak offset %.2f mm\n",

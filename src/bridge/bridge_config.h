@@ -153,6 +153,10 @@ struct BridgeConfig {
   /// latency p99 under 1 ms on the 2-core VM with the display fidelity at the peak unchanged
   /// (config/bridge/README.md).
   int display_render_iterations = 3;
+  /// display.render_evaluations: inverse rendering's SED evaluations a scan at most,
+  /// rejected trials included (render::InverseRendererOptions::max_evaluations; 0: bounded
+  /// by the iterations alone). Bounds the worst scan's render, not only the typical one's.
+  int display_render_evaluations = 0;
   /// display.fit_reduction: the inverse renderer's fit on the influence reduced per Merkel
   /// vertex, leaving out at most this share of the commands' strain energy at any vertex
   /// (render::DisplayRenderingOptions::fit_reduction: pins; 0: element by element).
@@ -219,6 +223,7 @@ struct BridgeConfig {
       d->Visit(Field("profile", &display_profile).Required());
       d->Visit(Field("rendering", &display_rendering));
       d->Visit(Field("render_iterations", &display_render_iterations).InRange(1, 200));
+      d->Visit(Field("render_evaluations", &display_render_evaluations).InRange(0, 1000));
       d->Visit(Field("fit_reduction", &display_fit_reduction).InRange(0, 0.5));
     });
     a->Section("rates", [&](auto* q) {

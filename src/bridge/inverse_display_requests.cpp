@@ -62,6 +62,7 @@ InverseDisplayRequests::InverseDisplayRequests(const BridgeConfig& config, const
     render::DisplayRenderingOptions options;
     options.cache_dir = config.compliance_cache_dir;
     options.renderer.max_iterations = config.display_render_iterations;
+    options.renderer.max_evaluations = config.display_render_evaluations;
     options.fit_reduction = config.display_fit_reduction;
     p->rendering = std::make_unique<render::DisplayRendering>(p->model, profile, options);
     p->precompute_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -70,6 +71,7 @@ InverseDisplayRequests::InverseDisplayRequests(const BridgeConfig& config, const
   if (cache) {
     const std::string key = config.model + "|" + profile.name + "|" + config.compliance_cache_dir + "|" +
                             std::to_string(config.display_render_iterations) + "|" +
+                            std::to_string(config.display_render_evaluations) + "|" +
                             std::to_string(config.display_fit_reduction);
     precompute_ = cache->Get(key, build);
     CheckSameLayer(precompute_->model, merkel_rest_pad_mm, config.model);  // this finger's step against it
@@ -92,11 +94,32 @@ void InverseDisplayRequests::Request(const display::SedField& field, std::vector
   const Eigen::VectorXd& u = renderer_->Render(target_Pa_);
   if (renderer_->last().fault) return;
   not_converged_ += renderer_->last().converged ? 0 : 1;
+  const size_t evaluations = size_t(std::max(0, renderer_->last().evaluations));
+  if (evaluations >= evaluations_histogram_.size()) evaluations_histogram_.resize(evaluations + 1, 0);
+  ++evaluations_histogram_[evaluations];
   std::copy(u.data(), u.data() + u.size(), requested->begin());
   render_times_.AddMs(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   render_cpu_times_.AddMs(ThreadCpuTime_ms() - cpu_start_ms);
   render_times_.ResetWindow();  // only the run's summary is read
   render_cpu_times_.ResetWindow();
+}
+
+InverseDisplayRequests::EvaluationCounts InverseDisplayRequests::evaluation_counts() const {
+  EvaluationCounts c;
+  for (int64_t n : evaluations_histogram_) c.renders += n;
+  if (c.renders == 0) return c;
+  // Nearest rank, as LatencyStats's percentiles.
+  auto rank = [&](double q) {
+    const int64_t k = std::max<int64_t>(1, int64_t(std::ceil(q * double(c.renders))));
+    int64_t seen = 0;
+    for (size_t e = 0; e < evaluations_histogram_.size(); ++e)
+      if ((seen += evaluations_histogram_[e]) >= k) return int(e);
+    return int(evaluations_histogram_.size()) - 1;
+  };
+  c.median = rank(0.5);
+  c.p99 = rank(0.99);
+  c.max = rank(1.0);
+  return c;
 }
 
 display::CommandRequestSource InverseDisplayRequests::Source(std::shared_ptr<InverseDisplayRequests> self) {

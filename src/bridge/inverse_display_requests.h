@@ -92,6 +92,13 @@ class InverseDisplayRequests {
   const LatencyStats& render_cpu_times() const { return render_cpu_times_; }
   /// Scans whose renderer did not converge within its iterations (the answer is its best).
   int64_t not_converged() const { return not_converged_; }
+  /// SED evaluations of each Render (trials included: the renderer's work, without the
+  /// machine's noise): the median, 99th percentile and maximum over the run's renders.
+  struct EvaluationCounts {
+    int64_t renders = 0;
+    int median = 0, p99 = 0, max = 0;
+  };
+  EvaluationCounts evaluation_counts() const;
 
  private:
   std::shared_ptr<InverseRenderingPrecompute> precompute_;
@@ -99,6 +106,7 @@ class InverseDisplayRequests {
   Eigen::VectorXd target_Pa_;
   LatencyStats render_times_{100'000}, render_cpu_times_{100'000};
   int64_t not_converged_ = 0;
+  std::vector<int64_t> evaluations_histogram_;  // [k]: renders that took k evaluations
   double precompute_s_ = 0;
 };
 

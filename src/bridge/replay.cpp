@@ -51,7 +51,7 @@ void WriteStageCsv(const std::string& path, const std::vector<ReplayRow>& rows) 
   if (!f) throw std::runtime_error("cannot write " + path);
   f << "utime";
   for (int i = 0; i < kNumStages; ++i) f << ',' << ToString(static_cast<Stage>(i)) << "_ms";
-  f << '\n';
+  f << ",scan_cpu_ms\n";
   char buf[32];
   for (const ReplayRow& r : rows) {
     f << r.utime;
@@ -59,7 +59,8 @@ void WriteStageCsv(const std::string& path, const std::vector<ReplayRow>& rows) 
       std::snprintf(buf, sizeof buf, ",%.4f", ms);
       f << buf;
     }
-    f << '\n';
+    std::snprintf(buf, sizeof buf, ",%.4f\n", r.cpu_ms);
+    f << buf;
   }
   if (!f) throw std::runtime_error("write failed: " + path);
 }
@@ -245,6 +246,10 @@ void FinishInverse(InverseDisplayRequests& inverse, const PeakSnapshot& peak, co
   result->render_ms = inverse.render_times().Run();
   result->render_cpu_ms = inverse.render_cpu_times().Run();
   result->render_not_converged = inverse.not_converged();
+  const InverseDisplayRequests::EvaluationCounts evaluations = inverse.evaluation_counts();
+  result->render_evaluations_median = evaluations.median;
+  result->render_evaluations_p99 = evaluations.p99;
+  result->render_evaluations_max = evaluations.max;
   if (peak.sed_Pa < 0) {
     result->display_fidelity_error = "no stepped scan";
     return;

@@ -15,7 +15,8 @@
 //                           published commands at that scan add to the leader's preloaded pad
 //                           (full contact FE), the same vertices as peak_merkel_sed.csv
 //   stage_ms.csv            one row per scan: utime, then the wall time [ms] of each stage
-//                           (common/stage_times.h); apart from summary.csv, which stays
+//                           (common/stage_times.h), then scan_cpu_ms (the whole scan's
+//                           thread-CPU time); apart from summary.csv, which stays
 //                           identical between runs but for latency_ms
 //   bridge.lcmlog           every published LCM message (lcm-logplayer, lcm-spy)
 //   frames.pvd, frame_*.vtu with vtu_every > 0 (ParaView)
@@ -112,6 +113,7 @@ struct ReplayResult {
   LatencySummary render_ms;            ///< inverse: the renderer's wall time per scan
   LatencySummary render_cpu_ms;        ///< inverse: its CPU time per scan (load left out)
   int64_t render_not_converged = 0;    ///< inverse: scans whose renderer stopped at its iteration limit
+  int render_evaluations_median = 0, render_evaluations_p99 = 0, render_evaluations_max = 0;  ///< inverse: SED evaluations a render
   /// Inverse: the display's SED at the peak scan (published commands, full FE) against the
   /// bridge's; have_display_fidelity false (reason in display_fidelity_error) if not computed.
   bool have_display_fidelity = false;
@@ -186,7 +188,8 @@ void BuildHandFeSteps(std::vector<HandFinger>& fingers, bool full_field, LeaderM
 
 /// Writes summary.csv for `rows`.
 void WriteSummaryCsv(const std::string& path, const std::vector<ReplayRow>& rows);
-/// Writes stage_ms.csv for `rows`: utime, then one column per stage named `<stage>_ms`.
+/// Writes stage_ms.csv for `rows`: utime, one column per stage named `<stage>_ms` (wall
+/// time), then scan_cpu_ms (ReplayRow::cpu_ms).
 void WriteStageCsv(const std::string& path, const std::vector<ReplayRow>& rows);
 
 }  // namespace sedbridge::bridge

@@ -15,8 +15,10 @@ InverseRenderer::InverseRenderer(DisplayInfluence influence, Eigen::VectorXd max
     throw std::invalid_argument("inverse renderer: one maximum per actuator");
   if (!max_.allFinite() || (max_.array() < 0).any())
     throw std::invalid_argument("inverse renderer: maxima must be finite and >= 0");
-  if (!(options_.sed_floor_Pa > 0) || options_.max_iterations < 1 || !(options_.command_tolerance > 0))
-    throw std::invalid_argument("inverse renderer: sed_floor_Pa > 0, max_iterations >= 1, command_tolerance > 0");
+  if (!(options_.sed_floor_Pa > 0) || options_.max_iterations < 1 || !(options_.command_tolerance > 0) ||
+      options_.max_evaluations < 0)
+    throw std::invalid_argument(
+        "inverse renderer: sed_floor_Pa > 0, max_iterations >= 1, command_tolerance > 0, max_evaluations >= 0");
   if (!(options_.command_penalty >= 0)) throw std::invalid_argument("inverse renderer: command_penalty >= 0");
   if (!(options_.retract_below >= 0 && options_.retract_below < 1))
     throw std::invalid_argument("inverse renderer: retract_below in [0, 1)");
@@ -91,6 +93,10 @@ const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed
     bool accepted = false, stationary = false;
     double raise = 2.0;
     for (int attempt = 0; attempt < 16 && !accepted && !stationary; ++attempt) {
+      if (options_.max_evaluations > 0 && result_.evaluations >= options_.max_evaluations) {
+        result_.out_of_evaluations = true;
+        break;
+      }
       DampedStep();
       trial_ = (u_ + step_).cwiseMax(0.0).cwiseMin(box_);
       stationary = (trial_ - u_).lpNorm<Eigen::Infinity>() <= 1e-14 * std::max(1.0, max_.lpNorm<Eigen::Infinity>());
@@ -107,6 +113,7 @@ const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed
         raise *= 2.0;
       }
     }
+    if (result_.out_of_evaluations) break;  // the last accepted commands stand; the next scan goes on
     if (!accepted) {
       result_.converged = true;  // no step lowers the cost: stationary
       break;

@@ -33,6 +33,12 @@ struct InverseRendererOptions {
   /// s0 of the measure [Pa]: SED differences well below it weigh little.
   double sed_floor_Pa = 10.0;
   int max_iterations = 8;
+  /// SED evaluations a render may spend, rejected trials included (0: no bound but the
+  /// iterations'). A scan's cost is its evaluations (each reads the whole influence); a
+  /// render that spends them before a trial is accepted keeps its last accepted commands,
+  /// and the damping its rejections raised carries to the next scan, which goes on from
+  /// there: the worst scan's work is bounded, not only the typical one's.
+  int max_evaluations = 0;
   /// Converged when a step moves no command by more than this fraction of its maximum
   /// (1e-4: far below what a device resolves), or the cost stops falling.
   double command_tolerance = 1e-4;
@@ -58,6 +64,7 @@ struct InverseRendererOptions {
 struct RenderResult {
   bool fault = false;        ///< non-finite target: every command 0
   bool converged = false;
+  bool out_of_evaluations = false;  ///< stopped by max_evaluations (not converged)
   int iterations = 0;
   int evaluations = 0;       ///< SED fields evaluated (line-search trials included)
   double cost = 0;           ///< 1/2 sum r_v^2 at the answer [Pa]

@@ -13,7 +13,8 @@
 //   scans the current model explains (6, the default, or 0 = the full 12).
 //   ReconstructPressJacobian/<press>/<refresh>: ReconstructionOptions::jacobian_refresh (1 =
 //   finite differences every LM iteration, 4 = the default's Broyden updates). Counters: per-scan median / p99 / max ms (wall clock, over the press's scans),
-//   evaluations per scan (deterministic: the cost without the machine's noise), fallbacks.
+//   evaluations per scan (deterministic: the cost without the machine's noise) with their p99
+//   and max over the press's scans (p99_evals, max_evals: the worst scans' work), fallbacks.
 
 #include <benchmark/benchmark.h>
 
@@ -67,13 +68,17 @@ BENCHMARK(ForwardModel)->ArgName("sphere_rod_finite_flat")->DenseRange(0, 3)->Un
 // Every scan of `press` through a fresh reconstructor with `options`; per-scan counters.
 void RunPress(benchmark::State& state, const sensors::CalibrationPress& press, const contact::ReconstructionOptions& options) {
   std::vector<double> ms;
+  std::vector<int> scan_evaluations;
   int64_t evaluations = 0, fallbacks = 0, scans = 0;
   for (auto _ : state) {
     contact::ContactReconstructor r(Profile(), options);
+    scan_evaluations.clear();
     for (const auto& scan : press.scans) {
       const auto t0 = std::chrono::steady_clock::now();
-      benchmark::DoNotOptimize(r.Reconstruct(scan).primitive.normal_force_N);
+      const contact::ContactEstimate& e = r.Reconstruct(scan);
+      benchmark::DoNotOptimize(e.primitive.normal_force_N);
       ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      scan_evaluations.push_back(e.evaluations);
     }
     evaluations += r.counters().evaluations;
     fallbacks += r.counters().fallbacks;
@@ -85,6 +90,9 @@ void RunPress(benchmark::State& state, const sensors::CalibrationPress& press, c
   state.counters["p99_ms"] = ms[ms.size() * 99 / 100];
   state.counters["max_ms"] = ms.back();
   state.counters["evals_per_scan"] = double(evaluations) / double(scans);
+  std::sort(scan_evaluations.begin(), scan_evaluations.end());
+  state.counters["p99_evals"] = scan_evaluations[scan_evaluations.size() * 99 / 100];
+  state.counters["max_evals"] = scan_evaluations.back();
   state.counters["fallbacks"] = double(fallbacks) / double(state.iterations());
 }
 

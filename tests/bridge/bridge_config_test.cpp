@@ -115,6 +115,10 @@ TEST(BridgeConfig, DisplayRenderingIsInverseOrCurveAndItsErrorsNameFileLineColum
 TEST(BridgeConfig, RenderIterationsAreBoundedAndNamedWhereTheyStand) {
   EXPECT_EQ(ParseBridgeConfig("display: {profile: suction_4x4}\n", "b.yaml").display_render_iterations, 3);
   EXPECT_EQ(ParseBridgeConfig("display: {profile: suction_4x4, render_iterations: 2}\n", "b.yaml").display_render_iterations, 2);
+  EXPECT_EQ(ParseBridgeConfig("display: {profile: suction_4x4}\n", "b.yaml").display_render_evaluations, 0);
+  EXPECT_EQ(ParseBridgeConfig("display: {profile: pin_8x8, render_evaluations: 2}\n", "b.yaml").display_render_evaluations, 2);
+  ExpectErrorNaming("display:\n  profile: suction_4x4\n  render_evaluations: -1\n", "bridge.yaml", "bridge.yaml:3:23",
+                    "render_evaluations");
   ExpectErrorNaming("display:\n  profile: suction_4x4\n  render_iterations: 0\n", "bridge.yaml", "bridge.yaml:3:22",
                     "render_iterations");
   ExpectErrorNaming("display:\n  profile: suction_4x4\n  render_iterations: 2.5\n", "bridge.yaml", "bridge.yaml:3:22",

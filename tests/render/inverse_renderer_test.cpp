@@ -131,5 +131,39 @@ TEST(InverseRenderer, WithTheLimiterAfterItCommandsNeverExceedMaxNorSlewHoweverT
   EXPECT_GT(at_ceiling, 0);  // the bound was reached, so the check above could have failed
 }
 
+TEST(InverseRenderer, AnEvaluationBudgetBoundsEachScanAndLaterScansReachTheSameAnswer) {
+  InverseRendererOptions budgeted;
+  budgeted.max_iterations = 8;
+  budgeted.max_evaluations = 2;
+  const DisplayInfluence influence(testing::SyntheticInfluence(kActuators, 60, 1e-3));
+  InverseRenderer bounded(influence, Eigen::VectorXd::Constant(kActuators, kMax), budgeted);
+  InverseRenderer free_running(influence, Eigen::VectorXd::Constant(kActuators, kMax));
+  Eigen::VectorXd truth(kActuators);
+  for (int a = 0; a < kActuators; ++a) truth[a] = kMax * (0.2 + 0.08 * a);
+  const Eigen::VectorXd target = AddedSed(free_running, truth);
+  const Eigen::VectorXd unbounded = free_running.Render(target);
+  ASSERT_TRUE(free_running.last().converged);
+  ASSERT_GT(free_running.last().evaluations, 2);  // so the budget below is binding
+  // The same target scan after scan: each render spends at most two evaluations, stays in
+  // the box, and goes on from where the last stopped until it converges where an unbounded
+  // render does.
+  bool stopped_by_budget = false, converged = false;
+  for (int scan = 0; scan < 40 && !converged; ++scan) {
+    const Eigen::VectorXd& u = bounded.Render(target);
+    ASSERT_LE(bounded.last().evaluations, 2) << scan;
+    ASSERT_GE(u.minCoeff(), 0.0);
+    ASSERT_LE(u.maxCoeff(), kMax);
+    stopped_by_budget |= bounded.last().out_of_evaluations;
+    EXPECT_FALSE(bounded.last().out_of_evaluations && bounded.last().converged) << scan;
+    converged = bounded.last().converged;
+  }
+  EXPECT_TRUE(stopped_by_budget);
+  ASSERT_TRUE(converged);
+  EXPECT_LE((bounded.commands() - unbounded).lpNorm<Eigen::Infinity>(), 1e-3 * kMax);
+  EXPECT_THROW(InverseRenderer(influence, Eigen::VectorXd::Constant(kActuators, kMax),
+                               InverseRendererOptions{10.0, 8, -1}),
+               std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace sedbridge::render
