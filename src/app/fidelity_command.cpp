@@ -7,7 +7,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -23,6 +25,8 @@
 #include "display/display_profile.h"
 #include "fidelity/faulty_taxel_fidelity.h"
 #include "fidelity/fidelity_benchmark.h"
+#include "fidelity/truth_resolution.h"
+#include "sensors/calibration_press.h"
 
 namespace sedbridge::app {
 namespace {
@@ -112,6 +116,85 @@ int RunFaultyTaxels(FidelityBenchmark& bench, const std::vector<FidelityCase>& p
   return 0;
 }
 
+// --truth-resolution: the rig's light presses (primitives at most --light-below at their
+// hold) and each light object at 1 N too, pressed at sub-node shifts on each model, with node
+// and with face contact (fidelity/truth_resolution.h).
+int RunTruthResolution(const ArgParser& args, const sensors::SensorProfile& profile, const BridgeConfig& config,
+                       const std::string& out) {
+  std::vector<std::string> models;
+  std::stringstream list(args.Get("truth-resolution"));
+  for (std::string m; std::getline(list, m, ',');)
+    if (!m.empty()) models.push_back(m);
+  const double step_mm = args.GetDouble("shift-step");
+  const double light_N = args.GetDouble("light-below");
+  if (models.empty() || !(step_mm > 0 && step_mm <= 2) || !(light_N > 0))
+    throw UsageError("--truth-resolution MODELS (comma-separated), --shift-step in (0, 2] mm, --light-below > 0 N");
+  constexpr double kControl_N = 1.0;
+  const std::vector<Eigen::Vector2d> shifts = ShiftGrid(step_mm, 3);
+  struct Object {
+    std::string label;
+    sensors::ContactPrimitive primitive;
+    double force_N;
+  };
+  std::vector<Object> objects;
+  for (const sensors::CalibrationPress& p : sensors::LoadCalibrationPresses(config::ResolveResource(args.Get("cases")), profile)) {
+    if (!p.is_primitive() || p.object.shape == sensors::ContactShape::kFlat || !(p.object.normal_force_N <= light_N)) continue;
+    char label[96];
+    std::snprintf(label, sizeof label, "%s %s R%g", p.name.substr(0, p.name.find('.')).c_str(),
+                  sensors::ContactShapeName(p.object.shape), p.object.radius_mm);
+    sensors::ContactPrimitive normal_only = p.object;
+    normal_only.shear_x_N = normal_only.shear_y_N = 0;
+    objects.push_back({label, normal_only, p.object.normal_force_N});
+    objects.push_back({label, normal_only, kControl_N});
+  }
+  std::printf("truth resolution: %zu light presses of the rig (<= %g N) and each at %g N, %zu shifts %g mm apart, "
+              "models %s, node and face contact\n",
+              objects.size() / 2, light_N, kControl_N, shifts.size(), step_mm, args.Get("truth-resolution").c_str());
+  std::printf("%-26s %7s %-8s %-5s | %7s %11s %14s %13s\n", "object", "F_N", "model", "cont.", "reached",
+              "peak_med_Pa", "peak_min/max", "sum_min/max");
+  std::vector<TruthShiftRow> all;
+  for (const Object& o : objects)
+    for (const std::string& model : models)
+      for (const bool face : {false, true}) {
+        const std::vector<TruthShiftRow> rows =
+            PressAtShifts(model, face, config.compliance_cache_dir, o.label, o.primitive, o.force_N, shifts);
+        const TruthSpread s = SpreadOf(rows);
+        std::printf("%-26s %7.3g %-8s %-5s | %3d of %d %11.0f %14.2f %13.2f\n", o.label.c_str(), o.force_N,
+                    model.c_str(), face ? "face" : "node", s.reached, s.shifts, s.peak_median_Pa, s.peak_min_over_max,
+                    s.sum_min_over_max);
+        std::fflush(stdout);
+        all.insert(all.end(), rows.begin(), rows.end());
+      }
+  // What the sensor's noise leaves open about the same objects' radii (at their light force),
+  // and what that radius range makes of the truth's peak SED on the first model (face
+  // contact): the object pressed at R e^-sigma and R e^+sigma (within the plausible radii).
+  const contact::ReconstructionOptions reconstruction = ReconstructionOptionsOf(config);
+  std::printf("\nthe radius the sensor's noise leaves open (Cramér-Rao bound, 1 sigma of log R with the place, force "
+              "and radius unknown, %g counts a reading), and the truth's peak SED on %s (face contact) at R e^-sigma "
+              "and R e^+sigma against at R:\n%-26s %7s %10s %17s %10s %17s\n",
+              reconstruction.noise_counts, models.front().c_str(), "object", "F_N", "sigma scan", "SED -/+ a scan",
+              "sigma 25", "SED -/+ 25 scans");
+  for (size_t i = 0; i < objects.size(); i += 2) {
+    const Object& o = objects[i];
+    const double sigma = LogRadiusSigmaPerScan(profile, o.primitive, reconstruction.noise_counts);
+    std::vector<Eigen::Vector2d> here{Eigen::Vector2d::Zero()};
+    auto peak_at = [&](double log_factor) {
+      sensors::ContactPrimitive p = o.primitive;
+      p.radius_mm = std::clamp(p.radius_mm * std::exp(log_factor), reconstruction.min_radius_mm, reconstruction.max_radius_mm);
+      const TruthShiftRow r = PressAtShifts(models.front(), true, config.compliance_cache_dir, o.label, p, o.force_N, here).front();
+      return r.reached ? r.peak_sed_Pa : std::numeric_limits<double>::quiet_NaN();
+    };
+    const double at = peak_at(0);
+    const double s25 = sigma / 5;
+    std::printf("%-26s %7.3g %10.2f %8.2f / %6.2f %10.3f %8.2f / %6.2f\n", o.label.c_str(), o.force_N, sigma,
+                peak_at(-sigma) / at, peak_at(sigma) / at, s25, peak_at(-s25) / at, peak_at(s25) / at);
+    std::fflush(stdout);
+  }
+  WriteTruthShiftCsv(out + "/truth_resolution.csv", all);
+  std::printf("wrote %s/truth_resolution.csv\n", out.c_str());
+  return 0;
+}
+
 // The options of `sedbridge fidelity`.
 void AddFidelityOptions(ArgParser& args) {
   args.Option("cases", "JSON", "presses to run", "config/sensors/rig_uskin_4x4/cases.json")
@@ -171,6 +254,13 @@ void AddFidelityOptions(ArgParser& args) {
       .Flag("beyond-primitives",
             "--synthetic: the presses no contact primitive holds instead (a grating, a cross, three spheres, a tilted "
             "block), for the fallbacks")
+      .Option("truth-resolution", "MODELS",
+              "instead of the table: how well each leader model (comma-separated, e.g. B,B_fine) resolves the truth "
+              "of a light touch: the rig's light presses (--light-below) and the same objects at 1 N, each pressed at "
+              "3 x 3 shifts --shift-step apart with node and with face contact; the peak and summed Merkel SED's "
+              "min / max over the shifts (1: resolved): truth_resolution.csv and a table")
+      .Option("shift-step", "MM", "--truth-resolution: the shifts' spacing [mm]", "0.25")
+      .Option("light-below", "N", "--truth-resolution: the rig's presses at most this hold force are light", "0.3")
       .Flag("no-plots", "skip the PNG plots");
 }
 
@@ -396,6 +486,10 @@ int RunFidelity(int argc, char** argv) {
   const std::string model = args.GetOptional("model").value_or(config.model);
   const std::string out = args.Get("out");
   if (args.GetInt("through-press") < 0) throw UsageError("--through-press must be 0 (off) or a stride of 1 or more");
+  if (args.GetOptional("truth-resolution")) {
+    std::filesystem::create_directories(out);
+    return RunTruthResolution(args, sensors::LoadNamedSensorProfile(args.Get("profile")), config, out);
+  }
   std::filesystem::create_directories(out + "/maps");
   std::unique_ptr<DisplayFidelityReport> display_report = MakeDisplayReport(args, model, config.compliance_cache_dir, out);
   const auto profile = sensors::LoadNamedSensorProfile(args.Get("profile"));

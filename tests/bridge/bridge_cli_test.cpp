@@ -106,8 +106,9 @@ TEST(BridgeCli, RunOfAHandRefusesInterfaceAndSaysWhyWithoutSocketCan) {
 
 // `fidelity` refuses what it cannot run before building anything: a pad model without the
 // kernels, an unknown one (the choices listed), a negative --random or --through-press,
-// --random with --rig-on-pad, --random-ranges without --random or with an unknown name, and
-// a config with a key out of range (file, line and column).
+// --random with --rig-on-pad, --random-ranges without --random or with an unknown name, a
+// --truth-resolution without models or with a shift step out of range, and a config with a
+// key out of range (file, line and column).
 TEST(BridgeCli, FidelityRefusesABadPadOrConfigSayingWhere) {
   const std::string dir = TempDir("fidelity");
   const std::string fidelity = std::string(SEDBRIDGE_BINARY) + " fidelity --no-plots --out " + dir;
@@ -126,6 +127,8 @@ TEST(BridgeCli, FidelityRefusesABadPadOrConfigSayingWhere) {
   refused("--rig-on-pad --random-ranges wide", "--random-ranges");
   refused("--synthetic --random 3 --random-ranges huge", "rig, wide");
   refused("--through-press -5", "--through-press");
+  refused("--truth-resolution B --shift-step 0", "--shift-step");
+  refused("--truth-resolution , ", "--truth-resolution MODELS");
   const std::string config = dir + "/bad.yaml";
   std::ofstream(config) << "fe:\n  contact_tolerance: 5\n";
   refused("--config " + config, config + ":2:22");
