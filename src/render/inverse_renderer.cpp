@@ -7,7 +7,20 @@
 #include <stdexcept>
 #include <utility>
 
+#include "render/boxed_damped_step.h"
+
 namespace sedbridge::render {
+namespace {
+
+// The damping a rejected trial raises lambda to at least. Marquardt's scaling makes lambda
+// relative to each command's own curvature, and an accepted step lowers it towards 1e-9,
+// where doubling it back up changes the step by nothing measurable: on pin_8x8's ramp in the
+// example log a rejected trial was re-evaluated up to six times at almost the same step.
+// 0.1 (against 1e-3 and 1e-2: render_benchmark and the example replay, 2026-11-30) took the
+// fewest re-evaluations.
+constexpr double kLeastRejectedDamping = 0.1;
+
+}  // namespace
 
 InverseRenderer::InverseRenderer(DisplayInfluence influence, Eigen::VectorXd max_command, InverseRendererOptions options)
     : influence_(std::move(influence)), max_(std::move(max_command)), options_(options) {
@@ -109,7 +122,8 @@ const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed
         lambda_ = std::max(lambda_ * std::max(0.1, 1.0 - t * t * t), options_.damping);
         cost = c;
       } else {
-        lambda_ = std::min(lambda_ * raise, 1e12);
+        ++result_.rejected_trials;
+        lambda_ = std::min(std::max(lambda_ * raise, kLeastRejectedDamping), 1e12);
         raise *= 2.0;
       }
     }
@@ -235,10 +249,15 @@ void InverseRenderer::DampedStep() {
   const double floor = std::max(H0_.diagonal().maxCoeff(), 1e-300) * 1e-12;
   H_ = H0_;
   H_.diagonal().array() += lambda_ * (H0_.diagonal().array() + floor);
-  const Eigen::LDLT<Eigen::MatrixXd> ldlt(H_);
-  const Eigen::VectorXd d = ldlt.solve(-g_);
+  // The damped model minimized on the box, not the unconstrained step clipped to it
+  // (render/boxed_damped_step.h): on the pin displays most rejected trials were clipped steps
+  // the model itself said raise the cost (a pin driven below its retracted stroke, its
+  // neighbours' steps sized for it), each a wasted SED evaluation, several a scan at onset.
+  Eigen::VectorXd u_free(m), box_free(m);
+  for (Eigen::Index a = 0; a < m; ++a) u_free[a] = u_[free_[size_t(a)]], box_free[a] = box_[free_[size_t(a)]];
+  const Eigen::VectorXd d = BoxedDampedStep(H_, g_, u_free, box_free);
   step_.setZero(box_.size());
-  for (Eigen::Index a = 0; a < m; ++a) step_[free_[size_t(a)]] = std::isfinite(d[a]) ? d[a] : 0.0;
+  for (Eigen::Index a = 0; a < m; ++a) step_[free_[size_t(a)]] = d[a];
 }
 
 }  // namespace sedbridge::render

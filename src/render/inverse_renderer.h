@@ -67,6 +67,7 @@ struct RenderResult {
   bool out_of_evaluations = false;  ///< stopped by max_evaluations (not converged)
   int iterations = 0;
   int evaluations = 0;       ///< SED fields evaluated (line-search trials included)
+  int rejected_trials = 0;   ///< trials evaluated and not accepted (the cost did not fall)
   double cost = 0;           ///< 1/2 sum r_v^2 at the answer [Pa]
   int at_upper_bound = 0;    ///< commands at their maximum
 };
