@@ -5,7 +5,8 @@ namespace sedbridge::sensors {
 const config::EnumNames<ContactShape>& NamesOf(ContactShape) {
   static const config::EnumNames<ContactShape> names{
       {ContactShape::kSphere, "sphere"}, {ContactShape::kCylinder, "cylinder"}, {ContactShape::kFlat, "flat"},
-      {ContactShape::kPunch, "punch"}, {ContactShape::kRoundPunch, "round_punch"}};
+      {ContactShape::kPunch, "punch"}, {ContactShape::kRoundPunch, "round_punch"},
+      {ContactShape::kCorner, "corner"}};
   return names;
 }
 

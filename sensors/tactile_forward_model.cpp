@@ -8,6 +8,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "sensors/cone_pressure.h"
 #include "sensors/flat_punch_pressure.h"
 
 namespace sedbridge::sensors {
@@ -460,6 +461,9 @@ void TactileForwardModel::Patch(const ContactPrimitive& c, std::vector<SurfaceLo
     case ContactShape::kRoundPunch:
       SplatFlatPunch(FlatPunchOf(c), {grid_x0_mm_, grid_y0_mm_}, h, grid_n_, loads);
       break;
+    case ContactShape::kCorner:
+      SplatCone(c.x_mm, c.y_mm, CornerRadius_mm(F), F, {grid_x0_mm_, grid_y0_mm_}, h, grid_n_, loads);
+      break;
     case ContactShape::kFlat:
       add_box(-half, half, -half, half,
               [&](double x, double y) { return Coverage1d(x, h, half) * Coverage1d(y, h, half); });
@@ -483,6 +487,12 @@ double TactileForwardModel::SphereHalfWidth_mm(double force_N, double radius_mm)
   const double E_N_mm2 = params_.contact_modulus_kPa * 1e-3;  // kPa -> N/mm^2
   const double R = std::max(radius_mm, 1e-3);
   return std::hypot(std::cbrt(3.0 * force_N * R / (4.0 * E_N_mm2)), params_.grid_mm);
+}
+
+double TactileForwardModel::CornerRadius_mm(double force_N) const {
+  // Widened as a rod's band: the cover spreads a sharp contact over a width of its own.
+  return std::hypot(ConeContactRadius_mm(force_N, params_.contact_modulus_kPa, kCubeCornerConeTan),
+                    std::max(params_.grid_mm, params_.rod_min_halfwidth_mm));
 }
 
 double TactileForwardModel::RodHalfWidth_mm(double force_per_length_N_mm, double radius_mm) const {
@@ -511,6 +521,10 @@ double TactileForwardModel::PatchCellsEstimate(const ContactPrimitive& c) const 
       return std::min(4.0 * (c.half_size_mm[0] + 0.5 * h) * (c.half_size_mm[1] + 0.5 * h), grid_area) / (h * h);
     case ContactShape::kRoundPunch:  // the same for a disc
       return std::min(kPi * (c.radius_mm + 0.5 * h) * (c.radius_mm + 0.5 * h), grid_area) / (h * h);
+    case ContactShape::kCorner: {  // the cone's disc and the splat's ring of cells around it
+      const double a = CornerRadius_mm(F) + h;
+      return std::min(kPi * a * a, grid_area) / (h * h);
+    }
     default: return 0;
   }
 }

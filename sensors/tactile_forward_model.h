@@ -16,6 +16,9 @@
 //                (sensors/flat_punch_pressure.h: SplatFlatPunch)
 //       round punch  a rigid round flat face, radius a: p ~ 1 / sqrt(1 - r^2/a^2) (the
 //                same file, the same capped edge)
+//       corner   a box corner pointing into the pad as the cone of its section area:
+//                p ~ arccosh(a / r), a = sqrt(2 F / (pi E* tan beta)) (sensors/cone_pressure.h),
+//                widened as the rod's band (the cover spreads a point as a line)
 //       flat     uniform over the pad square (side pad_size_mm)
 //     each scaled so the cells sum to the normal force F; a tangential force T (stroking)
 //     is spread over the same cells in proportion to p.
@@ -109,6 +112,10 @@ class TactileForwardModel {
   /// rod's band to at least params.rod_min_halfwidth_mm: the cover's spread).
   double SphereHalfWidth_mm(double force_N, double radius_mm) const;
   double RodHalfWidth_mm(double force_per_length_N_mm, double radius_mm) const;
+  /// A corner's cone (sensors/cone_pressure.h) contact radius at force_N [mm], widened to
+  /// sqrt(a^2 + w^2) as a rod's band (w = max(grid_mm, rod_min_halfwidth_mm): the cover's
+  /// spread of a sharp contact).
+  double CornerRadius_mm(double force_N) const;
   void BuildKernelTable();
   /// Per load, its cell's distance into the kernel table [entries]: the entry for taxel k is
   /// table_[taxel_base_[k] - offset]. Once per patch, not once per (taxel, cell): the

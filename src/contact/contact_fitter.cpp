@@ -20,7 +20,8 @@ using sensors::ContactShape;
 // sphere, b^2 ~ F R / L for a rod), and the normal part is F times a function of that
 // width, so d pred / d log F = normal part + d pred / d log R (the flat and the punches, rigid
 // faces whose pressure keeps its shape as the force grows: = normal part; a punch's half
-// sizes are differenced like the pose, 5 evaluations a Jacobian, a round punch's radius 3).
+// sizes are differenced like the pose, 5 evaluations a Jacobian, a round punch's radius 3;
+// a corner, whose patch grows with F and which has no radius, differences its force too: 3).
 // The pose and radius columns are forward differences with NumericalDiff's step
 // (1e-3 |u_j|, or 1e-3 at 0), from the parts already computed at u. A Jacobian costs one
 // model evaluation per pose/radius unknown (3 for spheres and rods, 5 for a finite rod,
@@ -228,7 +229,10 @@ struct Functor : common::DynamicSizeFunctor {
     }
     // The difference columns: one sphere per column of a pair (four each), else one
     // evaluation per pose/radius column.
-    if (!Affordable(u0, pair ? kSphereUnknowns : geometric - 1)) return -1;
+    // A corner's patch grows with its force (a^2 ~ F: sensors/cone_pressure.h) and it has no
+    // radius to borrow the force column from: that column is a difference too.
+    const bool corner = !pair && shape == ContactShape::kCorner;
+    if (!Affordable(u0, pair ? kSphereUnknowns : geometric - (corner ? 0 : 1))) return -1;
     last.since_differences = 0;
     if (pair) {
       const ModelPart saved[2] = {parts[0], parts[1]};
@@ -252,8 +256,12 @@ struct Functor : common::DynamicSizeFunctor {
         Jp.col(j) = difference_column(j);
         if (j == kLogRadius && !sensors::IsPunch(shape)) d_pred_log_r = Jp.col(j);
       }
-      Jp.col(log_force) = normal0 + d_pred_log_r;
-      set_column(log_force, Jp.col(log_force));
+      if (corner) {
+        Jp.col(log_force) = difference_column(log_force);
+      } else {
+        Jp.col(log_force) = normal0 + d_pred_log_r;
+        set_column(log_force, Jp.col(log_force));
+      }
     }
     if (shear) {  // d pred / d T = per_x, per_y
       set_column(geometric, per_x0);
@@ -271,7 +279,7 @@ void SetRadiusPrior(Functor& f, const ReconstructionOptions& options, double tra
                     double tracked_log_sigma) {
   const bool tracked = !f.pair && std::isfinite(tracked_log_radius) && tracked_log_sigma > 0;
   const double prior_sigma = tracked ? tracked_log_sigma : options.radius_prior_log_sigma;
-  if (f.shape != ContactShape::kFlat && !sensors::IsPunch(f.shape) && prior_sigma > 0) {
+  if (sensors::HasFittedRadius(f.shape) && prior_sigma > 0) {
     f.prior_weight = 1.0 / prior_sigma;
     f.prior_mean = tracked ? tracked_log_radius : std::log(options.radius_prior_mm);
   }
@@ -391,7 +399,7 @@ Fit Answer(const FitProblem& problem, Functor& f, Eigen::LevenbergMarquardtSpace
   // A radius the scans barely determine (thin rods: a patch narrower than the load grid) can
   // drift out of the plausible range; the answer is then the nearest plausible radius (the
   // next scan's warm fit starts there), not a fallback.
-  if (f.shape != ContactShape::kFlat && !sensors::IsPunch(f.shape)) {
+  if (sensors::HasFittedRadius(f.shape)) {
     auto clamp_radius = [&](ContactPrimitive& p) {
       const double r = std::clamp(p.radius_mm, std::exp(problem.log_r_lo), std::exp(problem.log_r_hi));
       if (r != p.radius_mm) fit.at_radius_bound = true, p.radius_mm = r;
@@ -413,7 +421,7 @@ Fit Answer(const FitProblem& problem, Functor& f, Eigen::LevenbergMarquardtSpace
     fit.chi2 = data.allFinite() ? data.squaredNorm() : std::numeric_limits<double>::infinity();
     fit.prediction = PredictionAt(f, u);
   }
-  if (!f.pair && f.shape != ContactShape::kFlat && !sensors::IsPunch(f.shape))
+  if (!f.pair && sensors::HasFittedRadius(f.shape))
     fit.radius_prior_weight = f.prior_weight;
   fit.evaluations = *f.evaluations;
   fit.budget_used = *f.budget_used;

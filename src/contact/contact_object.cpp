@@ -32,8 +32,7 @@ LeaderPress PressReconstructed(scene::FingertipCompliance& leader, const Contact
   out.result = leader.PressToForce(ToRigidObjects(estimate), estimate.normal_force_N(), options, tangential_N);
   const auto slipped = [&] {
     const scene::PressStatus s = out.result.status;
-    return estimate.primitive.shape != sensors::ContactShape::kFlat &&
-           !sensors::IsPunch(estimate.primitive.shape) &&
+    return sensors::HasFittedRadius(estimate.primitive.shape) &&
            (s == scene::PressStatus::kNoContact || s == scene::PressStatus::kPatchEdge);
   };
   if (!slipped()) return out;  // the bridge's every scan: no copy of the estimate

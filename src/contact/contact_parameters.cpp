@@ -45,6 +45,10 @@ void AppendShapeUnknowns(const ContactPrimitive& p, Eigen::VectorXd* u, int* i) 
       (*u)[(*i)++] = std::log(p.half_size_mm[1]);
       (*u)[(*i)++] = p.yaw_deg * kPi / 180;
       break;
+    case ContactShape::kCorner:
+      (*u)[(*i)++] = p.x_mm;
+      (*u)[(*i)++] = p.y_mm;
+      break;
     case ContactShape::kFlat: break;
   }
   (*u)[(*i)++] = std::log(std::max(p.normal_force_N, 1e-6));
@@ -59,6 +63,7 @@ int UnknownCount(ContactShape s, bool pair, bool finite, bool shear) {
                    : s == ContactShape::kFlat  ? 1
                    : s == ContactShape::kPunch ? kPunchUnknowns
                    : s == ContactShape::kRoundPunch ? kRoundPunchUnknowns
+                   : s == ContactShape::kCorner ? kCornerUnknowns
                    : finite                    ? 6
                                                : 4;
   return base + (shear ? 2 : 0);
@@ -107,6 +112,11 @@ ContactPrimitive ShapeFromUnknowns(ContactShape shape, bool finite, const double
       p.x_mm = u[i++];
       p.y_mm = u[i++];
       p.radius_mm = std::exp(std::clamp(u[i++], std::log(kMinPunchHalfSize_mm), std::log(kMaxPunchHalfSize_mm)));
+      break;
+    case ContactShape::kCorner:
+      p.x_mm = u[i++];
+      p.y_mm = u[i++];
+      p.radius_mm = 0;
       break;
     case ContactShape::kFlat: p.radius_mm = 0; break;
   }

@@ -9,6 +9,7 @@
 //   flat:        log F
 //   punch:       x, y (the face's centre), log a, log b (half sizes), yaw, log F
 //   round punch: x, y (the face's centre), log a (its radius), log F
+//   corner:      x, y (its tip), log F (its angle is the box's: sensors/cone_pressure.h)
 //   pair:        two spheres' (8), the second's after the first's
 // then, with shear, T_x, T_y [N] (the whole tangential force).
 
@@ -37,6 +38,7 @@ constexpr double kMinHalfLength_mm = 0.25, kMaxHalfLength_mm = 15;
 constexpr double kMinPunchHalfSize_mm = 0.25, kMaxPunchHalfSize_mm = 8;
 constexpr int kPunchUnknowns = 6;
 constexpr int kRoundPunchUnknowns = 4;
+constexpr int kCornerUnknowns = 3;
 
 /// A cylinder of finite length (an edge), not one across the pad.
 bool IsFiniteRod(const sensors::ContactPrimitive& p);

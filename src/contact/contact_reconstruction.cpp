@@ -73,6 +73,8 @@ bool ContactReconstructor::Plausible(const ContactPrimitive& p) const {
       if (!(half >= kMinPunchHalfSize_mm && half <= kMaxPunchHalfSize_mm)) return false;
   } else if (p.shape == ContactShape::kRoundPunch) {
     if (!(p.radius_mm >= kMinPunchHalfSize_mm && p.radius_mm <= kMaxPunchHalfSize_mm)) return false;
+  } else if (p.shape == ContactShape::kCorner) {
+    // No size: its angle is the box's.
   } else if (p.shape != ContactShape::kFlat &&
              (p.radius_mm < options_.min_radius_mm || p.radius_mm > options_.max_radius_mm)) {
     return false;
@@ -130,6 +132,7 @@ const ContactEstimate& ContactReconstructor::Reconstruct(const Eigen::VectorXd& 
   else if (options_.selection == ModelSelection::kAmortized && !settled)
     SelectAmortized(s);
   CheckRoundPunch(s);
+  CheckCorner(s);
   counters_.evaluations += estimate_.evaluations;
   if (!std::isfinite(s.best.chi2)) {
     estimate_.problem = "no shape fitted";
@@ -247,6 +250,7 @@ const ContactEstimate& ContactReconstructor::NoContact() {
   pair_checked_ = false;
   punch_round_ = false;
   round_punch_started_ = round_punch_done_ = false;
+  corner_started_ = corner_done_ = false;
   return estimate_;
 }
 

@@ -98,6 +98,7 @@ class ContactReconstructor {
     pair_checked_ = false;
     punch_round_ = false;
     round_punch_started_ = round_punch_done_ = false;
+    corner_started_ = corner_done_ = false;
     hold_.Reset();
   }
 
@@ -139,6 +140,9 @@ class ContactReconstructor {
   void CheckPair(Selection& s);
   /// kAmortized: the round punch's check on a hold's mean, once an episode (model_selection.cpp).
   void CheckRoundPunch(Selection& s);
+  /// kAmortized: the box corner's check on a hold's mean read as a small sphere, once an
+  /// episode (model_selection.cpp).
+  void CheckCorner(Selection& s);
   void AdvanceCandidates(Selection& s, int budget, bool explained);
   void FlatWhenNothing(Selection& s);
   /// A fit that one taxel's misfit would send to the fallback, redone without that taxel.
@@ -199,6 +203,11 @@ class ContactReconstructor {
   Hypothesis round_punch_;
   Prediction round_punch_prediction_;
   int round_punch_spent_ = 0;
+  // The corner's check (CheckCorner): its iterate over the scans of this episode.
+  bool corner_started_ = false, corner_done_ = false;
+  Hypothesis corner_;
+  Prediction corner_prediction_;
+  int corner_spent_ = 0;
   // Amortized selection: the candidate being fitted over several scans (its iterate) and
   // the evaluations it has spent.
   bool have_candidate_ = false;

@@ -17,7 +17,8 @@ bool SamePose(const sensors::ContactPrimitive& a, const sensors::ContactPrimitiv
   if ((a.length_mm > 0) != (b.length_mm > 0)) return false;
   if (a.length_mm > 0 && !(std::abs(std::log(a.length_mm / b.length_mm)) <= 2e-3)) return false;
   return std::abs(a.x_mm - b.x_mm) <= 5e-3 && std::abs(a.y_mm - b.y_mm) <= 5e-3 &&
-         (a.shape == sensors::ContactShape::kPunch || std::abs(std::log(a.radius_mm / b.radius_mm)) <= 2e-3) &&
+         (a.shape == sensors::ContactShape::kPunch || a.shape == sensors::ContactShape::kCorner ||
+          std::abs(std::log(a.radius_mm / b.radius_mm)) <= 2e-3) &&
          std::abs(std::remainder(a.yaw_deg - b.yaw_deg, 180.0)) <= 0.05;
 }
 

@@ -5,6 +5,7 @@
 // (full: every start at once; amortized: one candidate at a time within a budget, continued
 // by the next scan) runs in ContactReconstructor (model_selection.cpp).
 
+#include "contact/contact_fitter.h"
 #include "contact/contact_parameters.h"
 #include "contact/reconstruction_options.h"
 
@@ -34,6 +35,17 @@ constexpr int kRoundPunchHoldScans = 8;
 /// "very strong" 10 in 2 ln B). The sphere it competes with has as many unknowns, so Better's
 /// AIC alone lets noise decide between a small dome and a small face.
 constexpr double kRoundPunchMarginChi2 = 9;
+/// The box corner's check waits for a hold's mean of this many scans (CheckCorner) ...
+constexpr int kCornerHoldScans = 8;
+/// ... read as a sphere smaller than this [mm]: a corner's patch (sensors/cone_pressure.h: a =
+/// sqrt(2 F / (pi E* tan beta))) is a sphere's of R = 4 E* a^3 / (3 F), about 1.05 mm at
+/// 1 N and 1.5 at 2 N on the uSkin pad (E* 313 kPa); the rig's and the synthetic sets'
+/// spheres are read at 1.99 mm and more.
+constexpr double kCornerSphereRadius_mm = 1.5;
+/// A fit read as one sphere smaller than kCornerSphereRadius_mm.
+bool ReadAsSmallSphere(const Fit& fit);
+/// The corner's start: the sphere's tip and force.
+Hypothesis CornerStart(const sensors::ContactPrimitive& sphere);
 /// The round punch's start: kPunchStartHalfSize_mm in radius at the centroid.
 constexpr SelectionStart kRoundPunchStart{sensors::ContactShape::kRoundPunch, kPunchStartHalfSize_mm, 0};
 

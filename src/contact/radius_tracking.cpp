@@ -9,8 +9,7 @@ TrackedRadius TrackRadius(const ReconstructionOptions& options, bool have_last, 
                           double last_log_radius_variance, int averaged_scans) {
   const double q = options.radius_track_log_sigma;
   TrackedRadius track;
-  if (!have_last || last.pair || last.first.shape == sensors::ContactShape::kFlat ||
-      sensors::IsPunch(last.first.shape) || !(q > 0))
+  if (!have_last || last.pair || !sensors::HasFittedRadius(last.first.shape) || !(q > 0))
     return track;
   track.log_radius = std::log(last.first.radius_mm);
   // While a hold goes on its mean decides, and the last answer already holds its scans.

@@ -89,6 +89,10 @@ struct ReconstructionOptions {
   /// a hold's mean whose answer is inadequate (ContactReconstructor::CheckRoundPunch,
   /// model_selection.cpp), outside the rotation.
   bool fit_round_punches = true;
+  /// Also a box corner pointing into the pad (sensors/cone_pressure.h: x, y, F; its angle the
+  /// box's), checked on a hold read as a small sphere (ContactReconstructor::CheckCorner;
+  /// kFull: after the starts, when they read one).
+  bool fit_corners = true;
   bool fit_shear = true;          ///< estimate the tangential force (three-axis sensors)
   int max_evaluations = 400;      ///< full: LM function evaluations per warm fit
   int explore_evaluations = 150;  ///< full: LM function evaluations per cold start

@@ -91,6 +91,8 @@ std::string ObjectKind(const FidelityRow& row) {
       return "punch";
     case sensors::ContactShape::kSphere:
       return std::hypot(t.shear_x_N, t.shear_y_N) > 0.05 * t.normal_force_N ? "stroke" : "sphere";
+    case sensors::ContactShape::kCorner:  // a box's, among the other objects
+      return "other";
   }
   return "other";
 }

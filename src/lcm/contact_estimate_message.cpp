@@ -14,6 +14,7 @@ lcmt_contact_estimate ToLcm(const contact::ContactReport& report) {
             : p.shape == sensors::ContactShape::kCylinder ? 2
             : p.shape == sensors::ContactShape::kPunch    ? 5
             : p.shape == sensors::ContactShape::kRoundPunch ? 6
+            : p.shape == sensors::ContactShape::kCorner ? 7
                                                           : 3;
   m.x_mm = static_cast<float>(p.x_mm);
   m.y_mm = static_cast<float>(p.y_mm);
