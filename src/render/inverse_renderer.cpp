@@ -10,17 +10,6 @@
 #include "render/boxed_damped_step.h"
 
 namespace sedbridge::render {
-namespace {
-
-// The damping a rejected trial raises lambda to at least. Marquardt's scaling makes lambda
-// relative to each command's own curvature, and an accepted step lowers it towards 1e-9,
-// where doubling it back up changes the step by nothing measurable: on pin_8x8's ramp in the
-// example log a rejected trial was re-evaluated up to six times at almost the same step.
-// 0.1 (against 1e-3 and 1e-2: render_benchmark and the example replay, 2026-11-30) took the
-// fewest re-evaluations.
-constexpr double kLeastRejectedDamping = 0.1;
-
-}  // namespace
 
 InverseRenderer::InverseRenderer(DisplayInfluence influence, Eigen::VectorXd max_command, InverseRendererOptions options)
     : influence_(std::move(influence)), max_(std::move(max_command)), options_(options) {
@@ -123,7 +112,7 @@ const Eigen::VectorXd& InverseRenderer::Render(const Eigen::VectorXd& target_sed
         cost = c;
       } else {
         ++result_.rejected_trials;
-        lambda_ = std::min(std::max(lambda_ * raise, kLeastRejectedDamping), 1e12);
+        lambda_ = std::min(lambda_ * raise, 1e12);
         raise *= 2.0;
       }
     }
