@@ -45,7 +45,17 @@ struct ComplianceContactOptions {
   /// Coulomb cap (sliding anchors) is not supported: the quasi-static full FE Newton
   /// diverges on it too (tried: a plane slid over a block, mu 0.2 and 1.0).
   double friction_anisotropy = 0.0;
-  int max_iterations = 60;         ///< Newton iterations per step
+  /// Outer iterations per step (each a QP with the gaps linearized at the current positions,
+  /// Anderson-accelerated); with monotone_fallback, as many again where they fail.
+  int max_iterations = 60;
+  /// A frictionless displacement-controlled penalty step that has not converged in
+  /// max_iterations goes on for as many again unaccelerated: a descent on the penalty
+  /// energy that cannot cycle (ComplianceContact::MonotoneFallbackApplies says why), where
+  /// Anderson's extrapolation can (a pin display's press: docs/display-rendering.md).
+  /// Iterations then counts both. Off by default: a step that fails either way would report
+  /// a later state than before, and the bridge's every-scan press has fallbacks of its own
+  /// (on for a display pressed on the leader: render::DisplayLeaderOptions).
+  bool monotone_fallback = false;
   /// Also keep K^-1 H^T for every node (3 #nodes x 3 #candidates: 24 MB on model B) so
   /// that full_positions_m() gives the whole deformed mesh (VTU frames). Built by the
   /// precompute (the disk cache holds only W and G, so it is not read then).
@@ -86,7 +96,7 @@ struct ComplianceContactOptions {
 /// One contact step's answer. Contacts are (node, object) pairs, as PenaltyContactForce.
 struct ComplianceStepResult {
   bool ok = false;          ///< false: bad input (non-finite pose/force); nothing else is valid
-  bool converged = false;   ///< Newton met relative_tolerance within max_iterations
+  bool converged = false;   ///< met relative_tolerance within its iterations (ComplianceContactOptions::max_iterations)
   /// Force control only: the warm start's forces touch nothing where the objects start
   /// (they moved since), so the step stopped at once (not converged); start it again from
   /// no contact (ResetWarmStart).
@@ -111,6 +121,9 @@ struct ComplianceQpCounts {
   std::uint64_t combined_predictions = 0;  ///< Anderson moves predicted without a pass over W
   std::uint64_t sed_columns_kept = 0;   ///< SED columns G(:, node) d computed (kept for reuse)
   std::uint64_t sed_kept_reads = 0;     ///< node forces the SED took through a kept column
+  /// Steps whose accelerated iterations ran out and that went on unaccelerated
+  /// (ComplianceContactOptions::monotone_fallback).
+  std::uint64_t monotone_fallbacks = 0;
 };
 
 class ComplianceContact {
@@ -286,6 +299,10 @@ class ComplianceContact {
   /// 2. Gaps and normals at the current positions, and how far the forces are from the
   /// law. False on a non-finite signed distance (result_.error set).
   bool EvaluateGaps(const std::vector<geometry::RigidObject>& objects, int iteration, SolveState& state);
+  /// Whether a step that ran out of accelerated iterations goes on unaccelerated
+  /// (options_.monotone_fallback and a step it holds for; the comment in the .cpp says why
+  /// that converges).
+  bool MonotoneFallbackApplies(const ForceControl* control, const Eigen::Vector3d& tangential_force_N) const;
   /// The convergence test of the penalty law (or exact contact, or force control).
   bool LawIsMet(const SolveState& state) const;
   /// Anderson acceleration of depth 1 on the pairs' force vectors after a QP; returns its

@@ -50,6 +50,9 @@ Maker MakerOf(display::DisplayKind kind) {
 scene::FingertipComplianceOptions DisplayLeaderOptions(scene::FingertipComplianceOptions base) {
   base.face_samples = true;
   base.contact.max_iterations = std::max(base.contact.max_iterations, 200);
+  // Pins at a pitch near the skin's sample spacing, deep in the pad: the accelerated
+  // iterations can cycle there (docs/display-rendering.md); the unaccelerated ones cannot.
+  base.contact.monotone_fallback = true;
   return base;
 }
 

@@ -70,7 +70,9 @@ ElementStrainInfluence InfluenceByPresses(DisplayOnLeader& display, const scene:
 /// The leader's contact options a display on it needs: `base` (bone, contact stiffness,
 /// cache folder) with face contact (holes and pins are narrower than the skin-node spacing)
 /// and at least 200 contact iterations (a rising pin moves the contact set far: the skin
-/// lifts off the plate around it). What DisplayRendering and the display press build.
+/// lifts off the plate around it), then as many unaccelerated where those fail
+/// (fem::ComplianceContactOptions::monotone_fallback). What DisplayRendering and the display
+/// press build.
 scene::FingertipComplianceOptions DisplayLeaderOptions(scene::FingertipComplianceOptions base = {});
 
 /// The display of `device`'s kind pressed on `leader` (kept by reference). Throws

@@ -216,6 +216,52 @@ TEST(ComplianceContact, WarmStartReachesTheColdAnswerInFewerIterations) {
   EXPECT_LT((warm.last().spring_force_N - c.spring_force_N).norm(), 1e-7 * c.spring_force_N.norm());
 }
 
+// The monotone fallback: a step whose accelerated iterations run out goes on unaccelerated
+// and reaches the answer the accelerated solve reaches with room enough (the penalty law
+// has one answer here); without the option, or under force control, a step that runs out
+// stays unconverged as before.
+TEST(ComplianceContact, MonotoneFallbackGoesOnWhereTheAcceleratedIterationsRanOutToTheSameAnswer) {
+  const TetMesh mesh = Block();
+  const std::vector<geometry::RigidObject> objects{SphereAbove(0.002, 0.0003, 0.25 * kSide),
+                                                   SphereAbove(0.002, 0.0002, 0.75 * kSide)};
+  ComplianceContact roomy = MakeCompliance(mesh);
+  const ComplianceStepResult reference = roomy.Step(objects);
+  ASSERT_TRUE(reference.converged);
+  ASSERT_GE(reference.iterations, 3);
+  EXPECT_EQ(roomy.qp_counts().monotone_fallbacks, 0u);  // off by default
+
+  ComplianceContactOptions short_of_it;
+  short_of_it.max_iterations = reference.iterations - 1;
+  ComplianceContact without = MakeCompliance(mesh, short_of_it);
+  EXPECT_FALSE(without.Step(objects).converged);
+  EXPECT_EQ(without.qp_counts().monotone_fallbacks, 0u);
+
+  short_of_it.monotone_fallback = true;
+  ComplianceContact with = MakeCompliance(mesh, short_of_it);
+  const ComplianceStepResult& r = with.Step(objects);
+  ASSERT_TRUE(r.ok) << r.error;
+  EXPECT_TRUE(r.converged);
+  EXPECT_EQ(with.qp_counts().monotone_fallbacks, 1u);
+  EXPECT_GT(r.iterations, short_of_it.max_iterations);
+  EXPECT_LE(r.iterations, 2 * short_of_it.max_iterations);
+  EXPECT_EQ(r.contacts.size(), reference.contacts.size());
+  EXPECT_LT((r.spring_force_N - reference.spring_force_N).norm(), 1e-7 * reference.spring_force_N.norm());
+  EXPECT_LT(RelativeError(r.sed_Pa, reference.sed_Pa), 1e-7);
+  // A converged step does not reach it.
+  EXPECT_TRUE(with.Step(objects).converged);
+  EXPECT_EQ(with.qp_counts().monotone_fallbacks, 1u);
+
+  // Force control keeps its own way out (the caller's displacement-controlled steps).
+  ComplianceContactOptions one;
+  one.max_iterations = 1;
+  one.monotone_fallback = true;
+  ComplianceContact forced = MakeCompliance(mesh, one);
+  ComplianceContact::ForceControl control;
+  control.target_N = 0.5;
+  forced.StepToForce({SphereAbove(0.004, 0.0)}, control);
+  EXPECT_EQ(forced.qp_counts().monotone_fallbacks, 0u);
+}
+
 // Step after step the QP keeps W's columns for rows whose direction holds, reuses its last
 // factor while its matrix is unchanged, and predicts Anderson's moves without W: each
 // warm step must still give what a fresh instance gives for the same scene.
