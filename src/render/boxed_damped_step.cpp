@@ -38,28 +38,29 @@ Eigen::VectorXd BoxedDampedStep(const Eigen::MatrixXd& H, const Eigen::VectorXd&
       Eigen::VectorXd target = ldlt.solve(rhs);
       for (Eigen::Index i = 0; i < k; ++i)
         if (!std::isfinite(target[i])) target[i] = d[solve[size_t(i)]];
-      // As far toward the target as the box allows; the first variable to meet a bound blocks.
+      // As far toward the target as the box allows; the variables that meet a bound there
+      // block and are held, all of them at once (from a cold start most commands sit at 0
+      // with the target below it: each would otherwise cost a round and a factorization).
       double alpha = 1;
-      Eigen::Index blocking = -1;
-      bool blocking_lower = false;
+      std::vector<double> reach(size_t(k), 2.0);  // the fraction of the way at which each meets a bound
       for (Eigen::Index i = 0; i < k; ++i) {
         const Eigen::Index a = solve[size_t(i)];
         const double p = target[i] - d[a];
-        if (p < 0 && u[a] + target[i] < 0) {
-          const double t = (-u[a] - d[a]) / p;
-          if (t < alpha) alpha = t, blocking = a, blocking_lower = true;
-        } else if (p > 0 && u[a] + target[i] > box[a]) {
-          const double t = (box[a] - u[a] - d[a]) / p;
-          if (t < alpha) alpha = t, blocking = a, blocking_lower = false;
+        if (p < 0 && u[a] + target[i] < 0) reach[size_t(i)] = std::max(0.0, (-u[a] - d[a]) / p);
+        else if (p > 0 && u[a] + target[i] > box[a]) reach[size_t(i)] = std::max(0.0, (box[a] - u[a] - d[a]) / p);
+        alpha = std::min(alpha, reach[size_t(i)]);
+      }
+      bool blocked = false;
+      for (Eigen::Index i = 0; i < k; ++i) {
+        const Eigen::Index a = solve[size_t(i)];
+        d[a] += alpha * (target[i] - d[a]);
+        if (reach[size_t(i)] <= alpha + 1e-12) {
+          held[size_t(a)] = target[i] < d[a] ? kAtLower : kAtUpper;
+          d[a] = held[size_t(a)] == kAtLower ? -u[a] : box[a] - u[a];
+          blocked = true;
         }
       }
-      alpha = std::max(0.0, alpha);
-      for (Eigen::Index i = 0; i < k; ++i) d[solve[size_t(i)]] += alpha * (target[i] - d[solve[size_t(i)]]);
-      if (blocking >= 0) {
-        held[size_t(blocking)] = blocking_lower ? kAtLower : kAtUpper;
-        d[blocking] = held[size_t(blocking)] == kAtLower ? -u[blocking] : box[blocking] - u[blocking];
-        continue;
-      }
+      if (blocked) continue;
     }
     // At the minimizer over the free variables: let go the held one whose gradient points
     // most into the box.
