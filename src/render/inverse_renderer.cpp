@@ -7,8 +7,6 @@
 #include <stdexcept>
 #include <utility>
 
-#include "render/boxed_damped_step.h"
-
 namespace sedbridge::render {
 
 InverseRenderer::InverseRenderer(DisplayInfluence influence, Eigen::VectorXd max_command, InverseRendererOptions options)
@@ -238,15 +236,10 @@ void InverseRenderer::DampedStep() {
   const double floor = std::max(H0_.diagonal().maxCoeff(), 1e-300) * 1e-12;
   H_ = H0_;
   H_.diagonal().array() += lambda_ * (H0_.diagonal().array() + floor);
-  // The damped model minimized on the box, not the unconstrained step clipped to it
-  // (render/boxed_damped_step.h): on the pin displays most rejected trials were clipped steps
-  // the model itself said raise the cost (a pin driven below its retracted stroke, its
-  // neighbours' steps sized for it), each a wasted SED evaluation, several a scan at onset.
-  Eigen::VectorXd u_free(m), box_free(m);
-  for (Eigen::Index a = 0; a < m; ++a) u_free[a] = u_[free_[size_t(a)]], box_free[a] = box_[free_[size_t(a)]];
-  const Eigen::VectorXd d = BoxedDampedStep(H_, g_, u_free, box_free);
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(H_);
+  const Eigen::VectorXd d = ldlt.solve(-g_);
   step_.setZero(box_.size());
-  for (Eigen::Index a = 0; a < m; ++a) step_[free_[size_t(a)]] = d[a];
+  for (Eigen::Index a = 0; a < m; ++a) step_[free_[size_t(a)]] = std::isfinite(d[a]) ? d[a] : 0.0;
 }
 
 }  // namespace sedbridge::render
