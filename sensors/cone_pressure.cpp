@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sensors/grid_splat.h"
+
 namespace sedbridge::sensors {
 
 double ConeContactRadius_mm(double force_N, double contact_modulus_kPa, double tan_beta) {
@@ -21,28 +23,8 @@ double ConeForceShareWithin(double r_mm, double a_mm) {
 void SplatCone(double x_mm, double y_mm, double a_mm, double force_N, const Eigen::Vector2d& origin, double h, int n,
                std::vector<SurfaceLoad>* loads) {
   if (!(force_N > 0) || !(a_mm >= 0) || !(h > 0) || n <= 0) return;
-  // Dense accumulation over the grid, the touched cells listed (a thread's buffers).
-  thread_local std::vector<double> grid;
-  thread_local std::vector<int> touched;
-  grid.assign(size_t(n) * size_t(n), 0.0);
-  touched.clear();
-  double total = 0;
-  auto add = [&](int col, int row, double w) {
-    if (col < 0 || row < 0 || col >= n || row >= n || !(w > 0)) return;
-    double& g = grid[size_t(row) * size_t(n) + size_t(col)];
-    if (g == 0) touched.push_back(row * n + col);
-    g += w;
-  };
-  auto deposit = [&](double u, double v, double w) {
-    total += w;
-    const double gx = (x_mm + u - origin.x()) / h, gy = (y_mm + v - origin.y()) / h;
-    const double fx = std::floor(gx), fy = std::floor(gy), tx = gx - fx, ty = gy - fy;
-    const int i = int(fx), j = int(fy);
-    add(i, j, w * (1 - tx) * (1 - ty));
-    add(i + 1, j, w * tx * (1 - ty));
-    add(i, j + 1, w * (1 - tx) * ty);
-    add(i + 1, j + 1, w * tx * ty);
-  };
+  GridSplat splat(origin, h, n);
+  auto deposit = [&](double u, double v, double w) { splat.Deposit(x_mm + u, y_mm + v, w); };
   // Rings of a fixed count (the loads do not jump as a changes); the innermost carries the
   // logarithmic peak's share, deposited at its mid-radius like the rest.
   constexpr int rings = 12;
@@ -58,10 +40,7 @@ void SplatCone(double x_mm, double y_mm, double a_mm, double force_N, const Eige
       deposit(rm * std::cos(t), rm * std::sin(t), w / sectors);
     }
   }
-  if (!(total > 0)) return;
-  std::sort(touched.begin(), touched.end());
-  const double scale = force_N / total;
-  for (const int cell : touched) loads->push_back({cell, scale * grid[size_t(cell)], 0, 0});
+  splat.Emit(force_N, loads);
 }
 
 }  // namespace sedbridge::sensors

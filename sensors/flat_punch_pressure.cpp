@@ -5,6 +5,8 @@
 #include <map>
 #include <stdexcept>
 
+#include "sensors/grid_splat.h"
+
 namespace sedbridge::sensors {
 namespace {
 
@@ -96,27 +98,10 @@ void SplatFlatPunch(const FlatPunch& punch, const Eigen::Vector2d& origin, doubl
   if (!(a > 0 && b > 0) || !(punch.normal_force_N > 0) || !(h > 0) || n <= 0) return;
   const double rounding = std::max(punch.rounding_mm, 0.0);
   const double c = std::cos(punch.yaw_deg * M_PI / 180), s = std::sin(punch.yaw_deg * M_PI / 180);
-  // Dense accumulation over the grid, the touched cells listed (a thread's buffers).
-  thread_local std::vector<double> grid;
-  thread_local std::vector<int> touched;
-  grid.assign(size_t(n) * size_t(n), 0.0);
-  touched.clear();
-  double total = 0;
-  auto add = [&](int col, int row, double w) {
-    if (col < 0 || row < 0 || col >= n || row >= n || !(w > 0)) return;
-    double& g = grid[size_t(row) * size_t(n) + size_t(col)];
-    if (g == 0) touched.push_back(row * n + col);
-    g += w;
-  };
+  GridSplat splat(origin, h, n);
+  // Face coordinates (u along the first side, v the second) to the pad.
   auto deposit = [&](double u, double v, double w) {
-    total += w;
-    const double gx = (punch.x_mm + c * u - s * v - origin.x()) / h, gy = (punch.y_mm + s * u + c * v - origin.y()) / h;
-    const double fx = std::floor(gx), fy = std::floor(gy), tx = gx - fx, ty = gy - fy;
-    const int i = int(fx), j = int(fy);
-    add(i, j, w * (1 - tx) * (1 - ty));
-    add(i + 1, j, w * tx * (1 - ty));
-    add(i, j + 1, w * (1 - tx) * ty);
-    add(i + 1, j + 1, w * tx * ty);
+    splat.Deposit(punch.x_mm + c * u - s * v, punch.y_mm + s * u + c * v, w);
   };
   constexpr int m = kPunchStripsPerSide;
   if (punch.round) {
@@ -139,10 +124,7 @@ void SplatFlatPunch(const FlatPunch& punch, const Eigen::Vector2d& origin, doubl
     for (int i = 0; i < m; ++i)
       for (int j = 0; j < m; ++j) deposit(-a + a * (2 * i + 1) / m, -b + b * (2 * j + 1) / m, wu[i] * wv[j]);
   }
-  if (!(total > 0)) return;
-  std::sort(touched.begin(), touched.end());
-  const double scale = punch.normal_force_N / total;
-  for (const int cell : touched) loads->push_back({cell, scale * grid[size_t(cell)], 0, 0});
+  splat.Emit(punch.normal_force_N, loads);
 }
 
 }  // namespace sedbridge::sensors

@@ -249,8 +249,7 @@ const ContactEstimate& ContactReconstructor::NoContact() {
   explored_ = 0;
   pair_checked_ = false;
   punch_round_ = false;
-  round_punch_started_ = round_punch_done_ = false;
-  corner_started_ = corner_done_ = false;
+  round_punch_ = corner_ = SideCandidate{};
   return estimate_;
 }
 

@@ -46,6 +46,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include "contact/contact_estimate.h"
@@ -97,8 +98,7 @@ class ContactReconstructor {
     explored_ = 0;
     pair_checked_ = false;
     punch_round_ = false;
-    round_punch_started_ = round_punch_done_ = false;
-    corner_started_ = corner_done_ = false;
+    round_punch_ = corner_ = SideCandidate{};
     hold_.Reset();
   }
 
@@ -198,16 +198,19 @@ class ContactReconstructor {
   int explored_ = 0;     // starts tried in this contact episode
   bool pair_checked_ = false;  // the pair's quick check ran in this contact episode
   bool punch_round_ = false;   // a punch replaced another shape in this contact episode (AdvanceCandidates)
-  // The round punch's check (CheckRoundPunch): its iterate over the scans of this episode.
-  bool round_punch_started_ = false, round_punch_done_ = false;
-  Hypothesis round_punch_;
-  Prediction round_punch_prediction_;
-  int round_punch_spent_ = 0;
-  // The corner's check (CheckCorner): its iterate over the scans of this episode.
-  bool corner_started_ = false, corner_done_ = false;
-  Hypothesis corner_;
-  Prediction corner_prediction_;
-  int corner_spent_ = 0;
+  // A shape checked outside the rotation, once an episode (CheckRoundPunch, CheckCorner): its
+  // iterate over the scans of this episode and what it has spent.
+  struct SideCandidate {
+    bool started = false, done = false;
+    Hypothesis model;
+    Prediction prediction;
+    int spent = 0;
+    void Start(const Hypothesis& start) { model = start, prediction = Prediction{}, spent = 0, started = true; }
+  };
+  /// One scan's refinement of `side` within the candidate budget, its iterate kept; empty
+  /// when nothing was evaluated (it waits as it was).
+  std::optional<Fit> RefineSideCandidate(SideCandidate& side);
+  SideCandidate round_punch_, corner_;
   // Amortized selection: the candidate being fitted over several scans (its iterate) and
   // the evaluations it has spent.
   bool have_candidate_ = false;

@@ -196,26 +196,30 @@ void ContactReconstructor::CheckCorner(Selection& s) {
   // that small is read as a corner too: the pad cannot tell them apart. Only on such answers,
   // so that every other hold (the rig's and synthetic spheres: 1.99 mm and larger) is read
   // as before and pays nothing.
-  if (!options_.fit_corners || options_.selection != ModelSelection::kAmortized || corner_done_) return;
-  if (!corner_started_) {
+  if (!options_.fit_corners || options_.selection != ModelSelection::kAmortized || corner_.done) return;
+  if (!corner_.started) {
     if (estimate_.averaged_scans < kCornerHoldScans || !ReadAsSmallSphere(s.best)) return;
-    corner_ = CornerStart(s.best.model.first);
-    corner_prediction_ = Prediction{};
-    corner_spent_ = 0;
-    corner_started_ = true;
+    corner_.Start(CornerStart(s.best.model.first));
   }
-  const Fit fit = FitModel(Problem(), corner_, options_.explore_evaluations, FitBudget(options_.candidate_scan_evaluations),
-                           FitMode::kLevenbergMarquardt, &corner_prediction_);
-  Tally(fit);
-  corner_spent_ += fit.budget_used;
-  if (fit.stopped && !std::isfinite(fit.chi2)) return;  // nothing evaluated: it waits as it was
-  corner_ = fit.model;
-  corner_prediction_ = fit.prediction;
+  const std::optional<Fit> refined = RefineSideCandidate(corner_);
+  if (!refined) return;
+  const Fit& fit = *refined;
   const bool won = ReadAsSmallSphere(s.best) && Better(fit, s.best, s);
   if (won) s.best = fit, s.warm_won = false;
-  if (won || fit.converged || corner_spent_ >= options_.candidate_evaluations || !Plausible(fit.model) ||
+  if (won || fit.converged || corner_.spent >= options_.candidate_evaluations || !Plausible(fit.model) ||
       !std::isfinite(fit.chi2))
-    corner_done_ = true;
+    corner_.done = true;
+}
+
+std::optional<Fit> ContactReconstructor::RefineSideCandidate(SideCandidate& side) {
+  Fit fit = FitModel(Problem(), side.model, options_.explore_evaluations, FitBudget(options_.candidate_scan_evaluations),
+                     FitMode::kLevenbergMarquardt, &side.prediction);
+  Tally(fit);
+  side.spent += fit.budget_used;
+  if (fit.stopped && !std::isfinite(fit.chi2)) return std::nullopt;
+  side.model = fit.model;
+  side.prediction = fit.prediction;
+  return fit;
 }
 
 void ContactReconstructor::CheckRoundPunch(Selection& s) {
@@ -231,31 +235,24 @@ void ContactReconstructor::CheckRoundPunch(Selection& s) {
   // a start of the rotation, or checked on adequate answers too, the rig's press_21 (a 3 x 3
   // mm punch, a 10 mm sphere within noise, its SED within the targets) was read as a 1.9 mm
   // round punch, peak ratio 0.97 -> 0.67.
-  if (!options_.fit_round_punches || options_.selection != ModelSelection::kAmortized || round_punch_done_) return;
+  if (!options_.fit_round_punches || options_.selection != ModelSelection::kAmortized || round_punch_.done) return;
   const bool adequate = std::isfinite(s.best.chi2) && s.best.chi2 <= AdequateRms2(s.dof) * s.dof;
-  if (!round_punch_started_) {
+  if (!round_punch_.started) {
     if (estimate_.averaged_scans < kRoundPunchHoldScans || adequate) return;
     if (std::isfinite(s.best.chi2) && !s.best.model.pair && sensors::IsPunch(s.best.model.first.shape)) return;
-    round_punch_ = StartHypothesis(options_, s.guess, s.moments, kRoundPunchStart);
-    round_punch_prediction_ = Prediction{};
-    round_punch_spent_ = 0;
-    round_punch_started_ = true;
+    round_punch_.Start(StartHypothesis(options_, s.guess, s.moments, kRoundPunchStart));
   }
-  const Fit fit = FitModel(Problem(), round_punch_, options_.explore_evaluations, FitBudget(options_.candidate_scan_evaluations),
-                           FitMode::kLevenbergMarquardt, &round_punch_prediction_);
-  Tally(fit);
-  round_punch_spent_ += fit.budget_used;
-  if (fit.stopped && !std::isfinite(fit.chi2)) return;  // nothing evaluated: it waits as it was
-  round_punch_ = fit.model;
-  round_punch_prediction_ = fit.prediction;
+  const std::optional<Fit> refined = RefineSideCandidate(round_punch_);
+  if (!refined) return;
+  const Fit& fit = *refined;
   // Against the answer the rotation settled on, by strong evidence: its data chi^2 lower by
   // kRoundPunchMarginChi2 too (a small sphere and a small round face are alike through the
   // pad: a 2.5 mm sphere's hold was read as a 1.3 mm round punch at 2.9 less).
   const bool won = !adequate && Better(fit, s.best, s) && !(fit.chi2 > s.best.chi2 - kRoundPunchMarginChi2);
   if (won) s.best = fit, s.warm_won = false;
-  if (won || fit.converged || round_punch_spent_ >= options_.candidate_evaluations || !Plausible(fit.model) ||
+  if (won || fit.converged || round_punch_.spent >= options_.candidate_evaluations || !Plausible(fit.model) ||
       !std::isfinite(fit.chi2))
-    round_punch_done_ = true;
+    round_punch_.done = true;
 }
 
 void ContactReconstructor::SelectAmortized(Selection& s) {
