@@ -152,12 +152,19 @@ int RunTruthResolution(const ArgParser& args, const sensors::SensorProfile& prof
               objects.size() / 2, light_N, kControl_N, shifts.size(), step_mm, args.Get("truth-resolution").c_str());
   std::printf("%-26s %7s %-8s %-5s | %7s %11s %14s %13s\n", "object", "F_N", "model", "cont.", "reached",
               "peak_med_Pa", "peak_min/max", "sum_min/max");
+  // Each model and contact loaded once (index: model * 2 + face).
+  std::vector<std::unique_ptr<ShiftedTruthLeader>> leaders(2 * models.size());
+  auto leader = [&](size_t model, bool face) -> ShiftedTruthLeader& {
+    std::unique_ptr<ShiftedTruthLeader>& l = leaders[2 * model + (face ? 1 : 0)];
+    if (!l) l = std::make_unique<ShiftedTruthLeader>(models[model], face, config.compliance_cache_dir);
+    return *l;
+  };
   std::vector<TruthShiftRow> all;
   for (const Object& o : objects)
-    for (const std::string& model : models)
+    for (size_t m = 0; m < models.size(); ++m)
       for (const bool face : {false, true}) {
-        const std::vector<TruthShiftRow> rows =
-            PressAtShifts(model, face, config.compliance_cache_dir, o.label, o.primitive, o.force_N, shifts);
+        const std::string& model = models[m];
+        const std::vector<TruthShiftRow> rows = leader(m, face).PressAtShifts(o.label, o.primitive, o.force_N, shifts);
         const TruthSpread s = SpreadOf(rows);
         std::printf("%-26s %7.3g %-8s %-5s | %3d of %d %11.0f %14.2f %13.2f\n", o.label.c_str(), o.force_N,
                     model.c_str(), face ? "face" : "node", s.reached, s.shifts, s.peak_median_Pa, s.peak_min_over_max,
@@ -181,7 +188,7 @@ int RunTruthResolution(const ArgParser& args, const sensors::SensorProfile& prof
     auto peak_at = [&](double log_factor) {
       sensors::ContactPrimitive p = o.primitive;
       p.radius_mm = std::clamp(p.radius_mm * std::exp(log_factor), reconstruction.min_radius_mm, reconstruction.max_radius_mm);
-      const TruthShiftRow r = PressAtShifts(models.front(), true, config.compliance_cache_dir, o.label, p, o.force_N, here).front();
+      const TruthShiftRow r = leader(0, true).PressAtShifts(o.label, p, o.force_N, here).front();
       return r.reached ? r.peak_sed_Pa : std::numeric_limits<double>::quiet_NaN();
     };
     const double at = peak_at(0);

@@ -22,11 +22,19 @@ std::vector<Eigen::Vector2d> ShiftGrid(double step_mm, int per_side) {
   return shifts;
 }
 
-std::vector<TruthShiftRow> PressAtShifts(const std::string& model_name, bool face_contact, const std::string& cache_dir,
-                                         const std::string& label, const sensors::ContactPrimitive& object,
-                                         double force_N, const std::vector<Eigen::Vector2d>& shifts_mm) {
-  const model::FingertipModel model = model::LoadFingertipModel(model_name);
-  scene::FingertipCompliance leader(model, contact::LeaderComplianceOptions(cache_dir, face_contact));
+ShiftedTruthLeader::ShiftedTruthLeader(const std::string& model_name, bool face_contact, const std::string& cache_dir)
+    : model_name_(model_name),
+      face_contact_(face_contact),
+      model_(std::make_unique<model::FingertipModel>(model::LoadFingertipModel(model_name))),
+      leader_(std::make_unique<scene::FingertipCompliance>(*model_,
+                                                           contact::LeaderComplianceOptions(cache_dir, face_contact))) {}
+
+ShiftedTruthLeader::~ShiftedTruthLeader() = default;
+
+std::vector<TruthShiftRow> ShiftedTruthLeader::PressAtShifts(const std::string& label,
+                                                             const sensors::ContactPrimitive& object, double force_N,
+                                                             const std::vector<Eigen::Vector2d>& shifts_mm) {
+  scene::FingertipCompliance& leader = *leader_;
   std::vector<TruthShiftRow> rows;
   for (const Eigen::Vector2d& shift : shifts_mm) {
     sensors::ContactPrimitive moved = object;
@@ -34,8 +42,8 @@ std::vector<TruthShiftRow> PressAtShifts(const std::string& model_name, bool fac
     moved.y_mm += shift.y();
     TruthShiftRow row;
     row.object = label;
-    row.model = model_name;
-    row.face_contact = face_contact;
+    row.model = model_name_;
+    row.face_contact = face_contact_;
     row.force_N = force_N;
     row.dx_mm = shift.x();
     row.dy_mm = shift.y();

@@ -10,11 +10,19 @@
 // `sedbridge fidelity --truth-resolution MODELS` runs it on the rig's light presses.
 
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "sensors/contact_primitive.h"
 #include "sensors/sensor_profile.h"
+
+namespace sedbridge::model {
+struct FingertipModel;
+}
+namespace sedbridge::scene {
+class FingertipCompliance;
+}
 
 namespace sedbridge::fidelity {
 
@@ -46,12 +54,25 @@ struct TruthSpread {
 /// the skin's contact points that a shift up to about half their spacing samples.
 std::vector<Eigen::Vector2d> ShiftGrid(double step_mm, int per_side);
 
-/// Presses `object` (pad frame, ToRigidObject's pose: lowest point on the pad at (x, y)) to
-/// `force_N` on `model_name` at each shift, with face contact or node contact, the compliance
-/// cache in `cache_dir` ("" = none). Throws std::runtime_error if the model cannot load.
-std::vector<TruthShiftRow> PressAtShifts(const std::string& model_name, bool face_contact, const std::string& cache_dir,
-                                         const std::string& label, const sensors::ContactPrimitive& object,
-                                         double force_N, const std::vector<Eigen::Vector2d>& shifts_mm);
+/// One leader model pressed again and again: the model and its compliance precompute loaded
+/// once (`cache_dir`: the compliance cache, "" = none), with node or face contact. Throws
+/// std::runtime_error if the model cannot load.
+class ShiftedTruthLeader {
+ public:
+  ShiftedTruthLeader(const std::string& model_name, bool face_contact, const std::string& cache_dir);
+  ~ShiftedTruthLeader();
+
+  /// Presses `object` (pad frame, ToRigidObject's pose: lowest point on the pad at (x, y)) to
+  /// `force_N` at each shift, each from no warm start.
+  std::vector<TruthShiftRow> PressAtShifts(const std::string& label, const sensors::ContactPrimitive& object,
+                                           double force_N, const std::vector<Eigen::Vector2d>& shifts_mm);
+
+ private:
+  std::string model_name_;
+  bool face_contact_;
+  std::unique_ptr<model::FingertipModel> model_;
+  std::unique_ptr<scene::FingertipCompliance> leader_;
+};
 
 /// The spread of `rows` (one object, model and contact).
 TruthSpread SpreadOf(const std::vector<TruthShiftRow>& rows);

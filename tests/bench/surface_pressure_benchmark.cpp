@@ -14,21 +14,14 @@
 
 #include "common/resource_path.h"
 #include "sensors/calibration_press.h"
+#include "tests/bench/rig_presses.h"
 #include "sensors/surface_pressure_inversion.h"
 
 namespace sedbridge {
 namespace {
 
-const sensors::SensorProfile& Profile() {
-  static const sensors::SensorProfile p = sensors::LoadNamedSensorProfile("uskin_4x4");
-  return p;
-}
-
-const std::vector<sensors::CalibrationPress>& Rig() {
-  static const auto presses = sensors::LoadCalibrationPresses(
-      config::ResolveResource("config/sensors/rig_uskin_4x4/cases.json"), Profile());
-  return presses;
-}
+using bench::Profile;
+using bench::Rig;
 
 size_t PeakScan(const sensors::CalibrationPress& press) {
   size_t peak = 0;

@@ -21,6 +21,7 @@ using sensors::ContactShape;
 using test_support::HeldFor;
 using test_support::Noisy;
 using test_support::ReadingsOf;
+using test_support::SphereAt;
 using test_support::Uskin;
 
 const std::vector<sensors::CalibrationPress>& Rig() {
@@ -35,12 +36,6 @@ ContactEstimate AtHold(const sensors::CalibrationPress& press, ContactReconstruc
   ContactEstimate e;
   for (size_t i = 0; i < press.scans.size() && press.t_s[i] <= t_hold; ++i) e = r->Reconstruct(press.scans[i]);
   return e;
-}
-
-ContactPrimitive SphereAt(double x_mm, double y_mm, double radius_mm, double force_N) {
-  ContactPrimitive c;
-  c.x_mm = x_mm, c.y_mm = y_mm, c.radius_mm = radius_mm, c.normal_force_N = force_N;
-  return c;
 }
 
 TEST(ContactReconstruction, RigSpheresFromOneNoisyScan) {

@@ -17,18 +17,13 @@ using sensors::ContactPrimitive;
 using sensors::ContactShape;
 using test_support::HeldFor;
 using test_support::ReadingsOf;
+using test_support::SphereAt;
 using test_support::Uskin;
 
 ContactPrimitive CornerAt(double x_mm, double y_mm, double force_N) {
   ContactPrimitive c;
   c.shape = ContactShape::kCorner;
   c.x_mm = x_mm, c.y_mm = y_mm, c.radius_mm = 0, c.normal_force_N = force_N;
-  return c;
-}
-
-ContactPrimitive SphereAt(double x_mm, double y_mm, double r_mm, double force_N) {
-  ContactPrimitive c;
-  c.x_mm = x_mm, c.y_mm = y_mm, c.radius_mm = r_mm, c.normal_force_N = force_N;
   return c;
 }
 

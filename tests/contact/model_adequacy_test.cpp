@@ -15,13 +15,8 @@ using sensors::ContactShape;
 using test_support::HeldFor;
 using test_support::Noisy;
 using test_support::ReadingsOf;
+using test_support::SphereAt;
 using test_support::Uskin;
-
-ContactPrimitive Sphere(double x_mm, double y_mm, double radius_mm, double force_N) {
-  ContactPrimitive c;
-  c.x_mm = x_mm, c.y_mm = y_mm, c.radius_mm = radius_mm, c.normal_force_N = force_N;
-  return c;
-}
 
 ContactPrimitive Rod(double yaw_deg, double length_mm, double force_N) {
   ContactPrimitive c;
@@ -34,7 +29,7 @@ TEST(ModelAdequacy, ThreeSpheresAtOnceAreFlagged) {
   std::mt19937_64 rng(53);
   ContactReconstructor r(Uskin());
   const ContactEstimate e =
-      HeldFor(&r, ReadingsOf({Sphere(-5, -4, 3, 0.3), Sphere(5, -4, 3, 0.3), Sphere(0, 5, 3, 0.3)}), &rng);
+      HeldFor(&r, ReadingsOf({SphereAt(-5, -4, 3, 0.3), SphereAt(5, -4, 3, 0.3), SphereAt(0, 5, 3, 0.3)}), &rng);
   EXPECT_TRUE(e.model_inadequate) << "read as " << ContactShapeName(e.primitive.shape) << " at " << e.rms_sigma << " sigma";
   EXPECT_GT(r.counters().model_inadequate, 0);
 }
@@ -49,7 +44,7 @@ TEST(ModelAdequacy, ACrossIsFlagged) {
 TEST(ModelAdequacy, ACleanSphereIsNeverFlaggedThroughItsPress) {
   std::mt19937_64 rng(55);
   ContactReconstructor r(Uskin());
-  const ContactPrimitive sphere = Sphere(1, -1.5, 5, 0.8);
+  const ContactPrimitive sphere = SphereAt(1, -1.5, 5, 0.8);
   // Ramp up, hold, release: every contact scan explained.
   for (int k = 1; k <= 80; ++k) {
     const double share = k <= 20 ? k / 20.0 : k <= 60 ? 1.0 : (80 - k) / 20.0 + 0.05;

@@ -19,6 +19,13 @@ inline const sensors::SensorProfile& Uskin() {
   return p;
 }
 
+// A sphere of radius r_mm whose lowest point is at (x_mm, y_mm), pressed with force_N.
+inline sensors::ContactPrimitive SphereAt(double x_mm, double y_mm, double r_mm, double force_N) {
+  sensors::ContactPrimitive c;
+  c.x_mm = x_mm, c.y_mm = y_mm, c.radius_mm = r_mm, c.normal_force_N = force_N;
+  return c;
+}
+
 // The calibrated model's readings of contacts pressed at once (the sensor is linear in the
 // surface load: the readings add).
 inline Eigen::VectorXd ReadingsOf(std::initializer_list<sensors::ContactPrimitive> contacts) {

@@ -54,8 +54,9 @@ TEST(TruthResolution, ALightTouchOnModelBIsLessResolvedThanAFirmOne) {
   sensors::ContactPrimitive sphere;
   sphere.radius_mm = 4, sphere.x_mm = -1, sphere.y_mm = 1;
   const std::vector<Eigen::Vector2d> shifts = ShiftGrid(0.25, 3);
-  const TruthSpread light = SpreadOf(PressAtShifts("B", true, "", "sphere R4", sphere, 0.1, shifts));
-  const TruthSpread firm = SpreadOf(PressAtShifts("B", true, "", "sphere R4", sphere, 1.0, shifts));
+  ShiftedTruthLeader leader("B", true, "");
+  const TruthSpread light = SpreadOf(leader.PressAtShifts("sphere R4", sphere, 0.1, shifts));
+  const TruthSpread firm = SpreadOf(leader.PressAtShifts("sphere R4", sphere, 1.0, shifts));
   ASSERT_EQ(light.reached, 9);
   ASSERT_EQ(firm.reached, 9);
   EXPECT_LT(light.peak_min_over_max, firm.peak_min_over_max - 0.15);
